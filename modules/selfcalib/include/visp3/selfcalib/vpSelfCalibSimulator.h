@@ -1,0 +1,123 @@
+/*
+ * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ */
+#ifndef VP_SELFCALIB_SIMULATOR_H
+#define VP_SELFCALIB_SIMULATOR_H
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <visp3/core/vpCameraParameters.h>
+#include <visp3/core/vpColVector.h>
+#include <visp3/robot/vpRobot.h>
+#include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpSelfCalibDataset.h>
+
+/*!
+  \class vpSelfCalibSimulator
+  \brief The reference simulation scenario (README, "Reference scenario"): a "true" robot (nominal
+  plus seeded 6-D errors on every joint placement, the base and eMc), a pinhole camera, a cloud of
+  scene points in a box in front of the robot, a yardstick (two extra scene points at a known
+  distance), pixel noise, and a generator of joint configurations from which every scene point is
+  seen.
+
+  Everything random comes from Options::seed through independent streams (errors, scene,
+  configurations, noise of view k), so the same options give the same data bit for bit, whatever
+  the order of the calls.
+
+  Scene ids: 0 .. num_points-1 for the box points, num_points and num_points+1 for the yardstick ends.
+*/
+class vpSelfCalibSimulator
+{
+public:
+  struct Options {
+    uint64_t seed = 1;
+    // True robot: sd of the seeded errors (m, rad). Joint rotations include the joint offsets.
+    double joint_translation_sd = 1e-3;
+    double joint_rotation_sd = 0.1 * M_PI / 180.0;
+    double base_translation_sd = 1e-3;
+    double base_rotation_sd = 0.1 * M_PI / 180.0;
+    double hand_eye_translation_sd = 1e-3;
+    double hand_eye_rotation_sd = 0.2 * M_PI / 180.0;
+    // Camera (pinhole, no distortion).
+    unsigned int width = 640, height = 480;
+    double px = 1500, py = 1500, u0 = 320, v0 = 240;
+    // Scene: points uniform in a box (axis-aligned in the base frame) centred on the point seen
+    // at distance (distance_min + distance_max) / 2 along the optical axis at the home configuration.
+    unsigned int num_points = 80;
+    double box_x = 0.18, box_y = 0.14, box_z = 0.08;
+    double yardstick_length = 0.1; //!< m; its ends are scene points too, inside the box
+    // Viewpoints: camera at distance [distance_min, distance_max] from the box centre, looking at
+    // it, from directions within view_cone of the home direction, rolled by at most roll_range.
+    double distance_min = 0.6, distance_max = 0.8;
+    double view_cone = 25 * M_PI / 180.0;
+    double roll_range = 30 * M_PI / 180.0;
+    vpColVector home;            //!< home joints; empty: the preset's (see homeConfiguration())
+    double image_margin = 10;    //!< px kept free at the image border
+    double pixel_noise_sd = 0.2; //!< px, Gaussian, on u and v
+    unsigned int max_attempts = 100; //!< viewpoint draws per requested configuration
+
+    //! Throws vpSelfCalibException on nonsense (negative sd, empty image, dmin > dmax...).
+    void check() const;
+  };
+
+  //! Progress of long runs: (done, total).
+  using Progress = std::function<void(unsigned int, unsigned int)>;
+
+  vpSelfCalibSimulator(const vpKinematicChain &nominal, const Options &options);
+
+  //! A home configuration for the presets: viper850 (0, -1.2, 2.4, 0, 0.4, 0), puma560
+  //! (0, pi/4, -pi, 0, pi/4, 0); other robots: the middle of the joint ranges.
+  static vpColVector homeConfiguration(const vpKinematicChain &chain);
+
+  const Options &getOptions() const { return m_opt; }
+  const vpKinematicChain &getNominalChain() const { return m_nominal; }
+  const vpKinematicChain &getTrueChain() const { return m_true; }
+  vpCameraParameters getCamera() const;
+  const std::vector<vpColVector> &getScenePoints() const { return m_points; } //!< in f, index = id
+  vpColVector getSceneCentre() const { return m_centre; }
+  vpSelfCalibDataset::Yardstick getYardstick() const;
+
+  /*!
+    Draws m joint configurations within the nominal chain's limits: a look-at viewpoint, numerical
+    IK on the nominal model (Ceres, joint limits as bounds), kept when every scene point projects
+    inside the image (with the margin) and in front of the camera through the true robot.
+    Throws vpSelfCalibException if a configuration cannot be found in max_attempts draws (the
+    scene is out of reach or the options too tight).
+  */
+  std::vector<vpColVector> generateConfigurations(unsigned int m, const Progress &progress = Progress()) const;
+
+  //! True when every scene point is visible (inside the image with the margin, in front) from the
+  //! true camera at q.
+  bool isVisible(const vpColVector &q) const;
+
+  /*!
+    Image points of all visible scene points through the true robot at q. view_index selects the
+    noise stream, so view k always gets the same noise; noise_sd < 0 uses Options::pixel_noise_sd.
+  */
+  std::vector<vpSelfCalibDataset::Observation> observe(const vpColVector &q, unsigned int view_index,
+                                                       double noise_sd = -1) const;
+
+  //! Dataset for the given configurations, observations straight from the true chain.
+  vpSelfCalibDataset makeDataset(const std::vector<vpColVector> &configurations) const;
+
+  /*!
+    Acquisition through a robot interface: for each configuration, move the robot
+    (ARTICULAR_FRAME), read its joints back, and observe from the true camera at the joints read.
+    This is what acquisition code does with a real vpRobot.
+  */
+  vpSelfCalibDataset acquire(vpRobot &robot, const std::vector<vpColVector> &configurations,
+                             const Progress &progress = Progress()) const;
+
+private:
+  bool inverseKinematics(const vpHomogeneousMatrix &fMc, const vpColVector &q0, vpColVector &q) const;
+
+  Options m_opt;
+  vpKinematicChain m_nominal, m_true;
+  vpColVector m_home, m_centre;
+  std::vector<vpColVector> m_points;
+};
+
+#endif

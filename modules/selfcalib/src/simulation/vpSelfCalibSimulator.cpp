@@ -1,0 +1,336 @@
+/*
+ * ViSP SelfCalib: the reference simulation scenario.
+ */
+#include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibSimulator.h>
+
+#include <cmath>
+#include <sstream>
+
+#include <ceres/ceres.h>
+
+#include "../core/vpSelfCalibMath.h"
+#include "../core/vpSelfCalibRandom.h"
+
+using namespace vpSelfCalib;
+
+namespace
+{
+enum Stream : uint64_t { kErrors = 1, kScene = 2, kConfigurations = 3, kNoise = 1000 };
+
+void require(bool ok, const std::string &what)
+{
+  if (!ok)
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpSelfCalibSimulator::Options: " + what);
+}
+
+bool nonNegative(double v) { return std::isfinite(v) && v >= 0; }
+
+/*
+  IK residual: r = [p(q) - p*; log(R(q) R*^T)] (position and rotation in f).
+  Jacobian: [Jv; J_l(phi)^-1 Jw], exact, since R(q + dq) = exp([Jw dq]x) R(q) and
+  exp([phi + dphi]x) = exp([J_l(phi) dphi]x) exp([phi]x).
+*/
+class PoseResidual : public ceres::CostFunction
+{
+public:
+  PoseResidual(const vpKinematicChain &chain, const Rigid &target) : m_chain(chain), m_target(target)
+  {
+    set_num_residuals(6);
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(chain.getNumJoints()));
+  }
+
+  bool Evaluate(double const *const *parameters, double *residuals, double **jacobians) const override
+  {
+    const unsigned int n = m_chain.getNumJoints();
+    vpColVector q(n);
+    for (unsigned int i = 0; i < n; ++i)
+      q[i] = parameters[0][i];
+    const Rigid M = rigidFromVisp(m_chain.get_fMc(q));
+    const Eigen::Vector3d dp = M.t - m_target.t;
+    const Eigen::Vector3d phi = logSO3(M.R * m_target.R.transpose());
+    for (int k = 0; k < 3; ++k) {
+      residuals[k] = dp(k);
+      residuals[3 + k] = phi(k);
+    }
+    if (jacobians && jacobians[0]) {
+      const vpMatrix J = m_chain.getJointJacobian(q);
+      const Eigen::Matrix3d Jli = leftJacobianSO3(phi).inverse();
+      for (unsigned int i = 0; i < n; ++i) {
+        const Eigen::Vector3d w(J[3][i], J[4][i], J[5][i]);
+        const Eigen::Vector3d dphi = Jli * w;
+        for (int k = 0; k < 3; ++k) {
+          jacobians[0][k * n + i] = J[k][i];
+          jacobians[0][(3 + k) * n + i] = dphi(k);
+        }
+      }
+    }
+    return true;
+  }
+
+private:
+  const vpKinematicChain &m_chain;
+  Rigid m_target;
+};
+
+Eigen::Vector3d toEigen(const vpColVector &v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
+vpColVector toVisp3(const Eigen::Vector3d &v)
+{
+  vpColVector c(3);
+  for (int k = 0; k < 3; ++k)
+    c[k] = v(k);
+  return c;
+}
+} // namespace
+
+void vpSelfCalibSimulator::Options::check() const
+{
+  for (double v : {joint_translation_sd, joint_rotation_sd, base_translation_sd, base_rotation_sd,
+                   hand_eye_translation_sd, hand_eye_rotation_sd})
+    require(nonNegative(v), "error standard deviations must be finite and >= 0");
+  require(width > 0 && height > 0, "the image size must be positive");
+  require(std::isfinite(px) && std::isfinite(py) && px > 0 && py > 0, "px and py must be positive");
+  require(std::isfinite(u0) && std::isfinite(v0), "u0 and v0 must be finite");
+  require(num_points >= 1, "num_points must be at least 1");
+  require(std::isfinite(box_x) && std::isfinite(box_y) && std::isfinite(box_z) && box_x > 0 && box_y > 0 &&
+              box_z > 0,
+          "the box sizes must be positive");
+  require(std::isfinite(yardstick_length) && yardstick_length > 0 &&
+              yardstick_length <= std::min(box_x, box_y),
+          "yardstick_length must be positive and fit in the box (<= min(box_x, box_y))");
+  require(std::isfinite(distance_min) && std::isfinite(distance_max) && distance_min > 0 &&
+              distance_min <= distance_max,
+          "viewing distances must satisfy 0 < distance_min <= distance_max");
+  require(std::isfinite(view_cone) && view_cone >= 0 && view_cone <= M_PI / 2, "view_cone must be in [0, pi/2]");
+  require(nonNegative(roll_range) && roll_range <= M_PI, "roll_range must be in [0, pi]");
+  require(nonNegative(image_margin) && 2 * image_margin < std::min(width, height),
+          "image_margin must be >= 0 and leave part of the image");
+  require(nonNegative(pixel_noise_sd), "pixel_noise_sd must be finite and >= 0");
+  require(max_attempts >= 1, "max_attempts must be at least 1");
+}
+
+vpColVector vpSelfCalibSimulator::homeConfiguration(const vpKinematicChain &chain)
+{
+  if (chain.getName() == "viper850")
+    return vpColVector({0, -1.2, 2.4, 0, 0.4, 0});
+  if (chain.getName() == "puma560")
+    return vpColVector({0, M_PI / 4, -M_PI, 0, M_PI / 4, 0});
+  return (chain.getJointMin() + chain.getJointMax()) * 0.5;
+}
+
+vpSelfCalibSimulator::vpSelfCalibSimulator(const vpKinematicChain &nominal, const Options &options)
+  : m_opt(options), m_nominal(nominal.nominal()), m_true(nominal.nominal())
+{
+  m_opt.check();
+  m_home = m_opt.home.size() ? m_opt.home : homeConfiguration(m_nominal);
+  if (m_home.size() != m_nominal.getNumJoints() || !m_nominal.isInJointLimits(m_home))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpSelfCalibSimulator: the home configuration must have " +
+                                   std::to_string(m_nominal.getNumJoints()) +
+                                   " finite values inside the joint limits");
+
+  // True robot: nominal + seeded 6-D errors on the base, every joint placement and eMc.
+  Random err(m_opt.seed, kErrors);
+  vpColVector p(m_true.getNumParameters());
+  const unsigned int nblocks = m_true.getNumJoints() + 2;
+  for (unsigned int b = 0; b < nblocks; ++b) {
+    double tsd = m_opt.joint_translation_sd, rsd = m_opt.joint_rotation_sd;
+    if (b == 0) {
+      tsd = m_opt.base_translation_sd;
+      rsd = m_opt.base_rotation_sd;
+    } else if (b == nblocks - 1) {
+      tsd = m_opt.hand_eye_translation_sd;
+      rsd = m_opt.hand_eye_rotation_sd;
+    }
+    for (unsigned int k = 0; k < 6; ++k)
+      p[6 * b + k] = err.normal(k < 3 ? tsd : rsd);
+  }
+  m_true.setParameters(p);
+
+  // Scene: box centred on the point seen at mid distance along the home optical axis.
+  const Rigid home = rigidFromVisp(m_nominal.get_fMc(m_home));
+  const Eigen::Vector3d centre = home * Eigen::Vector3d(0, 0, 0.5 * (m_opt.distance_min + m_opt.distance_max));
+  m_centre = toVisp3(centre);
+  Random scene(m_opt.seed, kScene);
+  for (unsigned int i = 0; i < m_opt.num_points; ++i) {
+    const Eigen::Vector3d d(scene.uniform(-0.5, 0.5) * m_opt.box_x, scene.uniform(-0.5, 0.5) * m_opt.box_y,
+                            scene.uniform(-0.5, 0.5) * m_opt.box_z);
+    m_points.push_back(toVisp3(centre + d));
+  }
+  // Yardstick lying horizontally through the box centre (it fits: length <= min(box_x, box_y)).
+  const double a = scene.uniform(0, 2 * M_PI);
+  const Eigen::Vector3d half = 0.5 * m_opt.yardstick_length * Eigen::Vector3d(std::cos(a), std::sin(a), 0);
+  m_points.push_back(toVisp3(centre - half));
+  m_points.push_back(toVisp3(centre + half));
+}
+
+vpCameraParameters vpSelfCalibSimulator::getCamera() const
+{
+  return vpCameraParameters(m_opt.px, m_opt.py, m_opt.u0, m_opt.v0);
+}
+
+vpSelfCalibDataset::Yardstick vpSelfCalibSimulator::getYardstick() const
+{
+  vpSelfCalibDataset::Yardstick y;
+  y.length = m_opt.yardstick_length;
+  y.id_a = static_cast<int>(m_opt.num_points);
+  y.id_b = static_cast<int>(m_opt.num_points) + 1;
+  return y;
+}
+
+bool vpSelfCalibSimulator::inverseKinematics(const vpHomogeneousMatrix &fMc, const vpColVector &q0,
+                                             vpColVector &q) const
+{
+  const unsigned int n = m_nominal.getNumJoints();
+  std::vector<double> x(q0.data, q0.data + n);
+  ceres::Problem problem;
+  problem.AddResidualBlock(new PoseResidual(m_nominal, rigidFromVisp(fMc)), nullptr, x.data());
+  for (unsigned int i = 0; i < n; ++i) {
+    problem.SetParameterLowerBound(x.data(), static_cast<int>(i), m_nominal.getJoints()[i].min);
+    problem.SetParameterUpperBound(x.data(), static_cast<int>(i), m_nominal.getJoints()[i].max);
+  }
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = 100;
+  so.function_tolerance = 1e-16;
+  so.gradient_tolerance = 1e-16;
+  so.parameter_tolerance = 1e-14;
+  so.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  // Converged to the exact pose (cost = |r|^2 / 2): 1e-9 m and 1e-9 rad.
+  if (!(summary.final_cost < 0.5e-18))
+    return false;
+  q.resize(n);
+  for (unsigned int i = 0; i < n; ++i)
+    q[i] = x[i];
+  return m_nominal.isInJointLimits(q);
+}
+
+bool vpSelfCalibSimulator::isVisible(const vpColVector &q) const
+{
+  const Rigid cMf = rigidFromVisp(m_true.get_fMc(q)).inverse();
+  const double m = m_opt.image_margin;
+  for (const vpColVector &X : m_points) {
+    const Eigen::Vector3d Xc = cMf * toEigen(X);
+    if (!(Xc.z() > 1e-3))
+      return false;
+    const double u = m_opt.u0 + m_opt.px * Xc.x() / Xc.z();
+    const double v = m_opt.v0 + m_opt.py * Xc.y() / Xc.z();
+    if (u < m || v < m || u > m_opt.width - 1 - m || v > m_opt.height - 1 - m)
+      return false;
+  }
+  return true;
+}
+
+std::vector<vpColVector> vpSelfCalibSimulator::generateConfigurations(unsigned int m, const Progress &progress) const
+{
+  Random rng(m_opt.seed, kConfigurations);
+  const Rigid home = rigidFromVisp(m_nominal.get_fMc(m_home));
+  const Eigen::Vector3d centre = toEigen(m_centre);
+  const Eigen::Vector3d d0 = (home.t - centre).normalized();
+  const Eigen::Vector3d e1 = d0.unitOrthogonal(), e2 = d0.cross(e1);
+  std::vector<vpColVector> configs;
+  for (unsigned int k = 0; k < m; ++k) {
+    bool found = false;
+    for (unsigned int attempt = 0; attempt < m_opt.max_attempts && !found; ++attempt) {
+      // Direction uniform on the spherical cap of half-angle view_cone around d0.
+      const double c = 1.0 - rng.uniform() * (1.0 - std::cos(m_opt.view_cone));
+      const double s = std::sqrt(std::max(0.0, 1.0 - c * c)), phi = rng.uniform(0, 2 * M_PI);
+      const Eigen::Vector3d d = c * d0 + s * (std::cos(phi) * e1 + std::sin(phi) * e2);
+      const double dist = rng.uniform(m_opt.distance_min, m_opt.distance_max);
+      const double roll = rng.uniform(-m_opt.roll_range, m_opt.roll_range);
+      // Look-at pose: z towards the centre, x as close as possible to the home x axis, rolled.
+      Rigid target;
+      const Eigen::Vector3d z = -d;
+      Eigen::Vector3d x = home.R.col(0) - home.R.col(0).dot(z) * z;
+      if (x.norm() < 1e-6)
+        x = z.unitOrthogonal();
+      x = Eigen::AngleAxisd(roll, z) * x.normalized();
+      target.R.col(0) = x;
+      target.R.col(1) = z.cross(x);
+      target.R.col(2) = z;
+      target.t = centre + dist * d;
+      vpColVector q;
+      if (inverseKinematics(toVisp(target), m_home, q) && isVisible(q)) {
+        configs.push_back(q);
+        found = true;
+      }
+    }
+    if (!found) {
+      std::ostringstream os;
+      os << "vpSelfCalibSimulator::generateConfigurations: no configuration found for pose " << k + 1 << " of "
+         << m << " in " << m_opt.max_attempts
+         << " viewpoint draws (scene out of reach, or view_cone, distances or image margin too tight)";
+      throw vpSelfCalibException(vpSelfCalibException::badValue, os.str());
+    }
+    if (progress)
+      progress(k + 1, m);
+  }
+  return configs;
+}
+
+std::vector<vpSelfCalibDataset::Observation> vpSelfCalibSimulator::observe(const vpColVector &q, unsigned int view_index,
+                                                                           double noise_sd) const
+{
+  const double sd = noise_sd < 0 ? m_opt.pixel_noise_sd : noise_sd;
+  if (!std::isfinite(sd))
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpSelfCalibSimulator::observe: non-finite noise");
+  Random noise(m_opt.seed, kNoise + view_index);
+  const Rigid cMf = rigidFromVisp(m_true.get_fMc(q)).inverse();
+  std::vector<vpSelfCalibDataset::Observation> obs;
+  for (size_t i = 0; i < m_points.size(); ++i) {
+    const Eigen::Vector3d Xc = cMf * toEigen(m_points[i]);
+    // Draw the noise of every point, seen or not, so that point i's noise does not depend on the others.
+    const double nu = noise.normal(sd), nv = noise.normal(sd);
+    if (!(Xc.z() > 1e-3))
+      continue;
+    const double u = m_opt.u0 + m_opt.px * Xc.x() / Xc.z() + nu;
+    const double v = m_opt.v0 + m_opt.py * Xc.y() / Xc.z() + nv;
+    if (u < 0 || v < 0 || u > m_opt.width - 1 || v > m_opt.height - 1)
+      continue;
+    vpSelfCalibDataset::Observation o;
+    o.id = static_cast<int>(i);
+    o.ip.set_uv(u, v);
+    obs.push_back(o);
+  }
+  return obs;
+}
+
+vpSelfCalibDataset vpSelfCalibSimulator::makeDataset(const std::vector<vpColVector> &configurations) const
+{
+  vpSelfCalibDataset ds;
+  ds.cam = getCamera();
+  ds.width = m_opt.width;
+  ds.height = m_opt.height;
+  ds.focal_known = true;
+  ds.robot = m_nominal.getName();
+  ds.yardstick = getYardstick();
+  for (size_t k = 0; k < configurations.size(); ++k) {
+    vpSelfCalibDataset::View v;
+    v.q = configurations[k];
+    v.points = observe(configurations[k], static_cast<unsigned int>(k));
+    ds.views.push_back(v);
+  }
+  return ds;
+}
+
+vpSelfCalibDataset vpSelfCalibSimulator::acquire(vpRobot &robot, const std::vector<vpColVector> &configurations,
+                                                 const Progress &progress) const
+{
+  vpSelfCalibDataset ds = makeDataset({});
+  for (size_t k = 0; k < configurations.size(); ++k) {
+    robot.setPosition(vpRobot::ARTICULAR_FRAME, configurations[k]);
+    vpSelfCalibDataset::View v;
+    robot.getPosition(vpRobot::ARTICULAR_FRAME, v.q);
+    if (v.q.size() != m_nominal.getNumJoints())
+      throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                                 "vpSelfCalibSimulator::acquire: the robot reports " + std::to_string(v.q.size()) +
+                                     " joints, the model has " + std::to_string(m_nominal.getNumJoints()));
+    v.points = observe(v.q, static_cast<unsigned int>(k));
+    ds.views.push_back(v);
+    if (progress)
+      progress(static_cast<unsigned int>(k + 1), static_cast<unsigned int>(configurations.size()));
+  }
+  return ds;
+}

@@ -1,0 +1,44 @@
+/*
+ * ViSP SelfCalib: headless, instantly moved Viper850 simulator.
+ */
+#include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibSimulatorViper850.h>
+
+#include <cmath>
+
+vpSelfCalibSimulatorViper850::vpSelfCalibSimulatorViper850() : vpSimulatorViper850(false)
+{
+  // In constant-sampling mode the simulator thread integrates joint velocities only after a
+  // setVelocity() call; without one it never writes the joint coordinates we set.
+  setConstantSamplingTimeMode(true);
+}
+
+void vpSelfCalibSimulatorViper850::setPosition(const vpRobot::vpControlFrameType frame, const vpColVector &q)
+{
+  if (frame != vpRobot::ARTICULAR_FRAME)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpSelfCalibSimulatorViper850::setPosition: only ARTICULAR_FRAME is supported");
+  if (q.size() != 6)
+    throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                               "vpSelfCalibSimulatorViper850::setPosition: expected 6 joint values, got " +
+                                   std::to_string(q.size()));
+  const vpColVector qmin = getJointMin(), qmax = getJointMax();
+  for (unsigned int i = 0; i < 6; ++i)
+    if (!std::isfinite(q[i]) || q[i] < qmin[i] || q[i] > qmax[i])
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpSelfCalibSimulatorViper850::setPosition: joint " + std::to_string(i + 1) +
+                                     " value " + std::to_string(q[i]) + " is outside [" + std::to_string(qmin[i]) +
+                                     ", " + std::to_string(qmax[i]) + "]");
+  set_artCoord(q);
+  compute_fMi();
+}
+
+vpKinematicChain vpSelfCalibSimulatorViper850::getNominalChain() const
+{
+  vpKinematicChain chain = vpKinematicChain::preset("viper850");
+  chain.setJointLimits(getJointMin(), getJointMax());
+  vpHomogeneousMatrix eMc_;
+  get_eMc(eMc_);
+  chain.set_eMc(vpPoseVector(eMc_));
+  return chain;
+}
