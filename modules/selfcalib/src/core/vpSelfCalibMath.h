@@ -13,6 +13,7 @@
 
 #include <visp3/core/vpColVector.h>
 #include <visp3/core/vpHomogeneousMatrix.h>
+#include <visp3/core/vpMatrix.h>
 #include <visp3/core/vpPoseVector.h>
 
 namespace vpSelfCalib
@@ -149,6 +150,24 @@ inline double rotationDistance(const vpHomogeneousMatrix &A, const vpHomogeneous
 inline double translationDistance(const vpHomogeneousMatrix &A, const vpHomogeneousMatrix &B)
 {
   return (rigidFromVisp(A).t - rigidFromVisp(B).t).norm();
+}
+
+inline Eigen::Matrix3d toEigen3(const vpMatrix &M)
+{
+  Eigen::Matrix3d E;
+  for (unsigned int i = 0; i < 3; ++i)
+    for (unsigned int j = 0; j < 3; ++j)
+      E(i, j) = M[i][j];
+  return E;
+}
+
+inline vpMatrix toVispMatrix(const Eigen::Matrix3d &E)
+{
+  vpMatrix M(3, 3);
+  for (unsigned int i = 0; i < 3; ++i)
+    for (unsigned int j = 0; j < 3; ++j)
+      M[i][j] = E(i, j);
+  return M;
 }
 
 inline bool allFinite(const vpColVector &v)

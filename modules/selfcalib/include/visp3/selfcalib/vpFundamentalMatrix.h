@@ -1,0 +1,69 @@
+/*
+ * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ */
+#ifndef VP_FUNDAMENTAL_MATRIX_H
+#define VP_FUNDAMENTAL_MATRIX_H
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <visp3/core/vpImagePoint.h>
+#include <visp3/core/vpMatrix.h>
+
+/*!
+  \class vpFundamentalMatrix
+  \brief Fundamental matrix between two images of pixel correspondences (paper eq. 3: m2^T F m1 = 0,
+  m1 in image 1, m2 in image 2, homogeneous pixels).
+
+  - eightPoint(): Hartley's normalized 8-point algorithm (centroid at the origin, mean distance
+    sqrt(2)), null vector by SVD (Eigen; ViSP's svd is wrong for the wide 8 x 9 system), rank 2
+    enforced by zeroing the smallest singular value. The minimal solver and the estimator on all
+    points are the same function.
+  - sampsonDistance(): first-order geometric error in pixels.
+  - estimate(): the 8-point inside RANSAC (seeded sampler, adaptive iteration count), then a
+    re-estimate on all inliers.
+*/
+class vpFundamentalMatrix
+{
+public:
+  struct Options {
+    double inlier_threshold = 1.0;  //!< px, Sampson distance
+    double confidence = 0.999;      //!< probability of drawing one outlier-free sample
+    unsigned int max_iterations = 5000;
+    uint64_t seed = 1;
+    void check() const; //!< throws vpSelfCalibException on nonsense
+  };
+
+  enum Status { OK, TOO_FEW_POINTS, DEGENERATE };
+
+  struct Result {
+    Status status = DEGENERATE;
+    std::string message;
+    vpMatrix F;                 //!< 3 x 3, Frobenius norm 1, rank 2
+    std::vector<bool> inliers;  //!< one per correspondence
+    unsigned int num_inliers = 0;
+    unsigned int iterations = 0;
+    double rms_sampson = 0;     //!< px, over the inliers
+  };
+
+  /*!
+    Normalized 8-point on the given correspondences (8 or more). Returns false when the system is
+    degenerate (fewer than 8 distinct points, all points coincident, rank deficiency).
+  */
+  static bool eightPoint(const std::vector<vpImagePoint> &p1, const std::vector<vpImagePoint> &p2, vpMatrix &F);
+  static double sampsonDistance(const vpMatrix &F, const vpImagePoint &p1, const vpImagePoint &p2);
+  /*!
+    RANSAC estimate. Throws vpSelfCalibException when the two lists differ in size or hold a
+    non-finite coordinate; fewer than 8 distinct correspondences is Status TOO_FEW_POINTS.
+  */
+  static Result estimate(const std::vector<vpImagePoint> &p1, const std::vector<vpImagePoint> &p2,
+                         const Options &options);
+  //! Number of correspondences that are pairwise distinct (in both images).
+  static unsigned int countDistinct(const std::vector<vpImagePoint> &p1, const std::vector<vpImagePoint> &p2);
+  //! Throws vpSelfCalibException on size mismatch or non-finite coordinates.
+  static void checkCorrespondences(const std::vector<vpImagePoint> &p1, const std::vector<vpImagePoint> &p2,
+                                   const char *where);
+};
+
+#endif
