@@ -35,6 +35,19 @@ vpImagePoint project(const Eigen::Vector3d &X)
   return ip;
 }
 
+// Camera frame at centre c looking at target (z towards it), x from the y axis rolled by roll.
+Rigid lookAt(const Eigen::Vector3d &c, const Eigen::Vector3d &target, double roll)
+{
+  const Eigen::Vector3d z = (target - c).normalized();
+  const Eigen::Vector3d x = Eigen::AngleAxisd(roll, z) * Eigen::Vector3d::UnitY().cross(z).normalized();
+  Rigid M;
+  M.R.col(0) = x;
+  M.R.col(1) = z.cross(x);
+  M.R.col(2) = z;
+  M.t = c;
+  return M;
+}
+
 // Random general pair: points in a cloud 2.5-3.5 in front of camera 1; camera 2 displaced by up to
 // (1, 0.6, 0.3) and aimed at a random point near the cloud centre (off camera 1's axis, so the axes
 // do not meet), with a random roll. Points are kept when inside both images.
@@ -45,14 +58,7 @@ PairData makePair(Random &rng, unsigned int n, double noise, bool planar = false
   const Eigen::Vector3d c2 = pure_rotation ? Eigen::Vector3d::Zero()
                                            : Eigen::Vector3d(rng.uniform(-1, 1), rng.uniform(-0.6, 0.6), rng.uniform(-0.3, 0.3));
   const Eigen::Vector3d target(rng.uniform(0.1, 0.3) * (rng.uniform() < 0.5 ? -1 : 1), rng.uniform(-0.3, 0.3), 3);
-  const Eigen::Vector3d z = (target - c2).normalized();
-  Eigen::Vector3d x = Eigen::AngleAxisd(rng.uniform(-0.5, 0.5), z) * Eigen::Vector3d::UnitY().cross(z).normalized();
-  Rigid c1Mc2;
-  c1Mc2.R.col(0) = x;
-  c1Mc2.R.col(1) = z.cross(x);
-  c1Mc2.R.col(2) = z;
-  c1Mc2.t = c2;
-  const Rigid M = c1Mc2.inverse();
+  const Rigid M = lookAt(c2, target, rng.uniform(-0.5, 0.5)).inverse();
   d.c2Mc1 = toVisp(M);
   const Eigen::Vector3d normal = Eigen::Vector3d(rng.normal(0.2), rng.normal(0.2), 1).normalized();
   for (int attempts = 0; d.p1.size() < n && attempts < 100000; ++attempts) {
@@ -257,13 +263,7 @@ TEST(TwoView, ConvergingOpticalAxesMakeTheFocalUnobservable)
   Random rng(7);
   // Camera 2 at (0.8, 0, 0) in camera-1 coordinates, looking at (0, 0, 3) on camera 1's axis.
   const Eigen::Vector3d c2(0.8, 0.1, 0.2), target(0, 0, 3);
-  const Eigen::Vector3d z = (target - c2).normalized(), x = Eigen::Vector3d::UnitY().cross(z).normalized();
-  Rigid c1Mc2;
-  c1Mc2.R.col(0) = x;
-  c1Mc2.R.col(1) = z.cross(x);
-  c1Mc2.R.col(2) = z;
-  c1Mc2.t = c2;
-  const Rigid M = c1Mc2.inverse();
+  const Rigid M = lookAt(c2, target, 0.0).inverse();
   std::vector<vpImagePoint> p1, p2;
   while (p1.size() < 60) {
     const Eigen::Vector3d X = target + Eigen::Vector3d(rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3));
