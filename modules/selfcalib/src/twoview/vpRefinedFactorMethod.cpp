@@ -99,6 +99,18 @@ double vpRefinedFactorMethod::symmetricEpipolarDistance(const vpHomogeneousMatri
   return std::fabs(out);
 }
 
+double vpRefinedFactorMethod::rmsSymmetricEpipolarDistance(const vpHomogeneousMatrix &c2Mc1, double fx, double u0,
+                                                           double v0, double mu, const std::vector<vpImagePoint> &p1,
+                                                           const std::vector<vpImagePoint> &p2)
+{
+  double ss = 0;
+  for (size_t i = 0; i < p1.size(); ++i) {
+    const double d = symmetricEpipolarDistance(c2Mc1, fx, u0, v0, mu, p1[i], p2[i]);
+    ss += d * d;
+  }
+  return p1.empty() ? 0 : std::sqrt(ss / p1.size());
+}
+
 vpRefinedFactorMethod::Result vpRefinedFactorMethod::refine(const std::vector<Pair> &pairs, double fx,
                                                             const Options &opt)
 {
@@ -158,12 +170,7 @@ vpRefinedFactorMethod::Result vpRefinedFactorMethod::refine(const std::vector<Pa
   res.fx = f;
   for (size_t k = 0; k < pairs.size(); ++k) {
     res.c2Mc1.push_back(fromParams(params[k]));
-    double ss = 0;
-    for (size_t i = 0; i < pairs[k].p1.size(); ++i) {
-      const double d = symmetricEpipolarDistance(res.c2Mc1[k], f, opt.u0, opt.v0, opt.mu, pairs[k].p1[i], pairs[k].p2[i]);
-      ss += d * d;
-    }
-    res.rms.push_back(pairs[k].p1.empty() ? 0 : std::sqrt(ss / pairs[k].p1.size()));
+    res.rms.push_back(rmsSymmetricEpipolarDistance(res.c2Mc1[k], f, opt.u0, opt.v0, opt.mu, pairs[k].p1, pairs[k].p2));
   }
   if (opt.focal_mode != KNOWN && res.converged) {
     // Standard deviation of f_x: covariance of the f block, scaled by the residual variance

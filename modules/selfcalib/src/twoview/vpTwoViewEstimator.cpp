@@ -39,17 +39,6 @@ void select(const std::vector<vpImagePoint> &p1, const std::vector<vpImagePoint>
     }
 }
 
-double rmsOf(const vpHomogeneousMatrix &M, double fx, const vpTwoViewEstimator::Options &o,
-             const std::vector<vpImagePoint> &a, const std::vector<vpImagePoint> &b)
-{
-  double ss = 0;
-  for (size_t i = 0; i < a.size(); ++i) {
-    const double d = vpRefinedFactorMethod::symmetricEpipolarDistance(M, fx, o.u0, o.v0, o.mu, a[i], b[i]);
-    ss += d * d;
-  }
-  return a.empty() ? 0 : std::sqrt(ss / a.size());
-}
-
 /*
   Homography test. Returns true when H explains the F inliers; then sets pure_rotation and, for a
   rotation, R (nearest rotation to A^-1 H A scaled to unit determinant).
@@ -234,7 +223,7 @@ vpTwoViewEstimator::Result vpTwoViewEstimator::estimate(const std::vector<vpImag
     res.fx = rr.fx;
     res.fx_sd = rr.fx_sd;
   }
-  res.rms = rmsOf(res.c2Mc1, res.fx, o, a, b);
+  res.rms = vpRefinedFactorMethod::rmsSymmetricEpipolarDistance(res.c2Mc1, res.fx, o.u0, o.v0, o.mu, a, b);
   return res;
 }
 

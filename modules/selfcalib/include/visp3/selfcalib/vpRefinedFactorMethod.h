@@ -67,6 +67,10 @@ public:
   //! Symmetric epipolar distance (px) of one correspondence: sqrt(d(m2, Q m1)^2 + d(m1, Q^T m2)^2).
   static double symmetricEpipolarDistance(const vpHomogeneousMatrix &c2Mc1, double fx, double u0, double v0,
                                           double mu, const vpImagePoint &p1, const vpImagePoint &p2);
+  //! RMS of symmetricEpipolarDistance() over the correspondences (0 when there are none).
+  static double rmsSymmetricEpipolarDistance(const vpHomogeneousMatrix &c2Mc1, double fx, double u0, double v0,
+                                             double mu, const std::vector<vpImagePoint> &p1,
+                                             const std::vector<vpImagePoint> &p2);
 };
 
 #endif
