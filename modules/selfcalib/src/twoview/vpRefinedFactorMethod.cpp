@@ -2,9 +2,11 @@
  * ViSP SelfCalib: the refined nonlinear factor method (paper eqs. 12-13) with Ceres.
  */
 #include <visp3/selfcalib/vpRefinedFactorMethod.h>
+#include <visp3/selfcalib/vpFactorMethod.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <cmath>
+#include <limits>
 
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
@@ -74,6 +76,28 @@ vpHomogeneousMatrix fromParams(const PairParams &p)
   M.R = Eigen::Quaterniond(p.q[0], p.q[1], p.q[2], p.q[3]).normalized().toRotationMatrix();
   M.t = Eigen::Vector3d(p.t[0], p.t[1], p.t[2]).normalized();
   return toVisp(M);
+}
+unsigned int inFront(const vpHomogeneousMatrix &c2Mc1, double f, const vpRefinedFactorMethod::Options &opt,
+                     const vpRefinedFactorMethod::Pair &pair)
+{
+  unsigned int n = 0;
+  for (size_t i = 0; i < pair.p1.size(); ++i) {
+    const double x1[2] = {(pair.p1[i].get_u() - opt.u0) / f, (pair.p1[i].get_v() - opt.v0) / (opt.mu * f)};
+    const double x2[2] = {(pair.p2[i].get_u() - opt.u0) / f, (pair.p2[i].get_v() - opt.v0) / (opt.mu * f)};
+    double z1, z2;
+    vpFactorMethod::triangulateDepths(c2Mc1, x1, x2, z1, z2);
+    n += z1 > 0 && z2 > 0;
+  }
+  return n;
+}
+
+vpHomogeneousMatrix keepCheirality(const vpHomogeneousMatrix &c2Mc1, double f, const vpRefinedFactorMethod::Options &opt,
+                                   const vpRefinedFactorMethod::Pair &pair)
+{
+  vpHomogeneousMatrix flipped = c2Mc1;
+  for (unsigned int i = 0; i < 3; ++i)
+    flipped[i][3] = -c2Mc1[i][3];
+  return inFront(flipped, f, opt, pair) > inFront(c2Mc1, f, opt, pair) ? flipped : c2Mc1;
 }
 } // namespace
 
@@ -169,23 +193,33 @@ vpRefinedFactorMethod::Result vpRefinedFactorMethod::refine(const std::vector<Pa
   res.message = summary.message;
   res.fx = f;
   for (size_t k = 0; k < pairs.size(); ++k) {
+    // The epipolar distance is even in t (E and -E give the same lines), so the minimizer may end
+    // at -t even when it started at the factor method's cheirality-checked t. Cheirality again:
+    // keep the sign that puts more correspondences in front of both cameras.
     res.c2Mc1.push_back(fromParams(params[k]));
+    res.c2Mc1.back() = keepCheirality(res.c2Mc1.back(), f, opt, pairs[k]);
     res.rms.push_back(rmsSymmetricEpipolarDistance(res.c2Mc1[k], f, opt.u0, opt.v0, opt.mu, pairs[k].p1, pairs[k].p2));
   }
   if (opt.focal_mode != KNOWN && res.converged) {
     // Standard deviation of f_x: covariance of the f block, scaled by the residual variance
-    // (sigma^2 = 2 cost / (m - dof)).
+    // (sigma^2 = 2 cost / (m - dof)). The manifolds leave no gauge freedom, so the full inverse is
+    // taken (null_space_rank 0): a pseudo-inverse would silently drop the near-null direction of a
+    // near-degenerate pair, which is exactly the direction f lies in, and report a tiny sd. When the
+    // normal matrix is singular to working precision, f is not observable and fx_sd is infinite.
     ceres::Covariance::Options co;
     co.algorithm_type = ceres::DENSE_SVD;
-    co.null_space_rank = -1;
+    co.null_space_rank = 0;
+    co.min_reciprocal_condition_number = 1e-300;
     ceres::Covariance cov(co);
     std::vector<std::pair<const double *, const double *>> blocks = {{&f, &f}};
+    res.fx_sd = std::numeric_limits<double>::infinity();
     if (cov.Compute(blocks, &problem)) {
       double c = 0;
       cov.GetCovarianceBlock(&f, &f, &c);
       const int dof = summary.num_residuals - summary.num_effective_parameters;
       const double s2 = dof > 0 ? 2.0 * summary.final_cost / dof : 0.0;
-      res.fx_sd = std::sqrt(std::max(0.0, c * s2));
+      if (std::isfinite(c) && c >= 0)
+        res.fx_sd = std::sqrt(c * s2);
     }
   }
   return res;

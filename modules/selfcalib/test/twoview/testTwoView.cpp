@@ -137,6 +137,29 @@ TEST(TwoView, NoiseFreeExactRecoveryOverManyRandomPoses)
   }
 }
 
+// The epipolar distance is even in t: a refinement that ends at -t must be turned back by
+// cheirality. Started at the true rotation with t negated, the result must have the true t.
+TEST(TwoView, RefinementKeepsTheCheiralSignOfT)
+{
+  Random rng(5);
+  for (int k = 0; k < 10; ++k) {
+    const PairData d = makePair(rng, 60, 0.0);
+    vpHomogeneousMatrix start = d.c2Mc1;
+    vpColVector t = d.c2Mc1.getTranslationVector();
+    t.normalize();
+    for (unsigned int i = 0; i < 3; ++i)
+      start[i][3] = -t[i];
+    vpRefinedFactorMethod::Options ro;
+    ro.focal_mode = vpRefinedFactorMethod::KNOWN;
+    ro.u0 = kU0;
+    ro.v0 = kV0;
+    const vpRefinedFactorMethod::Result r = vpRefinedFactorMethod::refine({{d.p1, d.p2, start}}, kF, ro);
+    ASSERT_TRUE(r.converged) << r.message;
+    EXPECT_LT(directionError(r.c2Mc1[0], d.c2Mc1), 1e-9) << "pose " << k;
+    EXPECT_LT(rotationError(r.c2Mc1[0], d.c2Mc1), 1e-9) << "pose " << k;
+  }
+}
+
 TEST(TwoView, FactorMethodAndFocalAreExactWithoutRefinement)
 {
   Random rng(3);
@@ -153,7 +176,7 @@ TEST(TwoView, FactorMethodAndFocalAreExactWithoutRefinement)
 }
 
 // Noisy data over several seeds: the error in f is consistent with the predicted standard deviation
-// (|error| < 3 sd in at least 85% of 40 pairs; 99.7% expected). With this narrow field of view
+// (|error| < 3 sd in at least 85% of the pairs that determine f; 99.7% expected; 28 of 40 do). With this narrow field of view
 // (+-12 deg) and f self-calibrated, rotation, translation direction and f are strongly coupled, so
 // rotation only gets a gross-error check.
 TEST(TwoView, NoisyRecoveryWithinPredictedBounds)
@@ -164,9 +187,12 @@ TEST(TwoView, NoisyRecoveryWithinPredictedBounds)
     const PairData d = makePair(rng, 100, 0.5);
     const vpTwoViewEstimator::Result r =
         vpTwoViewEstimator::estimate(d.p1, d.p2, options(vpRefinedFactorMethod::PER_PAIR, 1200));
-    // A pair whose optical axes nearly meet is reported instead of returning a poor focal length.
-    if (r.status == vpTwoViewEstimator::FOCAL_UNOBSERVABLE)
+    // A pair whose optical axes nearly meet is reported instead of returning a poor focal length:
+    // either the closed form fails (fx = 0) or the refined f has sd above 5% of f.
+    if (r.status == vpTwoViewEstimator::FOCAL_UNOBSERVABLE) {
+      EXPECT_TRUE(r.fx == 0 || r.fx_sd > 0.05 * r.fx) << r.message;
       continue;
+    }
     ASSERT_EQ(r.status, vpTwoViewEstimator::OK) << r.message;
     ++total;
     within += std::fabs(r.fx - kF) < 3 * r.fx_sd;
@@ -178,7 +204,7 @@ TEST(TwoView, NoisyRecoveryWithinPredictedBounds)
     EXPECT_GT(r.rms, 0.5);
     EXPECT_LT(r.rms, 2.2 * 0.5);
   }
-  EXPECT_GE(total, 30u);
+  EXPECT_GE(total, 20u);
   EXPECT_GE(within, total * 85 / 100);
 }
 
@@ -278,9 +304,9 @@ TEST(TwoView, ConvergingOpticalAxesMakeTheFocalUnobservable)
 
 // The reference scenario: every view looks at the same object, so each pair (first, i) alone is
 // nearly degenerate for f. One focal length shared by the 24 pairs converges and its error is
-// consistent with its predicted standard deviation. Measured with seed 3 at 0.2 px: sd about 11 px,
-// so sharing f over independent pairs is not enough here (each pair's own pose absorbs its
-// near-degenerate direction); see the README.
+// consistent with its predicted standard deviation. Measured with seed 3 at 0.2 px: sd about 11 px.
+// Even the Cramer-Rao bound of f from all 25 views jointly is about 7 px here (bench-twoview), so
+// no estimator reaches 1 px on this scenario; see the README.
 TEST(TwoView, SharedFocalOnTheReferenceScenario)
 {
   vpSelfCalibSimulator::Options so;

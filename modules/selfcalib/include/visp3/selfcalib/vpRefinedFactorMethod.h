@@ -38,7 +38,7 @@ public:
     FocalMode focal_mode = PER_PAIR;
     double u0 = 0, v0 = 0, mu = 1;
     double huber = 0;                 //!< px; > 0 applies a Huber loss to the epipolar distances
-    unsigned int max_iterations = 100;
+    unsigned int max_iterations = 500;
     bool tight = true;                //!< tolerances 1e-15 (exact recovery); false: Ceres' defaults
     void check() const;
   };

@@ -45,6 +45,10 @@ public:
     double planar_ratio = 0.95;    //!< share of F inliers a homography must explain to call the pair planar
     double min_coplanarity = 1e-3; //!< see vpFocalFromFundamental
     double rotation_tolerance = 1e-3; //!< max |singular value - 1| of A^-1 H A for a pure rotation
+    //! PER_PAIR: a refined f_x whose standard deviation exceeds this fraction of f_x makes the pair
+    //! FOCAL_UNOBSERVABLE (pose and f_x are kept for information). Near-meeting optical axes give
+    //! sd of hundreds of pixels while the closed form still returns a number.
+    double max_fx_relative_sd = 0.05;
     void check() const;
   };
 
@@ -52,8 +56,8 @@ public:
     Status status = TOO_FEW_POINTS;
     std::string message;
     vpHomogeneousMatrix c2Mc1; //!< R, t (|t| = 1; t = 0 for a pure rotation)
-    double fx = 0;             //!< focal used for the pose (0 if it could not be estimated)
-    double fx_sd = 0;          //!< standard deviation of fx (px) from the refinement's covariance
+    double fx = 0;             //!< focal used for the pose (0 if the closed form could not estimate it)
+    double fx_sd = 0;          //!< sd of fx (px) from the refinement's covariance; infinite if singular
     vpMatrix F;                //!< fundamental matrix (pixels), when estimated
     std::vector<bool> inliers;
     unsigned int num_inliers = 0;
