@@ -1,0 +1,97 @@
+/*
+ * Shared pieces of the benchmark programs: command-line numbers, mean and SD, CSV output.
+ * Benchmarks are programs, not tests: they print tables whose figures go into the README.
+ */
+#ifndef VP_SELFCALIB_BENCH_COMMON_H
+#define VP_SELFCALIB_BENCH_COMMON_H
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace bench
+{
+//! The value after option argv[i] as a number; throws with a clear message otherwise.
+inline double number(int &i, int argc, char **argv)
+{
+  if (i + 1 >= argc)
+    throw std::invalid_argument(std::string(argv[i]) + " needs a value");
+  char *end = nullptr;
+  const double v = std::strtod(argv[++i], &end);
+  if (!end || *end != '\0' || !std::isfinite(v))
+    throw std::invalid_argument(std::string(argv[i - 1]) + ": '" + argv[i] + "' is not a number");
+  return v;
+}
+
+//! Comma-separated numbers ("0.2,0.5").
+inline std::vector<double> numberList(int &i, int argc, char **argv)
+{
+  if (i + 1 >= argc)
+    throw std::invalid_argument(std::string(argv[i]) + " needs a value");
+  std::vector<double> out;
+  std::stringstream ss(argv[++i]);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    char *end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || !end || *end != '\0' || !std::isfinite(v))
+      throw std::invalid_argument(std::string(argv[i - 1]) + ": '" + item + "' is not a number");
+    out.push_back(v);
+  }
+  if (out.empty())
+    throw std::invalid_argument(std::string(argv[i - 1]) + " needs at least one number");
+  return out;
+}
+
+//! Running mean and sample standard deviation.
+struct Stats {
+  std::vector<double> v;
+  void add(double x) { v.push_back(x); }
+  size_t count() const { return v.size(); }
+  double mean() const
+  {
+    if (v.empty())
+      return NAN;
+    double s = 0;
+    for (double x : v)
+      s += x;
+    return s / v.size();
+  }
+  double sd() const
+  {
+    if (v.size() < 2)
+      return NAN;
+    const double m = mean();
+    double s = 0;
+    for (double x : v)
+      s += (x - m) * (x - m);
+    return std::sqrt(s / (v.size() - 1));
+  }
+};
+
+//! CSV file opened only when a path is given; rows are written as they come.
+class Csv
+{
+public:
+  Csv(const std::string &path, const std::string &header)
+  {
+    if (path.empty())
+      return;
+    m_out.open(path);
+    if (!m_out)
+      throw std::runtime_error("cannot write " + path);
+    m_out << header << "\n";
+  }
+  bool enabled() const { return m_out.is_open(); }
+  std::ostream &row() { return m_out; }
+
+private:
+  std::ofstream m_out;
+};
+} // namespace bench
+
+#endif
