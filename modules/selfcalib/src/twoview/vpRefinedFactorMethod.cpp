@@ -11,6 +11,7 @@
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 
+#include "../core/vpSelfCalibCeres.h"
 #include "../core/vpSelfCalibMath.h"
 
 using namespace vpSelfCalib;
@@ -176,16 +177,8 @@ vpRefinedFactorMethod::Result vpRefinedFactorMethod::refine(const std::vector<Pa
   }
   if (opt.focal_mode == KNOWN)
     problem.SetParameterBlockConstant(&f);
-  ceres::Solver::Options so;
-  so.linear_solver_type = pairs.size() > 1 ? ceres::DENSE_SCHUR : ceres::DENSE_QR;
-  so.max_num_iterations = static_cast<int>(opt.max_iterations);
-  if (opt.tight) {
-    so.function_tolerance = 1e-15;
-    so.gradient_tolerance = 1e-15;
-    so.parameter_tolerance = 1e-15;
-  }
-  so.logging_type = ceres::SILENT;
-  so.num_threads = 1;
+  const ceres::Solver::Options so =
+      solverOptions(opt.max_iterations, opt.tight, pairs.size() > 1 ? ceres::DENSE_SCHUR : ceres::DENSE_QR);
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
   res.iterations = static_cast<unsigned int>(summary.iterations.size());
@@ -203,14 +196,9 @@ vpRefinedFactorMethod::Result vpRefinedFactorMethod::refine(const std::vector<Pa
   if (opt.focal_mode != KNOWN && res.converged) {
     // Standard deviation of f_x: covariance of the f block, scaled by the residual variance
     // (sigma^2 = 2 cost / (m - dof)). The manifolds leave no gauge freedom, so the full inverse is
-    // taken (null_space_rank 0): a pseudo-inverse would silently drop the near-null direction of a
-    // near-degenerate pair, which is exactly the direction f lies in, and report a tiny sd. When the
-    // normal matrix is singular to working precision, f is not observable and fx_sd is infinite.
-    ceres::Covariance::Options co;
-    co.algorithm_type = ceres::DENSE_SVD;
-    co.null_space_rank = 0;
-    co.min_reciprocal_condition_number = 1e-300;
-    ceres::Covariance cov(co);
+    // taken (covarianceOptions()): on a near-degenerate pair f lies in the near-null direction.
+    // When the normal matrix is singular to working precision, fx_sd is infinite.
+    ceres::Covariance cov(covarianceOptions());
     std::vector<std::pair<const double *, const double *>> blocks = {{&f, &f}};
     res.fx_sd = std::numeric_limits<double>::infinity();
     if (cov.Compute(blocks, &problem)) {

@@ -1,0 +1,404 @@
+/*
+ * ViSP SelfCalib: pose-based kinematic identification (paper eq. 6) with Ceres, identifiability by
+ * QR with column pivoting, covariance and observability.
+ */
+#include <visp3/selfcalib/vpKinematicIdentification.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <sstream>
+
+#include <Eigen/QR>
+#include <ceres/ceres.h>
+
+#include "../core/vpSelfCalibCeres.h"
+#include "../core/vpSelfCalibMath.h"
+
+using namespace vpSelfCalib;
+
+namespace
+{
+using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+Eigen::MatrixXd toEigen(const vpMatrix &M)
+{
+  return Eigen::Map<const RowMajor>(M.data, M.getRows(), M.getCols());
+}
+
+/*
+  Weighted residual (6) of one measurement and, if J is given, its derivative with respect to all
+  chain parameters (6 x N). See the class description for the formulas; with A = fMc(q),
+  B = fMc(q_ref), M = A^-1 B, and the chain Jacobian giving (dp, dphi) in f:
+      dt_M     = R_A^T (dp_B - dp_A + [p_B - p_A]x dphi_A)
+      dtheta_M = R_A^T (dphi_B - dphi_A)      (left perturbation of R_M, in c_i)
+      de_r     = J_l(e_r)^-1 dtheta_M.
+*/
+void evaluate(const vpKinematicChain &chain, const vpKinematicIdentification::Measurement &m, double r[6],
+              Eigen::MatrixXd *J, bool at_zero_residual = false)
+{
+  const Rigid meas = rigidFromVisp(m.M);
+  Rigid pred;
+  Eigen::MatrixXd JA, JB;
+  const Rigid A = rigidFromVisp(chain.get_fMc(m.q));
+  if (J)
+    JA = toEigen(chain.getJacobian(m.q));
+  Rigid B;
+  if (m.isRelative()) {
+    B = rigidFromVisp(chain.get_fMc(m.q_ref));
+    if (J)
+      JB = toEigen(chain.getJacobian(m.q_ref));
+    pred = A.inverse() * B;
+  } else
+    pred = A;
+  const Eigen::Vector3d et = pred.t - meas.t;
+  const Eigen::Vector3d er = logSO3(pred.R * meas.R.transpose());
+  for (int i = 0; i < 3; ++i) {
+    r[i] = et(i) / m.sd_position;
+    r[3 + i] = er(i) / m.sd_rotation;
+  }
+  if (!J)
+    return;
+  // at_zero_residual: the Jacobian of the prediction only (J_l = I), which does not depend on the
+  // measured values; the identifiability analysis uses it so that noise cannot change the
+  // parameter set chosen among exactly dependent columns.
+  const Eigen::Matrix3d JlInv = at_zero_residual ? Eigen::Matrix3d::Identity() : Eigen::Matrix3d(leftJacobianSO3(er).inverse());
+  J->resize(6, JA.cols());
+  if (m.isRelative()) {
+    const Eigen::Matrix3d RAt = A.R.transpose();
+    J->topRows(3) = RAt * (JB.topRows(3) - JA.topRows(3) + skew(B.t - A.t) * JA.bottomRows(3));
+    J->bottomRows(3) = JlInv * RAt * (JB.bottomRows(3) - JA.bottomRows(3));
+  } else {
+    J->topRows(3) = JA.topRows(3);
+    J->bottomRows(3) = JlInv * JA.bottomRows(3);
+  }
+  J->topRows(3) /= m.sd_position;
+  J->bottomRows(3) /= m.sd_rotation;
+}
+
+// Ceres cost of one measurement over the identified parameters (one block).
+class MeasurementCost : public ceres::CostFunction
+{
+public:
+  MeasurementCost(const vpKinematicChain &start, const std::vector<unsigned int> &identified,
+                  const vpKinematicIdentification::Measurement &m)
+    : m_chain(start), m_identified(identified), m_m(m)
+  {
+    set_num_residuals(6);
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(identified.size()));
+  }
+
+  bool Evaluate(double const *const *x, double *residuals, double **jacobians) const override
+  {
+    vpKinematicChain chain = m_chain;
+    vpColVector p = chain.getParameters();
+    for (size_t k = 0; k < m_identified.size(); ++k)
+      p[m_identified[k]] = x[0][k];
+    chain.setParameters(p);
+    Eigen::MatrixXd J;
+    evaluate(chain, m_m, residuals, jacobians && jacobians[0] ? &J : nullptr);
+    if (jacobians && jacobians[0]) {
+      const size_t n = m_identified.size();
+      for (int i = 0; i < 6; ++i)
+        for (size_t k = 0; k < n; ++k)
+          jacobians[0][i * n + k] = J(i, m_identified[k]);
+    }
+    for (int i = 0; i < 6; ++i)
+      if (!std::isfinite(residuals[i]))
+        return false;
+    return true;
+  }
+
+private:
+  vpKinematicChain m_chain;
+  std::vector<unsigned int> m_identified;
+  vpKinematicIdentification::Measurement m_m;
+};
+
+void checkMeasurements(const vpKinematicChain &chain, const std::vector<vpKinematicIdentification::Measurement> &ms)
+{
+  const unsigned int n = chain.getNumJoints();
+  for (size_t i = 0; i < ms.size(); ++i) {
+    const auto &m = ms[i];
+    auto finite = [](const vpColVector &v) {
+      for (unsigned int k = 0; k < v.size(); ++k)
+        if (!std::isfinite(v[k]))
+          return false;
+      return true;
+    };
+    bool M_finite = true;
+    for (unsigned int r = 0; r < 4; ++r)
+      for (unsigned int c = 0; c < 4; ++c)
+        M_finite = M_finite && std::isfinite(m.M[r][c]);
+    std::ostringstream where;
+    where << "vpKinematicIdentification: measurement " << i << ": ";
+    if (m.q.size() != n || (m.isRelative() && m.q_ref.size() != n))
+      throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                                 where.str() + "joint vectors must have " + std::to_string(n) + " values");
+    if (!finite(m.q) || !finite(m.q_ref) || !M_finite)
+      throw vpSelfCalibException(vpSelfCalibException::badValue, where.str() + "non-finite joints or pose");
+    if (!(m.sd_position > 0 && m.sd_rotation > 0 && std::isfinite(m.sd_position) && std::isfinite(m.sd_rotation)))
+      throw vpSelfCalibException(vpSelfCalibException::badValue, where.str() + "standard deviations must be positive");
+  }
+}
+
+bool allConfigurationsEqual(const std::vector<vpKinematicIdentification::Measurement> &ms)
+{
+  auto same = [](const vpColVector &a, const vpColVector &b) {
+    if (a.size() != b.size())
+      return false;
+    for (unsigned int k = 0; k < a.size(); ++k)
+      if (std::fabs(a[k] - b[k]) > 1e-12)
+        return false;
+    return true;
+  };
+  for (const auto &m : ms) {
+    if (!same(m.q, ms[0].q))
+      return false;
+    if (m.isRelative() && !same(m.q_ref, m.q))
+      return false;
+  }
+  return true;
+}
+} // namespace
+
+const char *vpKinematicIdentification::statusName(Status s)
+{
+  switch (s) {
+  case OK:
+    return "ok";
+  case TOO_FEW_MEASUREMENTS:
+    return "too few measurements";
+  case RANK_DEFICIENT:
+    return "rank deficient";
+  case NO_CONVERGENCE:
+    return "no convergence";
+  }
+  return "unknown";
+}
+
+void vpKinematicIdentification::Options::check() const
+{
+  if (!(rank_tolerance > 0 && rank_tolerance < 1))
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicIdentification: rank_tolerance in (0, 1)");
+  if (!(correlation_threshold > 0 && correlation_threshold <= 1))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicIdentification: correlation_threshold in (0, 1]");
+  if (max_iterations < 1)
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicIdentification: max_iterations >= 1");
+}
+
+vpColVector vpKinematicIdentification::residual(const vpKinematicChain &chain, const Measurement &m)
+{
+  checkMeasurements(chain, {m});
+  double r[6];
+  evaluate(chain, m, r, nullptr);
+  vpColVector out(6);
+  for (unsigned int i = 0; i < 6; ++i)
+    out[i] = r[i];
+  return out;
+}
+
+namespace
+{
+vpMatrix fullJacobian(const vpKinematicChain &chain, const std::vector<vpKinematicIdentification::Measurement> &ms,
+                      bool at_zero_residual)
+{
+  checkMeasurements(chain, ms);
+  vpMatrix J(static_cast<unsigned int>(6 * ms.size()), chain.getNumParameters());
+  for (size_t i = 0; i < ms.size(); ++i) {
+    double r[6];
+    Eigen::MatrixXd Ji;
+    evaluate(chain, ms[i], r, &Ji, at_zero_residual);
+    for (int a = 0; a < 6; ++a)
+      for (int b = 0; b < Ji.cols(); ++b)
+        J[static_cast<unsigned int>(6 * i + a)][b] = Ji(a, b);
+  }
+  return J;
+}
+} // namespace
+
+vpMatrix vpKinematicIdentification::jacobian(const vpKinematicChain &chain, const std::vector<Measurement> &ms)
+{
+  return fullJacobian(chain, ms, false);
+}
+
+vpKinematicIdentification::Identifiability vpKinematicIdentification::analyse(const vpKinematicChain &chain,
+                                                                              const std::vector<Measurement> &ms,
+                                                                              const Options &opt)
+{
+  opt.check();
+  if (ms.empty())
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicIdentification: no measurement");
+  const std::vector<std::string> names = chain.getParameterNames();
+  std::vector<bool> fixed(names.size(), false);
+  for (const std::string &f : opt.fixed)
+    fixed[chain.getParameterIndex(f)] = true;
+  const Eigen::MatrixXd J = toEigen(fullJacobian(chain, ms, true));
+  const bool relative = ms[0].isRelative();
+
+  // Candidate columns (not fixed), scaled to unit norm; vanishing columns are set aside first.
+  Identifiability out;
+  const double max_norm = J.colwise().norm().maxCoeff();
+  std::vector<unsigned int> candidates;
+  for (unsigned int c = 0; c < J.cols(); ++c) {
+    if (fixed[c])
+      out.unidentifiable.push_back({c, names[c], "fixed by the caller"});
+    else if (!(J.col(c).norm() > 1e-12 * max_norm) || max_norm == 0)
+      out.unidentifiable.push_back({c, names[c],
+                                    relative ? "no effect on relative poses: it moves the whole arm rigidly (a base "
+                                               "motion, or one along or about joint 1's axis), which cancels in "
+                                               "c_i M c_ref"
+                                             : "no effect on the measured poses"});
+    else
+      candidates.push_back(c);
+  }
+  if (candidates.empty())
+    return out;
+  Eigen::MatrixXd Jn(J.rows(), candidates.size());
+  for (size_t k = 0; k < candidates.size(); ++k)
+    Jn.col(k) = J.col(candidates[k]) / J.col(candidates[k]).norm();
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Jn);
+  const Eigen::MatrixXd R = qr.matrixR().triangularView<Eigen::Upper>();
+  const double r11 = std::fabs(R(0, 0));
+  const Eigen::Index kmax = std::min(R.rows(), R.cols());
+  for (Eigen::Index k = 0; k < kmax; ++k) {
+    const double v = std::fabs(R(k, k)) / r11;
+    out.pivots.push_back(v);
+    if (v > opt.rank_tolerance)
+      ++out.rank;
+  }
+  const auto perm = qr.colsPermutation().indices();
+  std::vector<unsigned int> kept, dropped;
+  for (Eigen::Index k = 0; k < perm.size(); ++k)
+    (k < static_cast<Eigen::Index>(out.rank) ? kept : dropped).push_back(candidates[perm(k)]);
+  std::sort(kept.begin(), kept.end());
+  out.identified = kept;
+
+  // Reasons: each dependent column as a combination of the identified ones (SI units).
+  Eigen::MatrixXd Jk(J.rows(), kept.size());
+  for (size_t k = 0; k < kept.size(); ++k)
+    Jk.col(k) = J.col(kept[k]);
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qk(Jk);
+  for (unsigned int c : dropped) {
+    const Eigen::VectorXd a = kept.empty() ? Eigen::VectorXd() : Eigen::VectorXd(qk.solve(J.col(c)));
+    std::vector<std::pair<double, unsigned int>> terms;
+    for (Eigen::Index k = 0; k < a.size(); ++k)
+      if (std::fabs(a(k)) > 1e-3)
+        terms.push_back({std::fabs(a(k)), static_cast<unsigned int>(k)});
+    std::sort(terms.rbegin(), terms.rend());
+    std::ostringstream os;
+    os << "acts on the measurements as a combination of identified parameters:";
+    for (size_t t = 0; t < terms.size() && t < 4; ++t) {
+      os << (t ? "," : "") << " " << names[kept[terms[t].second]] << " (";
+      os.precision(3);
+      os << a(terms[t].second) << ")";
+    }
+    if (terms.size() > 4)
+      os << ", ...";
+    out.unidentifiable.push_back({c, names[c], os.str()});
+  }
+  std::sort(out.unidentifiable.begin(), out.unidentifiable.end(),
+            [](const Unidentifiable &x, const Unidentifiable &y) { return x.index < y.index; });
+  return out;
+}
+
+vpKinematicIdentification::Result vpKinematicIdentification::identify(const vpKinematicChain &start,
+                                                                      const std::vector<Measurement> &ms,
+                                                                      const Options &opt)
+{
+  opt.check();
+  if (ms.empty())
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicIdentification: no measurement");
+  checkMeasurements(start, ms);
+  Result res;
+  res.chain = start;
+  res.sd.resize(start.getNumParameters());
+  if (allConfigurationsEqual(ms)) {
+    res.status = RANK_DEFICIENT;
+    res.message = "all measurement configurations are equal: no kinematic parameter can be identified";
+    return res;
+  }
+  res.identifiability = analyse(start, ms, opt);
+  const std::vector<unsigned int> &id = res.identifiability.identified;
+  const size_t p = id.size();
+  if (p == 0) {
+    res.status = RANK_DEFICIENT;
+    res.message = "no parameter has an effect on the measurements";
+    return res;
+  }
+  if (6 * ms.size() <= p) {
+    res.status = TOO_FEW_MEASUREMENTS;
+    res.message = std::to_string(ms.size()) + " measurements give " + std::to_string(6 * ms.size()) +
+                  " equations for " + std::to_string(p) + " identifiable parameters; 6 m > n is needed (paper, Section 4.2)";
+    return res;
+  }
+  std::vector<double> x(p);
+  for (size_t k = 0; k < p; ++k)
+    x[k] = start.getParameters()[id[k]];
+  ceres::Problem problem;
+  for (const Measurement &m : ms)
+    problem.AddResidualBlock(new MeasurementCost(start, id, m), nullptr, x.data());
+  const ceres::Solver::Options so = solverOptions(opt.max_iterations, opt.tight);
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  res.iterations = static_cast<unsigned int>(summary.iterations.size());
+  vpColVector params = start.getParameters();
+  for (size_t k = 0; k < p; ++k)
+    params[id[k]] = x[k];
+  res.chain.setParameters(params);
+  if (summary.termination_type != ceres::CONVERGENCE) {
+    res.status = NO_CONVERGENCE;
+    res.message = summary.message;
+    return res;
+  }
+  res.status = OK;
+  res.message = "ok";
+  const double dof = static_cast<double>(6 * ms.size() - p);
+  res.sigma0 = std::sqrt(2 * summary.final_cost / dof);
+
+  // Residual RMS, Jacobian of the identified parameters, observability.
+  const vpMatrix Jall = jacobian(res.chain, ms);
+  vpMatrix Jid(Jall.getRows(), static_cast<unsigned int>(p));
+  for (unsigned int i = 0; i < Jall.getRows(); ++i)
+    for (size_t k = 0; k < p; ++k)
+      Jid[i][static_cast<unsigned int>(k)] = Jall[i][id[k]];
+  res.observability = vpObservabilityIndices::fromJacobian(Jid, static_cast<unsigned int>(ms.size()));
+  double sp = 0, sr = 0;
+  for (const Measurement &m : ms) {
+    double r[6];
+    evaluate(res.chain, m, r, nullptr);
+    for (int i = 0; i < 3; ++i) {
+      sp += std::pow(r[i] * m.sd_position, 2);
+      sr += std::pow(r[3 + i] * m.sd_rotation, 2);
+    }
+  }
+  res.rms_position = std::sqrt(sp / (3 * ms.size()));
+  res.rms_rotation = std::sqrt(sr / (3 * ms.size()));
+
+  // Covariance (J^T J)^-1 from Ceres at the solution.
+  ceres::Covariance cov(covarianceOptions());
+  std::vector<std::pair<const double *, const double *>> blocks = {{x.data(), x.data()}};
+  if (!cov.Compute(blocks, &problem)) {
+    res.status = RANK_DEFICIENT;
+    res.message = "the normal matrix of the identified parameters is singular at the solution";
+    return res;
+  }
+  std::vector<double> C(p * p);
+  cov.GetCovarianceBlock(x.data(), x.data(), C.data());
+  res.covariance.resize(static_cast<unsigned int>(p), static_cast<unsigned int>(p));
+  const std::vector<std::string> names = start.getParameterNames();
+  for (size_t a = 0; a < p; ++a) {
+    for (size_t b = 0; b < p; ++b)
+      res.covariance[static_cast<unsigned int>(a)][static_cast<unsigned int>(b)] = C[a * p + b];
+    res.sd[id[a]] = std::sqrt(std::max(0.0, C[a * p + a]));
+  }
+  for (size_t a = 0; a < p; ++a)
+    for (size_t b = a + 1; b < p; ++b) {
+      const double rho = C[a * p + b] / std::sqrt(C[a * p + a] * C[b * p + b]);
+      if (std::fabs(rho) > opt.correlation_threshold)
+        res.correlations.push_back({names[id[a]], names[id[b]], rho});
+    }
+  return res;
+}
