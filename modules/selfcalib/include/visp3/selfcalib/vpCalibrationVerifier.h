@@ -1,0 +1,63 @@
+/*
+ * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ */
+#ifndef VP_CALIBRATION_VERIFIER_H
+#define VP_CALIBRATION_VERIFIER_H
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <visp3/core/vpCameraParameters.h>
+#include <visp3/core/vpColVector.h>
+#include <visp3/core/vpHomogeneousMatrix.h>
+#include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpSelfCalibDataset.h>
+
+/*!
+  \class vpCalibrationVerifier
+  \brief The paper's verification (Section 4.1, step 5) and held-out pose errors.
+
+  - 3-D error: every scene point seen in at least two verification views is triangulated in the
+    reference frame f with the calibrated model (fMc(q) of each view) and camera: linear
+    least-squares intersection of the rays, then reprojection error minimized with Ceres. The
+    paper's 3-D calibration error is | |X_a - X_b| - L | for the yardstick ends; with the true
+    points known (simulation) the error of every point-pair distance is given as well.
+  - Held-out pose errors: the model's relative pose c_0 M c_i between the first verification view
+    and each other one, against the true one, in position (m) and rotation (rad).
+*/
+class vpCalibrationVerifier
+{
+public:
+  struct Result {
+    std::map<int, vpColVector> points;  //!< triangulated points (f frame, 3-vectors), by id
+    bool has_yardstick = false;
+    double yardstick_length = 0;        //!< triangulated (m)
+    double yardstick_error = 0;         //!< |length - L| (m), the paper's 3-D error
+    // Against true points (when given): all point-pair distances.
+    unsigned int num_pairs = 0;
+    double distance_error_mean = 0, distance_error_rms = 0, distance_error_max = 0; //!< m
+    // Against true camera poses (when given): c_0 M c_i of the views after the first.
+    std::vector<double> position_errors, rotation_errors; //!< m, rad
+    double position_error_mean = 0, rotation_error_mean = 0;
+  };
+
+  /*!
+    Triangulation of every id seen in two or more of the views (at least 2 views). Throws
+    vpSelfCalibException when a view has no joint vector of the chain's size.
+  */
+  static std::map<int, vpColVector> triangulate(const vpKinematicChain &model, const vpCameraParameters &cam,
+                                                const std::vector<vpSelfCalibDataset::View> &views);
+
+  /*!
+    Verification on the given views. true_points (id -> f coordinates) and true_fMc (one per view)
+    may be empty (real data): the corresponding figures are then left at 0.
+  */
+  static Result verify(const vpKinematicChain &model, const vpCameraParameters &cam,
+                       const std::vector<vpSelfCalibDataset::View> &views,
+                       const vpSelfCalibDataset::Yardstick &yardstick,
+                       const std::map<int, vpColVector> &true_points = std::map<int, vpColVector>(),
+                       const std::vector<vpHomogeneousMatrix> &true_fMc = std::vector<vpHomogeneousMatrix>());
+};
+
+#endif

@@ -1,0 +1,232 @@
+/*
+ * ViSP SelfCalib: the paper's self-calibration procedure (Section 4.1, steps 2-5).
+ */
+#include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "../core/vpSelfCalibMath.h"
+
+using namespace vpSelfCalib;
+
+namespace
+{
+// Correspondences of two views by scene id.
+void correspondences(const vpSelfCalibDataset::View &a, const vpSelfCalibDataset::View &b,
+                     std::vector<vpImagePoint> &pa, std::vector<vpImagePoint> &pb)
+{
+  std::map<int, vpImagePoint> second;
+  for (const auto &o : b.points)
+    second[o.id] = o.ip;
+  pa.clear();
+  pb.clear();
+  for (const auto &o : a.points) {
+    auto it = second.find(o.id);
+    if (it != second.end()) {
+      pa.push_back(o.ip);
+      pb.push_back(it->second);
+    }
+  }
+}
+
+bool findPoint(const vpSelfCalibDataset::View &v, int id, vpImagePoint &ip)
+{
+  for (const auto &o : v.points)
+    if (o.id == id) {
+      ip = o.ip;
+      return true;
+    }
+  return false;
+}
+} // namespace
+
+const char *vpRobotSelfCalibration::statusName(Status s)
+{
+  switch (s) {
+  case OK:
+    return "ok";
+  case TWO_VIEW_FAILED:
+    return "two-view pose measurement failed";
+  case SCALE_FAILED:
+    return "scale failed";
+  case IDENTIFICATION_FAILED:
+    return "identification failed";
+  }
+  return "unknown";
+}
+
+void vpRobotSelfCalibration::Options::check() const
+{
+  if (num_calibration_poses < 3)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpRobotSelfCalibration: num_calibration_poses must be at least 3");
+  if (!(pose_sd_rotation > 0 && pose_sd_direction > 0))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpRobotSelfCalibration: pose_sd_rotation and pose_sd_direction must be positive");
+  identification.check();
+}
+
+vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChain &nominal,
+                                                           const vpSelfCalibDataset &ds, const Options &opt,
+                                                           const Progress &progress)
+{
+  const auto t0 = std::chrono::steady_clock::now();
+  opt.check();
+  const unsigned int N = std::min<unsigned int>(opt.num_calibration_poses, static_cast<unsigned int>(ds.views.size()));
+  if (N < 3)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpRobotSelfCalibration: the dataset has " + std::to_string(ds.views.size()) +
+                                   " views; at least 3 calibration views are needed");
+  for (size_t k = 0; k < ds.views.size(); ++k) {
+    if (ds.views[k].q.size() != nominal.getNumJoints())
+      throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                                 "vpRobotSelfCalibration: view " + std::to_string(k) + " has " +
+                                     std::to_string(ds.views[k].q.size()) + " joint values, the model has " +
+                                     std::to_string(nominal.getNumJoints()) + " joints");
+    if (ds.views[k].points.empty())
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpRobotSelfCalibration: view " + std::to_string(k) + " has no image point");
+  }
+  if (!ds.yardstick.isSet())
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpRobotSelfCalibration: the dataset has no yardstick (length and two end ids); "
+                               "the scale cannot be fixed without it");
+  FocalMode mode = opt.focal_mode;
+  if (mode == FOCAL_AUTO)
+    mode = ds.focal_known ? FOCAL_KNOWN : FOCAL_SHARED;
+  if (mode == FOCAL_KNOWN && !(ds.cam.get_px() > 0))
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpRobotSelfCalibration: FOCAL_KNOWN without px");
+
+  Result res;
+  res.calibrated = nominal;
+  res.camera = ds.cam;
+
+  // Step 2: pose measurements on the pairs (1, i).
+  vpTwoViewEstimator::Options to = opt.twoview;
+  to.fx = ds.cam.get_px();
+  to.u0 = ds.cam.get_u0();
+  to.v0 = ds.cam.get_v0();
+  to.mu = ds.cam.get_py() / ds.cam.get_px();
+  std::vector<std::vector<vpImagePoint>> p1(N - 1), p2(N - 1);
+  for (unsigned int i = 1; i < N; ++i)
+    correspondences(ds.views[0], ds.views[i], p1[i - 1], p2[i - 1]);
+  if (mode == FOCAL_SHARED) {
+    if (progress)
+      progress("pose measurements (shared focal length)", 0, N - 1);
+    const vpTwoViewEstimator::SharedResult sr = vpTwoViewEstimator::estimateShared(p1, p2, to);
+    res.pairs = sr.pairs;
+    if (!sr.converged) {
+      res.status = TWO_VIEW_FAILED;
+      res.message = "shared focal length: " + sr.message;
+      return res;
+    }
+    res.fx = sr.fx;
+    res.fx_sd = sr.fx_sd;
+  } else {
+    to.focal_mode = mode == FOCAL_KNOWN ? vpRefinedFactorMethod::KNOWN : vpRefinedFactorMethod::PER_PAIR;
+    std::vector<double> focals;
+    for (unsigned int i = 1; i < N; ++i) {
+      if (progress)
+        progress("pose measurements", i - 1, N - 1);
+      res.pairs.push_back(vpTwoViewEstimator::estimate(p1[i - 1], p2[i - 1], to));
+      if (res.pairs.back().status == vpTwoViewEstimator::OK)
+        focals.push_back(res.pairs.back().fx);
+    }
+    if (mode == FOCAL_KNOWN)
+      res.fx = ds.cam.get_px();
+    else if (!focals.empty()) {
+      std::nth_element(focals.begin(), focals.begin() + focals.size() / 2, focals.end());
+      res.fx = focals[focals.size() / 2];
+    }
+  }
+  if (res.fx > 0)
+    res.camera.initPersProjWithoutDistortion(res.fx, res.fx * to.mu, to.u0, to.v0);
+
+  // Step 3: eq. 21 ratios from the nominal model.
+  std::vector<vpColVector> qcal;
+  for (unsigned int i = 0; i < N; ++i)
+    qcal.push_back(ds.views[i].q);
+  res.ratios = vpPoseScale::nominalRatios(nominal, qcal);
+
+  // Step 4: the global scale from the yardstick seen in the pairs with a pose.
+  std::vector<vpPoseScale::YardstickView> yv;
+  vpImagePoint a1, b1;
+  const bool in_first = findPoint(ds.views[0], ds.yardstick.id_a, a1) && findPoint(ds.views[0], ds.yardstick.id_b, b1);
+  for (unsigned int i = 1; i < N && in_first; ++i) {
+    const vpTwoViewEstimator::Result &r = res.pairs[i - 1];
+    vpPoseScale::YardstickView v;
+    if (r.status != vpTwoViewEstimator::OK || !findPoint(ds.views[i], ds.yardstick.id_a, v.a2) ||
+        !findPoint(ds.views[i], ds.yardstick.id_b, v.b2))
+      continue;
+    v.c2Mc1 = r.c2Mc1;
+    v.ratio = res.ratios[i - 1];
+    v.a1 = a1;
+    v.b1 = b1;
+    yv.push_back(v);
+  }
+  if (res.fx > 0) {
+    res.scale = vpPoseScale::yardstick(yv, ds.yardstick.length, res.fx, to.u0, to.v0, to.mu);
+  }
+  if (res.scale.status != vpPoseScale::OK) {
+    res.status = SCALE_FAILED;
+    res.message = yv.empty() ? "the yardstick is not seen in both images of any pair with a pose measurement "
+                               "(it must be seen in the first view and at least one other)"
+                             : "yardstick: " + res.scale.message;
+    return res;
+  }
+
+  // Scaled pose measurements (paper: c_iMc_1 with |T_i| = ratio_i |k_1|).
+  for (unsigned int i = 1; i < N; ++i) {
+    const vpTwoViewEstimator::Result &r = res.pairs[i - 1];
+    if (r.status != vpTwoViewEstimator::OK)
+      continue;
+    Rigid M = rigidFromVisp(r.c2Mc1);
+    const double norm = res.ratios[i - 1] * res.scale.scale;
+    M.t = M.t.normalized() * norm;
+    vpKinematicIdentification::Measurement m;
+    m.q = ds.views[i].q;
+    m.q_ref = ds.views[0].q;
+    m.M = toVisp(M);
+    m.sd_rotation = opt.pose_sd_rotation;
+    m.sd_position = std::max(1e-6, norm * opt.pose_sd_direction);
+    res.measurements.push_back(m);
+  }
+  if (res.measurements.empty()) {
+    res.status = TWO_VIEW_FAILED;
+    res.message = "no pair gave a pose measurement";
+    return res;
+  }
+
+  // Identification from the nominal model.
+  if (progress)
+    progress("identification", 0, 1);
+  res.identification = vpKinematicIdentification::identify(nominal, res.measurements, opt.identification);
+  res.calibrated = res.identification.chain;
+  if (res.identification.status != vpKinematicIdentification::OK) {
+    res.status = IDENTIFICATION_FAILED;
+    res.message = res.identification.message;
+    return res;
+  }
+
+  // Step 5: verification on the remaining views.
+  if (ds.views.size() >= N + 2) {
+    if (progress)
+      progress("verification", 0, 1);
+    const std::vector<vpSelfCalibDataset::View> ver(ds.views.begin() + N, ds.views.end());
+    res.before = vpCalibrationVerifier::verify(nominal, ds.cam, ver, ds.yardstick);
+    res.after = vpCalibrationVerifier::verify(res.calibrated, res.camera, ver, ds.yardstick);
+    res.verified = true;
+  }
+  res.status = OK;
+  std::ostringstream os;
+  os << "ok: " << res.measurements.size() << " pose measurements, " << res.identification.identifiability.identified.size()
+     << " parameters identified";
+  res.message = os.str();
+  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
