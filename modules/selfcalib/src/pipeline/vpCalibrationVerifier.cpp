@@ -29,8 +29,6 @@ struct PointReprojection {
     return true;
   }
 };
-
-double rotationAngle(const Eigen::Matrix3d &R) { return logSO3(R).norm(); }
 } // namespace
 
 std::map<int, vpColVector> vpCalibrationVerifier::triangulate(const vpKinematicChain &model,
@@ -127,7 +125,7 @@ vpCalibrationVerifier::Result vpCalibrationVerifier::verify(const vpKinematicCha
       const Rigid pred = m0.inverse() * rigidFromVisp(model.get_fMc(views[k].q));
       const Rigid truth = t0.inverse() * rigidFromVisp(true_fMc[k]);
       res.position_errors.push_back((pred.t - truth.t).norm());
-      res.rotation_errors.push_back(rotationAngle(pred.R * truth.R.transpose()));
+      res.rotation_errors.push_back(logSO3(pred.R * truth.R.transpose()).norm());
       res.position_error_mean += res.position_errors.back() / (views.size() - 1);
       res.rotation_error_mean += res.rotation_errors.back() / (views.size() - 1);
     }
