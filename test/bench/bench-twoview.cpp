@@ -367,11 +367,11 @@ int main(int argc, char **argv)
       std::cout << "\n" << std::defaultfloat;
     }
     return EXIT_SUCCESS;
-  } catch (const std::exception &e) {
-    std::cerr << "bench-twoview: " << e.what() << "\n";
-    return EXIT_FAILURE;
   } catch (const vpException &e) {
     std::cerr << "bench-twoview: " << e.getMessage() << "\n";
+    return EXIT_FAILURE;
+  } catch (const std::exception &e) {
+    std::cerr << "bench-twoview: " << e.what() << "\n";
     return EXIT_FAILURE;
   }
 }

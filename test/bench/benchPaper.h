@@ -1,0 +1,155 @@
+/*
+ * The paper's simulation study (Section 4.2) on one scenario draw, shared by bench-paper and
+ * bench-planner: Table 2 (errors of the scaled pose measurements) and Figure 6 (3-D errors after
+ * calibration against the number of calibration poses).
+ */
+#ifndef VP_SELFCALIB_BENCH_PAPER_H
+#define VP_SELFCALIB_BENCH_PAPER_H
+
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <visp3/core/vpThetaUVector.h>
+#include <visp3/selfcalib/vpCalibrationVerifier.h>
+#include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibSimulator.h>
+
+namespace bench
+{
+//! "known", "shared" or "per-pair" to the pipeline's focal mode; throws otherwise.
+inline vpRobotSelfCalibration::FocalMode focalMode(const std::string &name)
+{
+  if (name == "known")
+    return vpRobotSelfCalibration::FOCAL_KNOWN;
+  if (name == "shared")
+    return vpRobotSelfCalibration::FOCAL_SHARED;
+  if (name == "per-pair")
+    return vpRobotSelfCalibration::FOCAL_PER_PAIR;
+  throw std::invalid_argument("focal mode '" + name + "': use known, shared or per-pair");
+}
+
+//! The dataset the pipeline gets: a self-calibrated f starts from a 7% low guess (a lens data sheet).
+inline vpSelfCalibDataset pipelineDataset(const vpSelfCalibSimulator &sim, const std::vector<vpColVector> &q,
+                                          vpRobotSelfCalibration::FocalMode mode)
+{
+  vpSelfCalibDataset ds = sim.makeDataset(q);
+  ds.focal_known = mode == vpRobotSelfCalibration::FOCAL_KNOWN;
+  if (!ds.focal_known) {
+    const vpCameraParameters c = sim.getCamera();
+    ds.cam.initPersProjWithoutDistortion(0.93 * c.get_px(), 0.93 * c.get_py(), c.get_u0(), c.get_v0());
+  }
+  return ds;
+}
+
+//! Table 2 of the paper: errors of the scaled pose measurements c_iMc_1 of the pairs (1, i).
+struct PoseMeasurementErrors {
+  vpRobotSelfCalibration::Status status = vpRobotSelfCalibration::TWO_VIEW_FAILED;
+  std::vector<double> position;    //!< m, one per pair with a measurement
+  std::vector<double> orientation; //!< rad
+  std::vector<double> scale_ratio; //!< |(|t_i|/|t_1|) / (|t̄_i|/|t̄_1|) - 1| of eq. 21 (true vs nominal)
+  std::vector<double> fx;          //!< |f - f_true| px: one per pair (per-pair mode) or one per run
+  unsigned int pairs = 0;
+  double seconds = 0;
+};
+
+/*!
+  The pose measurements of the pipeline on all the configurations (pairs (1, i), i = 2..m) against
+  the true c_iMc_1 of the simulated arm.
+*/
+inline PoseMeasurementErrors poseMeasurementErrors(const vpSelfCalibSimulator &sim, const std::vector<vpColVector> &q,
+                                                   vpRobotSelfCalibration::FocalMode mode)
+{
+  vpRobotSelfCalibration::Options po;
+  po.num_calibration_poses = static_cast<unsigned int>(q.size());
+  po.focal_mode = mode;
+  const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), pipelineDataset(sim, q, mode), po);
+  PoseMeasurementErrors e;
+  e.status = r.status;
+  e.pairs = static_cast<unsigned int>(r.pairs.size());
+  e.seconds = r.seconds;
+  const vpKinematicChain &truth = sim.getTrueChain();
+  const double f_true = sim.getCamera().get_px();
+  const vpHomogeneousMatrix T1 = truth.get_fMc(q[0]);
+  const double t1_true = (truth.get_fMc(q[1]).inverse() * T1).getTranslationVector().frobeniusNorm();
+  for (size_t i = 1; i < q.size(); ++i) {
+    const double ti = (truth.get_fMc(q[i]).inverse() * T1).getTranslationVector().frobeniusNorm();
+    if (i - 1 < r.ratios.size())
+      e.scale_ratio.push_back(std::fabs((ti / t1_true) / r.ratios[i - 1] - 1));
+  }
+  for (const vpKinematicIdentification::Measurement &m : r.measurements) {
+    const vpHomogeneousMatrix T = truth.get_fMc(m.q).inverse() * truth.get_fMc(m.q_ref);
+    e.position.push_back((m.M.getTranslationVector() - T.getTranslationVector()).frobeniusNorm());
+    const vpThetaUVector tu((m.M.getRotationMatrix().t() * T.getRotationMatrix()));
+    e.orientation.push_back(std::sqrt(tu.sumSquare()));
+  }
+  if (mode == vpRobotSelfCalibration::FOCAL_PER_PAIR) {
+    for (const auto &p : r.pairs)
+      if (p.status == vpTwoViewEstimator::OK)
+        e.fx.push_back(std::fabs(p.fx - f_true));
+  } else if (mode == vpRobotSelfCalibration::FOCAL_SHARED && r.fx > 0)
+    e.fx.push_back(std::fabs(r.fx - f_true));
+  return e;
+}
+
+//! Figure 6 and the held-out pose errors: calibration on n poses, verification on fixed poses.
+struct CalibrationErrors {
+  vpRobotSelfCalibration::Status status = vpRobotSelfCalibration::TWO_VIEW_FAILED;
+  vpCalibrationVerifier::Result after; //!< with truth: yardstick, point-pair distances, held-out poses
+  double seconds = 0;
+};
+
+inline std::map<int, vpColVector> truePoints(const vpSelfCalibSimulator &sim)
+{
+  std::map<int, vpColVector> pts;
+  for (size_t i = 0; i < sim.getScenePoints().size(); ++i)
+    pts[static_cast<int>(i)] = sim.getScenePoints()[i];
+  return pts;
+}
+
+inline std::vector<vpHomogeneousMatrix> trueCameraPoses(const vpSelfCalibSimulator &sim,
+                                                        const std::vector<vpSelfCalibDataset::View> &views)
+{
+  std::vector<vpHomogeneousMatrix> T;
+  for (const auto &v : views)
+    T.push_back(sim.getTrueChain().get_fMc(v.q));
+  return T;
+}
+
+//! The verification figures of a model on the views (the nominal model: "before calibration").
+inline vpCalibrationVerifier::Result verifyAgainstTruth(const vpSelfCalibSimulator &sim, const vpKinematicChain &model,
+                                                        const vpCameraParameters &cam,
+                                                        const std::vector<vpSelfCalibDataset::View> &views)
+{
+  return vpCalibrationVerifier::verify(model, cam, views, sim.getYardstick(), truePoints(sim),
+                                       trueCameraPoses(sim, views));
+}
+
+/*!
+  The pipeline calibrated on calibration configurations, verified on the verification ones (the
+  camera used is the pipeline's, with its self-calibrated f).
+*/
+inline CalibrationErrors calibrationErrors(const vpSelfCalibSimulator &sim, const std::vector<vpColVector> &calibration,
+                                           const std::vector<vpColVector> &verification,
+                                           vpRobotSelfCalibration::FocalMode mode)
+{
+  std::vector<vpColVector> q = calibration;
+  q.insert(q.end(), verification.begin(), verification.end());
+  const vpSelfCalibDataset ds = pipelineDataset(sim, q, mode);
+  vpRobotSelfCalibration::Options po;
+  po.num_calibration_poses = static_cast<unsigned int>(calibration.size());
+  po.focal_mode = mode;
+  const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, po);
+  CalibrationErrors e;
+  e.status = r.status;
+  e.seconds = r.seconds;
+  if (r.status == vpRobotSelfCalibration::OK) {
+    const std::vector<vpSelfCalibDataset::View> ver(ds.views.begin() + calibration.size(), ds.views.end());
+    e.after = verifyAgainstTruth(sim, r.calibrated, r.camera, ver);
+  }
+  return e;
+}
+} // namespace bench
+
+#endif
