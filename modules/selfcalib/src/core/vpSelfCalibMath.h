@@ -152,6 +152,9 @@ inline double translationDistance(const vpHomogeneousMatrix &A, const vpHomogene
   return (rigidFromVisp(A).t - rigidFromVisp(B).t).norm();
 }
 
+//! The first three values of a vpColVector (a 3-D point) as an Eigen vector.
+inline Eigen::Vector3d vec3(const vpColVector &v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
+
 inline Eigen::Matrix3d toEigen3(const vpMatrix &M)
 {
   Eigen::Matrix3d E;

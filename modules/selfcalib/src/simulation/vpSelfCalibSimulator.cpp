@@ -73,7 +73,6 @@ private:
   Rigid m_target;
 };
 
-Eigen::Vector3d toEigen(const vpColVector &v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
 vpColVector toVisp3(const Eigen::Vector3d &v)
 {
   vpColVector c(3);
@@ -212,7 +211,7 @@ bool vpSelfCalibSimulator::isVisible(const vpColVector &q) const
   const Rigid cMf = rigidFromVisp(m_true.get_fMc(q)).inverse();
   const double m = m_opt.image_margin;
   for (const vpColVector &X : m_points) {
-    const Eigen::Vector3d Xc = cMf * toEigen(X);
+    const Eigen::Vector3d Xc = cMf * vec3(X);
     if (!(Xc.z() > 1e-3))
       return false;
     const double u = m_opt.u0 + m_opt.px * Xc.x() / Xc.z();
@@ -227,7 +226,7 @@ std::vector<vpColVector> vpSelfCalibSimulator::generateConfigurations(unsigned i
 {
   Random rng(m_opt.seed, kConfigurations);
   const Rigid home = rigidFromVisp(m_nominal.get_fMc(m_home));
-  const Eigen::Vector3d centre = toEigen(m_centre);
+  const Eigen::Vector3d centre = vec3(m_centre);
   const Eigen::Vector3d d0 = (home.t - centre).normalized();
   const Eigen::Vector3d e1 = d0.unitOrthogonal(), e2 = d0.cross(e1);
   std::vector<vpColVector> configs;
@@ -280,7 +279,7 @@ std::vector<vpSelfCalibDataset::Observation> vpSelfCalibSimulator::observe(const
   const Rigid cMf = rigidFromVisp(m_true.get_fMc(q)).inverse();
   std::vector<vpSelfCalibDataset::Observation> obs;
   for (size_t i = 0; i < m_points.size(); ++i) {
-    const Eigen::Vector3d Xc = cMf * toEigen(m_points[i]);
+    const Eigen::Vector3d Xc = cMf * vec3(m_points[i]);
     // Draw the noise of every point, seen or not, so that point i's noise does not depend on the others.
     const double nu = noise.normal(sd), nv = noise.normal(sd);
     if (!(Xc.z() > 1e-3))

@@ -1,0 +1,189 @@
+/*
+ * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ */
+#ifndef VP_MEASUREMENT_PLANNER_H
+#define VP_MEASUREMENT_PLANNER_H
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <visp3/core/vpCameraParameters.h>
+#include <visp3/core/vpColVector.h>
+#include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpObservabilityIndices.h>
+
+/*!
+  \class vpMeasurementPlanner
+  \brief Choice of the measurement configurations (paper Section 3.3, eqs. 22-39), on the nominal
+  model and a rough scene (points in the reference frame f, the camera, the image size).
+
+  <b>The paper's trajectory (planTrajectory).</b> With the configurations q_0 .. q_{m-1}, pair i
+  (i = 1..m-1) is (q_0, q_i) and t_i the translation of c_iMc_0 on the nominal model. To first
+  order the error of the eq. 21 ratio |t_i| / |t_1| caused by parameter errors drho is
+  (g_i - g_1) drho with the row vector
+      g_i = t_i^T (dt_i / drho) / |t_i|^2      (eq. 31: t̄_i^T R̄_i df/drho / |t̄_i|^2)
+  over the independently identifiable parameters (relative measurements; SI units), so the ratios
+  are right whatever drho when all g_i are equal (eq. 38). The cost is
+      ratio term + lambda cond(J) + visibility penalty + distinctness penalty.
+  Deviation from the paper, on purpose: eq. 39 as printed puts the sum of the consecutive
+  differences g_i - g_{i-1} inside one norm, which telescopes to |g_{m-1} - g_1| and ignores every
+  pose in between. The ratio term here is the intent, sum_i |g_i - g_{i-1}|^2 (CONSECUTIVE,
+  default), or the spread sum_i |g_i - mean(g)|^2 (SPREAD).
+
+  J is the identification Jacobian of the relative pose measurements of the pairs with the
+  pipeline's weights (translation rows divided by direction_sd |t_i|, rotation rows by rotation_sd;
+  columns the identifiable parameters in SI units, see vpObservabilityIndices).
+
+  Constraints: joint limits are bounds; every scene point inside the image (with margin +
+  planning_margin) and in front of the camera (depth >= min_depth), and configurations at least
+  min_joint_distance apart, are smooth penalties (squared hinges). The final configurations are
+  checked with the scene's margin (not the planning margin): a violation is the status INFEASIBLE.
+
+  Gradient: exact chain rule through g_i, the singular values of J (dsigma = u^T dJ v), the
+  projections and the joint distances; the only numerical derivative is that of the per-pair block
+  (t_i, dt_i/drho, dtheta_i/drho) with respect to the joints, by central differences of the
+  kinematic model (the chain offers first derivatives only).
+
+  <b>Observability selection (selectObservable).</b> For the multi-view pipeline: m configurations
+  from a pool (the first one is the reference and always kept), maximizing an observability index
+  of J (O1, the D-optimal criterion, by default): greedy addition, then exchanges of one selected
+  with one unselected configuration while the index improves.
+
+  Library code: no printing; caller mistakes throw vpSelfCalibException; failures are statuses.
+*/
+class vpMeasurementPlanner
+{
+public:
+  //! What the camera must see. points: rough positions in f (3-vectors or homogeneous 4-vectors).
+  struct Scene {
+    std::vector<vpColVector> points;
+    vpCameraParameters cam;
+    unsigned int width = 0, height = 0;
+    double margin = 10;      //!< px kept free at the image border (acceptance)
+    double min_depth = 0.05; //!< m, minimal depth of a point in the camera frame
+  };
+
+  enum RatioCost {
+    RATIO_CONSECUTIVE, //!< sum_i |g_i - g_{i-1}|^2 (the intent of eq. 39)
+    RATIO_SPREAD       //!< sum_i |g_i - mean(g)|^2
+  };
+  enum Algorithm {
+    ALGO_MMA,    //!< NLopt LD_MMA with the gradient
+    ALGO_SLSQP,  //!< NLopt LD_SLSQP with the gradient
+    ALGO_LBFGS,  //!< NLopt LD_LBFGS with the gradient (default: fastest here)
+    ALGO_BOBYQA  //!< NLopt LN_BOBYQA, derivative-free
+  };
+  static Algorithm algorithmFromName(const std::string &name); //!< "mma", "slsqp", "lbfgs", "bobyqa"
+
+  struct TrajectoryOptions {
+    RatioCost ratio_cost = RATIO_CONSECUTIVE;
+    double lambda = 1e-7;               //!< weight of cond(J) (the paper's best value)
+    Algorithm algorithm = ALGO_LBFGS;
+    unsigned int multistart = 2;        //!< extra starts from the initial trajectory perturbed by multistart_sd
+    double multistart_sd = 0.05;        //!< rad
+    uint64_t seed = 1;                  //!< of the multistart perturbations
+    double planning_margin = 40;        //!< px added to Scene::margin inside the penalty (model errors)
+    double visibility_weight = 1;       //!< per px^2 of violation
+    double min_joint_distance = 0.05;   //!< rad, between any two configurations
+    double distinct_weight = 1e6;       //!< per rad^2 of violation
+    double direction_sd = 5e-3;         //!< rad, row weights of J (as the pipeline)
+    double rotation_sd = 5e-3;          //!< rad
+    unsigned int max_evaluations = 2000; //!< per start
+    double relative_tolerance = 1e-6;   //!< on the cost
+    void check() const;
+  };
+
+  //! The cost terms at a set of configurations.
+  struct CostTerms {
+    double ratio = 0;      //!< the ratio term (eq. 31 intent)
+    double condition = 0;  //!< cond(J) (eq. 7); infinite if J is rank deficient
+    double visibility = 0; //!< penalty (0 when every point is inside the planning margin)
+    double distinct = 0;   //!< penalty
+    double total = 0;      //!< ratio + lambda condition + penalties
+  };
+
+  enum Status {
+    OK,
+    TOO_FEW_CONFIGURATIONS, //!< 6 (m - 1) <= number of identifiable parameters
+    INFEASIBLE,             //!< some scene point outside the image / behind the camera, or configurations too close
+    FAILED                  //!< the optimizer failed on every start
+  };
+  static const char *statusName(Status s);
+
+  struct Result {
+    Status status = FAILED;
+    std::string message;
+    std::vector<vpColVector> configurations; //!< the plan (the initial ones when not OK)
+    CostTerms before, after;
+    vpObservabilityIndices observability_before, observability_after;
+    unsigned int evaluations = 0, starts = 0;
+    double seconds = 0;
+  };
+
+  enum Index { INDEX_O1, INDEX_O2, INDEX_O3, INDEX_O4, INDEX_O5 };
+  static Index indexFromName(const std::string &name); //!< "O1" .. "O5"
+
+  struct SelectionOptions {
+    Index index = INDEX_O1;
+    unsigned int max_exchange_passes = 20;
+    double direction_sd = 5e-3, rotation_sd = 5e-3; //!< rad, row weights of J
+    double min_joint_distance = 0.05;               //!< rad: closer candidates are not both taken
+    void check() const;
+  };
+
+  //! Progress of long runs: stage, done, total.
+  using Progress = std::function<void(const std::string &, unsigned int, unsigned int)>;
+
+  /*!
+    Throws vpSelfCalibException on an empty scene, a point that is not a 3- or 4-vector, a camera
+    without focal length or an empty image.
+  */
+  vpMeasurementPlanner(const vpKinematicChain &nominal, const Scene &scene);
+
+  //! Indices (in the chain's parameter vector) of the parameters identifiable from relative poses.
+  const std::vector<unsigned int> &identifiableParameters() const { return m_identified; }
+
+  //! Cost terms at q (all of the chain's joint count, within limits or not).
+  CostTerms cost(const std::vector<vpColVector> &q, const TrajectoryOptions &options) const;
+  //! Total cost and its gradient (size 6 m, configuration after configuration).
+  double costAndGradient(const std::vector<vpColVector> &q, const TrajectoryOptions &options,
+                         vpColVector &gradient) const;
+  //! The vectors g_i of eq. 31 (one per pair), for inspection.
+  std::vector<vpColVector> ratioSensitivities(const std::vector<vpColVector> &q) const;
+  //! Observability of the relative pose measurements of the pairs (0, i).
+  vpObservabilityIndices observability(const std::vector<vpColVector> &q, double direction_sd = 5e-3,
+                                       double rotation_sd = 5e-3) const;
+
+  //! Every scene point inside the image with the given margin and in front, from the nominal camera.
+  bool isVisible(const vpColVector &q, double margin) const;
+
+  /*!
+    The paper's optimal trajectory from an initial one (its size is m). Throws on a configuration
+    of the wrong size or outside the joint limits.
+  */
+  Result planTrajectory(const std::vector<vpColVector> &initial, const TrajectoryOptions &options,
+                        const Progress &progress = Progress()) const;
+  Result planTrajectory(const std::vector<vpColVector> &initial) const;
+
+  /*!
+    m configurations of the pool (pool[0] kept as the reference) maximizing the chosen index.
+    Throws when m > pool size, m < 2 or a configuration has the wrong size.
+  */
+  Result selectObservable(const std::vector<vpColVector> &pool, unsigned int m, const SelectionOptions &options,
+                          const Progress &progress = Progress()) const;
+  Result selectObservable(const std::vector<vpColVector> &pool, unsigned int m) const;
+
+private:
+  struct Evaluation;
+  double evaluate(const std::vector<vpColVector> &q, const TrajectoryOptions &o, CostTerms *terms,
+                  std::vector<double> *gradient) const;
+  void checkConfigurations(const std::vector<vpColVector> &q, const char *where, bool limits) const;
+
+  vpKinematicChain m_chain;
+  Scene m_scene;
+  std::vector<unsigned int> m_identified;
+};
+
+#endif

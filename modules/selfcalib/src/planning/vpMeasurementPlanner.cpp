@@ -1,0 +1,767 @@
+/*
+ * ViSP SelfCalib: measurement planning, the paper's optimal trajectory (eqs. 22-39) with NLopt and
+ * observability-optimal selection from a pool.
+ */
+#include <visp3/selfcalib/vpKinematicIdentification.h>
+#include <visp3/selfcalib/vpMeasurementPlanner.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <nlopt.hpp>
+
+#include "../core/vpSelfCalibMath.h"
+#include "../core/vpSelfCalibRandom.h"
+
+using namespace vpSelfCalib;
+
+namespace
+{
+using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// Random streams of this file.
+const uint64_t kGenericConfigurations = 0x504c414e01ULL, kMultistart = 0x504c414e02ULL;
+// Central-difference step (rad) of the per-pair blocks with respect to the joints.
+const double kStep = 1e-6;
+// cond(J) used in the cost when J is rank deficient (finite, so the optimizer can move away).
+const double kSingularCondition = 1e12;
+
+// Camera pose and identification Jacobian (identifiable columns) at one configuration.
+struct PoseKin {
+  Rigid T;
+  Eigen::MatrixXd J; // 6 x K: rows 0-2 dp in f, rows 3-5 dphi in f
+};
+
+PoseKin poseKin(const vpKinematicChain &chain, const std::vector<unsigned int> &cols, const vpColVector &q)
+{
+  PoseKin p;
+  p.T = rigidFromVisp(chain.get_fMc(q));
+  const vpMatrix J = chain.getJacobian(q);
+  p.J.resize(6, static_cast<Eigen::Index>(cols.size()));
+  for (unsigned int r = 0; r < 6; ++r)
+    for (size_t c = 0; c < cols.size(); ++c)
+      p.J(r, static_cast<Eigen::Index>(c)) = J[r][cols[c]];
+  return p;
+}
+
+// The pair block of (q_0, q_i): t of c_iMc_0, its derivative Dt and the rotation derivative Dr
+// (in c_i) with respect to the identifiable parameters (see vpKinematicIdentification).
+struct Block {
+  Eigen::Vector3d t;
+  Eigen::MatrixXd Dt, Dr; // 3 x K
+
+  Block operator-(const Block &o) const { return {t - o.t, Dt - o.Dt, Dr - o.Dr}; }
+  Block operator*(double s) const { return {t * s, Dt * s, Dr * s}; }
+};
+
+Block pairBlock(const PoseKin &A, const PoseKin &B)
+{
+  const Eigen::Matrix3d RAt = A.T.R.transpose();
+  Block b;
+  b.t = RAt * (B.T.t - A.T.t);
+  b.Dt = RAt * (B.J.topRows(3) - A.J.topRows(3) + skew(B.T.t - A.T.t) * A.J.bottomRows(3));
+  b.Dr = RAt * (B.J.bottomRows(3) - A.J.bottomRows(3));
+  return b;
+}
+
+vpColVector perturbed(const vpColVector &q, unsigned int j, double h)
+{
+  vpColVector p = q;
+  p[j] += h;
+  return p;
+}
+
+std::vector<double> singularValuesOfInformation(const Eigen::MatrixXd &info)
+{
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(info, Eigen::EigenvaluesOnly);
+  std::vector<double> s;
+  for (Eigen::Index k = 0; k < es.eigenvalues().size(); ++k)
+    s.push_back(std::sqrt(std::max(0.0, es.eigenvalues()(k))));
+  return s;
+}
+
+double indexValue(const vpObservabilityIndices &o, vpMeasurementPlanner::Index index)
+{
+  switch (index) {
+  case vpMeasurementPlanner::INDEX_O1:
+    return o.O1;
+  case vpMeasurementPlanner::INDEX_O2:
+    return o.O2;
+  case vpMeasurementPlanner::INDEX_O3:
+    return o.O3;
+  case vpMeasurementPlanner::INDEX_O4:
+    return o.O4;
+  case vpMeasurementPlanner::INDEX_O5:
+    return o.O5;
+  }
+  return 0;
+}
+} // namespace
+
+const char *vpMeasurementPlanner::statusName(Status s)
+{
+  switch (s) {
+  case OK:
+    return "ok";
+  case TOO_FEW_CONFIGURATIONS:
+    return "too few configurations";
+  case INFEASIBLE:
+    return "infeasible";
+  case FAILED:
+    return "failed";
+  }
+  return "unknown";
+}
+
+vpMeasurementPlanner::Algorithm vpMeasurementPlanner::algorithmFromName(const std::string &name)
+{
+  if (name == "mma")
+    return ALGO_MMA;
+  if (name == "slsqp")
+    return ALGO_SLSQP;
+  if (name == "lbfgs")
+    return ALGO_LBFGS;
+  if (name == "bobyqa")
+    return ALGO_BOBYQA;
+  throw vpSelfCalibException(vpSelfCalibException::badValue,
+                             "vpMeasurementPlanner: unknown algorithm '" + name + "' (mma, slsqp, lbfgs, bobyqa)");
+}
+
+vpMeasurementPlanner::Index vpMeasurementPlanner::indexFromName(const std::string &name)
+{
+  const std::string n = name.size() == 2 && (name[0] == 'o' || name[0] == 'O') ? std::string("O") + name[1] : name;
+  if (n == "O1")
+    return INDEX_O1;
+  if (n == "O2")
+    return INDEX_O2;
+  if (n == "O3")
+    return INDEX_O3;
+  if (n == "O4")
+    return INDEX_O4;
+  if (n == "O5")
+    return INDEX_O5;
+  throw vpSelfCalibException(vpSelfCalibException::badValue,
+                             "vpMeasurementPlanner: unknown observability index '" + name + "' (O1 .. O5)");
+}
+
+void vpMeasurementPlanner::TrajectoryOptions::check() const
+{
+  auto bad = [](const std::string &what) {
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpMeasurementPlanner: " + what);
+  };
+  if (!(lambda >= 0 && std::isfinite(lambda)))
+    bad("lambda must be >= 0");
+  if (!(multistart_sd >= 0) || !(planning_margin >= 0) || !(visibility_weight > 0) || !(min_joint_distance >= 0) ||
+      !(distinct_weight > 0))
+    bad("multistart_sd, planning_margin, min_joint_distance must be >= 0 and the penalty weights > 0");
+  if (!(direction_sd > 0 && rotation_sd > 0))
+    bad("direction_sd and rotation_sd must be positive");
+  if (max_evaluations < 1 || !(relative_tolerance > 0))
+    bad("max_evaluations must be >= 1 and relative_tolerance > 0");
+}
+
+void vpMeasurementPlanner::SelectionOptions::check() const
+{
+  if (!(direction_sd > 0 && rotation_sd > 0) || !(min_joint_distance >= 0))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpMeasurementPlanner: direction_sd, rotation_sd must be > 0, min_joint_distance >= 0");
+}
+
+vpMeasurementPlanner::vpMeasurementPlanner(const vpKinematicChain &nominal, const Scene &scene)
+  : m_chain(nominal), m_scene(scene)
+{
+  if (scene.points.empty())
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpMeasurementPlanner: the scene has no point");
+  for (size_t i = 0; i < scene.points.size(); ++i) {
+    const vpColVector &P = scene.points[i];
+    if (!(P.size() == 3 || P.size() == 4) || !allFinite(P))
+      throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                                 "vpMeasurementPlanner: scene point " + std::to_string(i) +
+                                     " must be a finite 3-vector (or homogeneous 4-vector)");
+  }
+  if (!(scene.cam.get_px() > 0 && scene.cam.get_py() > 0) || scene.width == 0 || scene.height == 0)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpMeasurementPlanner: the scene needs a camera with a focal length and an image size");
+  if (!(scene.margin >= 0) || !(scene.min_depth > 0))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpMeasurementPlanner: margin must be >= 0 and min_depth > 0");
+  for (vpColVector &P : m_scene.points)
+    if (P.size() == 4)
+      P = vpColVector({P[0] / P[3], P[1] / P[3], P[2] / P[3]});
+  m_chain.resetParameters();
+
+  // The parameters identifiable from relative poses: structural, so taken at generic configurations.
+  Random rng(1, kGenericConfigurations);
+  const vpColVector qmin = m_chain.getJointMin(), qmax = m_chain.getJointMax();
+  std::vector<vpKinematicIdentification::Measurement> ms;
+  vpColVector q0(m_chain.getNumJoints());
+  for (unsigned int j = 0; j < q0.size(); ++j)
+    q0[j] = rng.uniform(qmin[j], qmax[j]);
+  const vpHomogeneousMatrix fMc0 = m_chain.get_fMc(q0);
+  for (unsigned int k = 0; k < 12; ++k) {
+    vpKinematicIdentification::Measurement m;
+    m.q.resize(m_chain.getNumJoints());
+    for (unsigned int j = 0; j < m.q.size(); ++j)
+      m.q[j] = rng.uniform(qmin[j], qmax[j]);
+    m.q_ref = q0;
+    m.M = m_chain.get_fMc(m.q).inverse() * fMc0;
+    ms.push_back(m);
+  }
+  m_identified = vpKinematicIdentification::analyse(m_chain, ms, vpKinematicIdentification::Options()).identified;
+}
+
+void vpMeasurementPlanner::checkConfigurations(const std::vector<vpColVector> &q, const char *where,
+                                               bool limits) const
+{
+  for (size_t k = 0; k < q.size(); ++k) {
+    if (q[k].size() != m_chain.getNumJoints() || !allFinite(q[k]))
+      throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                                 std::string("vpMeasurementPlanner::") + where + ": configuration " + std::to_string(k) +
+                                     " must have " + std::to_string(m_chain.getNumJoints()) + " finite joint values");
+    if (limits && !m_chain.isInJointLimits(q[k], 1e-9))
+      throw vpSelfCalibException(vpSelfCalibException::badValue, std::string("vpMeasurementPlanner::") + where +
+                                                                     ": configuration " + std::to_string(k) +
+                                                                     " is outside the joint limits");
+  }
+}
+
+bool vpMeasurementPlanner::isVisible(const vpColVector &q, double margin) const
+{
+  const Rigid cMf = rigidFromVisp(m_chain.get_fMc(q)).inverse();
+  const vpCameraParameters &c = m_scene.cam;
+  for (const vpColVector &P : m_scene.points) {
+    const Eigen::Vector3d X = cMf * vec3(P);
+    if (X.z() < m_scene.min_depth)
+      return false;
+    const double u = c.get_u0() + c.get_px() * X.x() / X.z(), v = c.get_v0() + c.get_py() * X.y() / X.z();
+    if (u < margin || v < margin || u > m_scene.width - 1 - margin || v > m_scene.height - 1 - margin)
+      return false;
+  }
+  return true;
+}
+
+std::vector<vpColVector> vpMeasurementPlanner::ratioSensitivities(const std::vector<vpColVector> &q) const
+{
+  checkConfigurations(q, "ratioSensitivities", false);
+  std::vector<vpColVector> g;
+  if (q.size() < 2)
+    return g;
+  const PoseKin P0 = poseKin(m_chain, m_identified, q[0]);
+  for (size_t i = 1; i < q.size(); ++i) {
+    const Block b = pairBlock(poseKin(m_chain, m_identified, q[i]), P0);
+    const Eigen::RowVectorXd gi = b.t.transpose() * b.Dt / b.t.squaredNorm();
+    vpColVector v(static_cast<unsigned int>(gi.size()));
+    for (Eigen::Index k = 0; k < gi.size(); ++k)
+      v[static_cast<unsigned int>(k)] = gi(k);
+    g.push_back(v);
+  }
+  return g;
+}
+
+vpObservabilityIndices vpMeasurementPlanner::observability(const std::vector<vpColVector> &q, double direction_sd,
+                                                           double rotation_sd) const
+{
+  checkConfigurations(q, "observability", false);
+  if (q.size() < 2)
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpMeasurementPlanner::observability: 2 configurations at least");
+  const PoseKin P0 = poseKin(m_chain, m_identified, q[0]);
+  const Eigen::Index K = static_cast<Eigen::Index>(m_identified.size());
+  Eigen::MatrixXd info = Eigen::MatrixXd::Zero(K, K);
+  for (size_t i = 1; i < q.size(); ++i) {
+    const Block b = pairBlock(poseKin(m_chain, m_identified, q[i]), P0);
+    Eigen::MatrixXd rows(6, K);
+    rows.topRows(3) = b.Dt / (direction_sd * b.t.norm());
+    rows.bottomRows(3) = b.Dr / rotation_sd;
+    info += rows.transpose() * rows;
+  }
+  return vpObservabilityIndices::fromSingularValues(singularValuesOfInformation(info),
+                                                    static_cast<unsigned int>(q.size() - 1));
+}
+
+/*
+  The whole cost and, if gradient is given, its gradient. See the class description; the notation
+  follows it: pair i = 1..m-1, block (t_i, Dt_i, Dr_i), g_i = t_i^T Dt_i / |t_i|^2.
+*/
+double vpMeasurementPlanner::evaluate(const std::vector<vpColVector> &q, const TrajectoryOptions &o, CostTerms *terms,
+                                      std::vector<double> *gradient) const
+{
+  const size_t m = q.size(), n = m_chain.getNumJoints();
+  const Eigen::Index K = static_cast<Eigen::Index>(m_identified.size());
+  const bool grad = gradient != nullptr;
+  if (grad)
+    gradient->assign(n * m, 0.0);
+  CostTerms ct;
+
+  std::vector<PoseKin> P(m);
+  for (size_t k = 0; k < m; ++k)
+    P[k] = poseKin(m_chain, m_identified, q[k]);
+  std::vector<Block> F(m); // F[i], i >= 1
+  for (size_t i = 1; i < m; ++i)
+    F[i] = pairBlock(P[i], P[0]);
+  // dF[i][j]: derivative of block i w.r.t. joint j of q_i; dF0[i][j]: w.r.t. joint j of q_0.
+  std::vector<std::vector<Block>> dF(m), dF0(m);
+  if (grad && m >= 2) {
+    std::vector<PoseKin> P0p(n), P0m(n);
+    for (unsigned int j = 0; j < n; ++j) {
+      P0p[j] = poseKin(m_chain, m_identified, perturbed(q[0], j, kStep));
+      P0m[j] = poseKin(m_chain, m_identified, perturbed(q[0], j, -kStep));
+    }
+    for (size_t i = 1; i < m; ++i) {
+      dF[i].resize(n);
+      dF0[i].resize(n);
+      for (unsigned int j = 0; j < n; ++j) {
+        const PoseKin pp = poseKin(m_chain, m_identified, perturbed(q[i], j, kStep));
+        const PoseKin pm = poseKin(m_chain, m_identified, perturbed(q[i], j, -kStep));
+        dF[i][j] = (pairBlock(pp, P[0]) - pairBlock(pm, P[0])) * (0.5 / kStep);
+        dF0[i][j] = (pairBlock(P[i], P0p[j]) - pairBlock(P[i], P0m[j])) * (0.5 / kStep);
+      }
+    }
+  }
+  // Adds sum over pairs of <W_i, dX_i/dx> for a per-pair function X of the blocks, to the gradient.
+  auto chain = [&](size_t i, const std::function<double(const Block &)> &directional) {
+    for (unsigned int j = 0; j < n; ++j) {
+      (*gradient)[i * n + j] += directional(dF[i][j]);
+      (*gradient)[j] += directional(dF0[i][j]);
+    }
+  };
+
+  // Ratio term.
+  if (m >= 3) {
+    std::vector<Eigen::RowVectorXd> g(m);
+    for (size_t i = 1; i < m; ++i)
+      g[i] = F[i].t.transpose() * F[i].Dt / F[i].t.squaredNorm();
+    std::vector<Eigen::RowVectorXd> G(m, Eigen::RowVectorXd::Zero(K)); // d ratio / d g_i
+    if (o.ratio_cost == RATIO_CONSECUTIVE) {
+      for (size_t i = 2; i < m; ++i) {
+        const Eigen::RowVectorXd d = g[i] - g[i - 1];
+        ct.ratio += d.squaredNorm();
+        G[i] += 2 * d;
+        G[i - 1] -= 2 * d;
+      }
+    } else {
+      Eigen::RowVectorXd mean = Eigen::RowVectorXd::Zero(K);
+      for (size_t i = 1; i < m; ++i)
+        mean += g[i];
+      mean /= static_cast<double>(m - 1);
+      for (size_t i = 1; i < m; ++i) {
+        const Eigen::RowVectorXd d = g[i] - mean;
+        ct.ratio += d.squaredNorm();
+        G[i] = 2 * d; // the mean's own derivative cancels: sum_i (g_i - mean) = 0
+      }
+    }
+    if (grad)
+      for (size_t i = 1; i < m; ++i) {
+        const Block &b = F[i];
+        const double s = b.t.squaredNorm();
+        chain(i, [&](const Block &d) {
+          const Eigen::RowVectorXd dg = (d.t.transpose() * b.Dt + b.t.transpose() * d.Dt) / s -
+                                        g[i] * (2 * b.t.dot(d.t) / s);
+          return G[i].dot(dg);
+        });
+      }
+  }
+
+  // cond(J) of the weighted relative-pose Jacobian.
+  if (m >= 2) {
+    const Eigen::Index rows = static_cast<Eigen::Index>(6 * (m - 1));
+    Eigen::MatrixXd J(rows, K);
+    for (size_t i = 1; i < m; ++i) {
+      J.block(6 * (i - 1), 0, 3, K) = F[i].Dt / (o.direction_sd * F[i].t.norm());
+      J.block(6 * (i - 1) + 3, 0, 3, K) = F[i].Dr / o.rotation_sd;
+    }
+    if (rows >= K) {
+      Eigen::JacobiSVD<Eigen::MatrixXd> svd(J, Eigen::ComputeThinU | Eigen::ComputeThinV);
+      const Eigen::VectorXd &sv = svd.singularValues();
+      const double s1 = sv(0), sK = sv(K - 1);
+      if (sK > s1 * 1e-12) {
+        ct.condition = s1 / sK;
+        if (grad && o.lambda > 0)
+          for (size_t i = 1; i < m; ++i) {
+            const Block &b = F[i];
+            const double tn = b.t.norm();
+            const Eigen::VectorXd u1 = svd.matrixU().col(0).segment(6 * (i - 1), 6);
+            const Eigen::VectorXd uK = svd.matrixU().col(K - 1).segment(6 * (i - 1), 6);
+            const Eigen::VectorXd v1 = svd.matrixV().col(0), vK = svd.matrixV().col(K - 1);
+            chain(i, [&](const Block &d) {
+              Eigen::MatrixXd dJ(6, K);
+              dJ.topRows(3) = (d.Dt - b.Dt * (b.t.dot(d.t) / (tn * tn))) / (o.direction_sd * tn);
+              dJ.bottomRows(3) = d.Dr / o.rotation_sd;
+              const double ds1 = u1.dot(dJ * v1), dsK = uK.dot(dJ * vK);
+              return o.lambda * (ds1 * sK - s1 * dsK) / (sK * sK);
+            });
+          }
+      } else
+        ct.condition = std::numeric_limits<double>::infinity();
+    } else
+      ct.condition = std::numeric_limits<double>::infinity();
+  }
+
+  // Visibility: squared hinges in px on the image bounds (with the planning margin) and on depth.
+  const vpCameraParameters &cam = m_scene.cam;
+  const double lo = m_scene.margin + o.planning_margin;
+  const double hiU = m_scene.width - 1 - lo, hiV = m_scene.height - 1 - lo;
+  for (size_t k = 0; k < m; ++k) {
+    const Rigid &T = P[k].T;
+    const Eigen::Matrix3d Rt = T.R.transpose();
+    RowMajor Jq;
+    if (grad) {
+      const vpMatrix Jv = m_chain.getJointJacobian(q[k]);
+      Jq = Eigen::Map<const RowMajor>(Jv.data, Jv.getRows(), Jv.getCols());
+    }
+    for (const vpColVector &Pf : m_scene.points) {
+      const Eigen::Vector3d a = vec3(Pf) - T.t;
+      const Eigen::Vector3d X = Rt * a;
+      // Hinges h >= 0 in px and their derivatives with respect to X.
+      double h[5];
+      Eigen::Vector3d dh[5];
+      const double z = X.z();
+      const double zs = std::max(z, m_scene.min_depth); // projections are only meaningful in front
+      const double u = cam.get_u0() + cam.get_px() * X.x() / zs, v = cam.get_v0() + cam.get_py() * X.y() / zs;
+      const Eigen::Vector3d du(cam.get_px() / zs, 0, z > m_scene.min_depth ? -cam.get_px() * X.x() / (zs * zs) : 0);
+      const Eigen::Vector3d dv(0, cam.get_py() / zs, z > m_scene.min_depth ? -cam.get_py() * X.y() / (zs * zs) : 0);
+      h[0] = lo - u, dh[0] = -du;
+      h[1] = u - hiU, dh[1] = du;
+      h[2] = lo - v, dh[2] = -dv;
+      h[3] = v - hiV, dh[3] = dv;
+      h[4] = (m_scene.min_depth - z) * cam.get_px(), dh[4] = Eigen::Vector3d(0, 0, -cam.get_px());
+      for (int c = 0; c < 5; ++c) {
+        if (h[c] <= 0)
+          continue;
+        ct.visibility += o.visibility_weight * h[c] * h[c];
+        if (grad) {
+          // dX = R^T ([a]x omega - v) for the camera velocity (v, omega) in f.
+          const Eigen::RowVector3d w = 2 * o.visibility_weight * h[c] * dh[c].transpose() * Rt;
+          for (unsigned int j = 0; j < n; ++j) {
+            const Eigen::Vector3d vel = Jq.block(0, j, 3, 1), om = Jq.block(3, j, 3, 1);
+            (*gradient)[k * n + j] += w.dot(a.cross(om) - vel);
+          }
+        }
+      }
+    }
+  }
+
+  // Distinct configurations.
+  for (size_t k = 0; k < m; ++k)
+    for (size_t l = k + 1; l < m; ++l) {
+      double d2 = 0;
+      for (unsigned int j = 0; j < n; ++j)
+        d2 += (q[k][j] - q[l][j]) * (q[k][j] - q[l][j]);
+      const double d = std::sqrt(d2), h = o.min_joint_distance - d;
+      if (h <= 0)
+        continue;
+      ct.distinct += o.distinct_weight * h * h;
+      if (grad && d > 0)
+        for (unsigned int j = 0; j < n; ++j) {
+          const double gj = -2 * o.distinct_weight * h * (q[k][j] - q[l][j]) / d;
+          (*gradient)[k * n + j] += gj;
+          (*gradient)[l * n + j] -= gj;
+        }
+    }
+
+  const double cond = std::isfinite(ct.condition) ? ct.condition : kSingularCondition;
+  ct.total = ct.ratio + o.lambda * cond + ct.visibility + ct.distinct;
+  if (terms)
+    *terms = ct;
+  return ct.total;
+}
+
+vpMeasurementPlanner::CostTerms vpMeasurementPlanner::cost(const std::vector<vpColVector> &q,
+                                                           const TrajectoryOptions &o) const
+{
+  o.check();
+  checkConfigurations(q, "cost", false);
+  CostTerms t;
+  evaluate(q, o, &t, nullptr);
+  return t;
+}
+
+double vpMeasurementPlanner::costAndGradient(const std::vector<vpColVector> &q, const TrajectoryOptions &o,
+                                             vpColVector &gradient) const
+{
+  o.check();
+  checkConfigurations(q, "costAndGradient", false);
+  std::vector<double> g;
+  const double c = evaluate(q, o, nullptr, &g);
+  gradient.resize(static_cast<unsigned int>(g.size()), false);
+  for (size_t i = 0; i < g.size(); ++i)
+    gradient[static_cast<unsigned int>(i)] = g[i];
+  return c;
+}
+
+vpMeasurementPlanner::Result vpMeasurementPlanner::planTrajectory(const std::vector<vpColVector> &initial) const
+{
+  return planTrajectory(initial, TrajectoryOptions());
+}
+
+vpMeasurementPlanner::Result vpMeasurementPlanner::planTrajectory(const std::vector<vpColVector> &initial,
+                                                                  const TrajectoryOptions &o,
+                                                                  const Progress &progress) const
+{
+  const auto t0 = std::chrono::steady_clock::now();
+  o.check();
+  checkConfigurations(initial, "planTrajectory", true);
+  Result res;
+  res.configurations = initial;
+  const size_t m = initial.size(), n = m_chain.getNumJoints();
+  if (m < 2 || 6 * (m - 1) <= m_identified.size()) {
+    res.status = TOO_FEW_CONFIGURATIONS;
+    res.message = std::to_string(m) + " configurations give " + std::to_string(6 * (m > 0 ? m - 1 : 0)) +
+                  " equations for " + std::to_string(m_identified.size()) +
+                  " identifiable parameters; 6 (m - 1) must exceed it";
+    res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return res;
+  }
+  evaluate(initial, o, &res.before, nullptr);
+  res.observability_before = observability(initial, o.direction_sd, o.rotation_sd);
+
+  const vpColVector qmin = m_chain.getJointMin(), qmax = m_chain.getJointMax();
+  std::vector<double> lb(n * m), ub(n * m), x0(n * m);
+  for (size_t k = 0; k < m; ++k)
+    for (unsigned int j = 0; j < n; ++j) {
+      lb[k * n + j] = qmin[j];
+      ub[k * n + j] = qmax[j];
+      x0[k * n + j] = initial[k][j];
+    }
+  auto toConfigurations = [&](const std::vector<double> &x) {
+    std::vector<vpColVector> q(m, vpColVector(static_cast<unsigned int>(n)));
+    for (size_t k = 0; k < m; ++k)
+      for (unsigned int j = 0; j < n; ++j)
+        q[k][j] = x[k * n + j];
+    return q;
+  };
+  struct Context {
+    const vpMeasurementPlanner *self;
+    const TrajectoryOptions *o;
+    std::function<std::vector<vpColVector>(const std::vector<double> &)> unpack;
+    unsigned int evaluations = 0;
+  } ctx{this, &o, toConfigurations, 0};
+  auto objective = [](const std::vector<double> &x, std::vector<double> &grad, void *data) -> double {
+    Context *c = static_cast<Context *>(data);
+    ++c->evaluations;
+    return c->self->evaluate(c->unpack(x), *c->o, nullptr, grad.empty() ? nullptr : &grad);
+  };
+  nlopt::algorithm algo = nlopt::LD_MMA;
+  if (o.algorithm == ALGO_SLSQP)
+    algo = nlopt::LD_SLSQP;
+  else if (o.algorithm == ALGO_LBFGS)
+    algo = nlopt::LD_LBFGS;
+  else if (o.algorithm == ALGO_BOBYQA)
+    algo = nlopt::LN_BOBYQA;
+
+  Random rng(o.seed, kMultistart);
+  bool have_feasible = false, have_any = false;
+  double best = std::numeric_limits<double>::infinity();
+  std::vector<double> best_x;
+  std::string last_error;
+  for (unsigned int s = 0; s <= o.multistart; ++s) {
+    if (progress)
+      progress("trajectory optimization", s, o.multistart + 1);
+    std::vector<double> x = x0;
+    if (s > 0)
+      for (size_t i = 0; i < x.size(); ++i)
+        x[i] = std::min(ub[i], std::max(lb[i], x[i] + rng.normal(o.multistart_sd)));
+    nlopt::opt opt(algo, static_cast<unsigned int>(x.size()));
+    opt.set_lower_bounds(lb);
+    opt.set_upper_bounds(ub);
+    opt.set_min_objective(objective, &ctx);
+    opt.set_ftol_rel(o.relative_tolerance);
+    opt.set_maxeval(static_cast<int>(o.max_evaluations));
+    if (algo == nlopt::LN_BOBYQA)
+      opt.set_initial_step(0.02);
+    double f = 0;
+    try {
+      opt.optimize(x, f);
+    } catch (const nlopt::roundoff_limited &) {
+      f = evaluate(toConfigurations(x), o, nullptr, nullptr); // x is the last good point
+    } catch (const std::exception &e) {
+      last_error = e.what();
+      continue;
+    }
+    ++res.starts;
+    const std::vector<vpColVector> q = toConfigurations(x);
+    CostTerms t;
+    evaluate(q, o, &t, nullptr);
+    bool feasible = true;
+    for (size_t k = 0; k < m && feasible; ++k)
+      feasible = isVisible(q[k], m_scene.margin);
+    feasible = feasible && t.distinct == 0;
+    // A feasible plan beats any infeasible one; among equals the lower cost wins.
+    if (!have_any || (feasible && !have_feasible) || (feasible == have_feasible && t.total < best)) {
+      best = t.total;
+      best_x = x;
+      have_feasible = feasible;
+      have_any = true;
+    }
+  }
+  res.evaluations = ctx.evaluations;
+  if (!have_any) {
+    res.status = FAILED;
+    res.message = "the optimizer failed on every start: " + last_error;
+  } else if (!have_feasible) {
+    res.status = INFEASIBLE;
+    const std::vector<vpColVector> q = toConfigurations(best_x);
+    std::ostringstream os;
+    os << "no start ended with every scene point in the image (margin " << m_scene.margin
+       << " px) and in front of the camera at every configuration, and configurations "
+       << o.min_joint_distance << " rad apart; first violation at configuration ";
+    size_t k = 0;
+    while (k < m && isVisible(q[k], m_scene.margin))
+      ++k;
+    os << (k < m ? std::to_string(k) : std::string("(joint distance)")) << " (the scene may be out of reach or wider than the field of view)";
+    res.message = os.str();
+  } else {
+    res.status = OK;
+    res.configurations = toConfigurations(best_x);
+    evaluate(res.configurations, o, &res.after, nullptr);
+    res.observability_after = observability(res.configurations, o.direction_sd, o.rotation_sd);
+    std::ostringstream os;
+    os << "ok: ratio term " << res.before.ratio << " -> " << res.after.ratio << ", cond(J) " << res.before.condition
+       << " -> " << res.after.condition << " (" << res.starts << " starts, " << res.evaluations << " evaluations)";
+    res.message = os.str();
+  }
+  if (res.status != OK)
+    res.after = res.before, res.observability_after = res.observability_before;
+  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+vpMeasurementPlanner::Result vpMeasurementPlanner::selectObservable(const std::vector<vpColVector> &pool,
+                                                                    unsigned int m) const
+{
+  return selectObservable(pool, m, SelectionOptions());
+}
+
+vpMeasurementPlanner::Result vpMeasurementPlanner::selectObservable(const std::vector<vpColVector> &pool,
+                                                                    unsigned int m, const SelectionOptions &o,
+                                                                    const Progress &progress) const
+{
+  const auto t0 = std::chrono::steady_clock::now();
+  o.check();
+  checkConfigurations(pool, "selectObservable", false);
+  if (m < 2 || m > pool.size())
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpMeasurementPlanner::selectObservable: m = " + std::to_string(m) +
+                                   " must be in [2, pool size = " + std::to_string(pool.size()) + "]");
+  Result res;
+  res.configurations.assign(pool.begin(), pool.begin() + m);
+  const Eigen::Index K = static_cast<Eigen::Index>(m_identified.size());
+  if (6 * (m - 1) <= m_identified.size()) {
+    res.status = TOO_FEW_CONFIGURATIONS;
+    res.message = std::to_string(m) + " configurations give " + std::to_string(6 * (m - 1)) + " equations for " +
+                  std::to_string(K) + " identifiable parameters; 6 (m - 1) must exceed it";
+    res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return res;
+  }
+  // Information of each candidate's pair with the reference pool[0].
+  const PoseKin P0 = poseKin(m_chain, m_identified, pool[0]);
+  std::vector<Eigen::MatrixXd> info(pool.size());
+  std::vector<bool> usable(pool.size(), false);
+  for (size_t i = 1; i < pool.size(); ++i) {
+    const Block b = pairBlock(poseKin(m_chain, m_identified, pool[i]), P0);
+    const double tn = b.t.norm();
+    if (!(tn > 1e-9))
+      continue; // the reference itself, or a pure rotation about the optical centre
+    Eigen::MatrixXd rows(6, K);
+    rows.topRows(3) = b.Dt / (o.direction_sd * tn);
+    rows.bottomRows(3) = b.Dr / o.rotation_sd;
+    info[i] = rows.transpose() * rows;
+    usable[i] = true;
+  }
+  // Score: full rank sets by the index, the others (only during the first additions) by
+  // log det(I + info / eps), which favours what fills the most new directions.
+  auto score = [&](const Eigen::MatrixXd &I, unsigned int pairs) {
+    const std::vector<double> s = singularValuesOfInformation(I);
+    const double smax = *std::max_element(s.begin(), s.end()), smin = *std::min_element(s.begin(), s.end());
+    if (smin > smax * 1e-9)
+      return std::make_pair(1.0, indexValue(vpObservabilityIndices::fromSingularValues(s, pairs), o.index));
+    double ld = 0;
+    for (double v : s)
+      ld += std::log1p(v * v / (1e-6 * smax * smax + 1e-300));
+    return std::make_pair(0.0, ld);
+  };
+  auto distance = [&](size_t a, size_t b) { return (pool[a] - pool[b]).frobeniusNorm(); };
+  std::vector<size_t> sel = {0};
+  Eigen::MatrixXd I = Eigen::MatrixXd::Zero(K, K);
+  auto tooClose = [&](size_t c, const std::vector<size_t> &s, size_t except) {
+    for (size_t k = 0; k < s.size(); ++k)
+      if (k != except && distance(c, s[k]) < o.min_joint_distance)
+        return true;
+    return false;
+  };
+  auto taken = [&](size_t c) { return std::find(sel.begin(), sel.end(), c) != sel.end(); };
+  // Lexicographic (full rank first), with a relative tolerance so that round-off cannot cycle.
+  auto better = [](const std::pair<double, double> &a, const std::pair<double, double> &b) {
+    return a.first > b.first || (a.first == b.first && a.second > b.second + 1e-9 * std::fabs(b.second));
+  };
+  // Greedy additions.
+  while (sel.size() < m) {
+    if (progress)
+      progress("observability selection (greedy)", static_cast<unsigned int>(sel.size()), m);
+    size_t best = 0;
+    std::pair<double, double> best_score(-1, -std::numeric_limits<double>::infinity());
+    for (size_t c = 1; c < pool.size(); ++c) {
+      if (!usable[c] || taken(c) || tooClose(c, sel, sel.size()))
+        continue;
+      const auto sc = score(I + info[c], static_cast<unsigned int>(sel.size()));
+      if (better(sc, best_score)) {
+        best_score = sc;
+        best = c;
+      }
+    }
+    if (best == 0) {
+      res.status = INFEASIBLE;
+      res.message = "the pool has only " + std::to_string(sel.size()) +
+                    " usable, distinct configurations (min_joint_distance " + std::to_string(o.min_joint_distance) +
+                    " rad); " + std::to_string(m) + " were asked";
+      res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      return res;
+    }
+    sel.push_back(best);
+    I += info[best];
+  }
+  // Exchanges: the best improving swap of a selected (not the reference) with an unselected one.
+  for (unsigned int pass = 0; pass < o.max_exchange_passes; ++pass) {
+    if (progress)
+      progress("observability selection (exchange)", pass, o.max_exchange_passes);
+    const auto current = score(I, m - 1);
+    auto best_score = current;
+    size_t best_out = 0, best_in = 0;
+    for (size_t k = 1; k < sel.size(); ++k)
+      for (size_t c = 1; c < pool.size(); ++c) {
+        if (!usable[c] || taken(c) || tooClose(c, sel, k))
+          continue;
+        const auto sc = score(I - info[sel[k]] + info[c], m - 1);
+        if (better(sc, best_score)) {
+          best_score = sc;
+          best_out = k;
+          best_in = c;
+        }
+      }
+    if (best_out == 0)
+      break;
+    I += info[best_in] - info[sel[best_out]];
+    sel[best_out] = best_in;
+  }
+  res.configurations.clear();
+  for (size_t c : sel)
+    res.configurations.push_back(pool[c]);
+  const std::vector<vpColVector> first(pool.begin(), pool.begin() + m);
+  const TrajectoryOptions to;
+  evaluate(first, to, &res.before, nullptr);
+  evaluate(res.configurations, to, &res.after, nullptr);
+  res.observability_before = observability(first, o.direction_sd, o.rotation_sd);
+  res.observability_after = observability(res.configurations, o.direction_sd, o.rotation_sd);
+  res.status = OK;
+  std::ostringstream os;
+  os << "ok: O" << static_cast<int>(o.index) + 1 << " " << indexValue(res.observability_before, o.index) << " -> "
+     << indexValue(res.observability_after, o.index) << " (first " << m << " of the pool -> selected)";
+  res.message = os.str();
+  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}

@@ -1,0 +1,235 @@
+/*
+ * Tests of the planning layer: the paper's trajectory cost (eqs. 31, 39 intent) and its gradient,
+ * the planned trajectory, observability selection, impossible requests.
+ */
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <visp3/selfcalib/vpMeasurementPlanner.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibSimulator.h>
+
+namespace
+{
+vpSelfCalibSimulator makeSim(const std::string &robot, uint64_t seed)
+{
+  vpSelfCalibSimulator::Options o;
+  o.seed = seed;
+  return vpSelfCalibSimulator(vpKinematicChain::preset(robot), o);
+}
+
+vpMeasurementPlanner::Scene sceneOf(const vpSelfCalibSimulator &sim)
+{
+  vpMeasurementPlanner::Scene s;
+  s.points = sim.getScenePoints();
+  s.cam = sim.getCamera();
+  s.width = sim.getOptions().width;
+  s.height = sim.getOptions().height;
+  s.margin = sim.getOptions().image_margin;
+  return s;
+}
+
+double tNorm(const vpKinematicChain &c, const vpColVector &qi, const vpColVector &q0)
+{
+  return (c.get_fMc(qi).inverse() * c.get_fMc(q0)).getTranslationVector().frobeniusNorm();
+}
+
+// Mean |(|t_i|/|t_1|) / (|t̄_i|/|t̄_1|) - 1| over the pairs: the error of the eq. 21 ratios.
+double meanRatioError(const vpSelfCalibSimulator &sim, const std::vector<vpColVector> &q)
+{
+  const vpKinematicChain &T = sim.getTrueChain(), &N = sim.getNominalChain();
+  double s = 0;
+  for (size_t i = 2; i < q.size(); ++i)
+    s += std::fabs((tNorm(T, q[i], q[0]) / tNorm(T, q[1], q[0])) / (tNorm(N, q[i], q[0]) / tNorm(N, q[1], q[0])) - 1);
+  return s / (q.size() - 2);
+}
+} // namespace
+
+// The planner's cost is what it says: the ratio term from g_i (consecutive or spread), and g_i is
+// the first-order sensitivity of log |t_i| to the parameters (eq. 31).
+TEST(Planner, RatioSensitivityIsTheDerivativeOfLogNorm)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 3);
+  const std::vector<vpColVector> q = sim.generateConfigurations(6);
+  const vpMeasurementPlanner planner(sim.getNominalChain(), sceneOf(sim));
+  const std::vector<unsigned int> &ids = planner.identifiableParameters();
+  ASSERT_EQ(ids.size(), 24u);
+  const std::vector<vpColVector> g = planner.ratioSensitivities(q);
+  ASSERT_EQ(g.size(), 5u);
+  const vpKinematicChain nominal = sim.getNominalChain();
+  for (size_t k = 0; k < ids.size(); k += 3) {
+    const double h = 1e-6;
+    vpKinematicChain p = nominal, m = nominal;
+    vpColVector pp = p.getParameters(), pm = m.getParameters();
+    pp[ids[k]] += h;
+    pm[ids[k]] -= h;
+    p.setParameters(pp);
+    m.setParameters(pm);
+    for (size_t i = 1; i < q.size(); ++i) {
+      const double fd = (std::log(tNorm(p, q[i], q[0])) - std::log(tNorm(m, q[i], q[0]))) / (2 * h);
+      EXPECT_NEAR(g[i - 1][static_cast<unsigned int>(k)], fd, 1e-6 * std::max(1.0, std::fabs(fd)))
+          << "pair " << i << " parameter " << ids[k];
+    }
+  }
+  // The ratio terms from these g_i.
+  vpMeasurementPlanner::TrajectoryOptions o;
+  double consecutive = 0, spread = 0;
+  vpColVector mean(g[0].size(), 0.0);
+  for (size_t i = 1; i < g.size(); ++i)
+    consecutive += (g[i] - g[i - 1]).sumSquare();
+  for (const vpColVector &gi : g)
+    mean += gi / static_cast<double>(g.size());
+  for (const vpColVector &gi : g)
+    spread += (gi - mean).sumSquare();
+  EXPECT_NEAR(planner.cost(q, o).ratio, consecutive, 1e-9 * consecutive);
+  o.ratio_cost = vpMeasurementPlanner::RATIO_SPREAD;
+  EXPECT_NEAR(planner.cost(q, o).ratio, spread, 1e-9 * spread);
+}
+
+// The gradient against central differences of the whole cost, with every term active: cond(J)
+// with a large lambda, visibility hinges (large planning margin) and two configurations too close.
+TEST(Planner, GradientMatchesFiniteDifferences)
+{
+  for (const std::string robot : {"viper850", "puma560"}) {
+    const vpSelfCalibSimulator sim = makeSim(robot, 5);
+    std::vector<vpColVector> q = sim.generateConfigurations(7);
+    q[3] = q[2];
+    q[3][5] += 0.01;
+    const vpMeasurementPlanner planner(sim.getNominalChain(), sceneOf(sim));
+    vpMeasurementPlanner::TrajectoryOptions o;
+    o.lambda = 1e-2;
+    o.planning_margin = 150;
+    const vpMeasurementPlanner::CostTerms terms = planner.cost(q, o);
+    ASSERT_GT(terms.visibility, 0);
+    ASSERT_GT(terms.distinct, 0);
+    ASSERT_GT(o.lambda * terms.condition, 1e-3 * terms.ratio);
+    for (auto rc : {vpMeasurementPlanner::RATIO_CONSECUTIVE, vpMeasurementPlanner::RATIO_SPREAD}) {
+      o.ratio_cost = rc;
+      vpColVector grad;
+      const double c = planner.costAndGradient(q, o, grad);
+      EXPECT_NEAR(c, planner.cost(q, o).total, 1e-12 * c);
+      ASSERT_EQ(grad.size(), 6 * q.size());
+      const double gmax = grad.getMaxValue() > -grad.getMinValue() ? grad.getMaxValue() : -grad.getMinValue();
+      for (size_t k = 0; k < q.size(); ++k)
+        for (unsigned int j = 0; j < 6; ++j) {
+          const double h = 1e-6;
+          std::vector<vpColVector> qp = q, qm = q;
+          qp[k][j] += h;
+          qm[k][j] -= h;
+          const double fd = (planner.cost(qp, o).total - planner.cost(qm, o).total) / (2 * h);
+          EXPECT_NEAR(grad[static_cast<unsigned int>(6 * k + j)], fd, 1e-5 * gmax)
+              << robot << " configuration " << k << " joint " << j;
+        }
+    }
+  }
+}
+
+// Over several seeds: the plan is feasible (every point seen from the nominal camera with the
+// margin, joint limits, distinct configurations), cheaper than the start, and it reduces the
+// true error of the eq. 21 ratios (the paper's effect).
+TEST(Planner, PlannedTrajectoryIsFeasibleCheaperAndFixesTheRatios)
+{
+  double before = 0, after = 0;
+  for (uint64_t seed : {1, 2, 3}) {
+    const vpSelfCalibSimulator sim = makeSim("viper850", seed);
+    const std::vector<vpColVector> initial = sim.generateConfigurations(12);
+    const vpMeasurementPlanner planner(sim.getNominalChain(), sceneOf(sim));
+    vpMeasurementPlanner::TrajectoryOptions o;
+    o.multistart = 0;
+    o.max_evaluations = 600;
+    const vpMeasurementPlanner::Result r = planner.planTrajectory(initial, o);
+    ASSERT_EQ(r.status, vpMeasurementPlanner::OK) << r.message;
+    ASSERT_EQ(r.configurations.size(), initial.size());
+    for (size_t k = 0; k < r.configurations.size(); ++k) {
+      EXPECT_TRUE(planner.isVisible(r.configurations[k], sceneOf(sim).margin)) << "seed " << seed << " pose " << k;
+      EXPECT_TRUE(sim.getNominalChain().isInJointLimits(r.configurations[k], 1e-9));
+      for (size_t l = k + 1; l < r.configurations.size(); ++l)
+        EXPECT_GE((r.configurations[k] - r.configurations[l]).frobeniusNorm(), o.min_joint_distance - 1e-6);
+    }
+    EXPECT_LT(r.after.total, 0.5 * r.before.total);
+    EXPECT_LT(r.after.ratio, 0.5 * r.before.ratio);
+    EXPECT_TRUE(std::isfinite(r.after.condition));
+    EXPECT_GT(r.observability_after.O1, 0);
+    EXPECT_GT(r.seconds, 0);
+    before += meanRatioError(sim, initial);
+    after += meanRatioError(sim, r.configurations);
+  }
+  EXPECT_LT(after, 0.5 * before);
+}
+
+TEST(Planner, ImpossibleRequestsGiveAStatus)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 4);
+  const std::vector<vpColVector> q = sim.generateConfigurations(8);
+  const vpMeasurementPlanner planner(sim.getNominalChain(), sceneOf(sim));
+  // 4 configurations: 18 equations for 24 parameters.
+  const std::vector<vpColVector> few(q.begin(), q.begin() + 4);
+  EXPECT_EQ(planner.planTrajectory(few).status, vpMeasurementPlanner::TOO_FEW_CONFIGURATIONS);
+  EXPECT_EQ(planner.selectObservable(q, 4).status, vpMeasurementPlanner::TOO_FEW_CONFIGURATIONS);
+  // Two scene points 5 m on either side of the object: no camera pose sees them both.
+  vpMeasurementPlanner::Scene wide = sceneOf(sim);
+  const vpColVector c = wide.points[0];
+  wide.points.push_back(vpColVector({c[0] + 5, c[1], c[2]}));
+  wide.points.push_back(vpColVector({c[0] - 5, c[1], c[2]}));
+  const vpMeasurementPlanner lost(sim.getNominalChain(), wide);
+  vpMeasurementPlanner::TrajectoryOptions o;
+  o.multistart = 0;
+  o.max_evaluations = 100;
+  const vpMeasurementPlanner::Result r = lost.planTrajectory(q, o);
+  EXPECT_EQ(r.status, vpMeasurementPlanner::INFEASIBLE);
+  EXPECT_NE(r.message.find("out of reach"), std::string::npos) << r.message;
+  EXPECT_EQ(r.configurations.size(), q.size());
+}
+
+TEST(Planner, BadInputThrows)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 4);
+  const std::vector<vpColVector> q = sim.generateConfigurations(8);
+  const vpMeasurementPlanner planner(sim.getNominalChain(), sceneOf(sim));
+  std::vector<vpColVector> wrong = q;
+  wrong[2].resize(5);
+  EXPECT_THROW(planner.planTrajectory(wrong), vpSelfCalibException);
+  std::vector<vpColVector> outside = q;
+  outside[1][0] = sim.getNominalChain().getJointMax()[0] + 0.1;
+  EXPECT_THROW(planner.planTrajectory(outside), vpSelfCalibException);
+  vpMeasurementPlanner::TrajectoryOptions o;
+  o.lambda = -1;
+  EXPECT_THROW(planner.cost(q, o), vpSelfCalibException);
+  EXPECT_THROW(planner.selectObservable(q, 9), vpSelfCalibException);
+  EXPECT_THROW(vpMeasurementPlanner::algorithmFromName("newton"), vpSelfCalibException);
+  EXPECT_THROW(vpMeasurementPlanner::indexFromName("O7"), vpSelfCalibException);
+  vpMeasurementPlanner::Scene empty = sceneOf(sim);
+  empty.points.clear();
+  EXPECT_THROW(vpMeasurementPlanner(sim.getNominalChain(), empty), vpSelfCalibException);
+  vpMeasurementPlanner::Scene nocam = sceneOf(sim);
+  nocam.width = 0;
+  EXPECT_THROW(vpMeasurementPlanner(sim.getNominalChain(), nocam), vpSelfCalibException);
+}
+
+// Selection from a pool keeps the reference, takes distinct configurations and beats taking the
+// first m of the pool on the chosen index, for O1 and O3.
+TEST(Planner, ObservabilitySelectionBeatsTheFirstOnes)
+{
+  const vpSelfCalibSimulator sim = makeSim("puma560", 6);
+  const std::vector<vpColVector> pool = sim.generateConfigurations(40);
+  const vpMeasurementPlanner planner(sim.getNominalChain(), sceneOf(sim));
+  for (const std::string index : {"O1", "O3"}) {
+    vpMeasurementPlanner::SelectionOptions o;
+    o.index = vpMeasurementPlanner::indexFromName(index);
+    const vpMeasurementPlanner::Result r = planner.selectObservable(pool, 10, o);
+    ASSERT_EQ(r.status, vpMeasurementPlanner::OK) << r.message;
+    ASSERT_EQ(r.configurations.size(), 10u);
+    EXPECT_EQ((r.configurations[0] - pool[0]).frobeniusNorm(), 0.0);
+    for (size_t k = 0; k < r.configurations.size(); ++k)
+      for (size_t l = k + 1; l < r.configurations.size(); ++l)
+        EXPECT_GT((r.configurations[k] - r.configurations[l]).frobeniusNorm(), 0.0);
+    const vpObservabilityIndices direct = planner.observability(r.configurations);
+    EXPECT_NEAR(direct.O1, r.observability_after.O1, 1e-9 * direct.O1);
+    if (index == "O1")
+      EXPECT_GT(r.observability_after.O1, 1.2 * r.observability_before.O1);
+    else
+      EXPECT_GT(r.observability_after.O3, 1.2 * r.observability_before.O3);
+  }
+}
