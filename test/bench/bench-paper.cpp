@@ -31,31 +31,7 @@ namespace
 {
 const unsigned int kPoses = 25, kVerification = 10, kMinCalibration = 6;
 
-std::vector<std::string> stringList(int &i, int argc, char **argv)
-{
-  if (i + 1 >= argc)
-    throw std::invalid_argument(std::string(argv[i]) + " needs a value");
-  std::vector<std::string> out;
-  std::stringstream ss(argv[++i]);
-  std::string item;
-  while (std::getline(ss, item, ','))
-    if (!item.empty())
-      out.push_back(item);
-  if (out.empty())
-    throw std::invalid_argument(std::string(argv[i - 1]) + " needs at least one name");
-  return out;
-}
 
-std::string meanSd(const bench::Stats &s, double unit, int precision)
-{
-  if (!s.count())
-    return "–";
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(precision) << unit * s.mean();
-  if (s.count() > 1)
-    os << " / " << unit * s.sd();
-  return os.str();
-}
 
 std::string noiseName(double noise)
 {
@@ -107,9 +83,9 @@ int main(int argc, char **argv)
       else if (a == "--noise")
         noises = bench::numberList(i, argc, argv);
       else if (a == "--robots")
-        robots = stringList(i, argc, argv);
+        robots = bench::stringList(i, argc, argv);
       else if (a == "--focal")
-        focals = stringList(i, argc, argv);
+        focals = bench::stringList(i, argc, argv);
       else if (a == "--csv" && i + 1 < argc)
         csv_path = argv[++i];
       else if (a == "-h" || a == "--help") {
@@ -230,9 +206,9 @@ int main(int argc, char **argv)
         for (size_t fi = 0; fi < modes.size(); ++fi) {
           const Cell &c = table[ri][ni][fi];
           std::cout << "| " << robots[ri] << " | " << noiseName(noises[ni]) << " | " << focals[fi] << " | "
-                    << meanSd(c.pos, 1e3, 3) << " | " << meanSd(c.rot, 1e4, 2) << " | "
-                    << (modes[fi] == vpRobotSelfCalibration::FOCAL_KNOWN ? std::string("(known)") : meanSd(c.f, 1, 2))
-                    << " | " << meanSd(c.ratio, 1e2, 3) << " | " << c.failed << "/" << seeds << " |\n";
+                    << bench::meanSd(c.pos, 1e3, 3) << " | " << bench::meanSd(c.rot, 1e4, 2) << " | "
+                    << (modes[fi] == vpRobotSelfCalibration::FOCAL_KNOWN ? std::string("(known)") : bench::meanSd(c.f, 1, 2))
+                    << " | " << bench::meanSd(c.ratio, 1e2, 3) << " | " << c.failed << "/" << seeds << " |\n";
         }
 
     // Figure 6.
@@ -245,14 +221,14 @@ int main(int argc, char **argv)
       for (size_t ni = 0; ni < noises.size(); ++ni) {
         const Figure6Cell &b = nominal[ri][ni];
         std::cout << "| " << robots[ri] << " | " << noiseName(noises[ni]) << " | – | nominal | "
-                  << meanSd(b.yardstick, 1e3, 3) << " | " << meanSd(b.distance, 1e3, 3) << " | "
-                  << meanSd(b.held_pos, 1e3, 2) << " | " << meanSd(b.held_rot, 1e3, 3) << " | – |\n";
+                  << bench::meanSd(b.yardstick, 1e3, 3) << " | " << bench::meanSd(b.distance, 1e3, 3) << " | "
+                  << bench::meanSd(b.held_pos, 1e3, 2) << " | " << bench::meanSd(b.held_rot, 1e3, 3) << " | – |\n";
         for (size_t fi = 0; fi < modes.size(); ++fi)
           for (unsigned int n = kMinCalibration; n <= kPoses - kVerification; ++n) {
             const Figure6Cell &g = fig6[ri][ni][fi][n];
             std::cout << "| " << robots[ri] << " | " << noiseName(noises[ni]) << " | " << focals[fi] << " | " << n
-                      << " | " << meanSd(g.yardstick, 1e3, 3) << " | " << meanSd(g.distance, 1e3, 3) << " | "
-                      << meanSd(g.held_pos, 1e3, 2) << " | " << meanSd(g.held_rot, 1e3, 3) << " | " << g.failed
+                      << " | " << bench::meanSd(g.yardstick, 1e3, 3) << " | " << bench::meanSd(g.distance, 1e3, 3) << " | "
+                      << bench::meanSd(g.held_pos, 1e3, 2) << " | " << bench::meanSd(g.held_rot, 1e3, 3) << " | " << g.failed
                       << "/" << seeds << " |\n";
           }
       }
@@ -263,7 +239,7 @@ int main(int argc, char **argv)
       for (size_t ni = 0; ni < noises.size(); ++ni)
         for (size_t fi = 0; fi < modes.size(); ++fi)
           std::cout << "| " << robots[ri] << " | " << noiseName(noises[ni]) << " | " << focals[fi] << " | "
-                    << meanSd(table[ri][ni][fi].seconds, 1, 3) << " |\n";
+                    << bench::meanSd(table[ri][ni][fi].seconds, 1, 3) << " |\n";
     std::cout << "done\n";
     return EXIT_SUCCESS;
   } catch (const vpException &e) {

@@ -47,6 +47,22 @@ inline std::vector<double> numberList(int &i, int argc, char **argv)
   return out;
 }
 
+//! Comma-separated names ("puma560,viper850").
+inline std::vector<std::string> stringList(int &i, int argc, char **argv)
+{
+  if (i + 1 >= argc)
+    throw std::invalid_argument(std::string(argv[i]) + " needs a value");
+  std::vector<std::string> out;
+  std::stringstream ss(argv[++i]);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty())
+      out.push_back(item);
+  if (out.empty())
+    throw std::invalid_argument(std::string(argv[i - 1]) + " needs at least one name");
+  return out;
+}
+
 //! Running mean and sample standard deviation.
 struct Stats {
   std::vector<double> v;
@@ -72,6 +88,20 @@ struct Stats {
     return std::sqrt(s / (v.size() - 1));
   }
 };
+
+//! "mean / sd" of s times unit, fixed precision; "–" when empty, the mean alone for one value.
+inline std::string meanSd(const Stats &s, double unit, int precision)
+{
+  if (!s.count())
+    return "–";
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  os.precision(precision);
+  os << unit * s.mean();
+  if (s.count() > 1)
+    os << " / " << unit * s.sd();
+  return os.str();
+}
 
 //! CSV file opened only when a path is given; rows are written as they come.
 class Csv

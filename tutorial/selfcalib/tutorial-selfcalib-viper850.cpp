@@ -6,10 +6,12 @@
   the simulated arm, the planned poses and what the camera sees at each, and how far the nominal
   model is from the true camera pose at each configuration.
 
-    tutorial-selfcalib-viper850 [--robot viper850|puma560] [--seed N] [--poses N] [--noise PX] [-c] [-d] [-h]
+    tutorial-selfcalib-viper850 [--robot viper850|puma560] [--seed N] [--poses N] [--noise PX]
+                                [--focal known|shared|per-pair] [--plan paper|observability|none] [-c] [-d] [-h]
 
   -c and -d are ViSP's tutorial flags (no click, no display); this program never opens a display.
 */
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <iomanip>
@@ -23,6 +25,7 @@
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 #include <visp3/selfcalib/vpSelfCalibSimulatorViper850.h>
 #include <visp3/selfcalib/vpCalibrationVerifier.h>
+#include <visp3/selfcalib/vpMeasurementPlanner.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 
 namespace
@@ -36,6 +39,9 @@ void usage(const char *argv0)
             << "  --noise PX     image noise sd in pixels (default 0.2, level I)\n"
             << "  --focal MODE   known (default), shared (one f self-calibrated over all pairs) or\n"
             << "                 per-pair (the paper: f self-calibrated with each pair)\n"
+            << "  --plan MODE    paper (default: the paper's optimal trajectory, eqs. 22-39, planned from\n"
+            << "                 random feasible poses), observability (O1-optimal choice from a pool of 60)\n"
+            << "                 or none (random feasible poses)\n"
             << "  -c, -d         accepted for ViSP's tutorial convention; nothing is displayed\n"
             << "  -h, --help     this help\n";
 }
@@ -59,7 +65,7 @@ int main(int argc, char **argv)
     std::string robot_name = "viper850";
     vpSelfCalibSimulator::Options opt;
     unsigned int poses = 25;
-    std::string focal = "known";
+    std::string focal = "known", plan = "paper";
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
       if (a == "--robot" && i + 1 < argc)
@@ -74,6 +80,13 @@ int main(int argc, char **argv)
         focal = argv[++i];
         if (focal != "known" && focal != "shared" && focal != "per-pair") {
           std::cerr << "--focal must be known, shared or per-pair\n";
+          return EXIT_FAILURE;
+        }
+      }
+      else if (a == "--plan" && i + 1 < argc) {
+        plan = argv[++i];
+        if (plan != "paper" && plan != "observability" && plan != "none") {
+          std::cerr << "--plan must be paper, observability or none\n";
           return EXIT_FAILURE;
         }
       }
@@ -140,11 +153,49 @@ int main(int argc, char **argv)
     }
 
     const auto t0 = std::chrono::steady_clock::now();
-    const std::vector<vpColVector> q = sim.generateConfigurations(poses);
-    const double t_plan = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::vector<vpColVector> q = sim.generateConfigurations(poses);
+    const double t_gen = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::cout << "== Poses: " << q.size() << " random feasible configurations generated in " << std::setprecision(2)
+              << t_gen << " s\n";
+
+    // Step 1 of the paper: plan the calibration poses on the nominal model and the rough scene; the
+    // verification poses stay random.
+    const unsigned int n_cal = std::min<unsigned int>(15, poses);
+    if (plan != "none" && n_cal >= 6) {
+      vpMeasurementPlanner::Scene scene;
+      scene.points = sim.getScenePoints();
+      scene.cam = sim.getCamera();
+      scene.width = opt.width;
+      scene.height = opt.height;
+      scene.margin = opt.image_margin;
+      const vpMeasurementPlanner planner(nominal, scene);
+      const std::vector<vpColVector> initial(q.begin(), q.begin() + n_cal);
+      vpMeasurementPlanner::Result pr;
+      if (plan == "paper") {
+        vpMeasurementPlanner::TrajectoryOptions to;
+        to.seed = opt.seed;
+        pr = planner.planTrajectory(initial, to, [](const std::string &stage, unsigned int done, unsigned int total) {
+          std::cerr << "   ... " << stage << " " << done + 1 << "/" << total << "\n";
+        });
+      } else {
+        std::vector<vpColVector> pool = initial;
+        const std::vector<vpColVector> more = sim.generateConfigurations(poses + 60);
+        pool.insert(pool.end(), more.begin() + poses, more.end());
+        pr = planner.selectObservable(pool, n_cal);
+      }
+      std::cout << "== Planning (" << plan << ") of the " << n_cal << " calibration poses: "
+                << vpMeasurementPlanner::statusName(pr.status) << " in " << std::setprecision(2) << pr.seconds << " s\n"
+                << "   ratio term (eq. 31) " << std::setprecision(3) << pr.before.ratio << " -> " << pr.after.ratio
+                << ", cond(J) " << pr.before.condition << " -> " << pr.after.condition << ", O1 "
+                << pr.observability_before.O1 << " -> " << pr.observability_after.O1 << "\n";
+      if (pr.status == vpMeasurementPlanner::OK)
+        std::copy(pr.configurations.begin(), pr.configurations.end(), q.begin());
+      else
+        std::cout << "   " << pr.message << "; the random poses are kept\n";
+    }
     const vpSelfCalibDataset ds = viper ? sim.acquire(*viper, q) : sim.makeDataset(q);
-    std::cout << "== Poses: " << q.size() << " configurations generated in " << std::setprecision(2) << t_plan
-              << " s" << (viper ? ", acquired through vpSimulatorViper850 (vpRobot interface)" : "") << "\n";
+    if (viper)
+      std::cout << "   acquired through vpSimulatorViper850 (vpRobot interface)\n";
 
     std::cout << "   pose  points seen   nominal model error: absolute       relative to pose 1\n"
               << "                              position [mm] angle [mrad]  position [mm] angle [mrad]\n";
