@@ -176,7 +176,6 @@ public:
   Result selectObservable(const std::vector<vpColVector> &pool, unsigned int m) const;
 
 private:
-  struct Evaluation;
   double evaluate(const std::vector<vpColVector> &q, const TrajectoryOptions &o, CostTerms *terms,
                   std::vector<double> *gradient) const;
   void checkConfigurations(const std::vector<vpColVector> &q, const char *where, bool limits) const;
