@@ -100,30 +100,13 @@ struct CalibrationErrors {
   double seconds = 0;
 };
 
-inline std::map<int, vpColVector> truePoints(const vpSelfCalibSimulator &sim)
-{
-  std::map<int, vpColVector> pts;
-  for (size_t i = 0; i < sim.getScenePoints().size(); ++i)
-    pts[static_cast<int>(i)] = sim.getScenePoints()[i];
-  return pts;
-}
-
-inline std::vector<vpHomogeneousMatrix> trueCameraPoses(const vpSelfCalibSimulator &sim,
-                                                        const std::vector<vpSelfCalibDataset::View> &views)
-{
-  std::vector<vpHomogeneousMatrix> T;
-  for (const auto &v : views)
-    T.push_back(sim.getTrueChain().get_fMc(v.q));
-  return T;
-}
-
 //! The verification figures of a model on the views (the nominal model: "before calibration").
 inline vpCalibrationVerifier::Result verifyAgainstTruth(const vpSelfCalibSimulator &sim, const vpKinematicChain &model,
                                                         const vpCameraParameters &cam,
                                                         const std::vector<vpSelfCalibDataset::View> &views)
 {
-  return vpCalibrationVerifier::verify(model, cam, views, sim.getYardstick(), truePoints(sim),
-                                       trueCameraPoses(sim, views));
+  return vpCalibrationVerifier::verify(model, cam, views, sim.getYardstick(), sim.getScenePointsById(),
+                                       sim.getTrueCameraPoses(views));
 }
 
 /*!

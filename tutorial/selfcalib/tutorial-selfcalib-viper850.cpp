@@ -153,9 +153,13 @@ int main(int argc, char **argv)
     }
 
     const auto t0 = std::chrono::steady_clock::now();
-    std::vector<vpColVector> q = sim.generateConfigurations(poses);
+    // The observability choice takes 60 more random configurations as its pool.
+    const unsigned int extra = plan == "observability" ? 60 : 0;
+    std::vector<vpColVector> q = sim.generateConfigurations(poses + extra);
+    const std::vector<vpColVector> pool_extra(q.begin() + poses, q.end());
+    q.resize(poses);
     const double t_gen = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::cout << "== Poses: " << q.size() << " random feasible configurations generated in " << std::setprecision(2)
+    std::cout << "== Poses: " << q.size() + extra << " random feasible configurations generated in " << std::setprecision(2)
               << t_gen << " s\n";
 
     // Step 1 of the paper: plan the calibration poses on the nominal model and the rough scene; the
@@ -179,8 +183,7 @@ int main(int argc, char **argv)
         });
       } else {
         std::vector<vpColVector> pool = initial;
-        const std::vector<vpColVector> more = sim.generateConfigurations(poses + 60);
-        pool.insert(pool.end(), more.begin() + poses, more.end());
+        pool.insert(pool.end(), pool_extra.begin(), pool_extra.end());
         pr = planner.selectObservable(pool, n_cal);
       }
       std::cout << "== Planning (" << plan << ") of the " << n_cal << " calibration poses: "
@@ -264,12 +267,8 @@ int main(int argc, char **argv)
     // Verification on the held-out views against the simulated truth.
     if (q.size() > po.num_calibration_poses + 1) {
       const std::vector<vpSelfCalibDataset::View> ver(ds.views.begin() + po.num_calibration_poses, ds.views.end());
-      std::map<int, vpColVector> true_points;
-      for (size_t i = 0; i < sim.getScenePoints().size(); ++i)
-        true_points[static_cast<int>(i)] = sim.getScenePoints()[i];
-      std::vector<vpHomogeneousMatrix> true_fMc;
-      for (const auto &v : ver)
-        true_fMc.push_back(truth.get_fMc(v.q));
+      const std::map<int, vpColVector> true_points = sim.getScenePointsById();
+      const std::vector<vpHomogeneousMatrix> true_fMc = sim.getTrueCameraPoses(ver);
       const vpCalibrationVerifier::Result before =
           vpCalibrationVerifier::verify(nominal, ds.cam, ver, ys, true_points, true_fMc);
       const vpCalibrationVerifier::Result after =

@@ -70,6 +70,15 @@ Block pairBlock(const PoseKin &A, const PoseKin &B)
   return b;
 }
 
+// The 6 rows of a pair in J: translation divided by direction_sd |t|, rotation by rotation_sd.
+Eigen::MatrixXd weightedRows(const Block &b, double direction_sd, double rotation_sd)
+{
+  Eigen::MatrixXd rows(6, b.Dt.cols());
+  rows.topRows(3) = b.Dt / (direction_sd * b.t.norm());
+  rows.bottomRows(3) = b.Dr / rotation_sd;
+  return rows;
+}
+
 vpColVector perturbed(const vpColVector &q, unsigned int j, double h)
 {
   vpColVector p = q;
@@ -274,10 +283,8 @@ vpObservabilityIndices vpMeasurementPlanner::observability(const std::vector<vpC
   const Eigen::Index K = static_cast<Eigen::Index>(m_identified.size());
   Eigen::MatrixXd info = Eigen::MatrixXd::Zero(K, K);
   for (size_t i = 1; i < q.size(); ++i) {
-    const Block b = pairBlock(poseKin(m_chain, m_identified, q[i]), P0);
-    Eigen::MatrixXd rows(6, K);
-    rows.topRows(3) = b.Dt / (direction_sd * b.t.norm());
-    rows.bottomRows(3) = b.Dr / rotation_sd;
+    const Eigen::MatrixXd rows =
+        weightedRows(pairBlock(poseKin(m_chain, m_identified, q[i]), P0), direction_sd, rotation_sd);
     info += rows.transpose() * rows;
   }
   return vpObservabilityIndices::fromSingularValues(singularValuesOfInformation(info),
@@ -371,10 +378,8 @@ double vpMeasurementPlanner::evaluate(const std::vector<vpColVector> &q, const T
   if (m >= 2) {
     const Eigen::Index rows = static_cast<Eigen::Index>(6 * (m - 1));
     Eigen::MatrixXd J(rows, K);
-    for (size_t i = 1; i < m; ++i) {
-      J.block(6 * (i - 1), 0, 3, K) = F[i].Dt / (o.direction_sd * F[i].t.norm());
-      J.block(6 * (i - 1) + 3, 0, 3, K) = F[i].Dr / o.rotation_sd;
-    }
+    for (size_t i = 1; i < m; ++i)
+      J.middleRows(6 * (i - 1), 6) = weightedRows(F[i], o.direction_sd, o.rotation_sd);
     if (rows >= K) {
       Eigen::JacobiSVD<Eigen::MatrixXd> svd(J, Eigen::ComputeThinU | Eigen::ComputeThinV);
       const Eigen::VectorXd &sv = svd.singularValues();
@@ -664,12 +669,9 @@ vpMeasurementPlanner::Result vpMeasurementPlanner::selectObservable(const std::v
   std::vector<bool> usable(pool.size(), false);
   for (size_t i = 1; i < pool.size(); ++i) {
     const Block b = pairBlock(poseKin(m_chain, m_identified, pool[i]), P0);
-    const double tn = b.t.norm();
-    if (!(tn > 1e-9))
+    if (!(b.t.norm() > 1e-9))
       continue; // the reference itself, or a pure rotation about the optical centre
-    Eigen::MatrixXd rows(6, K);
-    rows.topRows(3) = b.Dt / (o.direction_sd * tn);
-    rows.bottomRows(3) = b.Dr / o.rotation_sd;
+    const Eigen::MatrixXd rows = weightedRows(b, o.direction_sd, o.rotation_sd);
     info[i] = rows.transpose() * rows;
     usable[i] = true;
   }

@@ -168,6 +168,23 @@ vpCameraParameters vpSelfCalibSimulator::getCamera() const
   return vpCameraParameters(m_opt.px, m_opt.py, m_opt.u0, m_opt.v0);
 }
 
+std::map<int, vpColVector> vpSelfCalibSimulator::getScenePointsById() const
+{
+  std::map<int, vpColVector> pts;
+  for (size_t i = 0; i < m_points.size(); ++i)
+    pts[static_cast<int>(i)] = m_points[i];
+  return pts;
+}
+
+std::vector<vpHomogeneousMatrix>
+vpSelfCalibSimulator::getTrueCameraPoses(const std::vector<vpSelfCalibDataset::View> &views) const
+{
+  std::vector<vpHomogeneousMatrix> T;
+  for (const auto &v : views)
+    T.push_back(m_true.get_fMc(v.q));
+  return T;
+}
+
 vpSelfCalibDataset::Yardstick vpSelfCalibSimulator::getYardstick() const
 {
   vpSelfCalibDataset::Yardstick y;

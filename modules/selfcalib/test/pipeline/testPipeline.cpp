@@ -21,14 +21,6 @@ vpSelfCalibSimulator makeSim(uint64_t seed, double noise)
   o.pixel_noise_sd = noise;
   return vpSelfCalibSimulator(vpKinematicChain::preset("viper850"), o);
 }
-
-std::map<int, vpColVector> truePoints(const vpSelfCalibSimulator &sim)
-{
-  std::map<int, vpColVector> out;
-  for (size_t i = 0; i < sim.getScenePoints().size(); ++i)
-    out[static_cast<int>(i)] = sim.getScenePoints()[i];
-  return out;
-}
 } // namespace
 
 // Noise-free: with the model identified from exact relative poses (oracle scale), the paper's 3-D
@@ -49,10 +41,8 @@ TEST(Verifier, NoiseFreeIdentifiedModelVerifiesExactly)
   const auto id = vpKinematicIdentification::identify(sim.getNominalChain(), ms, vpKinematicIdentification::Options());
   ASSERT_EQ(id.status, vpKinematicIdentification::OK);
   const std::vector<vpSelfCalibDataset::View> ver(ds.views.begin() + 15, ds.views.end());
-  std::vector<vpHomogeneousMatrix> true_fMc;
-  for (const auto &v : ver)
-    true_fMc.push_back(sim.getTrueChain().get_fMc(v.q));
-  const auto after = vpCalibrationVerifier::verify(id.chain, ds.cam, ver, ds.yardstick, truePoints(sim), true_fMc);
+  const std::vector<vpHomogeneousMatrix> true_fMc = sim.getTrueCameraPoses(ver);
+  const auto after = vpCalibrationVerifier::verify(id.chain, ds.cam, ver, ds.yardstick, sim.getScenePointsById(), true_fMc);
   ASSERT_TRUE(after.has_yardstick);
   EXPECT_NEAR(after.yardstick_length, ds.yardstick.length, 1e-9);
   EXPECT_LT(after.yardstick_error, 1e-9);
@@ -61,7 +51,7 @@ TEST(Verifier, NoiseFreeIdentifiedModelVerifiesExactly)
   ASSERT_EQ(after.position_errors.size(), 9u);
   EXPECT_LT(after.position_error_mean, 1e-9);
   EXPECT_LT(after.rotation_error_mean, 1e-9);
-  const auto before = vpCalibrationVerifier::verify(sim.getNominalChain(), ds.cam, ver, ds.yardstick, truePoints(sim), true_fMc);
+  const auto before = vpCalibrationVerifier::verify(sim.getNominalChain(), ds.cam, ver, ds.yardstick, sim.getScenePointsById(), true_fMc);
   EXPECT_GT(before.position_error_mean, 1e-4);
   EXPECT_GT(before.distance_error_mean, 1e-5);
   // Bad input.
@@ -88,9 +78,7 @@ TEST(RobotSelfCalibration, PaperPipelineOnNoiseFreeImagesImprovesTheModel)
                         .frobeniusNorm();
   EXPECT_NEAR(r.scale.scale / T1, 1.0, 0.05);
   const std::vector<vpSelfCalibDataset::View> ver(ds.views.begin() + 15, ds.views.end());
-  std::vector<vpHomogeneousMatrix> true_fMc;
-  for (const auto &v : ver)
-    true_fMc.push_back(sim.getTrueChain().get_fMc(v.q));
+  const std::vector<vpHomogeneousMatrix> true_fMc = sim.getTrueCameraPoses(ver);
   const auto before = vpCalibrationVerifier::verify(sim.getNominalChain(), ds.cam, ver, ds.yardstick, {}, true_fMc);
   const auto after = vpCalibrationVerifier::verify(r.calibrated, r.camera, ver, ds.yardstick, {}, true_fMc);
   EXPECT_LT(after.position_error_mean, before.position_error_mean);

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,10 @@ public:
   const std::vector<vpColVector> &getScenePoints() const { return m_points; } //!< in f, index = id
   vpColVector getSceneCentre() const { return m_centre; }
   vpSelfCalibDataset::Yardstick getYardstick() const;
+  //! The scene points by id (the ground truth vpCalibrationVerifier::verify() takes).
+  std::map<int, vpColVector> getScenePointsById() const;
+  //! The true camera poses fMc of the views (the ground truth of the held-out pose errors).
+  std::vector<vpHomogeneousMatrix> getTrueCameraPoses(const std::vector<vpSelfCalibDataset::View> &views) const;
 
   /*!
     Draws m joint configurations within the nominal chain's limits: a look-at viewpoint, numerical
