@@ -62,6 +62,7 @@ inline PoseMeasurementErrors poseMeasurementErrors(const vpSelfCalibSimulator &s
                                                    vpRobotSelfCalibration::FocalMode mode)
 {
   vpRobotSelfCalibration::Options po;
+  po.method = vpRobotSelfCalibration::PAPER;
   po.num_calibration_poses = static_cast<unsigned int>(q.size());
   po.focal_mode = mode;
   const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), pipelineDataset(sim, q, mode), po);
@@ -115,12 +116,14 @@ inline vpCalibrationVerifier::Result verifyAgainstTruth(const vpSelfCalibSimulat
 */
 inline CalibrationErrors calibrationErrors(const vpSelfCalibSimulator &sim, const std::vector<vpColVector> &calibration,
                                            const std::vector<vpColVector> &verification,
-                                           vpRobotSelfCalibration::FocalMode mode)
+                                           vpRobotSelfCalibration::FocalMode mode,
+                                           vpRobotSelfCalibration::Method method = vpRobotSelfCalibration::PAPER)
 {
   std::vector<vpColVector> q = calibration;
   q.insert(q.end(), verification.begin(), verification.end());
   const vpSelfCalibDataset ds = pipelineDataset(sim, q, mode);
   vpRobotSelfCalibration::Options po;
+  po.method = method;
   po.num_calibration_poses = static_cast<unsigned int>(calibration.size());
   po.focal_mode = mode;
   const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, po);

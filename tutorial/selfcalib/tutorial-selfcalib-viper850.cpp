@@ -1,13 +1,15 @@
 /*!
   \example tutorial-selfcalib-viper850.cpp
 
-  Main job of ViSP SelfCalib, first version: builds the reference scenario on ViSP's simulated
-  Viper850 and prints what self-calibration starts from: the robot, the true (seeded) errors of
-  the simulated arm, the planned poses and what the camera sees at each, and how far the nominal
-  model is from the true camera pose at each configuration.
+  Main job of ViSP SelfCalib: builds the reference scenario on ViSP's simulated Viper850, prints
+  what self-calibration starts from (the robot, the true seeded errors of the simulated arm, the
+  planned poses and what the camera sees at each, how far the nominal model is from the true
+  camera poses), self-calibrates on the first 15 poses (default: multi-view reconstruction +
+  kinematic bundle adjustment; --method paper: the paper's procedure) and verifies on the others.
 
     tutorial-selfcalib-viper850 [--robot viper850|puma560] [--seed N] [--poses N] [--noise PX]
-                                [--focal known|shared|per-pair] [--plan paper|observability|none] [-c] [-d] [-h]
+                                [--method bundle|paper] [--focal known|shared|per-pair]
+                                [--plan auto|paper|observability|none] [-c] [-d] [-h]
 
   -c and -d are ViSP's tutorial flags (no click, no display); this program never opens a display.
 */
@@ -37,11 +39,13 @@ void usage(const char *argv0)
             << "  --seed N       seed of the scenario (default 1)\n"
             << "  --poses N      number of configurations (default 25: 15 calibration + 10 verification)\n"
             << "  --noise PX     image noise sd in pixels (default 0.2, level I)\n"
-            << "  --focal MODE   known (default), shared (one f self-calibrated over all pairs) or\n"
-            << "                 per-pair (the paper: f self-calibrated with each pair)\n"
-            << "  --plan MODE    paper (default: the paper's optimal trajectory, eqs. 22-39, planned from\n"
-            << "                 random feasible poses), observability (O1-optimal choice from a pool of 60)\n"
-            << "                 or none (random feasible poses)\n"
+            << "  --method M     bundle (default: multi-view reconstruction + kinematic bundle adjustment)\n"
+            << "                 or paper (the paper's two-view measurements, eq. 21 scale, identification)\n"
+            << "  --focal MODE   known (default), shared (f self-calibrated, one for all views) or\n"
+            << "                 per-pair (the paper: f self-calibrated with each pair; bundle: as shared)\n"
+            << "  --plan MODE    auto (default: observability with bundle, paper with paper), paper (the\n"
+            << "                 paper's optimal trajectory, eqs. 22-39, planned from random feasible poses),\n"
+            << "                 observability (O1-optimal choice from a pool of 60) or none (random poses)\n"
             << "  -c, -d         accepted for ViSP's tutorial convention; nothing is displayed\n"
             << "  -h, --help     this help\n";
 }
@@ -65,7 +69,7 @@ int main(int argc, char **argv)
     std::string robot_name = "viper850";
     vpSelfCalibSimulator::Options opt;
     unsigned int poses = 25;
-    std::string focal = "known", plan = "paper";
+    std::string focal = "known", plan = "auto", method = "bundle";
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
       if (a == "--robot" && i + 1 < argc)
@@ -83,10 +87,16 @@ int main(int argc, char **argv)
           return EXIT_FAILURE;
         }
       }
-      else if (a == "--plan" && i + 1 < argc) {
+      else if (a == "--method" && i + 1 < argc) {
+        method = argv[++i];
+        if (method != "bundle" && method != "paper") {
+          std::cerr << "--method must be bundle or paper\n";
+          return EXIT_FAILURE;
+        }
+      } else if (a == "--plan" && i + 1 < argc) {
         plan = argv[++i];
-        if (plan != "paper" && plan != "observability" && plan != "none") {
-          std::cerr << "--plan must be paper, observability or none\n";
+        if (plan != "auto" && plan != "paper" && plan != "observability" && plan != "none") {
+          std::cerr << "--plan must be auto, paper, observability or none\n";
           return EXIT_FAILURE;
         }
       }
@@ -154,6 +164,8 @@ int main(int argc, char **argv)
 
     const auto t0 = std::chrono::steady_clock::now();
     // The observability choice takes 60 more random configurations as its pool.
+    if (plan == "auto")
+      plan = method == "bundle" ? "observability" : "paper";
     const unsigned int extra = plan == "observability" ? 60 : 0;
     std::vector<vpColVector> q = sim.generateConfigurations(poses + extra);
     const std::vector<vpColVector> pool_extra(q.begin() + poses, q.end());
@@ -228,12 +240,19 @@ int main(int argc, char **argv)
     if (!data.focal_known) // start from a rough guess, as a user with a lens data sheet would
       data.cam.initPersProjWithoutDistortion(0.93 * opt.px, 0.93 * opt.py, opt.u0, opt.v0);
     vpRobotSelfCalibration::Options po;
+    po.method = vpRobotSelfCalibration::methodFromName(method);
+    po.pixel_sd = std::max(0.05, opt.pixel_noise_sd);
     po.num_calibration_poses = std::min<unsigned int>(15, poses);
     po.focal_mode = focal == "per-pair" ? vpRobotSelfCalibration::FOCAL_PER_PAIR
                                         : (data.focal_known ? vpRobotSelfCalibration::FOCAL_KNOWN
                                                             : vpRobotSelfCalibration::FOCAL_SHARED);
-    std::cout << "== Self-calibration (paper Section 4.1): pairs (1, i) of the first " << po.num_calibration_poses
-              << " poses, focal length " << focal << "\n";
+    if (po.method == vpRobotSelfCalibration::PAPER)
+      std::cout << "== Self-calibration, the paper's procedure (Section 4.1): pairs (1, i) of the first "
+                << po.num_calibration_poses << " poses, focal length " << focal << "\n";
+    else
+      std::cout << "== Self-calibration, multi-view reconstruction + kinematic bundle adjustment, first "
+                << po.num_calibration_poses << " poses, focal length " << (data.focal_known ? "known" : "self-calibrated")
+                << "\n";
     const vpRobotSelfCalibration::Result r =
         vpRobotSelfCalibration::run(nominal, data, po, [](const std::string &stage, unsigned int, unsigned int) {
           std::cerr << "   ... " << stage << "\n";
@@ -242,27 +261,38 @@ int main(int argc, char **argv)
     for (const auto &pr : r.pairs)
       ok_pairs += pr.status == vpTwoViewEstimator::OK;
     std::cout << "   status: " << vpRobotSelfCalibration::statusName(r.status) << " (" << r.message << ")\n"
-              << "   pose measurements: " << ok_pairs << " of " << r.pairs.size() << " pairs" << std::setprecision(2)
-              << "; f_x = " << r.fx << " px (sd " << r.fx_sd << ", true " << opt.px << ")\n";
+              << "   two-view poses: " << ok_pairs << " of " << r.pairs.size() << " pairs" << std::setprecision(5)
+              << "; f_x = " << r.fx << " px (sd " << std::setprecision(2) << r.fx_sd << ", true " << opt.px << ")\n";
     if (r.scale.status == vpPoseScale::OK)
       std::cout << "   yardstick scale |k_1| = " << std::setprecision(5) << r.scale.scale << " m (sd " << r.scale.sd
                 << ") from " << r.scale.lengths.size() << " pairs\n";
+    if (r.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT && r.bundle.num_observations > 0)
+      std::cout << "   bundle adjustment: " << r.bundle.num_observations << " observations ("
+                << r.bundle.num_outliers << " dropped), reprojection RMS " << std::setprecision(3) << r.bundle.rms
+                << " px, sigma0 " << std::setprecision(2) << r.bundle.sigma0 << ", scale from "
+                << vpKinematicBundleAdjustment::scaleSourceName(r.bundle.scale_source) << "\n";
     if (r.status != vpRobotSelfCalibration::OK)
       return EXIT_FAILURE;
-    const vpKinematicIdentification::Result &id = r.identification;
-    std::cout << "   identified " << id.identifiability.identified.size() << " of " << truth.getNumParameters()
-              << " parameters; cond(J) = " << std::setprecision(1) << id.observability.condition_number
-              << ", sigma0 = " << std::setprecision(2) << id.sigma0 << "\n"
-              << "   parameter   estimate +- sd [mm or mrad]   true [mm or mrad]\n";
-    for (unsigned int k : id.identifiability.identified)
+    std::cout << "   estimated " << r.identifiability.identified.size() << " of " << truth.getNumParameters()
+              << " parameters" << std::setprecision(2);
+    if (r.method == vpRobotSelfCalibration::PAPER)
+      std::cout << "; cond(J) = " << std::setprecision(1) << r.identification.observability.condition_number
+                << ", sigma0 = " << std::setprecision(2) << r.identification.sigma0;
+    std::cout << "\n   parameter   estimate +- sd [mm or mrad]   true [mm or mrad]\n";
+    for (unsigned int k : r.identifiability.identified)
       std::cout << "   " << std::setw(8) << names[k] << std::setprecision(3) << std::setw(11)
-                << 1e3 * r.calibrated.getParameters()[k] << " +- " << std::setw(8) << 1e3 * id.sd[k] << std::setw(14)
-                << 1e3 * p[k] << "\n";
-    std::cout << "   not identifiable (kept at nominal):\n";
-    for (const auto &u : id.identifiability.unidentifiable)
+                << 1e3 * r.calibrated.getParameters()[k] << " +- " << std::setw(8) << 1e3 * r.parameter_sd[k]
+                << std::setw(14) << 1e3 * p[k] << "\n";
+    std::cout << "   not estimated (kept at nominal):\n";
+    for (const auto &u : r.identifiability.unidentifiable)
       std::cout << "   " << std::setw(8) << u.name << ": " << u.reason << "\n";
-    for (const auto &c : id.correlations)
-      std::cout << "   correlation " << c.a << " / " << c.b << ": " << std::setprecision(3) << c.value << "\n";
+    for (const auto &c : r.identification.correlations)
+      if (r.method == vpRobotSelfCalibration::PAPER)
+        std::cout << "   correlation " << c.a << " / " << c.b << ": " << std::setprecision(3) << c.value << "\n";
+    std::cout << "   stage times [s]:";
+    for (const auto &st : r.stage_seconds)
+      std::cout << " " << st.first << " " << std::setprecision(2) << st.second << ";";
+    std::cout << "\n";
 
     // Verification on the held-out views against the simulated truth.
     if (q.size() > po.num_calibration_poses + 1) {

@@ -5,6 +5,7 @@
 #define VP_SELFCALIB_CERES_H
 
 #include <ceres/ceres.h>
+#include <glog/logging.h>
 
 namespace vpSelfCalib
 {
@@ -42,6 +43,24 @@ inline ceres::Covariance::Options covarianceOptions()
   co.min_reciprocal_condition_number = 1e-300;
   return co;
 }
+/*!
+  Ceres reports recoverable events (a rejected Levenberg-Marquardt step whose Cholesky factorization
+  failed under a robust loss, a rank-deficient covariance) through glog warnings on stderr even with
+  logging_type SILENT, and the module never prints. While alive, this raises glog's minimum level to
+  FATAL and restores the caller's level afterwards. The outcome of those events reaches the caller
+  as a status.
+*/
+class QuietCeres
+{
+public:
+  QuietCeres() : m_saved(FLAGS_minloglevel) { FLAGS_minloglevel = google::GLOG_FATAL; }
+  ~QuietCeres() { FLAGS_minloglevel = m_saved; }
+  QuietCeres(const QuietCeres &) = delete;
+  QuietCeres &operator=(const QuietCeres &) = delete;
+
+private:
+  int m_saved;
+};
 } // namespace vpSelfCalib
 
 #endif

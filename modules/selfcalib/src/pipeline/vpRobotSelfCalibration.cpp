@@ -43,6 +43,10 @@ bool findPoint(const vpSelfCalibDataset::View &v, int id, vpImagePoint &ip)
     }
   return false;
 }
+double seconds(const std::chrono::steady_clock::time_point &since)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
 } // namespace
 
 const char *vpRobotSelfCalibration::statusName(Status s)
@@ -60,8 +64,21 @@ const char *vpRobotSelfCalibration::statusName(Status s)
   return "unknown";
 }
 
+const char *vpRobotSelfCalibration::methodName(Method m) { return m == PAPER ? "paper" : "bundle"; }
+
+vpRobotSelfCalibration::Method vpRobotSelfCalibration::methodFromName(const std::string &name)
+{
+  if (name == "bundle")
+    return BUNDLE_ADJUSTMENT;
+  if (name == "paper")
+    return PAPER;
+  throw vpSelfCalibException(vpSelfCalibException::badValue, "method '" + name + "': use bundle or paper");
+}
+
 void vpRobotSelfCalibration::Options::check() const
 {
+  if (!(pixel_sd > 0))
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpRobotSelfCalibration: pixel_sd must be positive");
   if (num_calibration_poses < 3)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpRobotSelfCalibration: num_calibration_poses must be at least 3");
@@ -69,6 +86,7 @@ void vpRobotSelfCalibration::Options::check() const
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpRobotSelfCalibration: pose_sd_rotation and pose_sd_direction must be positive");
   identification.check();
+  bundle.check();
 }
 
 vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChain &nominal,
@@ -92,7 +110,7 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
       throw vpSelfCalibException(vpSelfCalibException::badValue,
                                  "vpRobotSelfCalibration: view " + std::to_string(k) + " has no image point");
   }
-  if (!ds.yardstick.isSet())
+  if (opt.method == PAPER && !ds.yardstick.isSet())
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpRobotSelfCalibration: the dataset has no yardstick (length and two end ids); "
                                "the scale cannot be fixed without it");
@@ -103,8 +121,35 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpRobotSelfCalibration: FOCAL_KNOWN without px");
 
   Result res;
+  res.method = opt.method;
   res.calibrated = nominal;
   res.camera = ds.cam;
+  if (opt.method == BUNDLE_ADJUSTMENT)
+    runBundle(nominal, ds, opt, mode, N, progress, res);
+  else
+    runPaper(nominal, ds, opt, mode, N, progress, res);
+  if (res.status != OK)
+    return res;
+
+  // Step 5: verification on the remaining views.
+  if (ds.views.size() >= N + 2) {
+    if (progress)
+      progress("verification", 0, 1);
+    const auto tv = std::chrono::steady_clock::now();
+    const std::vector<vpSelfCalibDataset::View> ver(ds.views.begin() + N, ds.views.end());
+    res.before = vpCalibrationVerifier::verify(nominal, ds.cam, ver, ds.yardstick);
+    res.after = vpCalibrationVerifier::verify(res.calibrated, res.camera, ver, ds.yardstick);
+    res.verified = true;
+    res.stage_seconds.push_back({"verification", seconds(tv)});
+  }
+  res.seconds = seconds(t0);
+  return res;
+}
+
+void vpRobotSelfCalibration::runPaper(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, const Options &opt,
+                                      FocalMode mode, unsigned int N, const Progress &progress, Result &res)
+{
+  auto ts = std::chrono::steady_clock::now();
 
   // Step 2: pose measurements on the pairs (1, i).
   vpTwoViewEstimator::Options to = opt.twoview;
@@ -123,7 +168,7 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
     if (!sr.converged) {
       res.status = TWO_VIEW_FAILED;
       res.message = "shared focal length: " + sr.message;
-      return res;
+      return;
     }
     res.fx = sr.fx;
     res.fx_sd = sr.fx_sd;
@@ -146,6 +191,9 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
   }
   if (res.fx > 0)
     res.camera.initPersProjWithoutDistortion(res.fx, res.fx * to.mu, to.u0, to.v0);
+
+  res.stage_seconds.push_back({"two-view poses", seconds(ts)});
+  ts = std::chrono::steady_clock::now();
 
   // Step 3: eq. 21 ratios from the nominal model.
   std::vector<vpColVector> qcal;
@@ -177,7 +225,7 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
     res.message = yv.empty() ? "the yardstick is not seen in both images of any pair with a pose measurement "
                                "(it must be seen in the first view and at least one other)"
                              : "yardstick: " + res.scale.message;
-    return res;
+    return;
   }
 
   // Scaled pose measurements (paper: c_iMc_1 with |T_i| = ratio_i |k_1|).
@@ -199,8 +247,11 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
   if (res.measurements.empty()) {
     res.status = TWO_VIEW_FAILED;
     res.message = "no pair gave a pose measurement";
-    return res;
+    return;
   }
+
+  res.stage_seconds.push_back({"scale", seconds(ts)});
+  ts = std::chrono::steady_clock::now();
 
   // Identification from the nominal model.
   if (progress)
@@ -208,25 +259,129 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
   res.identification = vpKinematicIdentification::identify(nominal, res.measurements, opt.identification);
   res.calibrated = res.identification.chain;
   if (res.identification.status != vpKinematicIdentification::OK) {
+    res.stage_seconds.push_back({"identification", seconds(ts)});
     res.status = IDENTIFICATION_FAILED;
     res.message = res.identification.message;
-    return res;
+    return;
   }
 
-  // Step 5: verification on the remaining views.
-  if (ds.views.size() >= N + 2) {
-    if (progress)
-      progress("verification", 0, 1);
-    const std::vector<vpSelfCalibDataset::View> ver(ds.views.begin() + N, ds.views.end());
-    res.before = vpCalibrationVerifier::verify(nominal, ds.cam, ver, ds.yardstick);
-    res.after = vpCalibrationVerifier::verify(res.calibrated, res.camera, ver, ds.yardstick);
-    res.verified = true;
-  }
+  res.stage_seconds.push_back({"identification", seconds(ts)});
+  res.identifiability = res.identification.identifiability;
+  res.parameter_sd = res.identification.sd;
   res.status = OK;
   std::ostringstream os;
   os << "ok: " << res.measurements.size() << " pose measurements, " << res.identification.identifiability.identified.size()
      << " parameters identified";
   res.message = os.str();
-  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return res;
+}
+
+void vpRobotSelfCalibration::runBundle(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, const Options &opt,
+                                       FocalMode mode, unsigned int N, const Progress &progress, Result &res)
+{
+  auto ts = std::chrono::steady_clock::now();
+  const std::vector<vpSelfCalibDataset::View> cal(ds.views.begin(), ds.views.begin() + N);
+
+  // 1. Scale-consistent poses and points of the calibration views, one focal length.
+  if (progress)
+    progress("multi-view reconstruction", 0, 1);
+  vpMultiViewReconstruction::Options mo = opt.multiview;
+  mo.twoview = opt.twoview;
+  mo.twoview.fx = ds.cam.get_px();
+  mo.twoview.u0 = ds.cam.get_u0();
+  mo.twoview.v0 = ds.cam.get_v0();
+  mo.twoview.mu = ds.cam.get_py() / ds.cam.get_px();
+  mo.focal_known = mode == FOCAL_KNOWN;
+  mo.pixel_sd = opt.pixel_sd;
+  res.multiview = vpMultiViewReconstruction::reconstruct(cal, ds.yardstick, mo);
+  res.pairs = res.multiview.pairs;
+  res.stage_seconds.push_back({"two-view poses", res.multiview.seconds_twoview});
+  res.stage_seconds.push_back({"multi-view bundle adjustment", res.multiview.seconds_bundle});
+  if (res.multiview.status != vpMultiViewReconstruction::OK) {
+    res.status = TWO_VIEW_FAILED;
+    res.message = std::string("multi-view reconstruction: ") + res.multiview.message;
+    return;
+  }
+  res.fx = res.multiview.fx;
+  res.fx_sd = res.multiview.fx_sd;
+  ts = std::chrono::steady_clock::now();
+
+  // Without the yardstick, the unit is the reference pair's baseline: give it the nominal length.
+  double s = 1;
+  if (!res.multiview.metric) {
+    const unsigned int r = res.multiview.reference_view;
+    const double nominal_baseline =
+        (nominal.get_fMc(cal[r].q).inverse() * nominal.get_fMc(cal[0].q)).getTranslationVector().frobeniusNorm();
+    s = nominal_baseline / res.multiview.cMc0[r].getTranslationVector().frobeniusNorm();
+  }
+
+  // 2. Pose-based identification from the multi-view poses: the start of the bundle adjustment.
+  for (unsigned int k = 1; k < N; ++k) {
+    if (!res.multiview.posed[k])
+      continue;
+    Rigid M = rigidFromVisp(res.multiview.cMc0[k]);
+    M.t *= s;
+    vpKinematicIdentification::Measurement me;
+    me.q = cal[k].q;
+    me.q_ref = cal[0].q;
+    me.M = toVisp(M);
+    me.sd_rotation = opt.pose_sd_rotation;
+    me.sd_position = std::max(1e-6, M.t.norm() * opt.pose_sd_direction);
+    res.measurements.push_back(me);
+  }
+  if (progress)
+    progress("identification from the multi-view poses", 0, 1);
+  res.identification = vpKinematicIdentification::identify(nominal, res.measurements, opt.identification);
+  const vpKinematicChain start =
+      res.identification.status == vpKinematicIdentification::OK ? res.identification.chain : nominal;
+  res.stage_seconds.push_back({"identification", seconds(ts)});
+
+  // 3. Kinematic bundle adjustment, points moved to f through the start model.
+  ts = std::chrono::steady_clock::now();
+  if (progress)
+    progress("kinematic bundle adjustment", 0, 1);
+  const Rigid fMc0 = rigidFromVisp(start.get_fMc(cal[0].q));
+  std::map<int, vpColVector> points;
+  for (const auto &e : res.multiview.points) {
+    const Eigen::Vector3d x = fMc0 * (s * vec3(e.second));
+    vpColVector v(3);
+    for (unsigned int a = 0; a < 3; ++a)
+      v[a] = x(a);
+    points[e.first] = v;
+  }
+  vpKinematicBundleAdjustment::Options bo = opt.bundle;
+  bo.pixel_sd = opt.pixel_sd;
+  // The same estimated set as the identification that gave the start (the others are still at the
+  // nominal values); QR pivoting at the start model could pick another, equivalent set, and the
+  // parameters left out would then keep the identification's values.
+  if (res.identification.status == vpKinematicIdentification::OK)
+    for (const auto &u : res.identification.identifiability.unidentifiable)
+      if (std::find(bo.fixed.begin(), bo.fixed.end(), u.name) == bo.fixed.end())
+        bo.fixed.push_back(u.name);
+  if (mode == FOCAL_KNOWN)
+    bo.intrinsics &= ~static_cast<unsigned int>(vpKinematicBundleAdjustment::FX);
+  else
+    bo.intrinsics |= vpKinematicBundleAdjustment::FX;
+  vpCameraParameters cam0 = ds.cam;
+  cam0.initPersProjWithoutDistortion(res.multiview.fx, res.multiview.fx * mo.twoview.mu, mo.twoview.u0, mo.twoview.v0);
+  res.bundle = vpKinematicBundleAdjustment::adjust(start, cam0, cal, ds.yardstick, points, bo);
+  res.stage_seconds.push_back({"kinematic bundle adjustment", res.bundle.seconds_solve});
+  res.stage_seconds.push_back({"covariance", res.bundle.seconds_covariance});
+  res.calibrated = res.bundle.chain;
+  res.camera = res.bundle.camera;
+  res.identifiability = res.bundle.identifiability;
+  // The parameters fixed above because the identification found them dependent keep its reason.
+  for (auto &u : res.identifiability.unidentifiable)
+    for (const auto &v : res.identification.identifiability.unidentifiable)
+      if (u.name == v.name && std::find(opt.bundle.fixed.begin(), opt.bundle.fixed.end(), u.name) == opt.bundle.fixed.end())
+        u.reason = v.reason;
+  res.parameter_sd = res.bundle.sd;
+  if (res.bundle.status != vpKinematicBundleAdjustment::OK) {
+    res.status = IDENTIFICATION_FAILED;
+    res.message = std::string("kinematic bundle adjustment: ") + res.bundle.message;
+    return;
+  }
+  res.fx = res.camera.get_px();
+  res.fx_sd = res.bundle.fx_sd;
+  res.status = OK;
+  res.message = "ok: " + res.multiview.message + "; " + res.bundle.message;
 }

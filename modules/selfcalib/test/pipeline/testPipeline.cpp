@@ -67,8 +67,9 @@ TEST(RobotSelfCalibration, PaperPipelineOnNoiseFreeImagesImprovesTheModel)
   const vpSelfCalibSimulator sim = makeSim(12, 0.0);
   const std::vector<vpColVector> q = sim.generateConfigurations(25);
   const vpSelfCalibDataset ds = sim.makeDataset(q);
-  const vpRobotSelfCalibration::Result r =
-      vpRobotSelfCalibration::run(sim.getNominalChain(), ds, vpRobotSelfCalibration::Options());
+  vpRobotSelfCalibration::Options o;
+  o.method = vpRobotSelfCalibration::PAPER;
+  const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
   ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
   EXPECT_EQ(r.measurements.size(), 14u);
   EXPECT_EQ(r.identification.identifiability.identified.size(), 24u);
@@ -89,7 +90,8 @@ TEST(RobotSelfCalibration, BadInputsGiveAStatusOrAnError)
 {
   const vpSelfCalibSimulator sim = makeSim(13, 0.2);
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(18));
-  const vpRobotSelfCalibration::Options o;
+  vpRobotSelfCalibration::Options o;
+  o.method = vpRobotSelfCalibration::PAPER;
   // A pose with no correspondences.
   vpSelfCalibDataset bad = ds;
   bad.views[4].points.clear();

@@ -11,14 +11,30 @@
 #include <visp3/core/vpCameraParameters.h>
 #include <visp3/selfcalib/vpCalibrationVerifier.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpKinematicBundleAdjustment.h>
 #include <visp3/selfcalib/vpKinematicIdentification.h>
+#include <visp3/selfcalib/vpMultiViewReconstruction.h>
 #include <visp3/selfcalib/vpPoseScale.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
 #include <visp3/selfcalib/vpTwoViewEstimator.h>
 
 /*!
   \class vpRobotSelfCalibration
-  \brief The paper's procedure (Section 4.1, steps 2 to 5) on a dataset:
+  \brief Self-calibration of a camera-equipped arm from a dataset, by one of two methods run on the
+  same data.
+
+  <b>BUNDLE_ADJUSTMENT (the default, beyond the paper).</b>
+  1. vpMultiViewReconstruction of the calibration views: scale-consistent poses c_kMc_0 and points
+     with one focal length (known, or self-calibrated for FOCAL_SHARED and FOCAL_PER_PAIR alike),
+     robust loss; metric through the yardstick when its ends are seen, otherwise scaled so that the
+     reference pair's baseline is the nominal model's;
+  2. vpKinematicIdentification from these poses (a start close to the solution);
+  3. vpKinematicBundleAdjustment from there: corrections, f_x (unless known; more intrinsics through
+     Options::bundle.intrinsics) and points on every observation, scale from the yardstick, or the
+     nominal scale without one (said in the result); covariance;
+  4. verification on the remaining views, as below.
+
+  <b>PAPER: the paper's procedure</b> (Section 4.1, steps 2 to 5):
 
   2. pose measurements: the refined nonlinear factor method on the image pairs (pose 1, pose i) of
      the calibration views, i = 2..N (vpTwoViewEstimator), with the focal length per pair (the
@@ -45,13 +61,27 @@ public:
     FOCAL_KNOWN     //!< the dataset's px
   };
 
+  enum Method {
+    BUNDLE_ADJUSTMENT, //!< multi-view reconstruction + kinematic bundle adjustment (default)
+    PAPER              //!< the paper's two-view measurements, eq. 21 scale, pose-based identification
+  };
+  static const char *methodName(Method m);
+  //! "bundle" or "paper"; throws vpSelfCalibException otherwise.
+  static Method methodFromName(const std::string &name);
+
   struct Options {
+    Method method = BUNDLE_ADJUSTMENT;
     unsigned int num_calibration_poses = 15; //!< the paper's 15 of 25
     FocalMode focal_mode = FOCAL_AUTO;
     vpTwoViewEstimator::Options twoview;      //!< fx, u0, v0, mu and focal_mode are set from the dataset
     double pose_sd_rotation = 5e-3;           //!< rad, expected two-view rotation error (weights)
     double pose_sd_direction = 5e-3;          //!< rad, expected translation-direction error (weights)
     vpKinematicIdentification::Options identification;
+    //! BUNDLE_ADJUSTMENT: its twoview and focal_known fields are set from the dataset and focal mode.
+    vpMultiViewReconstruction::Options multiview;
+    //! BUNDLE_ADJUSTMENT: the FX flag of intrinsics is set from the focal mode (cleared when known).
+    vpKinematicBundleAdjustment::Options bundle;
+    double pixel_sd = 0.2; //!< px, image noise sd: weights of multiview and bundle
     void check() const;
   };
 
@@ -61,14 +91,24 @@ public:
   struct Result {
     Status status = TWO_VIEW_FAILED;
     std::string message;
+    Method method = BUNDLE_ADJUSTMENT;
+    //! The final estimate, either method: parameters estimated (and left out, with the reason) and
+    //! their sd (per chain parameter, 0 for those not estimated).
+    vpKinematicIdentification::Identifiability identifiability;
+    vpColVector parameter_sd;
     vpKinematicChain calibrated;           //!< the nominal model with the identified corrections
     vpCameraParameters camera;             //!< with the focal length used
     double fx = 0, fx_sd = 0;
     std::vector<vpTwoViewEstimator::Result> pairs;      //!< pair (1, i + 2) at index i
-    std::vector<double> ratios;                         //!< eq. 21 ratios, one per pair
-    vpPoseScale::Result scale;
-    std::vector<vpKinematicIdentification::Measurement> measurements; //!< the scaled pose measurements
-    vpKinematicIdentification::Result identification;
+    std::vector<double> ratios;                         //!< PAPER: eq. 21 ratios, one per pair
+    vpPoseScale::Result scale;                          //!< PAPER
+    //! The pose measurements c_iMc_1: PAPER the scaled two-view poses, BUNDLE_ADJUSTMENT the
+    //! multi-view ones (the start of the bundle adjustment)
+    std::vector<vpKinematicIdentification::Measurement> measurements;
+    vpKinematicIdentification::Result identification;   //!< pose-based identification from measurements
+    vpMultiViewReconstruction::Result multiview;        //!< BUNDLE_ADJUSTMENT
+    vpKinematicBundleAdjustment::Result bundle;         //!< BUNDLE_ADJUSTMENT
+    std::vector<std::pair<std::string, double>> stage_seconds; //!< wall time of each stage
     bool verified = false;                 //!< true when there were 2 or more verification views
     vpCalibrationVerifier::Result before, after; //!< yardstick 3-D error with the nominal and calibrated models
     double seconds = 0;
@@ -79,11 +119,18 @@ public:
 
   /*!
     Throws vpSelfCalibException on caller mistakes: fewer than 3 calibration views, a view without
-    joints of the model's size or without any image point, no yardstick in the dataset, an unknown
-    focal length with FOCAL_KNOWN. Numerical failures are statuses.
+    joints of the model's size or without any image point, no yardstick in the dataset (PAPER only:
+    the bundle adjustment then keeps the nominal scale), an unknown focal length with FOCAL_KNOWN.
+    Numerical failures are statuses.
   */
   static Result run(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
                     const Progress &progress = Progress());
+
+private:
+  static void runPaper(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
+                       FocalMode mode, unsigned int num_calibration, const Progress &progress, Result &result);
+  static void runBundle(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
+                        FocalMode mode, unsigned int num_calibration, const Progress &progress, Result &result);
 };
 
 #endif

@@ -1,0 +1,146 @@
+/*
+ * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ */
+#ifndef VP_KINEMATIC_BUNDLE_ADJUSTMENT_H
+#define VP_KINEMATIC_BUNDLE_ADJUSTMENT_H
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <visp3/core/vpCameraParameters.h>
+#include <visp3/core/vpColVector.h>
+#include <visp3/core/vpMatrix.h>
+#include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpKinematicIdentification.h>
+#include <visp3/selfcalib/vpMultiViewReconstruction.h>
+#include <visp3/selfcalib/vpSelfCalibDataset.h>
+
+/*!
+  \class vpKinematicBundleAdjustment
+  \brief Kinematic bundle adjustment (beyond the paper): the robot's kinematic parameters, the
+  camera intrinsics and the scene points estimated jointly from every image observation.
+
+  Unknowns: the identifiable corrections rho of the vpKinematicChain, the requested intrinsics
+  (f_x by default; on request the aspect ratio mu = p_y / p_x, the principal point and ViSP's radial
+  distortion coefficient k_ud) and every scene point X_j in the reference frame f.
+
+  Residual of the observation (u, v) of point j in view k, divided by the pixel noise sd:
+      X_c = fMc(q_k; rho)^-1 X_j,  x = X_c,x / X_c,z,  y = X_c,y / X_c,z,  g = 1 + k_ud (x^2 + y^2)
+      r = ( u0 + p_x x g - u,  v0 + mu p_x y g - v ) / pixel_sd
+  (ViSP's perspective projection with distortion, vpMeterPixelConversion). The paper calibrates
+  distortion in a separate step; here it is folded into the same estimate. The Jacobian is analytic:
+  dX_c/drho = -R^T J_t + [X_c]x R^T J_phi with the chain's identification Jacobian
+  (vpKinematicChain::getJacobian()); poses and Jacobians are computed once per view and evaluation
+  point (a Ceres EvaluationCallback), not once per observation.
+
+  Gauge, fixed explicitly:
+  - the base frame: moving every point with the base leaves the images unchanged, so the base
+    correction and the joint-1 placement are not estimated (they cancel as in relative pose
+    measurements). The estimated set is the one vpKinematicIdentification::analyse() finds
+    independent for the relative poses c_kMc_0 of the views at the start model (24 for a 6-joint
+    arm), minus Options::fixed; the others stay at their start values and are listed with the reason.
+  - the scale: scaling every length of the robot and the scene leaves the images unchanged. With a
+    yardstick (both ends observed) the residual (|X_a - X_b| - L) / yardstick_sd fixes it
+    (SCALE_YARDSTICK). Without, the component of rho along the scale direction (the least-squares
+    combination of corrections that scales every camera position about a point of the first joint
+    axis) is held at its start value (SCALE_NOMINAL: the start model's scale, the nominal one in
+    the pipeline), and the result says so.
+
+  Solver: Ceres Levenberg-Marquardt with the Schur complement (points eliminated, DENSE_SCHUR on the
+  small reduced system), robust loss on the whitened residuals (Cauchy by default), then the
+  observations above outlier_threshold sd are dropped and the problem is solved again with plain
+  least squares, so the covariance is the Gauss-Newton one: (J^T J)^-1 of the identified parameters
+  and intrinsics, the points marginalized (Ceres Covariance, sparse QR). At the true state and with
+  the true noise sd, information() gives the Cramér-Rao bound of the same problem.
+*/
+class vpKinematicBundleAdjustment
+{
+public:
+  //! Intrinsics that can be estimated (bitwise or).
+  enum Intrinsic : unsigned int { FX = 1, ASPECT = 2, PRINCIPAL_POINT = 4, DISTORTION = 8 };
+
+  struct Options {
+    unsigned int intrinsics = FX;      //!< estimated intrinsics; 0: the camera is known
+    std::vector<std::string> fixed;    //!< kinematic parameters kept at their start value by the caller
+    double pixel_sd = 0.2;             //!< px
+    double yardstick_sd = 1e-5;        //!< m, uncertainty of the yardstick's length
+    vpMultiViewReconstruction::Loss loss = vpMultiViewReconstruction::LOSS_CAUCHY;
+    double loss_scale = 3;             //!< in units of pixel_sd
+    double outlier_threshold = 5;      //!< in units of pixel_sd; 0 keeps every observation
+    double rank_tolerance = 1e-6;      //!< identifiability (vpKinematicIdentification::analyse)
+    unsigned int max_iterations = 100;
+    bool tight = false;                //!< tolerances 1e-15 (exact recovery on noise-free data)
+    bool covariance = true;            //!< compute the covariance
+    unsigned int num_threads = 1;       //!< more is faster on large problems, but not bit-reproducible
+    void check() const;
+  };
+
+  enum ScaleSource { SCALE_YARDSTICK, SCALE_NOMINAL };
+  static const char *scaleSourceName(ScaleSource s);
+  enum Status { OK, TOO_FEW_OBSERVATIONS, RANK_DEFICIENT, NO_CONVERGENCE };
+  static const char *statusName(Status s);
+
+  struct Result {
+    Status status = TOO_FEW_OBSERVATIONS;
+    std::string message;
+    vpKinematicChain chain;                  //!< the start chain with the estimated corrections
+    vpCameraParameters camera;               //!< estimated intrinsics (with distortion when estimated)
+    vpKinematicIdentification::Identifiability identifiability; //!< estimated and left-out parameters
+    ScaleSource scale_source = SCALE_NOMINAL;
+    std::map<int, vpColVector> points;       //!< scene points in f (3-vectors), by id
+    vpColVector sd;                          //!< per chain parameter (0 for those not estimated)
+    std::vector<std::string> intrinsic_names; //!< estimated intrinsics: "fx", "mu", "u0", "v0", "kud"
+    vpColVector intrinsics, intrinsics_sd;   //!< their values and sd
+    double fx_sd = 0;                        //!< px (0 when f is not estimated)
+    vpMatrix covariance;                     //!< identified parameters then estimated intrinsics
+    std::vector<std::string> covariance_names;
+    bool has_covariance = false;
+    unsigned int num_observations = 0, num_outliers = 0;
+    double rms = 0;                          //!< px, reprojection RMS over the kept observations
+    double sigma0 = 0;                       //!< sqrt(2 cost / dof): about 1 when pixel_sd is right
+    unsigned int iterations = 0;
+    double seconds_solve = 0, seconds_covariance = 0;
+  };
+
+  /*!
+    Bundle adjustment from the start chain and camera, with initial scene points in f (every point
+    observed in two or more views needs one; others are ignored). Views need joint vectors of the
+    chain's size. Throws vpSelfCalibException on caller mistakes (sizes, non-finite values, an
+    unknown fixed name, nonsense options); too few observations, rank deficiency and no convergence
+    are statuses.
+  */
+  static Result adjust(const vpKinematicChain &start, const vpCameraParameters &camera,
+                       const std::vector<vpSelfCalibDataset::View> &views,
+                       const vpSelfCalibDataset::Yardstick &yardstick, const std::map<int, vpColVector> &points,
+                       const Options &options);
+
+  /*!
+    The covariance of the same problem at the given state, without solving and without robust loss
+    or outlier rejection. At the true chain, camera and points with the true pixel_sd this is the
+    Cramér-Rao bound of the kinematic parameters and intrinsics.
+  */
+  static Result information(const vpKinematicChain &state, const vpCameraParameters &camera,
+                            const std::vector<vpSelfCalibDataset::View> &views,
+                            const vpSelfCalibDataset::Yardstick &yardstick, const std::map<int, vpColVector> &points,
+                            const Options &options);
+
+  /*!
+    First-order covariance (6 x 6: position in m, then rotation in rad, both in the frame of c_ref)
+    of the relative pose c_ref M c(q) predicted by the chain, from the covariance of the parameters
+    `parameters` (chain indices, the first rows/columns of `covariance`).
+  */
+  static vpMatrix relativePoseCovariance(const vpKinematicChain &chain, const std::vector<unsigned int> &parameters,
+                                         const vpMatrix &covariance, const vpColVector &q_ref, const vpColVector &q);
+
+  /*!
+    Projection (u, v) of the f-frame point X seen at joints q, and its analytic Jacobian
+    (2 x (|parameters| + 5 + 3)) with respect to the chain corrections `parameters`, the intrinsics
+    (p_x, mu, u0, v0, k_ud) and X (not divided by the noise sd). Exposed for tests.
+  */
+  static vpMatrix observationJacobian(const vpKinematicChain &chain, const std::vector<unsigned int> &parameters,
+                                      const vpCameraParameters &camera, const vpColVector &q, const vpColVector &X,
+                                      vpColVector &uv);
+};
+
+#endif

@@ -1,0 +1,100 @@
+/*
+ * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ */
+#ifndef VP_MULTI_VIEW_RECONSTRUCTION_H
+#define VP_MULTI_VIEW_RECONSTRUCTION_H
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <visp3/core/vpColVector.h>
+#include <visp3/core/vpHomogeneousMatrix.h>
+#include <visp3/selfcalib/vpSelfCalibDataset.h>
+#include <visp3/selfcalib/vpTwoViewEstimator.h>
+
+/*!
+  \class vpMultiViewReconstruction
+  \brief Scale-consistent camera poses of all views and the scene points, with one focal length
+  (beyond the paper: the paper scales each two-view pose separately with the nominal model, eq. 21).
+
+  1. Two-view poses c_kMc_0 of the pairs (view 0, view k) (vpTwoViewEstimator: RANSAC, the refined
+     factor method; f known, or one f shared by all pairs), each with |t_k| = 1.
+  2. Scale chaining: the inliers of each pair are triangulated in the frame of view 0 with the unit
+     baseline. The reference pair is the one with the widest baseline relative to the scene (the
+     smallest median depth); every other pair k gets the scale s_k = median_j |X_j^ref| / |X_j^k| over
+     the points both triangulated (a depth seen from camera 0 grows linearly with the baseline).
+     Initial points: coordinate-wise median of the scaled triangulations (robust to a wrong match
+     in one pair). A point without a usable observation in view 0 (not seen there, or a wrong
+     match there) is triangulated from the pair of posed views that most other views agree with
+     (reprojection within init_tolerance px), when at least three agree.
+  3. Bundle adjustment (Ceres, Schur complement) over the poses of views 1..m-1 (rotations on the
+     quaternion manifold), the points in the frame of view 0 and the shared focal length, on the
+     reprojection error of every observation, divided by the pixel noise sd. Gauge: view 0 is the
+     identity and the reference pair's translation stays on the unit sphere. Robust loss (Cauchy by
+     default, scale in noise sd), then the observations whose error exceeds outlier_threshold sd
+     are dropped (with the points left with fewer than two observations) and the problem is solved
+     again with plain least squares.
+  4. Scale: when both yardstick ends are reconstructed, everything is scaled so that their distance
+     is the yardstick's length (metric = true); otherwise the unit of length stays the reference
+     baseline.
+
+  Image points are pixels (vpImagePoint: i = v, j = u), the camera model is the pinhole of
+  vpTwoViewEstimator (u = u0 + fx x, v = v0 + mu fx y).
+*/
+class vpMultiViewReconstruction
+{
+public:
+  enum Loss { LOSS_NONE, LOSS_HUBER, LOSS_CAUCHY };
+  static const char *lossName(Loss loss);
+  //! "none", "huber" or "cauchy"; throws vpSelfCalibException otherwise.
+  static Loss lossFromName(const std::string &name);
+
+  struct Options {
+    bool focal_known = true;        //!< false: one f for all views, self-calibrated
+    vpTwoViewEstimator::Options twoview; //!< fx (known value or first guess), u0, v0, mu: the camera
+    double pixel_sd = 0.2;          //!< px, image noise sd (residual weights, loss scale, outlier test)
+    Loss loss = LOSS_CAUCHY;
+    double loss_scale = 3;          //!< in units of pixel_sd
+    double outlier_threshold = 5;   //!< in units of pixel_sd; 0 keeps every observation
+    unsigned int min_points = 8;    //!< triangulated points a pair needs to be chained
+    double init_tolerance = 10;     //!< px, agreement of views on a point initialized without view 0
+    unsigned int max_iterations = 100;
+    bool tight = false;             //!< tolerances 1e-15 (exact recovery on noise-free data)
+    unsigned int num_threads = 1;       //!< more is faster on large problems, but not bit-reproducible
+    void check() const;
+  };
+
+  enum Status { OK, TOO_FEW_VIEWS, TWO_VIEW_FAILED, NO_CONVERGENCE };
+  static const char *statusName(Status s);
+
+  struct Result {
+    Status status = TOO_FEW_VIEWS;
+    std::string message;
+    std::vector<vpHomogeneousMatrix> cMc0;  //!< per view, c_k M c_0 (view 0: identity)
+    std::vector<bool> posed;                //!< views that got a pose (the others are left out)
+    std::map<int, vpColVector> points;      //!< id -> 3-vector in the frame of view 0
+    unsigned int reference_view = 0;        //!< the view whose pair with view 0 sets the unit before scaling
+    bool metric = false;                    //!< scaled by the yardstick: lengths in m
+    double yardstick_unit_length = 0;       //!< the yardstick's length in the reference unit (before scaling)
+    double fx = 0, fx_sd = 0;               //!< px; fx_sd from the covariance (0 when f is known)
+    //! Per view, per input point (same order as View::points): used in the final solve. False for
+    //! wrong matches, for points that could not be initialized or kept two observations.
+    std::vector<std::vector<bool>> inliers;
+    unsigned int num_observations = 0, num_outliers = 0;
+    double rms = 0;                         //!< px, reprojection RMS over the inliers
+    std::vector<vpTwoViewEstimator::Result> pairs; //!< pair (0, k) at index k - 1
+    double seconds_twoview = 0, seconds_bundle = 0;
+  };
+
+  /*!
+    Reconstruction of the views (their image points; joints are not used). Throws
+    vpSelfCalibException on caller mistakes: fewer than 2 views, a non-finite pixel, an id seen twice
+    in one view, nonsense options. A failure of the data (no pair gives a pose, the solver does not
+    converge) is a status.
+  */
+  static Result reconstruct(const std::vector<vpSelfCalibDataset::View> &views,
+                            const vpSelfCalibDataset::Yardstick &yardstick, const Options &options);
+};
+
+#endif

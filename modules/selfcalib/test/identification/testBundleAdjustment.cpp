@@ -1,0 +1,415 @@
+/*
+ * Tests of vpKinematicBundleAdjustment and of the default pipeline built on it: Jacobians against
+ * finite differences, exact recovery on noise-free data, covariance against the spread over noise
+ * draws, wrong matches, missing yardstick, degenerate and bad input.
+ */
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <visp3/selfcalib/vpKinematicBundleAdjustment.h>
+#include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibSimulator.h>
+
+#include "core/vpSelfCalibMath.h"
+#include "core/vpSelfCalibRandom.h"
+
+using namespace vpSelfCalib;
+
+namespace
+{
+vpSelfCalibSimulator makeSim(const std::string &robot, uint64_t seed, double noise)
+{
+  vpSelfCalibSimulator::Options o;
+  o.seed = seed;
+  o.pixel_noise_sd = noise;
+  return vpSelfCalibSimulator(vpKinematicChain::preset(robot), o);
+}
+
+void addNoise(vpSelfCalibDataset &ds, double sd, Random &rng)
+{
+  for (auto &v : ds.views)
+    for (auto &o : v.points)
+      o.ip = vpImagePoint(o.ip.get_i() + rng.normal(sd), o.ip.get_j() + rng.normal(sd));
+}
+
+// 20% of the observations replaced by uniform pixels.
+void corrupt(vpSelfCalibDataset &ds, double fraction, uint64_t seed)
+{
+  Random rng(seed, 78);
+  for (auto &v : ds.views)
+    for (auto &o : v.points)
+      if (rng.uniform(0, 1) < fraction)
+        o.ip = vpImagePoint(rng.uniform(0, ds.height), rng.uniform(0, ds.width));
+}
+
+std::vector<vpSelfCalibDataset::View> slice(const vpSelfCalibDataset &ds, size_t a, size_t b)
+{
+  return std::vector<vpSelfCalibDataset::View>(ds.views.begin() + a, ds.views.begin() + b);
+}
+
+// RMS held-out position error (m) of a model on the views [15, end) against the truth.
+double heldOutRms(const vpSelfCalibSimulator &sim, const vpKinematicChain &model, const vpSelfCalibDataset &ds)
+{
+  const auto ver = slice(ds, 15, ds.views.size());
+  const auto v = vpCalibrationVerifier::verify(model, sim.getCamera(), ver, ds.yardstick, {}, sim.getTrueCameraPoses(ver));
+  double s = 0;
+  for (double e : v.position_errors)
+    s += e * e;
+  return std::sqrt(s / v.position_errors.size());
+}
+} // namespace
+
+// The analytic observation Jacobian against central differences, at a non-zero parameter vector,
+// with every intrinsic active (distortion included), for both robots.
+TEST(KinematicBundleAdjustment, ObservationJacobianMatchesFiniteDifferences)
+{
+  for (const std::string robot : {"puma560", "viper850"}) {
+    const vpSelfCalibSimulator sim = makeSim(robot, 41, 0.0);
+    vpKinematicChain chain = sim.getTrueChain();
+    const vpColVector q = sim.generateConfigurations(1)[0];
+    const vpColVector X = sim.getScenePoints()[5];
+    std::vector<unsigned int> params;
+    for (unsigned int i = 0; i < chain.getNumParameters(); ++i)
+      params.push_back(i);
+    const double in0[5] = {1480, 1.01, 318, 245, -0.07};
+    auto camera = [](const double *in) {
+      vpCameraParameters c;
+      c.initPersProjWithDistortion(in[0], in[0] * in[1], in[2], in[3], in[4], -in[4]);
+      return c;
+    };
+    vpColVector uv;
+    const vpMatrix J = vpKinematicBundleAdjustment::observationJacobian(chain, params, camera(in0), q, X, uv);
+    const unsigned int P = static_cast<unsigned int>(params.size());
+    ASSERT_EQ(J.getCols(), P + 8);
+    auto proj = [&](const vpKinematicChain &c, const double *in, const vpColVector &x) {
+      vpColVector p;
+      vpKinematicBundleAdjustment::observationJacobian(c, {}, camera(in), q, x, p);
+      return p;
+    };
+    const vpColVector p0 = proj(chain, in0, X);
+    EXPECT_LT((p0 - uv).frobeniusNorm(), 1e-12);
+    double worst = 0;
+    for (unsigned int c = 0; c < P + 8; ++c) {
+      vpColVector d(2);
+      if (c < P) {
+        const double h = 1e-7;
+        vpKinematicChain a = chain, b = chain;
+        vpColVector pa = chain.getParameters(), pb = pa;
+        pa[c] += h;
+        pb[c] -= h;
+        a.setParameters(pa);
+        b.setParameters(pb);
+        d = (proj(a, in0, X) - proj(b, in0, X)) / (2 * h);
+      } else if (c < P + 5) {
+        const double h = c == P + 4 ? 1e-7 : 1e-5;
+        double ia[5], ib[5];
+        std::copy(in0, in0 + 5, ia);
+        std::copy(in0, in0 + 5, ib);
+        ia[c - P] += h;
+        ib[c - P] -= h;
+        d = (proj(chain, ia, X) - proj(chain, ib, X)) / (2 * h);
+      } else {
+        const double h = 1e-7;
+        vpColVector xa = X, xb = X;
+        xa[c - P - 5] += h;
+        xb[c - P - 5] -= h;
+        d = (proj(chain, in0, xa) - proj(chain, in0, xb)) / (2 * h);
+      }
+      for (unsigned int r = 0; r < 2; ++r)
+        worst = std::max(worst, std::fabs(d[r] - J[r][c]) / (1 + std::fabs(J[r][c])));
+    }
+    EXPECT_LT(worst, 1e-5) << robot;
+  }
+}
+
+// relativePoseCovariance() is G C G^T with G the derivative of c_ref M c: checked with C = I
+// against G from central differences of the chain.
+TEST(KinematicBundleAdjustment, RelativePoseCovarianceMatchesFiniteDifferences)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 42, 0.0);
+  const vpKinematicChain chain = sim.getTrueChain();
+  const std::vector<vpColVector> q = sim.generateConfigurations(2);
+  const std::vector<unsigned int> params = {8, 13, 20, 27, 33, 40, 45};
+  vpMatrix I(7, 7);
+  I.eye();
+  const vpMatrix C = vpKinematicBundleAdjustment::relativePoseCovariance(chain, params, I, q[0], q[1]);
+  const Rigid M0 = rigidFromVisp(chain.get_fMc(q[0]).inverse() * chain.get_fMc(q[1]));
+  Eigen::MatrixXd G(6, 7);
+  for (int c = 0; c < 7; ++c) {
+    const double h = 1e-7;
+    vpKinematicChain a = chain;
+    vpColVector p = chain.getParameters();
+    p[params[c]] += h;
+    a.setParameters(p);
+    const Rigid M = rigidFromVisp(a.get_fMc(q[0]).inverse() * a.get_fMc(q[1]));
+    G.block<3, 1>(0, c) = (M.t - M0.t) / h;
+    G.block<3, 1>(3, c) = logSO3(M.R * M0.R.transpose()) / h;
+  }
+  const Eigen::MatrixXd Cfd = G * G.transpose();
+  for (unsigned int a = 0; a < 6; ++a)
+    for (unsigned int b = 0; b < 6; ++b)
+      EXPECT_NEAR(C[a][b], Cfd(a, b), 1e-5 * (1 + std::fabs(Cfd(a, b)))) << a << "," << b;
+}
+
+// Noise-free images through the default pipeline, f known and f self-calibrated: the estimated
+// corrections are those that reproduce the true relative poses (1e-8), held-out poses are exact
+// (1e-9 m = 1e-6 mm, 1e-9 rad), f is the true one.
+TEST(KinematicBundleAdjustment, NoiseFreeExactRecoveryThroughTheDefaultPipeline)
+{
+  for (bool focal_known : {true, false}) {
+    const vpSelfCalibSimulator sim = makeSim("viper850", 43, 0.0);
+    const std::vector<vpColVector> q = sim.generateConfigurations(25);
+    vpSelfCalibDataset ds = sim.makeDataset(q);
+    ds.focal_known = focal_known;
+    if (!focal_known)
+      ds.cam.initPersProjWithoutDistortion(1400, 1400, ds.cam.get_u0(), ds.cam.get_v0());
+    vpRobotSelfCalibration::Options o;
+    o.multiview.tight = true;
+    o.bundle.tight = true;
+    const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
+    ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
+    EXPECT_EQ(r.method, vpRobotSelfCalibration::BUNDLE_ADJUSTMENT);
+    EXPECT_EQ(r.bundle.scale_source, vpKinematicBundleAdjustment::SCALE_YARDSTICK);
+    EXPECT_EQ(r.identifiability.identified.size(), 24u);
+    if (!focal_known) {
+      EXPECT_NEAR(r.fx, sim.getCamera().get_px(), 1e-6);
+      EXPECT_GT(r.fx_sd, 0);
+    }
+    // Reference corrections: identification from the exact relative poses of the calibration views.
+    std::vector<vpKinematicIdentification::Measurement> ms;
+    for (size_t k = 1; k < 15; ++k) {
+      vpKinematicIdentification::Measurement m;
+      m.q = q[k];
+      m.q_ref = q[0];
+      m.M = sim.getTrueChain().get_fMc(q[k]).inverse() * sim.getTrueChain().get_fMc(q[0]);
+      ms.push_back(m);
+    }
+    // Same estimated set, the others at their nominal (zero) value in both.
+    vpKinematicIdentification::Options io;
+    const std::vector<std::string> names = sim.getNominalChain().getParameterNames();
+    for (unsigned int i = 0; i < names.size(); ++i)
+      if (std::find(r.identifiability.identified.begin(), r.identifiability.identified.end(), i) ==
+          r.identifiability.identified.end())
+        io.fixed.push_back(names[i]);
+    const auto ref = vpKinematicIdentification::identify(sim.getNominalChain(), ms, io);
+    ASSERT_EQ(ref.status, vpKinematicIdentification::OK) << ref.message;
+    ASSERT_EQ(ref.identifiability.identified, r.identifiability.identified);
+    for (unsigned int i : r.identifiability.identified)
+      EXPECT_NEAR(r.calibrated.getParameters()[i], ref.chain.getParameters()[i], 1e-8)
+          << r.calibrated.getParameterNames()[i];
+    const auto ver = slice(ds, 15, 25);
+    const auto v = vpCalibrationVerifier::verify(r.calibrated, r.camera, ver, ds.yardstick, sim.getScenePointsById(),
+                                                 sim.getTrueCameraPoses(ver));
+    for (size_t k = 0; k < v.position_errors.size(); ++k) {
+      EXPECT_LT(v.position_errors[k], 1e-9);
+      EXPECT_LT(v.rotation_errors[k], 1e-9);
+    }
+    EXPECT_LT(v.yardstick_error, 1e-9);
+  }
+}
+
+// Distortion folded into the estimate: images through ViSP's k_ud model, the bundle adjustment
+// from the nominal model, a wrong camera (f -2%, principal point off by 6 px, k_ud = 0) and points
+// off by a millimetre recovers every intrinsic and the held-out poses exactly.
+TEST(KinematicBundleAdjustment, NoiseFreeRecoveryOfAllIntrinsicsWithDistortion)
+{
+  const vpSelfCalibSimulator sim = makeSim("puma560", 44, 0.0);
+  const std::vector<vpColVector> q = sim.generateConfigurations(25);
+  vpSelfCalibDataset ds = sim.makeDataset(q);
+  const double kud = -0.12, mu = 1.004;
+  const vpCameraParameters c0 = sim.getCamera();
+  const std::vector<vpHomogeneousMatrix> T = sim.getTrueCameraPoses(ds.views);
+  for (size_t k = 0; k < ds.views.size(); ++k)
+    for (auto &o : ds.views[k].points) {
+      const Eigen::Vector3d Xc = rigidFromVisp(T[k]).inverse() * vec3(sim.getScenePoints()[o.id]);
+      const double x = Xc(0) / Xc(2), y = Xc(1) / Xc(2), g = 1 + kud * (x * x + y * y);
+      o.ip = vpImagePoint(c0.get_v0() + mu * c0.get_px() * y * g, c0.get_u0() + c0.get_px() * x * g);
+    }
+  Random rng(44, 1);
+  std::map<int, vpColVector> start_points = sim.getScenePointsById();
+  for (auto &e : start_points)
+    for (unsigned int a = 0; a < 3; ++a)
+      e.second[a] += rng.normal(1e-3);
+  vpCameraParameters cam;
+  cam.initPersProjWithoutDistortion(0.98 * c0.get_px(), 0.98 * c0.get_px(), c0.get_u0() + 6, c0.get_v0() - 4);
+  vpKinematicBundleAdjustment::Options o;
+  o.intrinsics = vpKinematicBundleAdjustment::FX | vpKinematicBundleAdjustment::ASPECT |
+                 vpKinematicBundleAdjustment::PRINCIPAL_POINT | vpKinematicBundleAdjustment::DISTORTION;
+  o.tight = true;
+  const auto cal = slice(ds, 0, 15);
+  const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam, cal, ds.yardstick, start_points, o);
+  ASSERT_EQ(r.status, vpKinematicBundleAdjustment::OK) << r.message;
+  ASSERT_EQ(r.intrinsic_names.size(), 5u);
+  EXPECT_NEAR(r.camera.get_px(), c0.get_px(), 1e-6);
+  EXPECT_NEAR(r.camera.get_py() / r.camera.get_px(), mu, 1e-10);
+  EXPECT_NEAR(r.camera.get_u0(), c0.get_u0(), 1e-6);
+  EXPECT_NEAR(r.camera.get_v0(), c0.get_v0(), 1e-6);
+  EXPECT_NEAR(r.camera.get_kud(), kud, 1e-9);
+  EXPECT_EQ(r.num_outliers, 0u);
+  // Points: in f up to the base gauge (the base correction is not estimated), so their distances.
+  ASSERT_EQ(r.points.size(), sim.getScenePoints().size());
+  for (const auto &a : r.points)
+    for (const auto &b : r.points)
+      EXPECT_NEAR((vec3(a.second) - vec3(b.second)).norm(),
+                  (vec3(sim.getScenePoints()[a.first]) - vec3(sim.getScenePoints()[b.first])).norm(), 1e-9);
+  const auto ver = slice(ds, 15, 25);
+  const std::vector<vpHomogeneousMatrix> Tv = sim.getTrueCameraPoses(ver);
+  const Rigid m0 = rigidFromVisp(r.chain.get_fMc(ver[0].q)), t0 = rigidFromVisp(Tv[0]);
+  for (size_t k = 1; k < ver.size(); ++k) {
+    const Rigid a = m0.inverse() * rigidFromVisp(r.chain.get_fMc(ver[k].q)), b = t0.inverse() * rigidFromVisp(Tv[k]);
+    EXPECT_LT((a.t - b.t).norm(), 1e-9);
+    EXPECT_LT(logSO3(a.R * b.R.transpose()).norm(), 1e-9);
+  }
+}
+
+// The covariance is honest: over 60 noise draws on one geometry, the spread of f, of the held-out
+// relative positions and of the corrections (normalized estimation error squared) agree with the
+// predicted covariance within 20%.
+TEST(KinematicBundleAdjustment, PredictedStandardDeviationsMatchTheSpreadOverNoiseDraws)
+{
+  const double sd = 0.5;
+  const vpSelfCalibSimulator sim = makeSim("viper850", 45, 0.0);
+  const vpSelfCalibDataset clean = sim.makeDataset(sim.generateConfigurations(25));
+  const auto cal = slice(clean, 0, 15), ver = slice(clean, 15, 25);
+  vpKinematicBundleAdjustment::Options o;
+  o.pixel_sd = sd;
+  vpCameraParameters cam0 = sim.getCamera();
+  // The noise-free solution: the truth in the estimated coordinates.
+  const auto exact = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam0, cal, clean.yardstick,
+                                                         sim.getScenePointsById(), o);
+  ASSERT_EQ(exact.status, vpKinematicBundleAdjustment::OK) << exact.message;
+  const std::vector<unsigned int> &id = exact.identifiability.identified;
+  const unsigned int P = static_cast<unsigned int>(id.size());
+  // Information matrix (the covariance spans m, rad and px: a full inverse, not a truncated one).
+  Eigen::MatrixXd C(P + 1, P + 1);
+  for (unsigned int a = 0; a <= P; ++a)
+    for (unsigned int b = 0; b <= P; ++b)
+      C(a, b) = exact.covariance[a][b];
+  const Eigen::MatrixXd Cinv = C.ldlt().solve(Eigen::MatrixXd::Identity(P + 1, P + 1));
+  std::vector<double> pred_pos(ver.size() - 1);
+  for (size_t k = 1; k < ver.size(); ++k) {
+    const vpMatrix C = vpKinematicBundleAdjustment::relativePoseCovariance(exact.chain, id, exact.covariance, ver[0].q,
+                                                                           ver[k].q);
+    pred_pos[k - 1] = C[0][0] + C[1][1] + C[2][2];
+  }
+  const std::vector<vpHomogeneousMatrix> T = sim.getTrueCameraPoses(ver);
+  const unsigned int trials = 60;
+  Random rng(45, 9);
+  double f2 = 0, nees = 0, pos_emp = 0, pos_pred = 0;
+  for (unsigned int t = 0; t < trials; ++t) {
+    vpSelfCalibDataset ds = clean;
+    addNoise(ds, sd, rng);
+    const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam0, slice(ds, 0, 15), ds.yardstick,
+                                                       sim.getScenePointsById(), o);
+    ASSERT_EQ(r.status, vpKinematicBundleAdjustment::OK) << r.message;
+    ASSERT_EQ(r.identifiability.identified, id);
+    f2 += std::pow(r.camera.get_px() - exact.camera.get_px(), 2);
+    Eigen::VectorXd e(P + 1);
+    for (unsigned int i = 0; i < P; ++i)
+      e(i) = r.chain.getParameters()[id[i]] - exact.chain.getParameters()[id[i]];
+    e(P) = r.camera.get_px() - exact.camera.get_px();
+    nees += e.dot(Cinv * e) / (P + 1.0);
+    const auto v = vpCalibrationVerifier::verify(r.chain, r.camera, ver, ds.yardstick, {}, T);
+    for (size_t k = 0; k < v.position_errors.size(); ++k) {
+      pos_emp += v.position_errors[k] * v.position_errors[k];
+      pos_pred += pred_pos[k];
+    }
+  }
+  EXPECT_NEAR(std::sqrt(f2 / trials) / exact.fx_sd, 1.0, 0.2);
+  EXPECT_NEAR(std::sqrt(pos_emp / pos_pred), 1.0, 0.2);
+  EXPECT_NEAR(std::sqrt(nees / trials), 1.0, 0.2);
+}
+
+// 20% wrong correspondences: the robust default stays within 2x of its error without them (mean
+// over three scenario draws); with plain least squares the same data is far worse.
+TEST(KinematicBundleAdjustment, DefaultPipelineIsRobustToWrongMatches)
+{
+  double clean = 0, robust = 0, plain = 0;
+  for (uint64_t seed : {51, 52, 53}) {
+    const vpSelfCalibSimulator sim = makeSim("viper850", seed, 0.2);
+    vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(25));
+    ds.focal_known = false;
+    vpSelfCalibDataset bad = ds;
+    corrupt(bad, 0.2, seed);
+    vpRobotSelfCalibration::Options o;
+    const auto rc = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
+    const auto rb = vpRobotSelfCalibration::run(sim.getNominalChain(), bad, o);
+    ASSERT_EQ(rc.status, vpRobotSelfCalibration::OK) << rc.message;
+    ASSERT_EQ(rb.status, vpRobotSelfCalibration::OK) << rb.message;
+    EXPECT_GT(rb.bundle.num_outliers, 0.12 * (rb.bundle.num_outliers + rb.bundle.num_observations));
+    o.bundle.loss = vpMultiViewReconstruction::LOSS_NONE;
+    o.bundle.outlier_threshold = 0;
+    const auto rp = vpRobotSelfCalibration::run(sim.getNominalChain(), bad, o);
+    clean += heldOutRms(sim, rc.calibrated, ds);
+    robust += heldOutRms(sim, rb.calibrated, bad);
+    plain += rp.status == vpRobotSelfCalibration::OK ? heldOutRms(sim, rp.calibrated, bad) : 1.0;
+  }
+  EXPECT_LT(robust, 2 * clean);
+  EXPECT_GT(plain, 3 * clean);
+}
+
+// Without a yardstick the default pipeline still calibrates, keeps the nominal scale and says so.
+TEST(KinematicBundleAdjustment, WithoutYardstickTheNominalScaleIsKeptAndReported)
+{
+  const vpSelfCalibSimulator sim = makeSim("puma560", 46, 0.0);
+  vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(18));
+  ds.yardstick = vpSelfCalibDataset::Yardstick();
+  const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, vpRobotSelfCalibration::Options());
+  ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
+  EXPECT_FALSE(r.multiview.metric);
+  EXPECT_EQ(r.bundle.scale_source, vpKinematicBundleAdjustment::SCALE_NOMINAL);
+  EXPECT_NE(r.message.find("nominal scale"), std::string::npos) << r.message;
+  // Orientations do not depend on the scale: the held-out rotations are exact.
+  const auto ver = slice(ds, 15, 18);
+  const auto v = vpCalibrationVerifier::verify(r.calibrated, r.camera, ver, ds.yardstick, {}, sim.getTrueCameraPoses(ver));
+  for (double e : v.rotation_errors)
+    EXPECT_LT(e, 1e-7);
+}
+
+TEST(KinematicBundleAdjustment, DegenerateAndBadInput)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 47, 0.2);
+  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(6));
+  const std::map<int, vpColVector> X = sim.getScenePointsById();
+  const vpKinematicBundleAdjustment::Options o;
+  // The same configuration three times: nothing to estimate.
+  std::vector<vpSelfCalibDataset::View> same(3, ds.views[0]);
+  auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, same, ds.yardstick, X, o);
+  EXPECT_EQ(r.status, vpKinematicBundleAdjustment::TOO_FEW_OBSERVATIONS);
+  // Caller mistakes.
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, {ds.views[0]}, ds.yardstick, X, o),
+               vpSelfCalibException);
+  std::vector<vpSelfCalibDataset::View> bad = ds.views;
+  bad[2].q.resize(5);
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, bad, ds.yardstick, X, o),
+               vpSelfCalibException);
+  bad = ds.views;
+  bad[1].points[0].ip.set_v(std::numeric_limits<double>::infinity());
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, bad, ds.yardstick, X, o),
+               vpSelfCalibException);
+  bad = ds.views;
+  bad[1].points.push_back(bad[1].points[2]);
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, bad, ds.yardstick, X, o),
+               vpSelfCalibException);
+  std::map<int, vpColVector> badX = X;
+  badX[3] = vpColVector(2);
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, ds.views, ds.yardstick, badX, o),
+               vpSelfCalibException);
+  vpKinematicBundleAdjustment::Options bo;
+  bo.fixed = {"j9.tx"};
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, ds.views, ds.yardstick, X, bo),
+               vpSelfCalibException);
+  bo = o;
+  bo.intrinsics = 64;
+  EXPECT_THROW(bo.check(), vpSelfCalibException);
+  bo = o;
+  bo.yardstick_sd = -1;
+  EXPECT_THROW(bo.check(), vpSelfCalibException);
+  vpRobotSelfCalibration::Options po;
+  EXPECT_THROW(vpRobotSelfCalibration::methodFromName("magic"), vpSelfCalibException);
+  po.pixel_sd = 0;
+  EXPECT_THROW(po.check(), vpSelfCalibException);
+}
