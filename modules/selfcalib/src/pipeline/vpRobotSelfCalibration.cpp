@@ -383,5 +383,5 @@ void vpRobotSelfCalibration::runBundle(const vpKinematicChain &nominal, const vp
   res.fx = res.camera.get_px();
   res.fx_sd = res.bundle.fx_sd;
   res.status = OK;
-  res.message = "ok: " + res.multiview.message + "; " + res.bundle.message;
+  res.message = "multi-view " + res.multiview.message + "; bundle adjustment " + res.bundle.message;
 }
