@@ -201,15 +201,10 @@ int main(int argc, char **argv)
           }
           if (planned) {
             if (plans[seed].empty()) {
-              vpMeasurementPlanner::Scene scene;
-              scene.points = sim.getScenePoints();
-              scene.cam = sim.getCamera();
-              scene.width = sim.getOptions().width;
-              scene.height = sim.getOptions().height;
-              scene.margin = sim.getOptions().image_margin;
               vpMeasurementPlanner::TrajectoryOptions to;
               to.seed = seed;
-              const auto plan = vpMeasurementPlanner(sim.getNominalChain(), scene).planTrajectory(cal, to);
+              const auto plan =
+                  vpMeasurementPlanner(sim.getNominalChain(), bench::plannerScene(sim)).planTrajectory(cal, to);
               plans[seed] = plan.status == vpMeasurementPlanner::OK ? plan.configurations : cal;
               if (plan.status != vpMeasurementPlanner::OK)
                 std::cerr << "\n" << robot << " seed " << seed << ": planner: " << plan.message << " (random poses kept)\n";

@@ -130,13 +130,7 @@ int main(int argc, char **argv)
         so.seed = seed;
         const vpSelfCalibSimulator sim0(vpKinematicChain::preset(robots[ri]), so);
         const std::vector<vpColVector> initial = sim0.generateConfigurations(kPoses);
-        vpMeasurementPlanner::Scene scene;
-        scene.points = sim0.getScenePoints();
-        scene.cam = sim0.getCamera();
-        scene.width = so.width;
-        scene.height = so.height;
-        scene.margin = so.image_margin;
-        const vpMeasurementPlanner planner(sim0.getNominalChain(), scene);
+        const vpMeasurementPlanner planner(sim0.getNominalChain(), bench::plannerScene(sim0));
         vpMeasurementPlanner::TrajectoryOptions o = po;
         o.seed = seed;
         const vpMeasurementPlanner::Result plan = planner.planTrajectory(initial, o);

@@ -3,6 +3,7 @@
  */
 #include <visp3/selfcalib/vpMultiViewReconstruction.h>
 #include <visp3/selfcalib/vpFactorMethod.h>
+#include <visp3/selfcalib/vpFundamentalMatrix.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <algorithm>
@@ -116,10 +117,10 @@ void vpMultiViewReconstruction::Options::check() const
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpMultiViewReconstruction: pixel_sd, loss_scale and init_tolerance must be positive, "
                                "outlier_threshold non-negative");
-  if (min_points < 5 || max_iterations == 0 || num_threads == 0)
+  if (min_points < 5 || max_iterations == 0 || num_threads == 0 || (max_pair_points > 0 && max_pair_points < 8))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpMultiViewReconstruction: min_points must be at least 5, max_iterations and "
-                               "num_threads at least 1");
+                               "vpMultiViewReconstruction: min_points must be at least 5, max_pair_points 0 or at least "
+                               "8, max_iterations and num_threads at least 1");
   if (!(twoview.fx > 0) || !(twoview.mu > 0))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpMultiViewReconstruction: twoview.fx and twoview.mu must be positive");
@@ -166,14 +167,30 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
         pk[k - 1].push_back(it->second);
       }
     }
+  // The two-view estimates on at most max_pair_points correspondences per pair, evenly spread over
+  // the list (the bundle adjustment below uses them all); sub[k - 1][j] is the position of
+  // correspondence j in the subset, or -1.
+  std::vector<std::vector<vpImagePoint>> s0(m - 1), sk(m - 1);
+  std::vector<std::vector<int>> sub(m - 1);
+  for (unsigned int k = 1; k < m; ++k) {
+    const size_t n = p0[k - 1].size();
+    const size_t keep = opt.max_pair_points > 0 ? std::min<size_t>(n, opt.max_pair_points) : n;
+    sub[k - 1].assign(n, -1);
+    for (size_t i = 0; i < keep; ++i) {
+      const size_t j = i * n / keep;
+      sub[k - 1][j] = static_cast<int>(s0[k - 1].size());
+      s0[k - 1].push_back(p0[k - 1][j]);
+      sk[k - 1].push_back(pk[k - 1][j]);
+    }
+  }
   vpTwoViewEstimator::Options to = opt.twoview;
   to.focal_mode = vpRefinedFactorMethod::KNOWN;
   res.fx = opt.twoview.fx;
   if (opt.focal_known) {
     for (unsigned int k = 1; k < m; ++k)
-      res.pairs.push_back(vpTwoViewEstimator::estimate(p0[k - 1], pk[k - 1], to));
+      res.pairs.push_back(vpTwoViewEstimator::estimate(s0[k - 1], sk[k - 1], to));
   } else {
-    const vpTwoViewEstimator::SharedResult sr = vpTwoViewEstimator::estimateShared(p0, pk, to);
+    const vpTwoViewEstimator::SharedResult sr = vpTwoViewEstimator::estimateShared(s0, sk, to);
     res.pairs = sr.pairs;
     if (sr.converged && sr.fx > 0.5 * opt.twoview.fx && sr.fx < 2 * opt.twoview.fx)
       res.fx = sr.fx;
@@ -181,7 +198,7 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
       // The joint two-view refinement failed (wrong matches can drag it away): poses with the
       // guessed f instead; the bundle adjustment below estimates f.
       for (unsigned int k = 1; k < m; ++k)
-        res.pairs[k - 1] = vpTwoViewEstimator::estimate(p0[k - 1], pk[k - 1], to);
+        res.pairs[k - 1] = vpTwoViewEstimator::estimate(s0[k - 1], sk[k - 1], to);
   }
   res.seconds_twoview = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
@@ -195,7 +212,11 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
       continue;
     std::vector<double> depths;
     for (size_t j = 0; j < ids[k].size(); ++j) {
-      if (!r.inliers.empty() && !r.inliers[j])
+      // Inlier of the pair: by its RANSAC when in the subset, else by the Sampson distance to its F.
+      const int si = sub[k - 1][j];
+      if (si >= 0 ? (!r.inliers.empty() && !r.inliers[si])
+                  : (r.F.getRows() != 3 || vpFundamentalMatrix::sampsonDistance(r.F, p0[k - 1][j], pk[k - 1][j]) >
+                                               opt.twoview.ransac.inlier_threshold))
         continue;
       const double x0[2] = {(p0[k - 1][j].get_u() - u0) / res.fx, (p0[k - 1][j].get_v() - v0) / (mu * res.fx)};
       const double xk[2] = {(pk[k - 1][j].get_u() - u0) / res.fx, (pk[k - 1][j].get_v() - v0) / (mu * res.fx)};
@@ -317,11 +338,28 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
     }
   }
 
-  // 3. Bundle adjustment.
+  // 3. Bundle adjustment, on at most max_bundle_points points (evenly spread over the ids, the
+  // yardstick ends always in); the others are triangulated afterwards with the adjusted poses.
+  std::set<int> bundled, later;
+  {
+    const size_t n = X.size();
+    const size_t keep = opt.max_bundle_points > 0 ? std::min<size_t>(n, opt.max_bundle_points) : n;
+    std::vector<int> all;
+    for (const auto &e : X)
+      all.push_back(e.first);
+    for (size_t i = 0; i < keep; ++i)
+      bundled.insert(all[i * n / keep]);
+    for (int id : {yardstick.id_a, yardstick.id_b})
+      if (X.count(id))
+        bundled.insert(id);
+    for (int id : all)
+      if (!bundled.count(id))
+        later.insert(id);
+  }
   std::vector<Observation> obs;
   for (unsigned int k = 0; k < m; ++k)
     for (const auto &e : byId[k])
-      if (X.count(e.first))
+      if (bundled.count(e.first))
         obs.push_back({k, e.first, e.second.get_u(), e.second.get_v()});
   std::vector<Eigen::Vector4d> quat(m);
   std::vector<Eigen::Vector3d> trans(m);
@@ -487,6 +525,56 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
     return res;
   }
   res.fx = f;
+
+  // Points left out of the bundle adjustment: midpoint of their rays from the posed views, the views
+  // whose reprojection error exceeds the outlier threshold left out (twice), kept with two views.
+  for (int id : later) {
+    std::vector<Observation> po;
+    for (unsigned int k = 0; k < m; ++k) {
+      auto it = byId[k].find(id);
+      if (res.posed[k] && it != byId[k].end())
+        po.push_back({k, id, it->second.get_u(), it->second.get_v()});
+    }
+    std::vector<bool> use(po.size(), true);
+    Eigen::Vector3d x = X[id];
+    for (int round = 0; round < 3; ++round) {
+      Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+      Eigen::Vector3d b = Eigen::Vector3d::Zero();
+      unsigned int n = 0;
+      for (size_t i = 0; i < po.size(); ++i) {
+        if (!use[i])
+          continue;
+        const Eigen::Quaterniond Q(quat[po[i].view](3), quat[po[i].view](0), quat[po[i].view](1), quat[po[i].view](2));
+        const Eigen::Matrix3d Rt = Q.normalized().toRotationMatrix().transpose();
+        const Eigen::Vector3d o = -Rt * trans[po[i].view];
+        const Eigen::Vector3d d =
+            (Rt * Eigen::Vector3d((po[i].u - u0) / f, (po[i].v - v0) / (mu * f), 1)).normalized();
+        const Eigen::Matrix3d Pd = Eigen::Matrix3d::Identity() - d * d.transpose();
+        A += Pd;
+        b += Pd * o;
+        ++n;
+      }
+      if (n < 2)
+        break;
+      x = A.ldlt().solve(b);
+      for (size_t i = 0; i < po.size(); ++i) {
+        X[id] = x;
+        obs.push_back(po[i]);
+        use[i] = whitened(obs.size() - 1) <= std::max(opt.outlier_threshold, 20.0 / (round + 1));
+        obs.pop_back();
+      }
+    }
+    unsigned int n = 0;
+    for (bool u : use)
+      n += u;
+    if (n < 2 || !x.allFinite())
+      continue;
+    X[id] = x;
+    for (size_t i = 0; i < po.size(); ++i) {
+      obs.push_back(po[i]);
+      inlier.push_back(use[i] && whitened(obs.size() - 1) <= opt.outlier_threshold);
+    }
+  }
 
   // Statistics over the kept observations; points without any kept observation are dropped.
   res.inliers.resize(m);

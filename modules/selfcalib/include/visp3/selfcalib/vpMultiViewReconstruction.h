@@ -19,7 +19,9 @@
   (beyond the paper: the paper scales each two-view pose separately with the nominal model, eq. 21).
 
   1. Two-view poses c_kMc_0 of the pairs (view 0, view k) (vpTwoViewEstimator: RANSAC, the refined
-     factor method; f known, or one f shared by all pairs), each with |t_k| = 1.
+     factor method; f known, or one f shared by all pairs), each with |t_k| = 1, on at most
+     max_pair_points correspondences of the pair, evenly spread (the others are tested against
+     the pair's fundamental matrix and used from step 2 on).
   2. Scale chaining: the inliers of each pair are triangulated in the frame of view 0 with the unit
      baseline. The reference pair is the one with the widest baseline relative to the scene (the
      smallest median depth); every other pair k gets the scale s_k = median_j |X_j^ref| / |X_j^k| over
@@ -34,7 +36,10 @@
      identity and the reference pair's translation stays on the unit sphere. Robust loss (Cauchy by
      default, scale in noise sd), then the observations whose error exceeds outlier_threshold sd
      are dropped (with the points left with fewer than two observations) and the problem is solved
-     again with plain least squares.
+     again with plain least squares. On large problems the adjustment uses at most
+     max_bundle_points points (evenly spread, the yardstick's ends always in): the result starts
+     the kinematic bundle adjustment, which uses them all; the others are triangulated from the
+     adjusted poses (midpoint of the rays, views beyond the outlier threshold left out).
   4. Scale: when both yardstick ends are reconstructed, everything is scaled so that their distance
      is the yardstick's length (metric = true); otherwise the unit of length stays the reference
      baseline.
@@ -58,6 +63,8 @@ public:
     double loss_scale = 3;          //!< in units of pixel_sd
     double outlier_threshold = 5;   //!< in units of pixel_sd; 0 keeps every observation
     unsigned int min_points = 8;    //!< triangulated points a pair needs to be chained
+    unsigned int max_pair_points = 300; //!< correspondences per pair for the two-view step (0: all)
+    unsigned int max_bundle_points = 400; //!< points in the bundle adjustment (0: all; see step 3)
     double init_tolerance = 10;     //!< px, agreement of views on a point initialized without view 0
     unsigned int max_iterations = 100;
     bool tight = false;             //!< tolerances 1e-15 (exact recovery on noise-free data)
