@@ -24,85 +24,15 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "vpSelfCalibYaml.h"
+
+using namespace vpSelfCalib;
+
 namespace
 {
-class Reader
-{
-public:
-  explicit Reader(const std::string &source) : m_source(source) {}
-
-  [[noreturn]] void fail(const std::string &key, const std::string &what) const
-  {
-    throw vpSelfCalibException(vpSelfCalibException::parseError,
-                               "robot model " + m_source + ": key '" + key + "': " + what);
-  }
-
-  static std::string show(const YAML::Node &n)
-  {
-    if (!n.IsDefined() || n.IsNull())
-      return "nothing";
-    if (n.IsScalar())
-      return "'" + n.Scalar() + "'";
-    return n.IsSequence() ? "a list" : "a map";
-  }
-
-  double number(const YAML::Node &n, const std::string &key) const
-  {
-    if (!n.IsDefined() || n.IsNull())
-      fail(key, "missing; expected a number");
-    if (!n.IsScalar())
-      fail(key, "expected a number, got " + show(n));
-    double v = 0;
-    try {
-      v = n.as<double>();
-    } catch (const YAML::Exception &) {
-      fail(key, "expected a number, got " + show(n));
-    }
-    if (!std::isfinite(v))
-      fail(key, "expected a finite number, got " + show(n));
-    return v;
-  }
-
-  std::string text(const YAML::Node &n, const std::string &key) const
-  {
-    if (!n.IsDefined() || n.IsNull())
-      fail(key, "missing; expected a string");
-    if (!n.IsScalar())
-      fail(key, "expected a string, got " + show(n));
-    return n.Scalar();
-  }
-
-  vpPoseVector pose(const YAML::Node &n, const std::string &key) const
-  {
-    if (!n.IsSequence() || n.size() != 6)
-      fail(key, "expected a pose vector of 6 numbers [tx, ty, tz, tux, tuy, tuz] (m, rad), got " +
-                    (n.IsSequence() ? "a list of " + std::to_string(n.size()) : show(n)));
-    vpPoseVector p;
-    for (unsigned int i = 0; i < 6; ++i)
-      p[i] = number(n[i], key + "[" + std::to_string(i) + "]");
-    return p;
-  }
-
-  void onlyKeys(const YAML::Node &map, const std::set<std::string> &allowed, const std::string &where) const
-  {
-    for (const auto &kv : map) {
-      const std::string k = kv.first.as<std::string>();
-      if (!allowed.count(k)) {
-        std::string list;
-        for (const std::string &a : allowed)
-          list += (list.empty() ? "" : ", ") + a;
-        fail(where.empty() ? k : where + "." + k, "unknown key (expected one of: " + list + ")");
-      }
-    }
-  }
-
-private:
-  std::string m_source;
-};
-
 vpKinematicChain parse(const YAML::Node &root, const std::string &source)
 {
-  Reader r(source);
+  Reader r("robot model", source);
   if (!root.IsMap())
     throw vpSelfCalibException(vpSelfCalibException::parseError,
                                "robot model " + source + ": expected a YAML map at the top level");
@@ -174,18 +104,6 @@ vpKinematicChain parse(const YAML::Node &root, const std::string &source)
   return chain;
 }
 
-YAML::Node loadRoot(const std::string &text, const std::string &source)
-{
-  try {
-    return YAML::Load(text);
-  } catch (const YAML::ParserException &e) {
-    std::ostringstream os;
-    os << "robot model " << source << ": YAML syntax error at line " << e.mark.line + 1 << ", column "
-       << e.mark.column + 1 << ": " << e.msg;
-    throw vpSelfCalibException(vpSelfCalibException::parseError, os.str());
-  }
-}
-
 void emitPose(YAML::Emitter &out, const vpPoseVector &p)
 {
   out << YAML::Flow << YAML::BeginSeq;
@@ -197,7 +115,7 @@ void emitPose(YAML::Emitter &out, const vpPoseVector &p)
 
 vpKinematicChain vpKinematicChain::fromYamlString(const std::string &yaml, const std::string &source)
 {
-  return parse(loadRoot(yaml, source), source);
+  return parse(loadYamlRoot(yaml, "robot model", source), source);
 }
 
 vpKinematicChain vpKinematicChain::loadYaml(const std::string &filename)
@@ -254,21 +172,5 @@ std::string vpKinematicChain::toYamlString() const
 
 void vpKinematicChain::saveYaml(const std::string &filename) const
 {
-  // Written to a temporary file and renamed, so that a failed write never leaves half a model.
-  const std::string tmp = filename + ".tmp";
-  {
-    std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
-    if (!os)
-      throw vpSelfCalibException(vpSelfCalibException::ioError,
-                                 "robot model '" + filename + "': cannot open '" + tmp + "' for writing");
-    os << toYamlString();
-    os.flush();
-    if (!os)
-      throw vpSelfCalibException(vpSelfCalibException::ioError, "robot model '" + filename + "': write failed");
-  }
-  if (std::rename(tmp.c_str(), filename.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw vpSelfCalibException(vpSelfCalibException::ioError,
-                               "robot model '" + filename + "': cannot rename the temporary file into place");
-  }
+  writeFileAtomically(filename, toYamlString(), "robot model");
 }

@@ -20,6 +20,20 @@
 
   Image points are pixel coordinates (vpImagePoint: i = v = row, j = u = column). The same id in
   two views is the same scene point.
+
+  <b>File</b> (YAML; lengths in m, angles in rad; README, "Dataset file"):
+  \code
+  camera: {width: 640, height: 480, u0: 320, v0: 240, px: 1500, py: 1500}
+  # f self-calibrated: omit px, py (optionally f_guess: 1400, default the image width)
+  # or camera_xml: {file: camera.xml, name: Camera}   (vpXmlParserCamera; a distortion model in it is
+  #    applied: every observation is undistorted and the dataset's camera has none)
+  robot: viper850                 # preset name or robot-model file (relative to this file)
+  poses:
+    - joints: [q1, q2, q3, q4, q5, q6]   # or fMe: [tx, ty, tz, tux, tuy, tuz]
+      image: images/0001.png           # optional, relative to this file
+      points: [[id, u, v], ...]        # optional
+  yardstick: {length: 0.1, ends: [80, 81]}   # optional
+  \endcode
 */
 struct vpSelfCalibDataset {
   //! One image point of a scene point.
@@ -50,6 +64,23 @@ struct vpSelfCalibDataset {
   std::string robot;           //!< preset name or robot-model file
   std::vector<View> views;
   Yardstick yardstick;
+
+  /*!
+    Reads a dataset file. Relative robot-model and image paths are resolved against the file's
+    directory. Every malformed or inconsistent input (missing or unknown key, wrong type, NaN or
+    inf, joint vectors of different sizes, a view with neither joints nor fMe, a point id twice in
+    one view, a negative id, a yardstick with equal ends...) throws vpSelfCalibException naming the
+    file, the key and what was expected.
+  */
+  static vpSelfCalibDataset loadYaml(const std::string &filename);
+  //! The same from text; base_dir resolves relative paths (empty: kept as they are).
+  static vpSelfCalibDataset fromYamlString(const std::string &yaml, const std::string &source = "<string>",
+                                           const std::string &base_dir = "");
+  //! Full precision (17 significant digits): a written dataset reads back identical. Paths under
+  //! base_dir are written relative to it.
+  std::string toYamlString(const std::string &base_dir = "") const;
+  //! Written atomically (temporary file, then rename); paths relative to the file's directory.
+  void saveYaml(const std::string &filename) const;
 };
 
 #endif

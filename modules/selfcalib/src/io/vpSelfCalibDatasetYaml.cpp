@@ -1,0 +1,282 @@
+/*
+ * ViSP SelfCalib: dataset YAML (read and write) for vpSelfCalibDataset, with yaml-cpp; camera XML
+ * through ViSP's vpXmlParserCamera. The format is in the header and the README.
+ */
+#include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpSelfCalibDataset.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+
+#include <algorithm>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <visp3/core/vpMeterPixelConversion.h>
+#include <visp3/core/vpPixelMeterConversion.h>
+#include <visp3/core/vpXmlParserCamera.h>
+#include <yaml-cpp/yaml.h>
+
+#include "vpSelfCalibYaml.h"
+
+using namespace vpSelfCalib;
+
+namespace
+{
+const char *const kWhat = "dataset";
+
+bool isAbsolute(const std::string &p) { return !p.empty() && p[0] == '/'; }
+
+std::string resolve(const std::string &base_dir, const std::string &p)
+{
+  if (p.empty() || base_dir.empty() || isAbsolute(p))
+    return p;
+  return base_dir + "/" + p;
+}
+
+std::string relativeTo(const std::string &base_dir, const std::string &p)
+{
+  if (base_dir.empty())
+    return p;
+  const std::string prefix = base_dir + "/";
+  return p.compare(0, prefix.size(), prefix) == 0 ? p.substr(prefix.size()) : p;
+}
+
+std::string directoryOf(const std::string &file)
+{
+  const size_t s = file.find_last_of('/');
+  return s == std::string::npos ? "." : (s == 0 ? "/" : file.substr(0, s));
+}
+
+void parseCamera(const Reader &r, const YAML::Node &root, const std::string &base_dir, vpSelfCalibDataset &ds,
+                 vpCameraParameters &distorted, bool &has_distortion)
+{
+  has_distortion = false;
+  if (root["camera"] && root["camera_xml"])
+    r.fail("camera", "give either camera or camera_xml, not both");
+  if (root["camera_xml"]) {
+    const YAML::Node cx = root["camera_xml"];
+    if (!cx.IsMap())
+      r.fail("camera_xml", "expected a map {file, name}, got " + Reader::show(cx));
+    r.onlyKeys(cx, {"file", "name"}, "camera_xml");
+    const std::string file = resolve(base_dir, r.text(cx["file"], "camera_xml.file"));
+    const std::string name = r.text(cx["name"], "camera_xml.name");
+    if (!std::ifstream(file))
+      r.fail("camera_xml.file", "cannot read '" + file + "'");
+    vpXmlParserCamera parser;
+    vpCameraParameters cam;
+    if (parser.parse(cam, file, name, vpCameraParameters::perspectiveProjWithDistortion) == vpXmlParserCamera::SEQUENCE_OK) {
+      has_distortion = cam.get_kud() != 0 || cam.get_kdu() != 0;
+      distorted = cam;
+    } else if (parser.parse(cam, file, name, vpCameraParameters::perspectiveProjWithoutDistortion) !=
+               vpXmlParserCamera::SEQUENCE_OK)
+      r.fail("camera_xml", "no camera named '" + name + "' in '" + file + "'");
+    ds.width = parser.getWidth();
+    ds.height = parser.getHeight();
+    if (ds.width == 0 || ds.height == 0)
+      r.fail("camera_xml", "'" + file + "' gives no image_width / image_height for camera '" + name + "'");
+    ds.cam.initPersProjWithoutDistortion(cam.get_px(), cam.get_py(), cam.get_u0(), cam.get_v0());
+    ds.focal_known = true;
+    return;
+  }
+  const YAML::Node c = root["camera"];
+  if (!c.IsDefined() || c.IsNull())
+    r.fail("camera", "missing; expected {width, height, u0, v0, px, py} or camera_xml");
+  if (!c.IsMap())
+    r.fail("camera", "expected a map {width, height, u0, v0, px, py}, got " + Reader::show(c));
+  r.onlyKeys(c, {"width", "height", "u0", "v0", "px", "py", "f_guess"}, "camera");
+  const double w = r.number(c["width"], "camera.width"), h = r.number(c["height"], "camera.height");
+  if (!(w >= 1 && h >= 1 && w == std::floor(w) && h == std::floor(h)))
+    r.fail("camera", "width and height must be positive whole numbers of pixels");
+  ds.width = static_cast<unsigned int>(w);
+  ds.height = static_cast<unsigned int>(h);
+  const double u0 = r.number(c["u0"], "camera.u0"), v0 = r.number(c["v0"], "camera.v0");
+  const bool has_px = c["px"].IsDefined(), has_py = c["py"].IsDefined();
+  if (has_px != has_py)
+    r.fail(has_px ? "camera.py" : "camera.px", "give both px and py (f known) or neither (f self-calibrated)");
+  if (has_px) {
+    if (c["f_guess"])
+      r.fail("camera.f_guess", "only with px and py omitted (f self-calibrated)");
+    const double px = r.number(c["px"], "camera.px"), py = r.number(c["py"], "camera.py");
+    if (!(px > 0 && py > 0))
+      r.fail("camera", "px and py must be positive");
+    ds.cam.initPersProjWithoutDistortion(px, py, u0, v0);
+    ds.focal_known = true;
+  } else {
+    const double f = c["f_guess"] ? r.number(c["f_guess"], "camera.f_guess") : w;
+    if (!(f > 0))
+      r.fail("camera.f_guess", "must be positive");
+    ds.cam.initPersProjWithoutDistortion(f, f, u0, v0);
+    ds.focal_known = false;
+  }
+}
+
+vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, const std::string &base_dir)
+{
+  const Reader r(kWhat, source);
+  if (!root.IsMap())
+    throw vpSelfCalibException(vpSelfCalibException::parseError,
+                               std::string(kWhat) + " " + source + ": expected a YAML map at the top level");
+  r.onlyKeys(root, {"camera", "camera_xml", "robot", "poses", "yardstick"}, "");
+  vpSelfCalibDataset ds;
+  vpCameraParameters distorted;
+  bool has_distortion = false;
+  parseCamera(r, root, base_dir, ds, distorted, has_distortion);
+
+  const std::string robot = r.text(root["robot"], "robot");
+  const std::vector<std::string> presets = vpKinematicChain::presetNames();
+  ds.robot = std::find(presets.begin(), presets.end(), robot) != presets.end() ? robot : resolve(base_dir, robot);
+
+  const YAML::Node poses = root["poses"];
+  if (!poses.IsDefined() || poses.IsNull())
+    r.fail("poses", "missing; expected a list of poses {joints or fMe, image, points}");
+  if (!poses.IsSequence())
+    r.fail("poses", "expected a list, got " + Reader::show(poses));
+  int num_joints = -1;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    const std::string key = "poses[" + std::to_string(k) + "]";
+    const YAML::Node p = poses[k];
+    if (!p.IsMap())
+      r.fail(key, "expected a map {joints or fMe, image, points}, got " + Reader::show(p));
+    r.onlyKeys(p, {"joints", "fMe", "image", "points"}, key);
+    vpSelfCalibDataset::View v;
+    if (!p["joints"] && !p["fMe"])
+      r.fail(key, "needs joints (rad) or fMe (a controller pose vector)");
+    if (p["joints"]) {
+      const YAML::Node j = p["joints"];
+      if (!j.IsSequence() || j.size() == 0)
+        r.fail(key + ".joints", "expected a list of joint values (rad), got " + Reader::show(j));
+      if (num_joints >= 0 && static_cast<int>(j.size()) != num_joints)
+        r.fail(key + ".joints", std::to_string(j.size()) + " values, earlier poses have " + std::to_string(num_joints));
+      num_joints = static_cast<int>(j.size());
+      v.q.resize(static_cast<unsigned int>(j.size()));
+      for (size_t i = 0; i < j.size(); ++i)
+        v.q[static_cast<unsigned int>(i)] = r.number(j[i], key + ".joints[" + std::to_string(i) + "]");
+    }
+    if (p["fMe"]) {
+      v.fMe = vpHomogeneousMatrix(r.pose(p["fMe"], key + ".fMe"));
+      v.has_fMe = true;
+    }
+    if (p["image"])
+      v.image = resolve(base_dir, r.text(p["image"], key + ".image"));
+    if (p["points"]) {
+      const YAML::Node pts = p["points"];
+      if (!pts.IsSequence())
+        r.fail(key + ".points", "expected a list of [id, u, v], got " + Reader::show(pts));
+      std::set<int> ids;
+      for (size_t i = 0; i < pts.size(); ++i) {
+        const std::string pk = key + ".points[" + std::to_string(i) + "]";
+        if (!pts[i].IsSequence() || pts[i].size() != 3)
+          r.fail(pk, "expected [id, u, v], got " + Reader::show(pts[i]));
+        const double id = r.number(pts[i][0], pk + "[0]");
+        if (!(id >= 0 && id == std::floor(id) && id < 2147483647.0))
+          r.fail(pk + "[0]", "a point id is a non-negative whole number");
+        vpSelfCalibDataset::Observation o;
+        o.id = static_cast<int>(id);
+        if (!ids.insert(o.id).second)
+          r.fail(pk, "point id " + std::to_string(o.id) + " appears twice in this pose");
+        const double u = r.number(pts[i][1], pk + "[1]"), vv = r.number(pts[i][2], pk + "[2]");
+        if (has_distortion) {
+          // Undistorted pixel: ViSP's inverse model (k_du) to normalized coordinates, then the pinhole.
+          double x = 0, y = 0;
+          vpPixelMeterConversion::convertPoint(distorted, u, vv, x, y);
+          o.ip = vpImagePoint(ds.cam.get_v0() + ds.cam.get_py() * y, ds.cam.get_u0() + ds.cam.get_px() * x);
+        } else
+          o.ip = vpImagePoint(vv, u);
+        v.points.push_back(o);
+      }
+    }
+    ds.views.push_back(v);
+  }
+  if (root["yardstick"]) {
+    const YAML::Node y = root["yardstick"];
+    if (!y.IsMap())
+      r.fail("yardstick", "expected a map {length, ends: [id_a, id_b]}, got " + Reader::show(y));
+    r.onlyKeys(y, {"length", "ends"}, "yardstick");
+    ds.yardstick.length = r.number(y["length"], "yardstick.length");
+    if (!(ds.yardstick.length > 0))
+      r.fail("yardstick.length", "must be positive (m)");
+    const YAML::Node e = y["ends"];
+    if (!e.IsSequence() || e.size() != 2)
+      r.fail("yardstick.ends", "expected [id_a, id_b], got " + Reader::show(e));
+    const double a = r.number(e[0], "yardstick.ends[0]"), b = r.number(e[1], "yardstick.ends[1]");
+    if (!(a >= 0 && b >= 0 && a == std::floor(a) && b == std::floor(b) && a != b))
+      r.fail("yardstick.ends", "two different non-negative point ids");
+    ds.yardstick.id_a = static_cast<int>(a);
+    ds.yardstick.id_b = static_cast<int>(b);
+  }
+  return ds;
+}
+
+std::string readFile(const std::string &filename)
+{
+  std::ifstream in(filename, std::ios::binary);
+  if (!in)
+    throw vpSelfCalibException(vpSelfCalibException::ioError, std::string(kWhat) + " '" + filename + "': cannot read");
+  std::ostringstream os;
+  os << in.rdbuf();
+  return os.str();
+}
+} // namespace
+
+vpSelfCalibDataset vpSelfCalibDataset::fromYamlString(const std::string &yaml, const std::string &source,
+                                                      const std::string &base_dir)
+{
+  return parse(loadYamlRoot(yaml, kWhat, source), source, base_dir);
+}
+
+vpSelfCalibDataset vpSelfCalibDataset::loadYaml(const std::string &filename)
+{
+  return fromYamlString(readFile(filename), "'" + filename + "'", directoryOf(filename));
+}
+
+std::string vpSelfCalibDataset::toYamlString(const std::string &base_dir) const
+{
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::BeginMap;
+  out << YAML::Key << "camera" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  out << YAML::Key << "width" << YAML::Value << width << YAML::Key << "height" << YAML::Value << height;
+  out << YAML::Key << "u0" << YAML::Value << cam.get_u0() << YAML::Key << "v0" << YAML::Value << cam.get_v0();
+  if (focal_known)
+    out << YAML::Key << "px" << YAML::Value << cam.get_px() << YAML::Key << "py" << YAML::Value << cam.get_py();
+  else
+    out << YAML::Key << "f_guess" << YAML::Value << cam.get_px();
+  out << YAML::EndMap;
+  out << YAML::Key << "robot" << YAML::Value << relativeTo(base_dir, robot);
+  out << YAML::Key << "poses" << YAML::Value << YAML::BeginSeq;
+  for (const View &v : views) {
+    out << YAML::BeginMap;
+    if (v.q.size()) {
+      out << YAML::Key << "joints" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (unsigned int i = 0; i < v.q.size(); ++i)
+        out << v.q[i];
+      out << YAML::EndSeq;
+    }
+    if (v.has_fMe) {
+      const vpPoseVector p(v.fMe);
+      out << YAML::Key << "fMe" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (unsigned int i = 0; i < 6; ++i)
+        out << p[i];
+      out << YAML::EndSeq;
+    }
+    if (!v.image.empty())
+      out << YAML::Key << "image" << YAML::Value << relativeTo(base_dir, v.image);
+    out << YAML::Key << "points" << YAML::Value << YAML::BeginSeq;
+    for (const Observation &o : v.points)
+      out << YAML::Flow << YAML::BeginSeq << o.id << o.ip.get_u() << o.ip.get_v() << YAML::EndSeq;
+    out << YAML::EndSeq << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+  if (yardstick.isSet()) {
+    out << YAML::Key << "yardstick" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "length"
+        << YAML::Value << yardstick.length << YAML::Key << "ends" << YAML::Value << YAML::Flow << YAML::BeginSeq
+        << yardstick.id_a << yardstick.id_b << YAML::EndSeq << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+void vpSelfCalibDataset::saveYaml(const std::string &filename) const
+{
+  writeFileAtomically(filename, toYamlString(directoryOf(filename)), kWhat);
+}

@@ -1,0 +1,133 @@
+/*
+ * ViSP SelfCalib: private YAML helpers shared by the file readers and writers (not installed).
+ */
+#ifndef VP_SELFCALIB_YAML_H
+#define VP_SELFCALIB_YAML_H
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include <visp3/core/vpPoseVector.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+#include <yaml-cpp/yaml.h>
+
+namespace vpSelfCalib
+{
+//! Typed access to YAML nodes; every error names the file kind, the source, the key and what was expected.
+class Reader
+{
+public:
+  Reader(const std::string &what, const std::string &source) : m_what(what), m_source(source) {}
+
+  [[noreturn]] void fail(const std::string &key, const std::string &what) const
+  {
+    throw vpSelfCalibException(vpSelfCalibException::parseError,
+                               m_what + " " + m_source + ": key '" + key + "': " + what);
+  }
+
+  static std::string show(const YAML::Node &n)
+  {
+    if (!n.IsDefined() || n.IsNull())
+      return "nothing";
+    if (n.IsScalar())
+      return "'" + n.Scalar() + "'";
+    return n.IsSequence() ? "a list" : "a map";
+  }
+
+  double number(const YAML::Node &n, const std::string &key) const
+  {
+    if (!n.IsDefined() || n.IsNull())
+      fail(key, "missing; expected a number");
+    if (!n.IsScalar())
+      fail(key, "expected a number, got " + show(n));
+    double v = 0;
+    try {
+      v = n.as<double>();
+    } catch (const YAML::Exception &) {
+      fail(key, "expected a number, got " + show(n));
+    }
+    if (!std::isfinite(v))
+      fail(key, "expected a finite number, got " + show(n));
+    return v;
+  }
+
+  std::string text(const YAML::Node &n, const std::string &key) const
+  {
+    if (!n.IsDefined() || n.IsNull())
+      fail(key, "missing; expected a string");
+    if (!n.IsScalar())
+      fail(key, "expected a string, got " + show(n));
+    return n.Scalar();
+  }
+
+  vpPoseVector pose(const YAML::Node &n, const std::string &key) const
+  {
+    if (!n.IsSequence() || n.size() != 6)
+      fail(key, "expected a pose vector of 6 numbers [tx, ty, tz, tux, tuy, tuz] (m, rad), got " +
+                    (n.IsSequence() ? "a list of " + std::to_string(n.size()) : show(n)));
+    vpPoseVector p;
+    for (unsigned int i = 0; i < 6; ++i)
+      p[i] = number(n[i], key + "[" + std::to_string(i) + "]");
+    return p;
+  }
+
+  void onlyKeys(const YAML::Node &map, const std::set<std::string> &allowed, const std::string &where) const
+  {
+    for (const auto &kv : map) {
+      const std::string k = kv.first.as<std::string>();
+      if (!allowed.count(k)) {
+        std::string list;
+        for (const std::string &a : allowed)
+          list += (list.empty() ? "" : ", ") + a;
+        fail(where.empty() ? k : where + "." + k, "unknown key (expected one of: " + list + ")");
+      }
+    }
+  }
+
+private:
+  std::string m_what, m_source;
+};
+
+//! Parses YAML text; a syntax error names the line and column.
+inline YAML::Node loadYamlRoot(const std::string &text, const std::string &what, const std::string &source)
+{
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::ParserException &e) {
+    std::ostringstream os;
+    os << what << " " << source << ": YAML syntax error at line " << e.mark.line + 1 << ", column "
+       << e.mark.column + 1 << ": " << e.msg;
+    throw vpSelfCalibException(vpSelfCalibException::parseError, os.str());
+  }
+}
+
+//! Writes to a temporary file beside the target and renames it: a failed write never leaves half a file.
+inline void writeFileAtomically(const std::string &filename, const std::string &content, const std::string &what)
+{
+  const std::string tmp = filename + ".tmp";
+  {
+    std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
+    if (!os)
+      throw vpSelfCalibException(vpSelfCalibException::ioError,
+                                 what + " '" + filename + "': cannot open '" + tmp + "' for writing");
+    os << content;
+    os.flush();
+    if (!os) {
+      os.close();
+      std::remove(tmp.c_str());
+      throw vpSelfCalibException(vpSelfCalibException::ioError, what + " '" + filename + "': write failed");
+    }
+  }
+  if (std::rename(tmp.c_str(), filename.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               what + " '" + filename + "': cannot rename the temporary file into place");
+  }
+}
+} // namespace vpSelfCalib
+
+#endif

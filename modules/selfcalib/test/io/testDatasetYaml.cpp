@@ -1,0 +1,173 @@
+/*
+ * Tests of the dataset file: round trip, relative paths, camera XML with distortion, bad input.
+ */
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include <visp3/core/vpMeterPixelConversion.h>
+#include <visp3/core/vpXmlParserCamera.h>
+#include <visp3/selfcalib/vpSelfCalibDataset.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibSimulator.h>
+
+namespace
+{
+vpSelfCalibDataset simulated(bool focal_known)
+{
+  vpSelfCalibSimulator::Options o;
+  o.seed = 61;
+  const vpSelfCalibSimulator sim(vpKinematicChain::preset("viper850"), o);
+  vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(4));
+  ds.focal_known = focal_known;
+  if (!focal_known)
+    ds.cam.initPersProjWithoutDistortion(1400, 1400, ds.cam.get_u0(), ds.cam.get_v0());
+  ds.views[1].has_fMe = true;
+  ds.views[1].fMe = sim.getNominalChain().get_fMe(ds.views[1].q);
+  return ds;
+}
+
+void expectSame(const vpSelfCalibDataset &a, const vpSelfCalibDataset &b)
+{
+  EXPECT_EQ(a.width, b.width);
+  EXPECT_EQ(a.height, b.height);
+  EXPECT_EQ(a.focal_known, b.focal_known);
+  EXPECT_EQ(a.cam.get_px(), b.cam.get_px());
+  EXPECT_EQ(a.cam.get_py(), b.cam.get_py());
+  EXPECT_EQ(a.cam.get_u0(), b.cam.get_u0());
+  EXPECT_EQ(a.cam.get_v0(), b.cam.get_v0());
+  EXPECT_EQ(a.robot, b.robot);
+  ASSERT_EQ(a.views.size(), b.views.size());
+  for (size_t k = 0; k < a.views.size(); ++k) {
+    ASSERT_EQ(a.views[k].q.size(), b.views[k].q.size());
+    for (unsigned int i = 0; i < a.views[k].q.size(); ++i)
+      EXPECT_EQ(a.views[k].q[i], b.views[k].q[i]);
+    EXPECT_EQ(a.views[k].has_fMe, b.views[k].has_fMe);
+    if (a.views[k].has_fMe)
+      for (unsigned int i = 0; i < 3; ++i)
+        for (unsigned int j = 0; j < 4; ++j)
+          EXPECT_NEAR(a.views[k].fMe[i][j], b.views[k].fMe[i][j], 1e-15);
+    EXPECT_EQ(a.views[k].image, b.views[k].image);
+    ASSERT_EQ(a.views[k].points.size(), b.views[k].points.size());
+    for (size_t j = 0; j < a.views[k].points.size(); ++j) {
+      EXPECT_EQ(a.views[k].points[j].id, b.views[k].points[j].id);
+      EXPECT_EQ(a.views[k].points[j].ip.get_u(), b.views[k].points[j].ip.get_u());
+      EXPECT_EQ(a.views[k].points[j].ip.get_v(), b.views[k].points[j].ip.get_v());
+    }
+  }
+  EXPECT_EQ(a.yardstick.length, b.yardstick.length);
+  EXPECT_EQ(a.yardstick.id_a, b.yardstick.id_a);
+  EXPECT_EQ(a.yardstick.id_b, b.yardstick.id_b);
+}
+
+// The message of the exception thrown by parsing text, or "" when none.
+std::string parseError(const std::string &yaml)
+{
+  try {
+    vpSelfCalibDataset::fromYamlString(yaml, "<test>");
+  } catch (const vpSelfCalibException &e) {
+    return e.getStringMessage();
+  }
+  return "";
+}
+
+const std::string kHead = "camera: {width: 640, height: 480, u0: 320, v0: 240, px: 1500, py: 1500}\nrobot: viper850\n";
+} // namespace
+
+TEST(DatasetYaml, RoundTripIsExact)
+{
+  for (bool known : {true, false}) {
+    const vpSelfCalibDataset ds = simulated(known);
+    expectSame(ds, vpSelfCalibDataset::fromYamlString(ds.toYamlString()));
+  }
+}
+
+TEST(DatasetYaml, FileRoundTripWithRelativePaths)
+{
+  char dir[] = "/tmp/selfcalib-dataset-XXXXXX";
+  ASSERT_NE(mkdtemp(dir), nullptr);
+  vpSelfCalibDataset ds = simulated(true);
+  ds.views[0].image = std::string(dir) + "/images/0001.png";
+  ds.views[2].image = "/elsewhere/0003.png";
+  const std::string file = std::string(dir) + "/dataset.yaml";
+  ds.saveYaml(file);
+  std::ifstream in(file);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("image: images/0001.png"), std::string::npos);
+  EXPECT_NE(text.find("image: /elsewhere/0003.png"), std::string::npos);
+  expectSame(ds, vpSelfCalibDataset::loadYaml(file));
+  std::remove(file.c_str());
+  rmdir(dir);
+}
+
+// A camera XML with ViSP's distortion model: observations are undistorted on reading.
+TEST(DatasetYaml, CameraXmlDistortionIsAppliedToObservations)
+{
+  char dir[] = "/tmp/selfcalib-xml-XXXXXX";
+  ASSERT_NE(mkdtemp(dir), nullptr);
+  vpCameraParameters cam;
+  const double kud = -0.05, kdu = 0.05;
+  cam.initPersProjWithDistortion(1500, 1502, 321, 239, kud, kdu);
+  const std::string xml = std::string(dir) + "/camera.xml";
+  vpXmlParserCamera parser;
+  ASSERT_EQ(parser.save(cam, xml, "Flea2", 640, 480), vpXmlParserCamera::SEQUENCE_OK);
+  // Ideal (undistorted) normalized points, their distorted pixels.
+  std::string yaml = "camera_xml: {file: camera.xml, name: Flea2}\nrobot: viper850\nposes:\n  - joints: [0, 0, 0, 0, 0, 0]\n    points: [";
+  const double xs[3][2] = {{0.0, 0.0}, {0.15, -0.1}, {-0.2, 0.14}};
+  for (int i = 0; i < 3; ++i) {
+    double u = 0, v = 0;
+    vpMeterPixelConversion::convertPoint(cam, xs[i][0], xs[i][1], u, v);
+    yaml += (i ? ", [" : "[") + std::to_string(i) + ", " + std::to_string(u) + ", " + std::to_string(v) + "]";
+  }
+  yaml += "]\n";
+  const vpSelfCalibDataset ds = vpSelfCalibDataset::fromYamlString(yaml, "<xml test>", dir);
+  EXPECT_EQ(ds.width, 640u);
+  EXPECT_EQ(ds.height, 480u);
+  EXPECT_TRUE(ds.focal_known);
+  EXPECT_EQ(ds.cam.get_projModel(), vpCameraParameters::perspectiveProjWithoutDistortion);
+  for (int i = 0; i < 3; ++i) {
+    const vpImagePoint &ip = ds.views[0].points[i].ip;
+    // ViSP's two-coefficient model is inverted to first order: 0.05 px at the image corners here.
+    EXPECT_NEAR(ip.get_u(), 321 + 1500 * xs[i][0], 0.05) << i;
+    EXPECT_NEAR(ip.get_v(), 239 + 1502 * xs[i][1], 0.05) << i;
+  }
+  EXPECT_NE(parseError("camera_xml: {file: /nonexistent.xml, name: Flea2}\nrobot: viper850\nposes: []\n")
+                .find("camera_xml.file"),
+            std::string::npos);
+  EXPECT_THROW(vpSelfCalibDataset::fromYamlString("camera_xml: {file: camera.xml, name: Other}\nrobot: viper850\nposes: []\n",
+                                                  "<t>", dir),
+               vpSelfCalibException);
+  std::remove(xml.c_str());
+  rmdir(dir);
+}
+
+// Every kind of malformed input gets an error naming the key and what was expected.
+TEST(DatasetYaml, BadInputNamesTheKey)
+{
+  const std::string pose = "poses:\n  - joints: [0, 0, 0, 0, 0, 0]\n    points: [[1, 10, 20]]\n";
+  EXPECT_EQ(parseError(kHead + pose), "");
+  const std::pair<std::string, std::string> cases[] = {
+      {"robot: viper850\n" + pose, "camera"},
+      {"camera: {width: 640, height: 480, u0: 320, v0: 240, px: 1500}\nrobot: viper850\n" + pose, "camera.py"},
+      {"camera: {width: -4, height: 480, u0: 320, v0: 240}\nrobot: viper850\n" + pose, "camera"},
+      {kHead, "poses"},
+      {kHead + "poses:\n  - joints: [0, .nan, 0, 0, 0, 0]\n", "poses[0].joints[1]"},
+      {kHead + "poses:\n  - joints: [0, 0, 0, 0, 0, 0]\n  - joints: [0, 0, 0]\n", "poses[1].joints"},
+      {kHead + "poses:\n  - image: a.png\n", "poses[0]"},
+      {kHead + "poses:\n  - joints: [0, 0, 0, 0, 0, 0]\n    points: [[1, 10, 20], [1, 11, 21]]\n", "poses[0].points[1]"},
+      {kHead + "poses:\n  - joints: [0, 0, 0, 0, 0, 0]\n    points: [[-1, 10, 20]]\n", "poses[0].points[0][0]"},
+      {kHead + "poses:\n  - joints: [0, 0, 0, 0, 0, 0]\n    points: [[1, 10]]\n", "poses[0].points[0]"},
+      {kHead + "poses:\n  - joints: [0, 0, 0, 0, 0, 0]\n    pixels: []\n", "poses[0].pixels"},
+      {kHead + pose + "yardstick: {length: 0.1, ends: [3, 3]}\n", "yardstick.ends"},
+      {kHead + pose + "yardstick: {length: -0.1, ends: [3, 4]}\n", "yardstick.length"},
+      {kHead + "poses: [\n", "syntax error"},
+      {"- 1\n- 2\n", "top level"},
+  };
+  for (const auto &c : cases) {
+    const std::string msg = parseError(c.first);
+    EXPECT_NE(msg.find(c.second), std::string::npos) << "input:\n" << c.first << "\nmessage: " << msg;
+  }
+  EXPECT_THROW(vpSelfCalibDataset::loadYaml("/nonexistent/dataset.yaml"), vpSelfCalibException);
+}
