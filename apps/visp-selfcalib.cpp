@@ -1,12 +1,17 @@
 /*
  * visp-selfcalib: command-line tool of ViSP SelfCalib.
  *
- *   visp-selfcalib info    MODEL                 robot model summary and error-model parameters
- *   visp-selfcalib predict MODEL [JOINTS_FILE]   fMc for each joint vector (one per line, rad;
- *                                                from the file or standard input), printed as
- *                                                one pose vector per line: tx ty tz tux tuy tuz
+ *   visp-selfcalib info      MODEL                 robot model summary and error-model parameters
+ *   visp-selfcalib predict   MODEL [JOINTS_FILE]   fMc for each joint vector (one per line, rad;
+ *                                                  from the file or standard input), printed as
+ *                                                  one pose vector per line: tx ty tz tux tuy tuz
+ *   visp-selfcalib simulate  OUT.yaml [options]    a dataset of the reference scenario (observations)
+ *   visp-selfcalib calibrate DATASET --out DIR [options]
+ *                                                  calibrated model, camera and results in DIR
+ *   visp-selfcalib verify    MODEL DATASET         the paper's 3-D yardstick error of a model
  * MODEL is a preset name (puma560, viper850) or a robot-model YAML file.
- * Exit codes: 0 success, 1 bad input (message on stderr), 2 bad usage.
+ * Exit codes: 0 success, 1 bad input (message on stderr), 2 bad usage, 3 the calibration failed
+ * (its status and message on stderr). Outputs are written atomically and never over an input.
  */
 #include <fstream>
 #include <iomanip>
@@ -14,18 +19,37 @@
 #include <sstream>
 #include <string>
 
+#include <cstdlib>
+#include <limits.h>
+#include <sys/stat.h>
+#include <vector>
+
 #include <visp3/core/vpPoseVector.h>
+#include <visp3/core/vpXmlParserCamera.h>
+#include <visp3/selfcalib/vpCalibrationVerifier.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibDataset.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
 namespace
 {
 int usage(std::ostream &os, int code)
 {
   os << "Usage:\n"
-     << "  visp-selfcalib info    MODEL\n"
-     << "  visp-selfcalib predict MODEL [JOINTS_FILE]\n"
-     << "MODEL: a preset (puma560, viper850) or a robot-model YAML file.\n"
+     << "  visp-selfcalib info      MODEL\n"
+     << "  visp-selfcalib predict   MODEL [JOINTS_FILE]\n"
+     << "  visp-selfcalib simulate  OUT.yaml [--robot NAME] [--seed N] [--poses N] [--noise PX] [--focal known|shared]\n"
+     << "                           [--force]\n"
+     << "  visp-selfcalib calibrate DATASET --out DIR [--method bundle|paper] [--calibration N] [--pixel-sd PX]\n"
+     << "                           [--focal auto|known|shared|per-pair]\n"
+     << "  visp-selfcalib verify    MODEL DATASET\n"
+     << "MODEL: a preset (puma560, viper850) or a robot-model YAML file. DATASET: a dataset YAML file (README).\n"
+     << "simulate writes the reference scenario's observations (no images); --force replaces an existing file.\n"
+     << "calibrate uses the first N views (default 15, or all but 2 when fewer) and verifies on the others;\n"
+     << "it writes DIR/model.yaml, DIR/camera.xml and DIR/results.yaml, never over an input.\n"
+     << "verify prints the paper's 3-D yardstick error of MODEL on the dataset's views.\n"
      << "predict reads one joint vector per line (rad, separated by spaces or commas; '#' starts a comment)\n"
      << "from JOINTS_FILE or standard input and prints fMc as 'tx ty tz tux tuy tuz' (m, rad) per line.\n";
   return code;
@@ -85,6 +109,241 @@ int predict(const vpKinematicChain &c, std::istream &in, const std::string &sour
   }
   return 0;
 }
+//! Canonical path of an existing file or directory, or "" when it does not exist.
+std::string canonical(const std::string &p)
+{
+  char buf[PATH_MAX];
+  return realpath(p.c_str(), buf) ? std::string(buf) : std::string();
+}
+
+struct BadUsage : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+double numberArg(const std::vector<std::string> &a, size_t &i)
+{
+  if (i + 1 >= a.size())
+    throw BadUsage(a[i] + " needs a value");
+  const std::string &v = a[++i];
+  size_t used = 0;
+  double x = 0;
+  try {
+    x = std::stod(v, &used);
+  } catch (const std::exception &) {
+    used = 0;
+  }
+  if (used == 0 || used != v.size() || !std::isfinite(x))
+    throw BadUsage(a[i - 1] + ": '" + v + "' is not a number");
+  return x;
+}
+
+std::string textArg(const std::vector<std::string> &a, size_t &i)
+{
+  if (i + 1 >= a.size())
+    throw BadUsage(a[i] + " needs a value");
+  return a[++i];
+}
+
+int simulate(const std::vector<std::string> &a)
+{
+  std::string out, robot = "viper850", focal = "known";
+  vpSelfCalibSimulator::Options so;
+  unsigned int poses = 25;
+  bool force = false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i] == "--robot")
+      robot = textArg(a, i);
+    else if (a[i] == "--seed")
+      so.seed = static_cast<uint64_t>(numberArg(a, i));
+    else if (a[i] == "--poses")
+      poses = static_cast<unsigned int>(numberArg(a, i));
+    else if (a[i] == "--noise")
+      so.pixel_noise_sd = numberArg(a, i);
+    else if (a[i] == "--focal")
+      focal = textArg(a, i);
+    else if (a[i] == "--force")
+      force = true;
+    else if (!a[i].empty() && a[i][0] == '-')
+      throw BadUsage("simulate: unknown option '" + a[i] + "'");
+    else if (out.empty())
+      out = a[i];
+    else
+      throw BadUsage("simulate: one output file");
+  }
+  if (out.empty())
+    throw BadUsage("simulate: the output file is missing");
+  if (focal != "known" && focal != "shared")
+    throw BadUsage("simulate: --focal is known or shared");
+  if (poses < 3)
+    throw BadUsage("simulate: --poses must be at least 3");
+  if (!force && !canonical(out).empty()) {
+    std::cerr << "error: '" << out << "' exists; use --force to replace it\n";
+    return 1;
+  }
+  const vpSelfCalibSimulator sim(vpKinematicChain::preset(robot), so);
+  vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(poses, [](unsigned int d, unsigned int n) {
+    std::cerr << "configurations " << d << "/" << n << "\r" << std::flush;
+  }));
+  std::cerr << "\n";
+  ds.robot = robot;
+  if (focal == "shared") {
+    ds.focal_known = false;
+    ds.cam.initPersProjWithoutDistortion(0.93 * so.px, 0.93 * so.py, so.u0, so.v0);
+  }
+  ds.saveYaml(out);
+  std::cout << "wrote " << out << ": " << poses << " poses of " << robot << ", " << sim.getScenePoints().size()
+            << " scene points, noise " << so.pixel_noise_sd << " px\n";
+  return 0;
+}
+
+std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinematicChain &nominal,
+                        const std::string &dataset)
+{
+  std::ostringstream os;
+  os << std::setprecision(17);
+  os << "dataset: " << dataset << "\nmethod: " << vpRobotSelfCalibration::methodName(r.method) << "\nstatus: "
+     << vpRobotSelfCalibration::statusName(r.status) << "\nmessage: \"" << r.message << "\"\n";
+  os << "camera: {px: " << r.camera.get_px() << ", py: " << r.camera.get_py() << ", u0: " << r.camera.get_u0()
+     << ", v0: " << r.camera.get_v0() << ", px_sd: " << r.fx_sd << "}\n";
+  if (r.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT)
+    os << "bundle_adjustment: {observations: " << r.bundle.num_observations << ", dropped: " << r.bundle.num_outliers
+       << ", rms_px: " << r.bundle.rms << ", sigma0: " << r.bundle.sigma0 << ", scale_from: \""
+       << vpKinematicBundleAdjustment::scaleSourceName(r.bundle.scale_source) << "\"}\n";
+  const std::vector<std::string> names = nominal.getParameterNames();
+  os << "estimated:  # per parameter: value and sd (m or rad)\n";
+  for (unsigned int k : r.identifiability.identified)
+    os << "  " << names[k] << ": [" << r.calibrated.getParameters()[k] << ", "
+       << (k < r.parameter_sd.size() ? r.parameter_sd[k] : 0.0) << "]\n";
+  os << "not_estimated:\n";
+  for (const auto &u : r.identifiability.unidentifiable)
+    os << "  " << u.name << ": \"" << u.reason << "\"\n";
+  if (r.verified)
+    os << "verification:  # the paper's 3-D yardstick error on the held-out views (m)\n"
+       << "  yardstick_error_nominal: " << r.before.yardstick_error << "\n  yardstick_error_calibrated: "
+       << r.after.yardstick_error << "\n";
+  os << "seconds:\n";
+  for (const auto &st : r.stage_seconds)
+    os << "  " << st.first << ": " << st.second << "\n";
+  return os.str();
+}
+
+int calibrate(const std::vector<std::string> &a)
+{
+  std::string dataset, out, method = "bundle", focal = "auto";
+  unsigned int calibration = 0;
+  double pixel_sd = 0.2;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i] == "--out")
+      out = textArg(a, i);
+    else if (a[i] == "--method")
+      method = textArg(a, i);
+    else if (a[i] == "--focal")
+      focal = textArg(a, i);
+    else if (a[i] == "--calibration")
+      calibration = static_cast<unsigned int>(numberArg(a, i));
+    else if (a[i] == "--pixel-sd")
+      pixel_sd = numberArg(a, i);
+    else if (!a[i].empty() && a[i][0] == '-')
+      throw BadUsage("calibrate: unknown option '" + a[i] + "'");
+    else if (dataset.empty())
+      dataset = a[i];
+    else
+      throw BadUsage("calibrate: one dataset file");
+  }
+  if (dataset.empty() || out.empty())
+    throw BadUsage("calibrate: a dataset and --out DIR are needed");
+  vpRobotSelfCalibration::Options po;
+  po.method = vpRobotSelfCalibration::methodFromName(method);
+  if (focal == "auto")
+    po.focal_mode = vpRobotSelfCalibration::FOCAL_AUTO;
+  else if (focal == "known")
+    po.focal_mode = vpRobotSelfCalibration::FOCAL_KNOWN;
+  else if (focal == "shared")
+    po.focal_mode = vpRobotSelfCalibration::FOCAL_SHARED;
+  else if (focal == "per-pair")
+    po.focal_mode = vpRobotSelfCalibration::FOCAL_PER_PAIR;
+  else
+    throw BadUsage("calibrate: --focal is auto, known, shared or per-pair");
+  po.pixel_sd = pixel_sd;
+
+  const vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
+  const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
+  const unsigned int m = static_cast<unsigned int>(ds.views.size());
+  po.num_calibration_poses = calibration ? calibration : (m >= 17 ? 15 : std::max(3u, m > 2 ? m - 2 : m));
+
+  // Outputs: never over an input (the dataset or the robot model file).
+  if (canonical(out).empty() && mkdir(out.c_str(), 0777) != 0) {
+    std::cerr << "error: cannot create the output directory '" << out << "'\n";
+    return 1;
+  }
+  const std::string files[3] = {out + "/model.yaml", out + "/camera.xml", out + "/results.yaml"};
+  for (const std::string &f : files) {
+    const std::string c = canonical(f);
+    if (!c.empty() && (c == canonical(dataset) || c == canonical(ds.robot))) {
+      std::cerr << "error: '" << f << "' is an input of this run; choose another --out\n";
+      return 1;
+    }
+  }
+  const vpRobotSelfCalibration::Result r =
+      vpRobotSelfCalibration::run(nominal, ds, po, [](const std::string &stage, unsigned int, unsigned int) {
+        std::cerr << "... " << stage << "\n";
+      });
+  if (r.status != vpRobotSelfCalibration::OK) {
+    std::cerr << "calibration failed: " << vpRobotSelfCalibration::statusName(r.status) << ": " << r.message << "\n";
+    return 3;
+  }
+  vpKinematicChain model = r.calibrated;
+  model.setName(nominal.getName() + "-calibrated");
+  model.saveYaml(files[0]);
+  {
+    // vpXmlParserCamera has no atomic write: it writes a temporary file that is renamed here.
+    const std::string tmp = files[1] + ".tmp";
+    std::remove(tmp.c_str());
+    vpXmlParserCamera xml;
+    if (xml.save(r.camera, tmp, "Camera", ds.width, ds.height, "self-calibrated by visp-selfcalib") !=
+            vpXmlParserCamera::SEQUENCE_OK ||
+        std::rename(tmp.c_str(), files[1].c_str()) != 0) {
+      std::cerr << "error: cannot write '" << files[1] << "'\n";
+      return 1;
+    }
+  }
+  {
+    const std::string tmp = files[2] + ".tmp";
+    std::ofstream os(tmp);
+    os << resultsYaml(r, nominal, dataset);
+    os.close();
+    if (!os || std::rename(tmp.c_str(), files[2].c_str()) != 0) {
+      std::cerr << "error: cannot write '" << files[2] << "'\n";
+      return 1;
+    }
+  }
+  std::cout << "calibrated " << r.identifiability.identified.size() << " parameters on " << po.num_calibration_poses
+            << " views (" << vpRobotSelfCalibration::methodName(r.method) << "), f_x " << std::setprecision(6)
+            << r.camera.get_px() << " px";
+  if (r.verified)
+    std::cout << "; yardstick 3-D error on the held-out views " << std::setprecision(3)
+              << 1e3 * r.before.yardstick_error << " mm (nominal) -> " << 1e3 * r.after.yardstick_error << " mm";
+  std::cout << "\nwrote " << files[0] << ", " << files[1] << ", " << files[2] << "\n";
+  return 0;
+}
+
+int verify(const std::string &model_name, const std::string &dataset)
+{
+  const vpKinematicChain model = vpKinematicChain::fromPresetOrFile(model_name);
+  const vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
+  if (!ds.yardstick.isSet()) {
+    std::cerr << "error: dataset '" << dataset << "' has no yardstick to verify against\n";
+    return 1;
+  }
+  const vpCalibrationVerifier::Result v = vpCalibrationVerifier::verify(model, ds.cam, ds.views, ds.yardstick);
+  if (!v.has_yardstick) {
+    std::cerr << "error: the yardstick's ends are not seen in two views of '" << dataset << "'\n";
+    return 1;
+  }
+  std::cout << std::setprecision(6) << "yardstick length " << v.yardstick_length << " m (true " << ds.yardstick.length
+            << "), 3-D error " << 1e3 * v.yardstick_error << " mm, " << v.points.size() << " points triangulated\n";
+  return 0;
+}
 } // namespace
 
 int main(int argc, char **argv)
@@ -94,24 +353,42 @@ int main(int argc, char **argv)
   const std::string cmd = argv[1];
   if (cmd == "-h" || cmd == "--help" || cmd == "help")
     return usage(std::cout, 0);
-  if ((cmd != "info" && cmd != "predict") || argc < 3 || (cmd == "info" && argc != 3) || argc > 4 ||
-      std::string(argv[2]) == "--help")
-    return usage(std::cerr, 2);
+  const std::vector<std::string> rest(argv + 2, argv + argc);
+  for (const std::string &a : rest)
+    if (a == "--help" || a == "-h")
+      return usage(std::cout, 0);
   try {
-    const vpKinematicChain chain = vpKinematicChain::fromPresetOrFile(argv[2]);
+    if (cmd == "simulate")
+      return simulate(rest);
+    if (cmd == "calibrate")
+      return calibrate(rest);
+    if (cmd == "verify") {
+      if (rest.size() != 2)
+        throw BadUsage("verify: MODEL DATASET");
+      return verify(rest[0], rest[1]);
+    }
+    if ((cmd != "info" && cmd != "predict") || rest.empty() || (cmd == "info" && rest.size() != 1) || rest.size() > 2)
+      return usage(std::cerr, 2);
+    const vpKinematicChain chain = vpKinematicChain::fromPresetOrFile(rest[0]);
     if (cmd == "info")
       return info(chain);
-    if (argc == 4) {
-      std::ifstream in(argv[3]);
+    if (rest.size() == 2) {
+      std::ifstream in(rest[1]);
       if (!in) {
-        std::cerr << "error: cannot open joints file '" << argv[3] << "'\n";
+        std::cerr << "error: cannot open joints file '" << rest[1] << "'\n";
         return 1;
       }
-      return predict(chain, in, argv[3]);
+      return predict(chain, in, rest[1]);
     }
     return predict(chain, std::cin, "<stdin>");
+  } catch (const BadUsage &e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return usage(std::cerr, 2);
   } catch (const vpException &e) {
     std::cerr << "error: " << e.getStringMessage() << "\n";
+    return 1;
+  } catch (const std::exception &e) {
+    std::cerr << "error: " << e.what() << "\n";
     return 1;
   }
 }
