@@ -41,12 +41,15 @@ int usage(std::ostream &os, int code)
      << "  visp-selfcalib info      MODEL\n"
      << "  visp-selfcalib predict   MODEL [JOINTS_FILE]\n"
      << "  visp-selfcalib simulate  OUT.yaml [--robot NAME] [--seed N] [--poses N] [--noise PX] [--focal known|shared]\n"
-     << "                           [--force]\n"
-     << "  visp-selfcalib calibrate DATASET --out DIR [--method bundle|paper] [--calibration N] [--pixel-sd PX]\n"
+     << "                           [--controller-poses] [--force]\n"
+     << "  visp-selfcalib calibrate DATASET --out DIR [--method bundle|paper|hand-eye] [--calibration N]\n"
+     << "                           [--pixel-sd PX]\n"
      << "                           [--focal auto|known|shared|per-pair]\n"
      << "  visp-selfcalib verify    MODEL DATASET\n"
      << "MODEL: a preset (puma560, viper850) or a robot-model YAML file. DATASET: a dataset YAML file (README).\n"
-     << "simulate writes the reference scenario's observations (no images); --force replaces an existing file.\n"
+     << "simulate writes the reference scenario's observations (no images); --controller-poses writes the true\n"
+     << "end-effector poses fMe instead of joints; --force replaces an existing file.\n"
+     << "calibrate: the method defaults to hand-eye when the dataset has poses without joints, else bundle.\n"
      << "calibrate uses the first N views (default 15, or all but 2 when fewer) and verifies on the others;\n"
      << "it writes DIR/model.yaml, DIR/camera.xml and DIR/results.yaml, never over an input.\n"
      << "verify prints the paper's 3-D yardstick error of MODEL on the dataset's views.\n"
@@ -149,9 +152,11 @@ int simulate(const std::vector<std::string> &a)
   std::string out, robot = "viper850", focal = "known";
   vpSelfCalibSimulator::Options so;
   unsigned int poses = 25;
-  bool force = false;
+  bool force = false, controller = false;
   for (size_t i = 0; i < a.size(); ++i) {
-    if (a[i] == "--robot")
+    if (a[i] == "--controller-poses")
+      controller = true;
+    else if (a[i] == "--robot")
       robot = textArg(a, i);
     else if (a[i] == "--seed")
       so.seed = static_cast<uint64_t>(numberArg(a, i));
@@ -186,6 +191,13 @@ int simulate(const std::vector<std::string> &a)
   }));
   std::cerr << "\n";
   ds.robot = robot;
+  if (controller)
+    // What a controller reports: the (true) end-effector pose, no joints.
+    for (auto &v : ds.views) {
+      v.has_fMe = true;
+      v.fMe = sim.getTrueChain().get_fMe(v.q);
+      v.q = vpColVector();
+    }
   if (focal == "shared") {
     ds.focal_known = false;
     ds.cam.initPersProjWithoutDistortion(0.93 * so.px, 0.93 * so.py, so.u0, so.v0);
@@ -229,7 +241,7 @@ std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinemat
 
 int calibrate(const std::vector<std::string> &a)
 {
-  std::string dataset, out, method = "bundle", focal = "auto";
+  std::string dataset, out, method, focal = "auto";
   unsigned int calibration = 0;
   double pixel_sd = 0.2;
   for (size_t i = 0; i < a.size(); ++i) {
@@ -253,7 +265,8 @@ int calibrate(const std::vector<std::string> &a)
   if (dataset.empty() || out.empty())
     throw BadUsage("calibrate: a dataset and --out DIR are needed");
   vpRobotSelfCalibration::Options po;
-  po.method = vpRobotSelfCalibration::methodFromName(method);
+  if (!method.empty())
+    po.method = vpRobotSelfCalibration::methodFromName(method);
   if (focal == "auto")
     po.focal_mode = vpRobotSelfCalibration::FOCAL_AUTO;
   else if (focal == "known")
@@ -268,6 +281,10 @@ int calibrate(const std::vector<std::string> &a)
 
   const vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
+  if (method.empty())
+    for (const auto &v : ds.views)
+      if (v.q.size() == 0 && v.has_fMe)
+        po.method = vpRobotSelfCalibration::HAND_EYE;
   const unsigned int m = static_cast<unsigned int>(ds.views.size());
   po.num_calibration_poses = calibration ? calibration : (m >= 17 ? 15 : std::max(3u, m > 2 ? m - 2 : m));
 

@@ -53,6 +53,38 @@ void computeView(const vpKinematicChain &chain, const std::vector<unsigned int> 
 }
 
 /*
+  Hand-eye-only mode: fMc = fMe eMc D(t, r) with fMe given (trusted kinematics) and only the eMc
+  correction estimated. With A = fMe eMc (nominal): d p / dt = R_A, d phi / dr = R_A J_l(r) (the
+  chain's formula for its last block). id holds the chain indices of the estimated eMc components.
+*/
+void computeHandEyeView(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const Rigid &fMe,
+                        bool with_jacobian, ViewState &v)
+{
+  const unsigned int first = chain.getNumParameters() - vpKinematicChain::kBlockSize;
+  const Rigid A = fMe * rigidFromPose(chain.get_eMc_pose());
+  const Rigid M = rigidFromVisp(toVisp(fMe) * chain.get_eMc_corrected());
+  v.RT = M.R.transpose();
+  v.tf = M.t;
+  if (!with_jacobian)
+    return;
+  const Eigen::Vector3d r(chain.getParameters()[first + 3], chain.getParameters()[first + 4],
+                          chain.getParameters()[first + 5]);
+  const Eigen::Matrix3d Jr = A.R * leftJacobianSO3(r);
+  const int P = static_cast<int>(id.size());
+  Eigen::Matrix<double, 3, Eigen::Dynamic> Jt = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, P),
+                                          Jp = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, P);
+  for (int c = 0; c < P; ++c) {
+    const unsigned int a = id[c] - first;
+    if (a < 3)
+      Jt.col(c) = A.R.col(a);
+    else
+      Jp.col(c) = Jr.col(a - 3);
+  }
+  v.A = v.RT * Jt;
+  v.C = v.RT * Jp;
+}
+
+/*
   Projection of X (f) through a view: (u, v), and on request its derivatives with respect to the
   corrections (2 x P), the intrinsics (2 x 5) and X (2 x 3). in = (p_x, mu, u0, v0, k_ud).
 */
@@ -95,8 +127,9 @@ bool project(const ViewState &v, const double *in, const double *Xp, double uv[2
 class KinematicState : public ceres::EvaluationCallback
 {
 public:
-  KinematicState(const vpKinematicChain &start, const std::vector<unsigned int> &id, const std::vector<vpColVector> &q)
-    : chain(start), base(start.getParameters()), id(id), q(q), rho(id.size()), views(q.size())
+  KinematicState(const vpKinematicChain &start, const std::vector<unsigned int> &id, const std::vector<vpColVector> &q,
+                 const std::vector<Rigid> &fMe = std::vector<Rigid>())
+    : chain(start), base(start.getParameters()), id(id), q(q), fMe(fMe), rho(id.size()), views(q.size())
   {
     for (size_t i = 0; i < id.size(); ++i)
       rho[i] = base[id[i]];
@@ -113,7 +146,10 @@ public:
       p[id[i]] = rho[i];
     chain.setParameters(p);
     for (size_t k = 0; k < q.size(); ++k)
-      computeView(chain, id, q[k], with_jacobians, views[k]);
+      if (fMe.empty())
+        computeView(chain, id, q[k], with_jacobians, views[k]);
+      else
+        computeHandEyeView(chain, id, fMe[k], with_jacobians, views[k]);
     has_jacobians_ = with_jacobians;
   }
 
@@ -121,6 +157,7 @@ public:
   vpColVector base;
   std::vector<unsigned int> id;
   std::vector<vpColVector> q;
+  std::vector<Rigid> fMe; //!< hand-eye-only mode: the trusted end-effector poses (else empty)
   std::vector<double> rho;
   std::vector<ViewState> views;
 
@@ -264,9 +301,21 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: the camera needs positive px and py");
   std::vector<vpColVector> q(m);
+  std::vector<Rigid> fMe;
   std::map<int, unsigned int> seen;
   for (unsigned int k = 0; k < m; ++k) {
-    if (views[k].q.size() != start.getNumJoints() || !allFinite(views[k].q))
+    const bool has_q = views[k].q.size() == start.getNumJoints() && allFinite(views[k].q);
+    if (opt.hand_eye_only) {
+      if (!views[k].has_fMe && !has_q)
+        throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                                   "vpKinematicBundleAdjustment: view " + std::to_string(k) +
+                                       " needs an end-effector pose fMe or " + std::to_string(start.getNumJoints()) +
+                                       " finite joint values");
+      fMe.push_back(rigidFromVisp(views[k].has_fMe ? views[k].fMe : start.get_fMe(views[k].q)));
+      if (!fMe.back().R.allFinite() || !fMe.back().t.allFinite())
+        throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                   "vpKinematicBundleAdjustment: view " + std::to_string(k) + " has a non-finite fMe");
+    } else if (!has_q)
       throw vpSelfCalibException(vpSelfCalibException::dimensionError,
                                  "vpKinematicBundleAdjustment: view " + std::to_string(k) + " needs " +
                                      std::to_string(start.getNumJoints()) + " finite joint values");
@@ -298,20 +347,39 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   res.camera = camera;
   res.sd.resize(start.getNumParameters());
 
-  // Estimated corrections: independent for the relative poses of the views at the start model.
-  std::vector<vpKinematicIdentification::Measurement> rel;
-  const vpHomogeneousMatrix fMc0 = start.get_fMc(q[0]);
-  for (unsigned int k = 1; k < m; ++k) {
-    vpKinematicIdentification::Measurement me;
-    me.q = q[k];
-    me.q_ref = q[0];
-    me.M = start.get_fMc(q[k]).inverse() * fMc0;
-    rel.push_back(me);
+  const std::vector<std::string> names = start.getParameterNames();
+  if (opt.hand_eye_only) {
+    // The eMc correction, but for the components the caller fixes; the kinematics are trusted.
+    const unsigned int first = start.getNumParameters() - vpKinematicChain::kBlockSize;
+    for (unsigned int i = 0; i < start.getNumParameters(); ++i) {
+      const bool fixed = std::find(opt.fixed.begin(), opt.fixed.end(), names[i]) != opt.fixed.end();
+      if (i >= first && !fixed)
+        res.identifiability.identified.push_back(i);
+      else
+        res.identifiability.unidentifiable.push_back(
+            {i, names[i], fixed ? "fixed by the caller" : "hand-eye-only mode: the robot's kinematics are trusted"});
+    }
+    for (const std::string &f : opt.fixed)
+      if (std::find(names.begin(), names.end(), f) == names.end())
+        throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                   "vpKinematicBundleAdjustment: unknown fixed parameter '" + f + "'");
+    res.identifiability.rank = static_cast<unsigned int>(res.identifiability.identified.size());
+  } else {
+    // Estimated corrections: independent for the relative poses of the views at the start model.
+    std::vector<vpKinematicIdentification::Measurement> rel;
+    const vpHomogeneousMatrix fMc0 = start.get_fMc(q[0]);
+    for (unsigned int k = 1; k < m; ++k) {
+      vpKinematicIdentification::Measurement me;
+      me.q = q[k];
+      me.q_ref = q[0];
+      me.M = start.get_fMc(q[k]).inverse() * fMc0;
+      rel.push_back(me);
+    }
+    vpKinematicIdentification::Options io;
+    io.rank_tolerance = opt.rank_tolerance;
+    io.fixed = opt.fixed;
+    res.identifiability = vpKinematicIdentification::analyse(start, rel, io);
   }
-  vpKinematicIdentification::Options io;
-  io.rank_tolerance = opt.rank_tolerance;
-  io.fixed = opt.fixed;
-  res.identifiability = vpKinematicIdentification::analyse(start, rel, io);
   const std::vector<unsigned int> &id = res.identifiability.identified;
   const int P = static_cast<int>(id.size());
 
@@ -342,11 +410,12 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     return res;
   }
 
-  KinematicState state(start, id, q);
+  KinematicState state(start, id, q, fMe);
   state.update(true);
   const std::vector<double> rho0 = state.rho;
   const bool has_yardstick = yardstick.isSet() && X.count(yardstick.id_a) && X.count(yardstick.id_b);
-  const Eigen::VectorXd scale_dir = scaleDirection(state);
+  // Hand-eye-only: the metric end-effector motion fixes the scale; no gauge constraint.
+  const Eigen::VectorXd scale_dir = opt.hand_eye_only ? Eigen::VectorXd() : scaleDirection(state);
 
   // Observations of points behind their camera at the start cannot be evaluated: left out.
   std::vector<bool> inlier(obs.size(), true);
@@ -403,12 +472,13 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     }
     const bool use_yardstick = has_yardstick && problem->HasParameterBlock(X[yardstick.id_a].data()) &&
                                problem->HasParameterBlock(X[yardstick.id_b].data());
-    res.scale_source = use_yardstick ? KBA::SCALE_YARDSTICK : KBA::SCALE_NOMINAL;
+    res.scale_source =
+        opt.hand_eye_only ? KBA::SCALE_ROBOT_MOTION : (use_yardstick ? KBA::SCALE_YARDSTICK : KBA::SCALE_NOMINAL);
     if (use_yardstick)
       problem->AddResidualBlock(new ceres::AutoDiffCostFunction<YardstickCost, 1, 3, 3>(
                                     new YardstickCost(yardstick.length, opt.yardstick_sd)),
                                 nullptr, X[yardstick.id_a].data(), X[yardstick.id_b].data());
-    else
+    else if (!opt.hand_eye_only)
       problem->AddResidualBlock(new ScaleCost(scale_dir, rho0), nullptr, state.rho.data());
     order->AddElementToGroup(state.rho.data(), 1);
     order->AddElementToGroup(in, 1);
@@ -513,7 +583,6 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
         if (free_in[a] == 0)
           res.fx_sd = res.intrinsics_sd[static_cast<unsigned int>(a)];
       }
-      const std::vector<std::string> names = start.getParameterNames();
       for (int a = 0; a < P; ++a)
         res.covariance_names.push_back(names[id[a]]);
       for (int i : free_in)
@@ -523,8 +592,12 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     res.seconds_covariance = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc).count();
     if (!res.has_covariance) {
       res.status = KBA::RANK_DEFICIENT;
-      res.message = "the information matrix of the corrections and intrinsics is singular: the views do not "
-                    "determine them (too few or too similar configurations)";
+      res.message = opt.hand_eye_only
+                        ? "the information matrix of the hand-eye correction and intrinsics is singular: the "
+                          "end-effector rotations do not determine eMc (all about parallel axes?); add poses "
+                          "rotating about another axis"
+                        : "the information matrix of the corrections and intrinsics is singular: the views do not "
+                          "determine them (too few or too similar configurations)";
       return res;
     }
   }
@@ -540,7 +613,14 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
 
 const char *vpKinematicBundleAdjustment::scaleSourceName(ScaleSource s)
 {
-  return s == SCALE_YARDSTICK ? "the yardstick" : "the start model (nominal scale: no yardstick)";
+  switch (s) {
+  case SCALE_YARDSTICK:
+    return "the yardstick";
+  case SCALE_ROBOT_MOTION:
+    return "the robot's metric motion (and the yardstick when seen)";
+  default:
+    return "the start model (nominal scale: no yardstick)";
+  }
 }
 
 const char *vpKinematicBundleAdjustment::statusName(Status s)

@@ -29,6 +29,14 @@ struct PointReprojection {
     return true;
   }
 };
+
+//! The model's camera pose of a view: fMc(q), or fMe eMc for a view with a controller pose only.
+vpHomogeneousMatrix cameraPose(const vpKinematicChain &model, const vpSelfCalibDataset::View &v)
+{
+  if (v.q.size() == model.getNumJoints())
+    return model.get_fMc(v.q);
+  return v.fMe * model.get_eMc_corrected();
+}
 } // namespace
 
 std::map<int, vpColVector> vpCalibrationVerifier::triangulate(const vpKinematicChain &model,
@@ -41,11 +49,11 @@ std::map<int, vpColVector> vpCalibrationVerifier::triangulate(const vpKinematicC
   };
   std::map<int, std::vector<Ray>> rays;
   for (size_t k = 0; k < views.size(); ++k) {
-    if (views[k].q.size() != model.getNumJoints())
+    if (views[k].q.size() != model.getNumJoints() && !views[k].has_fMe)
       throw vpSelfCalibException(vpSelfCalibException::dimensionError,
                                  "vpCalibrationVerifier: view " + std::to_string(k) + " has no joint vector of size " +
-                                     std::to_string(model.getNumJoints()));
-    const Rigid fMc = rigidFromVisp(model.get_fMc(views[k].q));
+                                     std::to_string(model.getNumJoints()) + " and no fMe");
+    const Rigid fMc = rigidFromVisp(cameraPose(model, views[k]));
     for (const auto &o : views[k].points)
       rays[o.id].push_back({fMc, o.ip.get_u(), o.ip.get_v()});
   }
@@ -120,9 +128,9 @@ vpCalibrationVerifier::Result vpCalibrationVerifier::verify(const vpKinematicCha
     }
   }
   if (!true_fMc.empty()) {
-    const Rigid m0 = rigidFromVisp(model.get_fMc(views[0].q)), t0 = rigidFromVisp(true_fMc[0]);
+    const Rigid m0 = rigidFromVisp(cameraPose(model, views[0])), t0 = rigidFromVisp(true_fMc[0]);
     for (size_t k = 1; k < views.size(); ++k) {
-      const Rigid pred = m0.inverse() * rigidFromVisp(model.get_fMc(views[k].q));
+      const Rigid pred = m0.inverse() * rigidFromVisp(cameraPose(model, views[k]));
       const Rigid truth = t0.inverse() * rigidFromVisp(true_fMc[k]);
       res.position_errors.push_back((pred.t - truth.t).norm());
       res.rotation_errors.push_back(logSO3(pred.R * truth.R.transpose()).norm());

@@ -12,6 +12,8 @@
 
 #include "../core/vpSelfCalibMath.h"
 
+#include <opencv2/calib3d.hpp>
+
 using namespace vpSelfCalib;
 
 namespace
@@ -64,7 +66,10 @@ const char *vpRobotSelfCalibration::statusName(Status s)
   return "unknown";
 }
 
-const char *vpRobotSelfCalibration::methodName(Method m) { return m == PAPER ? "paper" : "bundle"; }
+const char *vpRobotSelfCalibration::methodName(Method m)
+{
+  return m == PAPER ? "paper" : (m == HAND_EYE ? "hand-eye" : "bundle");
+}
 
 vpRobotSelfCalibration::Method vpRobotSelfCalibration::methodFromName(const std::string &name)
 {
@@ -72,7 +77,9 @@ vpRobotSelfCalibration::Method vpRobotSelfCalibration::methodFromName(const std:
     return BUNDLE_ADJUSTMENT;
   if (name == "paper")
     return PAPER;
-  throw vpSelfCalibException(vpSelfCalibException::badValue, "method '" + name + "': use bundle or paper");
+  if (name == "hand-eye")
+    return HAND_EYE;
+  throw vpSelfCalibException(vpSelfCalibException::badValue, "method '" + name + "': use bundle, paper or hand-eye");
 }
 
 void vpRobotSelfCalibration::Options::check() const
@@ -101,7 +108,9 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
                                "vpRobotSelfCalibration: the dataset has " + std::to_string(ds.views.size()) +
                                    " views; at least 3 calibration views are needed");
   for (size_t k = 0; k < ds.views.size(); ++k) {
-    if (ds.views[k].q.size() != nominal.getNumJoints())
+    if (opt.method == HAND_EYE && ds.views[k].has_fMe && ds.views[k].q.size() == 0) {
+      // Hand-eye: a controller pose in place of joints.
+    } else if (ds.views[k].q.size() != nominal.getNumJoints())
       throw vpSelfCalibException(vpSelfCalibException::dimensionError,
                                  "vpRobotSelfCalibration: view " + std::to_string(k) + " has " +
                                      std::to_string(ds.views[k].q.size()) + " joint values, the model has " +
@@ -126,6 +135,8 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
   res.camera = ds.cam;
   if (opt.method == BUNDLE_ADJUSTMENT)
     runBundle(nominal, ds, opt, mode, N, progress, res);
+  else if (opt.method == HAND_EYE)
+    runHandEye(nominal, ds, opt, mode, N, progress, res);
   else
     runPaper(nominal, ds, opt, mode, N, progress, res);
   if (res.status != OK)
@@ -282,25 +293,8 @@ void vpRobotSelfCalibration::runBundle(const vpKinematicChain &nominal, const vp
   const std::vector<vpSelfCalibDataset::View> cal(ds.views.begin(), ds.views.begin() + N);
 
   // 1. Scale-consistent poses and points of the calibration views, one focal length.
-  if (progress)
-    progress("multi-view reconstruction", 0, 1);
-  vpMultiViewReconstruction::Options mo = opt.multiview;
-  mo.twoview = opt.twoview;
-  mo.twoview.fx = ds.cam.get_px();
-  mo.twoview.u0 = ds.cam.get_u0();
-  mo.twoview.v0 = ds.cam.get_v0();
-  mo.twoview.mu = ds.cam.get_py() / ds.cam.get_px();
-  mo.focal_known = mode == FOCAL_KNOWN;
-  mo.pixel_sd = opt.pixel_sd;
-  res.multiview = vpMultiViewReconstruction::reconstruct(cal, ds.yardstick, mo);
-  res.pairs = res.multiview.pairs;
-  res.stage_seconds.push_back({"two-view poses", res.multiview.seconds_twoview});
-  res.stage_seconds.push_back({"multi-view bundle adjustment", res.multiview.seconds_bundle});
-  if (res.multiview.status != vpMultiViewReconstruction::OK) {
-    res.status = TWO_VIEW_FAILED;
-    res.message = std::string("multi-view reconstruction: ") + res.multiview.message;
+  if (!multiView(ds, cal, opt, mode, progress, res))
     return;
-  }
   res.fx = res.multiview.fx;
   res.fx_sd = res.multiview.fx_sd;
   ts = std::chrono::steady_clock::now();
@@ -362,7 +356,8 @@ void vpRobotSelfCalibration::runBundle(const vpKinematicChain &nominal, const vp
   else
     bo.intrinsics |= vpKinematicBundleAdjustment::FX;
   vpCameraParameters cam0 = ds.cam;
-  cam0.initPersProjWithoutDistortion(res.multiview.fx, res.multiview.fx * mo.twoview.mu, mo.twoview.u0, mo.twoview.v0);
+  cam0.initPersProjWithoutDistortion(res.multiview.fx, res.multiview.fx * ds.cam.get_py() / ds.cam.get_px(), ds.cam.get_u0(),
+                                     ds.cam.get_v0());
   res.bundle = vpKinematicBundleAdjustment::adjust(start, cam0, cal, ds.yardstick, points, bo);
   res.stage_seconds.push_back({"kinematic bundle adjustment", res.bundle.seconds_solve});
   res.stage_seconds.push_back({"covariance", res.bundle.seconds_covariance});
@@ -384,4 +379,141 @@ void vpRobotSelfCalibration::runBundle(const vpKinematicChain &nominal, const vp
   res.fx_sd = res.bundle.fx_sd;
   res.status = OK;
   res.message = "multi-view " + res.multiview.message + "; bundle adjustment " + res.bundle.message;
+}
+
+bool vpRobotSelfCalibration::multiView(const vpSelfCalibDataset &ds, const std::vector<vpSelfCalibDataset::View> &cal,
+                                       const Options &opt, FocalMode mode, const Progress &progress, Result &res)
+{
+  if (progress)
+    progress("multi-view reconstruction", 0, 1);
+  vpMultiViewReconstruction::Options mo = opt.multiview;
+  mo.twoview = opt.twoview;
+  mo.twoview.fx = ds.cam.get_px();
+  mo.twoview.u0 = ds.cam.get_u0();
+  mo.twoview.v0 = ds.cam.get_v0();
+  mo.twoview.mu = ds.cam.get_py() / ds.cam.get_px();
+  mo.focal_known = mode == FOCAL_KNOWN;
+  mo.pixel_sd = opt.pixel_sd;
+  res.multiview = vpMultiViewReconstruction::reconstruct(cal, ds.yardstick, mo);
+  res.pairs = res.multiview.pairs;
+  res.stage_seconds.push_back({"two-view poses", res.multiview.seconds_twoview});
+  res.stage_seconds.push_back({"multi-view bundle adjustment", res.multiview.seconds_bundle});
+  if (res.multiview.status != vpMultiViewReconstruction::OK) {
+    res.status = TWO_VIEW_FAILED;
+    res.message = std::string("multi-view reconstruction: ") + res.multiview.message;
+    return false;
+  }
+  res.fx = res.multiview.fx;
+  res.fx_sd = res.multiview.fx_sd;
+  return true;
+}
+
+void vpRobotSelfCalibration::runHandEye(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, const Options &opt,
+                                        FocalMode mode, unsigned int N, const Progress &progress, Result &res)
+{
+  const std::vector<vpSelfCalibDataset::View> cal(ds.views.begin(), ds.views.begin() + N);
+  if (!multiView(ds, cal, opt, mode, progress, res))
+    return;
+  auto ts = std::chrono::steady_clock::now();
+  std::vector<Rigid> fMe;
+  for (const auto &v : cal)
+    fMe.push_back(rigidFromVisp(v.has_fMe ? v.fMe : nominal.get_fMe(v.q)));
+
+  // Metric unit: the yardstick, else the end-effector baseline of the reference pair with the model's eMc.
+  const Rigid eMc0 = rigidFromVisp(nominal.get_eMc_corrected());
+  double s = 1;
+  if (!res.multiview.metric) {
+    const unsigned int r = res.multiview.reference_view;
+    const double baseline = ((fMe[r] * eMc0).inverse() * (fMe[0] * eMc0)).t.norm();
+    s = baseline / res.multiview.cMc0[r].getTranslationVector().frobeniusNorm();
+  }
+  // First eMc: Tsai's closed form (OpenCV) from the end-effector and scene-to-camera poses.
+  vpKinematicChain start = nominal;
+  std::vector<cv::Mat> Rg, tg, Rt, tt;
+  for (unsigned int k = 0; k < N; ++k) {
+    if (!res.multiview.posed[k])
+      continue;
+    const Rigid c = rigidFromVisp(res.multiview.cMc0[k]);
+    cv::Mat a(3, 3, CV_64F), b(3, 1, CV_64F), c3(3, 3, CV_64F), d(3, 1, CV_64F);
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        a.at<double>(i, j) = fMe[k].R(i, j);
+        c3.at<double>(i, j) = c.R(i, j);
+      }
+      b.at<double>(i) = fMe[k].t(i);
+      d.at<double>(i) = s * c.t(i);
+    }
+    Rg.push_back(a);
+    tg.push_back(b);
+    Rt.push_back(c3);
+    tt.push_back(d);
+  }
+  if (Rg.size() >= 3) {
+    cv::Mat R, t;
+    cv::calibrateHandEye(Rg, tg, Rt, tt, R, t, cv::CALIB_HAND_EYE_TSAI);
+    Rigid eMc;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j)
+        eMc.R(i, j) = R.at<double>(i, j);
+      eMc.t(i) = t.at<double>(i);
+    }
+    // As a correction of the model's eMc: eMc_nominal D = eMc.
+    const Rigid D = rigidFromPose(nominal.get_eMc_pose()).inverse() * eMc;
+    const Eigen::Vector3d r = logSO3(D.R);
+    const unsigned int first = nominal.getNumParameters() - vpKinematicChain::kBlockSize;
+    vpColVector p = nominal.getParameters();
+    for (unsigned int i = 0; i < 3; ++i) {
+      p[first + i] = D.t(i);
+      p[first + 3 + i] = r(i);
+    }
+    if (D.t.allFinite() && r.allFinite() && D.t.norm() < 1.0)
+      start.setParameters(p);
+  }
+  res.stage_seconds.push_back({"hand-eye closed form", seconds(ts)});
+
+  // Kinematic bundle adjustment in hand-eye-only mode, points moved to f through the first eMc.
+  ts = std::chrono::steady_clock::now();
+  if (progress)
+    progress("hand-eye bundle adjustment", 0, 1);
+  const Rigid fMc0 = fMe[0] * rigidFromVisp(start.get_eMc_corrected());
+  std::map<int, vpColVector> points;
+  for (const auto &e : res.multiview.points) {
+    const Eigen::Vector3d x = fMc0 * (s * vec3(e.second));
+    vpColVector v(3);
+    for (unsigned int a = 0; a < 3; ++a)
+      v[a] = x(a);
+    points[e.first] = v;
+  }
+  vpKinematicBundleAdjustment::Options bo = opt.bundle;
+  bo.pixel_sd = opt.pixel_sd;
+  bo.hand_eye_only = true;
+  if (mode == FOCAL_KNOWN)
+    bo.intrinsics &= ~static_cast<unsigned int>(vpKinematicBundleAdjustment::FX);
+  else
+    bo.intrinsics |= vpKinematicBundleAdjustment::FX;
+  vpCameraParameters cam0 = ds.cam;
+  cam0.initPersProjWithoutDistortion(res.multiview.fx, res.multiview.fx * ds.cam.get_py() / ds.cam.get_px(),
+                                     ds.cam.get_u0(), ds.cam.get_v0());
+  std::vector<vpSelfCalibDataset::View> views = cal;
+  for (unsigned int k = 0; k < N; ++k)
+    if (!views[k].has_fMe) {
+      views[k].has_fMe = true;
+      views[k].fMe = toVisp(fMe[k]);
+    }
+  res.bundle = vpKinematicBundleAdjustment::adjust(start, cam0, views, ds.yardstick, points, bo);
+  res.stage_seconds.push_back({"kinematic bundle adjustment", res.bundle.seconds_solve});
+  res.stage_seconds.push_back({"covariance", res.bundle.seconds_covariance});
+  res.calibrated = res.bundle.chain;
+  res.camera = res.bundle.camera;
+  res.identifiability = res.bundle.identifiability;
+  res.parameter_sd = res.bundle.sd;
+  if (res.bundle.status != vpKinematicBundleAdjustment::OK) {
+    res.status = IDENTIFICATION_FAILED;
+    res.message = std::string("hand-eye bundle adjustment: ") + res.bundle.message;
+    return;
+  }
+  res.fx = res.camera.get_px();
+  res.fx_sd = res.bundle.fx_sd;
+  res.status = OK;
+  res.message = "multi-view " + res.multiview.message + "; hand-eye bundle adjustment " + res.bundle.message;
 }

@@ -413,3 +413,69 @@ TEST(KinematicBundleAdjustment, DegenerateAndBadInput)
   po.pixel_sd = 0;
   EXPECT_THROW(po.check(), vpSelfCalibException);
 }
+
+// Hand-eye-only mode through the pipeline: views with controller poses fMe only (the true robot's,
+// trusted), f self-calibrated, with and without the yardstick: eMc and f exact on noise-free images.
+TEST(HandEye, NoiseFreeExactRecoveryFromControllerPoses)
+{
+  for (bool yardstick : {true, false}) {
+    vpSelfCalibSimulator sim = makeSim("viper850", 71, 0.0);
+    vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
+    for (auto &v : ds.views) {
+      v.has_fMe = true;
+      v.fMe = sim.getTrueChain().get_fMe(v.q);
+      v.q = vpColVector();
+    }
+    ds.focal_known = false;
+    ds.cam.initPersProjWithoutDistortion(1400, 1400, 320, 240);
+    if (!yardstick)
+      ds.yardstick = vpSelfCalibDataset::Yardstick();
+    vpRobotSelfCalibration::Options o;
+    o.method = vpRobotSelfCalibration::HAND_EYE;
+    o.multiview.tight = true;
+    o.bundle.tight = true;
+    const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
+    ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
+    EXPECT_EQ(r.bundle.scale_source, vpKinematicBundleAdjustment::SCALE_ROBOT_MOTION);
+    EXPECT_EQ(r.identifiability.identified.size(), 6u);
+    EXPECT_NEAR(r.fx, 1500, 1e-6);
+    EXPECT_GT(r.fx_sd, 0);
+    const vpHomogeneousMatrix e = sim.getTrueChain().get_eMc_corrected(), g = r.calibrated.get_eMc_corrected();
+    EXPECT_LT(translationDistance(e, g), 1e-9) << yardstick;
+    EXPECT_LT(rotationDistance(e, g), 1e-9) << yardstick;
+    // Only the eMc block moved.
+    for (unsigned int i = 0; i + 6 < r.calibrated.getNumParameters(); ++i)
+      EXPECT_EQ(r.calibrated.getParameters()[i], 0.0);
+  }
+}
+
+// End-effector rotations all about one axis (the base's z): the hand-eye translation along it is not
+// observable; the bundle adjustment says so instead of returning a number.
+TEST(HandEye, RotationsAboutOneAxisAreRankDeficient)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 72, 0.0);
+  const vpColVector q0 = sim.generateConfigurations(1)[0];
+  const vpHomogeneousMatrix fMe0 = sim.getTrueChain().get_fMe(q0), eMc = sim.getTrueChain().get_eMc_corrected();
+  const vpCameraParameters cam = sim.getCamera();
+  std::vector<vpSelfCalibDataset::View> views;
+  for (int k = -3; k <= 3; ++k) {
+    vpSelfCalibDataset::View v;
+    v.has_fMe = true;
+    v.fMe = vpHomogeneousMatrix(0, 0, 0, 0, 0, k * 0.03) * fMe0;
+    const Rigid cMf = rigidFromVisp(v.fMe * eMc).inverse();
+    for (size_t j = 0; j < sim.getScenePoints().size(); ++j) {
+      const Eigen::Vector3d x = cMf * vec3(sim.getScenePoints()[j]);
+      const double u = cam.get_u0() + cam.get_px() * x(0) / x(2), w = cam.get_v0() + cam.get_py() * x(1) / x(2);
+      if (x(2) > 0 && u > 0 && u < 640 && w > 0 && w < 480)
+        v.points.push_back({static_cast<int>(j), vpImagePoint(w, u)});
+    }
+    views.push_back(v);
+  }
+  vpKinematicBundleAdjustment::Options o;
+  o.hand_eye_only = true;
+  o.intrinsics = 0;
+  const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam, views, vpSelfCalibDataset::Yardstick(),
+                                                     sim.getScenePointsById(), o);
+  EXPECT_EQ(r.status, vpKinematicBundleAdjustment::RANK_DEFICIENT) << r.message;
+  EXPECT_NE(r.message.find("another axis"), std::string::npos) << r.message;
+}

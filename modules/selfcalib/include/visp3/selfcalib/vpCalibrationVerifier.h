@@ -43,8 +43,9 @@ public:
   };
 
   /*!
-    Triangulation of every id seen in two or more of the views (at least 2 views). Throws
-    vpSelfCalibException when a view has no joint vector of the chain's size.
+    Triangulation of every id seen in two or more of the views (at least 2 views), with the model's
+    fMc(q) of each view, or fMe eMc for a view that has a controller pose fMe and no joints. Throws
+    vpSelfCalibException when a view has neither.
   */
   static std::map<int, vpColVector> triangulate(const vpKinematicChain &model, const vpCameraParameters &cam,
                                                 const std::vector<vpSelfCalibDataset::View> &views);

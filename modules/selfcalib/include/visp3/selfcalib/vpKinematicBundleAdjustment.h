@@ -72,11 +72,19 @@ public:
     unsigned int max_iterations = 100;
     bool tight = false;                //!< tolerances 1e-15 (exact recovery on noise-free data)
     bool covariance = true;            //!< compute the covariance
+    /*!
+      Hand-eye-only mode: the robot's kinematics are trusted and only the hand-eye correction
+      eMc.* (minus `fixed`) and the intrinsics are estimated, with each view's end-effector pose
+      fMe (View::fMe when has_fMe, else the chain's forward kinematics at View::q). The metric
+      end-effector motion fixes the scale (SCALE_ROBOT_MOTION); a yardstick seen in two views adds
+      its residual. Rotations about a single axis leave part of eMc unobservable: RANK_DEFICIENT.
+    */
+    bool hand_eye_only = false;
     unsigned int num_threads = 1;       //!< more is faster on large problems, but not bit-reproducible
     void check() const;
   };
 
-  enum ScaleSource { SCALE_YARDSTICK, SCALE_NOMINAL };
+  enum ScaleSource { SCALE_YARDSTICK, SCALE_NOMINAL, SCALE_ROBOT_MOTION };
   static const char *scaleSourceName(ScaleSource s);
   enum Status { OK, TOO_FEW_OBSERVATIONS, RANK_DEFICIENT, NO_CONVERGENCE };
   static const char *statusName(Status s);

@@ -34,6 +34,12 @@
      nominal scale without one (said in the result); covariance;
   4. verification on the remaining views, as below.
 
+  <b>HAND_EYE (target-less hand-eye calibration).</b> The robot's kinematics are trusted: views
+  give the controller pose fMe (or joints, through the model). The multi-view reconstruction as
+  above; a first eMc from its metric poses by OpenCV's calibrateHandEye (Tsai), or the model's eMc
+  when the reconstruction has no metric scale; then vpKinematicBundleAdjustment in hand-eye-only
+  mode (eMc, f_x unless known, points; scale from the metric end-effector motion).
+
   <b>PAPER: the paper's procedure</b> (Section 4.1, steps 2 to 5):
 
   2. pose measurements: the refined nonlinear factor method on the image pairs (pose 1, pose i) of
@@ -63,10 +69,11 @@ public:
 
   enum Method {
     BUNDLE_ADJUSTMENT, //!< multi-view reconstruction + kinematic bundle adjustment (default)
-    PAPER              //!< the paper's two-view measurements, eq. 21 scale, pose-based identification
+    PAPER,             //!< the paper's two-view measurements, eq. 21 scale, pose-based identification
+    HAND_EYE           //!< kinematics trusted: eMc, intrinsics and points from views with fMe (or joints)
   };
   static const char *methodName(Method m);
-  //! "bundle" or "paper"; throws vpSelfCalibException otherwise.
+  //! "bundle", "paper" or "hand-eye"; throws vpSelfCalibException otherwise.
   static Method methodFromName(const std::string &name);
 
   struct Options {
@@ -129,6 +136,10 @@ public:
 private:
   static void runPaper(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
                        FocalMode mode, unsigned int num_calibration, const Progress &progress, Result &result);
+  static bool multiView(const vpSelfCalibDataset &dataset, const std::vector<vpSelfCalibDataset::View> &calibration,
+                        const Options &options, FocalMode mode, const Progress &progress, Result &result);
+  static void runHandEye(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
+                         FocalMode mode, unsigned int num_calibration, const Progress &progress, Result &result);
   static void runBundle(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
                         FocalMode mode, unsigned int num_calibration, const Progress &progress, Result &result);
 };
