@@ -330,10 +330,32 @@ void vpRobotSelfCalibration::runBundle(const vpKinematicChain &nominal, const vp
   res.stage_seconds.push_back({"identification", seconds(ts)});
 
   // 3. Kinematic bundle adjustment, points moved to f through the start model.
-  ts = std::chrono::steady_clock::now();
+  vpKinematicBundleAdjustment::Options bo = opt.bundle;
+  // The same estimated set as the identification that gave the start (the others are still at the
+  // nominal values); QR pivoting at the start model could pick another, equivalent set, and the
+  // parameters left out would then keep the identification's values.
+  if (res.identification.status == vpKinematicIdentification::OK)
+    for (const auto &u : res.identification.identifiability.unidentifiable)
+      if (std::find(bo.fixed.begin(), bo.fixed.end(), u.name) == bo.fixed.end())
+        bo.fixed.push_back(u.name);
+  if (!bundle(start, start.get_fMc(cal[0].q), s, cal, ds, opt, bo, mode, "kinematic bundle adjustment",
+              progress, res))
+    return;
+  // The parameters fixed above because the identification found them dependent keep its reason.
+  for (auto &u : res.identifiability.unidentifiable)
+    for (const auto &v : res.identification.identifiability.unidentifiable)
+      if (u.name == v.name && std::find(opt.bundle.fixed.begin(), opt.bundle.fixed.end(), u.name) == opt.bundle.fixed.end())
+        u.reason = v.reason;
+}
+
+bool vpRobotSelfCalibration::bundle(const vpKinematicChain &start, const vpHomogeneousMatrix &fMc0_, double s,
+                                    const std::vector<vpSelfCalibDataset::View> &views, const vpSelfCalibDataset &ds,
+                                    const Options &opt, vpKinematicBundleAdjustment::Options bo, FocalMode mode,
+                                    const std::string &label, const Progress &progress, Result &res)
+{
   if (progress)
-    progress("kinematic bundle adjustment", 0, 1);
-  const Rigid fMc0 = rigidFromVisp(start.get_fMc(cal[0].q));
+    progress(label, 0, 1);
+  const Rigid fMc0 = rigidFromVisp(fMc0_);
   std::map<int, vpColVector> points;
   for (const auto &e : res.multiview.points) {
     const Eigen::Vector3d x = fMc0 * (s * vec3(e.second));
@@ -342,43 +364,31 @@ void vpRobotSelfCalibration::runBundle(const vpKinematicChain &nominal, const vp
       v[a] = x(a);
     points[e.first] = v;
   }
-  vpKinematicBundleAdjustment::Options bo = opt.bundle;
   bo.pixel_sd = opt.pixel_sd;
-  // The same estimated set as the identification that gave the start (the others are still at the
-  // nominal values); QR pivoting at the start model could pick another, equivalent set, and the
-  // parameters left out would then keep the identification's values.
-  if (res.identification.status == vpKinematicIdentification::OK)
-    for (const auto &u : res.identification.identifiability.unidentifiable)
-      if (std::find(bo.fixed.begin(), bo.fixed.end(), u.name) == bo.fixed.end())
-        bo.fixed.push_back(u.name);
   if (mode == FOCAL_KNOWN)
     bo.intrinsics &= ~static_cast<unsigned int>(vpKinematicBundleAdjustment::FX);
   else
     bo.intrinsics |= vpKinematicBundleAdjustment::FX;
   vpCameraParameters cam0 = ds.cam;
-  cam0.initPersProjWithoutDistortion(res.multiview.fx, res.multiview.fx * ds.cam.get_py() / ds.cam.get_px(), ds.cam.get_u0(),
-                                     ds.cam.get_v0());
-  res.bundle = vpKinematicBundleAdjustment::adjust(start, cam0, cal, ds.yardstick, points, bo);
-  res.stage_seconds.push_back({"kinematic bundle adjustment", res.bundle.seconds_solve});
+  cam0.initPersProjWithoutDistortion(res.multiview.fx, res.multiview.fx * ds.cam.get_py() / ds.cam.get_px(),
+                                     ds.cam.get_u0(), ds.cam.get_v0());
+  res.bundle = vpKinematicBundleAdjustment::adjust(start, cam0, views, ds.yardstick, points, bo);
+  res.stage_seconds.push_back({label, res.bundle.seconds_solve});
   res.stage_seconds.push_back({"covariance", res.bundle.seconds_covariance});
   res.calibrated = res.bundle.chain;
   res.camera = res.bundle.camera;
   res.identifiability = res.bundle.identifiability;
-  // The parameters fixed above because the identification found them dependent keep its reason.
-  for (auto &u : res.identifiability.unidentifiable)
-    for (const auto &v : res.identification.identifiability.unidentifiable)
-      if (u.name == v.name && std::find(opt.bundle.fixed.begin(), opt.bundle.fixed.end(), u.name) == opt.bundle.fixed.end())
-        u.reason = v.reason;
   res.parameter_sd = res.bundle.sd;
   if (res.bundle.status != vpKinematicBundleAdjustment::OK) {
     res.status = IDENTIFICATION_FAILED;
-    res.message = std::string("kinematic bundle adjustment: ") + res.bundle.message;
-    return;
+    res.message = label + ": " + res.bundle.message;
+    return false;
   }
   res.fx = res.camera.get_px();
   res.fx_sd = res.bundle.fx_sd;
   res.status = OK;
-  res.message = "multi-view " + res.multiview.message + "; bundle adjustment " + res.bundle.message;
+  res.message = "multi-view " + res.multiview.message + "; " + label + " " + res.bundle.message;
+  return true;
 }
 
 bool vpRobotSelfCalibration::multiView(const vpSelfCalibDataset &ds, const std::vector<vpSelfCalibDataset::View> &cal,
@@ -472,48 +482,14 @@ void vpRobotSelfCalibration::runHandEye(const vpKinematicChain &nominal, const v
   res.stage_seconds.push_back({"hand-eye closed form", seconds(ts)});
 
   // Kinematic bundle adjustment in hand-eye-only mode, points moved to f through the first eMc.
-  ts = std::chrono::steady_clock::now();
-  if (progress)
-    progress("hand-eye bundle adjustment", 0, 1);
-  const Rigid fMc0 = fMe[0] * rigidFromVisp(start.get_eMc_corrected());
-  std::map<int, vpColVector> points;
-  for (const auto &e : res.multiview.points) {
-    const Eigen::Vector3d x = fMc0 * (s * vec3(e.second));
-    vpColVector v(3);
-    for (unsigned int a = 0; a < 3; ++a)
-      v[a] = x(a);
-    points[e.first] = v;
-  }
   vpKinematicBundleAdjustment::Options bo = opt.bundle;
-  bo.pixel_sd = opt.pixel_sd;
   bo.hand_eye_only = true;
-  if (mode == FOCAL_KNOWN)
-    bo.intrinsics &= ~static_cast<unsigned int>(vpKinematicBundleAdjustment::FX);
-  else
-    bo.intrinsics |= vpKinematicBundleAdjustment::FX;
-  vpCameraParameters cam0 = ds.cam;
-  cam0.initPersProjWithoutDistortion(res.multiview.fx, res.multiview.fx * ds.cam.get_py() / ds.cam.get_px(),
-                                     ds.cam.get_u0(), ds.cam.get_v0());
   std::vector<vpSelfCalibDataset::View> views = cal;
   for (unsigned int k = 0; k < N; ++k)
     if (!views[k].has_fMe) {
       views[k].has_fMe = true;
       views[k].fMe = toVisp(fMe[k]);
     }
-  res.bundle = vpKinematicBundleAdjustment::adjust(start, cam0, views, ds.yardstick, points, bo);
-  res.stage_seconds.push_back({"kinematic bundle adjustment", res.bundle.seconds_solve});
-  res.stage_seconds.push_back({"covariance", res.bundle.seconds_covariance});
-  res.calibrated = res.bundle.chain;
-  res.camera = res.bundle.camera;
-  res.identifiability = res.bundle.identifiability;
-  res.parameter_sd = res.bundle.sd;
-  if (res.bundle.status != vpKinematicBundleAdjustment::OK) {
-    res.status = IDENTIFICATION_FAILED;
-    res.message = std::string("hand-eye bundle adjustment: ") + res.bundle.message;
-    return;
-  }
-  res.fx = res.camera.get_px();
-  res.fx_sd = res.bundle.fx_sd;
-  res.status = OK;
-  res.message = "multi-view " + res.multiview.message + "; hand-eye bundle adjustment " + res.bundle.message;
+  bundle(start, toVisp(fMe[0]) * start.get_eMc_corrected(), s, views, ds, opt, bo, mode,
+         "hand-eye bundle adjustment", progress, res);
 }

@@ -136,6 +136,12 @@ public:
 private:
   static void runPaper(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
                        FocalMode mode, unsigned int num_calibration, const Progress &progress, Result &result);
+  //! The kinematic bundle adjustment from a start model, the multi-view points moved to f by
+  //! fMc0 (the start's pose of view 0) and scaled by s; fills the result.
+  static bool bundle(const vpKinematicChain &start, const vpHomogeneousMatrix &fMc0, double s,
+                     const std::vector<vpSelfCalibDataset::View> &views, const vpSelfCalibDataset &dataset,
+                     const Options &options, vpKinematicBundleAdjustment::Options bundle_options, FocalMode mode,
+                     const std::string &label, const Progress &progress, Result &result);
   static bool multiView(const vpSelfCalibDataset &dataset, const std::vector<vpSelfCalibDataset::View> &calibration,
                         const Options &options, FocalMode mode, const Progress &progress, Result &result);
   static void runHandEye(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
