@@ -9,6 +9,8 @@
  *   visp-selfcalib calibrate DATASET --out DIR [options]
  *                                                  calibrated model, camera and results in DIR
  *   visp-selfcalib verify    MODEL DATASET         the paper's 3-D yardstick error of a model
+ *   visp-selfcalib export    MODEL (--urdf OUT | --dh OUT | --mdh OUT)
+ *                                                  URDF joint origins, or a corrected (modified) DH table
  * MODEL is a preset name (puma560, viper850) or a robot-model YAML file.
  * Exit codes: 0 success, 1 bad input (message on stderr), 2 bad usage, 3 the calibration failed
  * (its status and message on stderr). Outputs are written atomically and never over an input.
@@ -28,6 +30,7 @@
 #include <visp3/core/vpXmlParserCamera.h>
 #include <visp3/selfcalib/vpCalibrationVerifier.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpModelExport.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
@@ -46,13 +49,16 @@ int usage(std::ostream &os, int code)
      << "                           [--pixel-sd PX]\n"
      << "                           [--focal auto|known|shared|per-pair]\n"
      << "  visp-selfcalib verify    MODEL DATASET\n"
+     << "  visp-selfcalib export    MODEL (--urdf OUT.urdf | --dh OUT.yaml | --mdh OUT.yaml)\n"
      << "MODEL: a preset (puma560, viper850) or a robot-model YAML file. DATASET: a dataset YAML file (README).\n"
      << "simulate writes the reference scenario's observations (no images); --controller-poses writes the true\n"
      << "end-effector poses fMe instead of joints; --force replaces an existing file.\n"
      << "calibrate: the method defaults to hand-eye when the dataset has poses without joints, else bundle.\n"
      << "calibrate uses the first N views (default 15, or all but 2 when fewer) and verifies on the others;\n"
-     << "it writes DIR/model.yaml, DIR/camera.xml and DIR/results.yaml, never over an input.\n"
+     << "it writes DIR/model.yaml, DIR/model.urdf, DIR/camera.xml and DIR/results.yaml, never over an input.\n"
      << "verify prints the paper's 3-D yardstick error of MODEL on the dataset's views.\n"
+     << "export writes the model as URDF joint origins (exact), or as a DH / modified-DH robot-model file\n"
+     << "without corrections when one reproduces it (exit 3 when none does; a warning when it is ill-conditioned).\n"
      << "predict reads one joint vector per line (rad, separated by spaces or commas; '#' starts a comment)\n"
      << "from JOINTS_FILE or standard input and prints fMc as 'tx ty tz tux tuy tuz' (m, rad) per line.\n";
   return code;
@@ -293,7 +299,7 @@ int calibrate(const std::vector<std::string> &a)
     std::cerr << "error: cannot create the output directory '" << out << "'\n";
     return 1;
   }
-  const std::string files[3] = {out + "/model.yaml", out + "/camera.xml", out + "/results.yaml"};
+  const std::string files[4] = {out + "/model.yaml", out + "/camera.xml", out + "/results.yaml", out + "/model.urdf"};
   for (const std::string &f : files) {
     const std::string c = canonical(f);
     if (!c.empty() && (c == canonical(dataset) || c == canonical(ds.robot))) {
@@ -312,6 +318,7 @@ int calibrate(const std::vector<std::string> &a)
   vpKinematicChain model = r.calibrated;
   model.setName(nominal.getName() + "-calibrated");
   model.saveYaml(files[0]);
+  vpModelExport::saveURDF(model, files[3]);
   {
     // vpXmlParserCamera has no atomic write: it writes a temporary file that is renamed here.
     const std::string tmp = files[1] + ".tmp";
@@ -340,7 +347,7 @@ int calibrate(const std::vector<std::string> &a)
   if (r.verified)
     std::cout << "; yardstick 3-D error on the held-out views " << std::setprecision(3)
               << 1e3 * r.before.yardstick_error << " mm (nominal) -> " << 1e3 * r.after.yardstick_error << " mm";
-  std::cout << "\nwrote " << files[0] << ", " << files[1] << ", " << files[2] << "\n";
+  std::cout << "\nwrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
   return 0;
 }
 
@@ -361,6 +368,43 @@ int verify(const std::string &model_name, const std::string &dataset)
             << "), 3-D error " << 1e3 * v.yardstick_error << " mm, " << v.points.size() << " points triangulated\n";
   return 0;
 }
+int exportModel(const std::vector<std::string> &a)
+{
+  std::string model_name, kind, out;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i] == "--urdf" || a[i] == "--dh" || a[i] == "--mdh") {
+      if (!kind.empty())
+        throw BadUsage("export: one of --urdf, --dh, --mdh");
+      kind = a[i];
+      out = textArg(a, i);
+    } else if (!a[i].empty() && a[i][0] == '-')
+      throw BadUsage("export: unknown option '" + a[i] + "'");
+    else if (model_name.empty())
+      model_name = a[i];
+    else
+      throw BadUsage("export: one model");
+  }
+  if (model_name.empty() || kind.empty())
+    throw BadUsage("export: MODEL and one of --urdf, --dh, --mdh");
+  const vpKinematicChain model = vpKinematicChain::fromPresetOrFile(model_name);
+  if (!canonical(out).empty() && canonical(out) == canonical(model_name)) {
+    std::cerr << "error: '" << out << "' is the input model\n";
+    return 1;
+  }
+  if (kind == "--urdf") {
+    vpModelExport::saveURDF(model, out);
+    std::cout << "wrote " << out << "\n";
+    return 0;
+  }
+  const vpModelExport::DHFit fit =
+      vpModelExport::fitDH(model, kind == "--dh" ? vpKinematicChain::DH : vpKinematicChain::MDH);
+  std::cerr << fit.message << "\n";
+  if (!fit.representable)
+    return 3;
+  fit.table.saveYaml(out);
+  std::cout << "wrote " << out << (fit.well_conditioned ? "" : " (ill-conditioned, see above)") << "\n";
+  return 0;
+}
 } // namespace
 
 int main(int argc, char **argv)
@@ -379,6 +423,8 @@ int main(int argc, char **argv)
       return simulate(rest);
     if (cmd == "calibrate")
       return calibrate(rest);
+    if (cmd == "export")
+      return exportModel(rest);
     if (cmd == "verify") {
       if (rest.size() != 2)
         throw BadUsage("verify: MODEL DATASET");

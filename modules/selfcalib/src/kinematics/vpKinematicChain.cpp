@@ -259,6 +259,23 @@ vpHomogeneousMatrix vpKinematicChain::get_fMc(const vpColVector &q) const
   return toVisp(f.fMc);
 }
 
+std::vector<vpHomogeneousMatrix> vpKinematicChain::getPlacements() const
+{
+  const unsigned int n = getNumJoints();
+  if (n == 0)
+    throw vpSelfCalibException(vpSelfCalibException::notInitialized, "vpKinematicChain::getPlacements: no joints");
+  const double *p = m_params.data;
+  std::vector<vpHomogeneousMatrix> M;
+  Rigid T = rigidFromPose(m_fMb) * rigidFromVector(p);
+  for (unsigned int i = 0; i < n; ++i) {
+    T = T * rigidFromVisp(m_P[i]) * rigidFromVector(p + kBlockSize * (i + 1));
+    M.push_back(toVisp(T));
+    T = Rigid();
+  }
+  M.push_back(toVisp(rigidFromVisp(m_L) * rigidFromPose(m_nMe)));
+  return M;
+}
+
 vpHomogeneousMatrix vpKinematicChain::get_eMc_corrected() const
 {
   return toVisp(rigidFromPose(m_eMc) * rigidFromVector(m_params.data + kBlockSize * (getNumJoints() + 1)));

@@ -141,6 +141,13 @@ public:
   vpHomogeneousMatrix get_fMc(const vpColVector &q) const;
   //! Effective hand-eye transform eMc D_eMc.
   vpHomogeneousMatrix get_eMc_corrected() const;
+  /*!
+    The chain as constant placements between joint rotations, corrections included:
+    fMc(q) = M_0 Rz(q_1) M_1 Rz(q_2) ... M_{n-1} Rz(q_n) M_n get_eMc_corrected(), with
+    M_0 = fMb D_base P_1 D_1, M_i = P_{i+1} D_{i+1} and M_n = L nMe (the flange in the frame of the
+    last joint). Returns M_0 .. M_n: the joint origins of a URDF, for example.
+  */
+  std::vector<vpHomogeneousMatrix> getPlacements() const;
 
   /*!
     Identification Jacobian of the camera pose with respect to the corrections at joint vector q
