@@ -29,7 +29,10 @@
 #include <visp3/core/vpPoseVector.h>
 #include <visp3/core/vpXmlParserCamera.h>
 #include <visp3/selfcalib/vpCalibrationVerifier.h>
+#include <visp3/io/vpImageIo.h>
+#include <visp3/selfcalib/vpFeatureFrontEnd.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpSelfCalibRenderer.h>
 #include <visp3/selfcalib/vpModelExport.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
@@ -44,7 +47,7 @@ int usage(std::ostream &os, int code)
      << "  visp-selfcalib info      MODEL\n"
      << "  visp-selfcalib predict   MODEL [JOINTS_FILE]\n"
      << "  visp-selfcalib simulate  OUT.yaml [--robot NAME] [--seed N] [--poses N] [--noise PX] [--focal known|shared]\n"
-     << "                           [--controller-poses] [--force]\n"
+     << "                           [--controller-poses] [--images] [--force]\n"
      << "  visp-selfcalib calibrate DATASET --out DIR [--method bundle|paper|hand-eye] [--calibration N]\n"
      << "                           [--pixel-sd PX]\n"
      << "                           [--focal auto|known|shared|per-pair]\n"
@@ -52,7 +55,8 @@ int usage(std::ostream &os, int code)
      << "  visp-selfcalib export    MODEL (--urdf OUT.urdf | --dh OUT.yaml | --mdh OUT.yaml)\n"
      << "MODEL: a preset (puma560, viper850) or a robot-model YAML file. DATASET: a dataset YAML file (README).\n"
      << "simulate writes the reference scenario's observations (no images); --controller-poses writes the true\n"
-     << "end-effector poses fMe instead of joints; --force replaces an existing file.\n"
+     << "end-effector poses fMe instead of joints; --images renders the images (OUT's directory/images/) and\n"
+     << "writes no points (calibrate then runs the image front end); --force replaces an existing file.\n"
      << "calibrate: the method defaults to hand-eye when the dataset has poses without joints, else bundle.\n"
      << "calibrate uses the first N views (default 15, or all but 2 when fewer) and verifies on the others;\n"
      << "it writes DIR/model.yaml, DIR/model.urdf, DIR/camera.xml and DIR/results.yaml, never over an input.\n"
@@ -158,10 +162,12 @@ int simulate(const std::vector<std::string> &a)
   std::string out, robot = "viper850", focal = "known";
   vpSelfCalibSimulator::Options so;
   unsigned int poses = 25;
-  bool force = false, controller = false;
+  bool force = false, controller = false, images = false;
   for (size_t i = 0; i < a.size(); ++i) {
     if (a[i] == "--controller-poses")
       controller = true;
+    else if (a[i] == "--images")
+      images = true;
     else if (a[i] == "--robot")
       robot = textArg(a, i);
     else if (a[i] == "--seed")
@@ -197,6 +203,9 @@ int simulate(const std::vector<std::string> &a)
   }));
   std::cerr << "\n";
   ds.robot = robot;
+  std::vector<vpColVector> qs;
+  for (const auto &v : ds.views)
+    qs.push_back(v.q);
   if (controller)
     // What a controller reports: the (true) end-effector pose, no joints.
     for (auto &v : ds.views) {
@@ -208,9 +217,38 @@ int simulate(const std::vector<std::string> &a)
     ds.focal_known = false;
     ds.cam.initPersProjWithoutDistortion(0.93 * so.px, 0.93 * so.py, so.u0, so.v0);
   }
+  if (images) {
+    // Rendered acquisition: images beside the dataset, no points (the front end finds them), the
+    // yardstick's length only (its dots are found in the images).
+    const size_t slash = out.find_last_of('/');
+    const std::string dir = slash == std::string::npos ? "." : out.substr(0, slash);
+    const std::string img_dir = dir + "/images";
+    if (canonical(img_dir).empty() && mkdir(img_dir.c_str(), 0777) != 0) {
+      std::cerr << "error: cannot create '" << img_dir << "'\n";
+      return 1;
+    }
+    vpSelfCalibRenderer::Options ro;
+    ro.seed = so.seed;
+    const vpSelfCalibRenderer renderer(sim, ro);
+    for (size_t k = 0; k < ds.views.size(); ++k) {
+      std::ostringstream name;
+      name << img_dir << "/" << std::setw(4) << std::setfill('0') << k + 1 << ".png";
+      vpImageIo::write(renderer.render(qs[k], static_cast<unsigned int>(k)), name.str());
+      ds.views[k].image = name.str();
+      ds.views[k].points.clear();
+      std::cerr << "rendered " << k + 1 << "/" << ds.views.size() << "\r" << std::flush;
+    }
+    std::cerr << "\n";
+    ds.yardstick.length = renderer.getYardstickLength();
+    ds.yardstick.id_a = ds.yardstick.id_b = -1;
+  }
   ds.saveYaml(out);
-  std::cout << "wrote " << out << ": " << poses << " poses of " << robot << ", " << sim.getScenePoints().size()
-            << " scene points, noise " << so.pixel_noise_sd << " px\n";
+  if (images)
+    std::cout << "wrote " << out << ": " << poses << " poses of " << robot << ", rendered images in the images/ "
+              << "directory beside it\n";
+  else
+    std::cout << "wrote " << out << ": " << poses << " poses of " << robot << ", " << sim.getScenePoints().size()
+              << " scene points, noise " << so.pixel_noise_sd << " px\n";
   return 0;
 }
 
@@ -285,8 +323,20 @@ int calibrate(const std::vector<std::string> &a)
     throw BadUsage("calibrate: --focal is auto, known, shared or per-pair");
   po.pixel_sd = pixel_sd;
 
-  const vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
+  vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
+  bool need_front_end = false;
+  for (const auto &v : ds.views)
+    need_front_end = need_front_end || (v.points.empty() && !v.image.empty());
+  if (need_front_end) {
+    std::cerr << "... image front end (" << ds.views.size() << " images)\n";
+    const vpFeatureFrontEnd::Result fe = vpFeatureFrontEnd::fillDataset(ds, vpFeatureFrontEnd::Options());
+    unsigned int seen = 0;
+    for (bool b : fe.yardstick_seen)
+      seen += b;
+    std::cerr << "... " << fe.num_tracks << " tracks, yardstick in " << seen << " images, " << std::setprecision(2)
+              << fe.seconds << " s\n";
+  }
   if (method.empty())
     for (const auto &v : ds.views)
       if (v.q.size() == 0 && v.has_fMe)

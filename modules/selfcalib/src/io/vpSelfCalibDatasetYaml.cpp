@@ -195,14 +195,17 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
     ds.yardstick.length = r.number(y["length"], "yardstick.length");
     if (!(ds.yardstick.length > 0))
       r.fail("yardstick.length", "must be positive (m)");
-    const YAML::Node e = y["ends"];
-    if (!e.IsSequence() || e.size() != 2)
-      r.fail("yardstick.ends", "expected [id_a, id_b], got " + Reader::show(e));
-    const double a = r.number(e[0], "yardstick.ends[0]"), b = r.number(e[1], "yardstick.ends[1]");
-    if (!(a >= 0 && b >= 0 && a == std::floor(a) && b == std::floor(b) && a != b))
-      r.fail("yardstick.ends", "two different non-negative point ids");
-    ds.yardstick.id_a = static_cast<int>(a);
-    ds.yardstick.id_b = static_cast<int>(b);
+    // Without ends: the front end finds the yardstick's dots in the images.
+    if (y["ends"]) {
+      const YAML::Node e = y["ends"];
+      if (!e.IsSequence() || e.size() != 2)
+        r.fail("yardstick.ends", "expected [id_a, id_b], got " + Reader::show(e));
+      const double a = r.number(e[0], "yardstick.ends[0]"), b = r.number(e[1], "yardstick.ends[1]");
+      if (!(a >= 0 && b >= 0 && a == std::floor(a) && b == std::floor(b) && a != b))
+        r.fail("yardstick.ends", "two different non-negative point ids");
+      ds.yardstick.id_a = static_cast<int>(a);
+      ds.yardstick.id_b = static_cast<int>(b);
+    }
   }
   return ds;
 }
@@ -267,10 +270,13 @@ std::string vpSelfCalibDataset::toYamlString(const std::string &base_dir) const
     out << YAML::EndSeq << YAML::EndMap;
   }
   out << YAML::EndSeq;
-  if (yardstick.isSet()) {
+  if (yardstick.length > 0) {
     out << YAML::Key << "yardstick" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "length"
-        << YAML::Value << yardstick.length << YAML::Key << "ends" << YAML::Value << YAML::Flow << YAML::BeginSeq
-        << yardstick.id_a << yardstick.id_b << YAML::EndSeq << YAML::EndMap;
+        << YAML::Value << yardstick.length;
+    if (yardstick.isSet())
+      out << YAML::Key << "ends" << YAML::Value << YAML::Flow << YAML::BeginSeq << yardstick.id_a << yardstick.id_b
+          << YAML::EndSeq;
+    out << YAML::EndMap;
   }
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";

@@ -238,8 +238,14 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
     }
   }
   if (ref == 0) {
+    size_t most = 0;
+    for (unsigned int k = 1; k < m; ++k)
+      most = std::max(most, p0[k - 1].size());
     res.status = TWO_VIEW_FAILED;
-    res.message = "no pair (0, k) gave a pose with enough triangulated points";
+    res.message = most < 8 ? "the views share too few points with view 0 (at most " + std::to_string(most) +
+                                 "): every view needs 8 or more points also seen in view 0"
+                           : "no pair (0, k) gave a pose with enough triangulated points (at most " +
+                                 std::to_string(most) + " common points; see the pairs' statuses)";
     return res;
   }
   res.reference_view = ref;

@@ -32,7 +32,7 @@
     - joints: [q1, q2, q3, q4, q5, q6]   # or fMe: [tx, ty, tz, tux, tuy, tuz]
       image: images/0001.png           # optional, relative to this file
       points: [[id, u, v], ...]        # optional
-  yardstick: {length: 0.1, ends: [80, 81]}   # optional
+  yardstick: {length: 0.1, ends: [80, 81]}   # optional; without ends: dots found in the images
   \endcode
 */
 struct vpSelfCalibDataset {

@@ -1,0 +1,78 @@
+/*
+ * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ */
+#ifndef VP_FEATURE_FRONT_END_H
+#define VP_FEATURE_FRONT_END_H
+
+#include <string>
+#include <vector>
+
+#include <visp3/core/vpImage.h>
+#include <visp3/selfcalib/vpSelfCalibDataset.h>
+
+/*!
+  \class vpFeatureFrontEnd
+  \brief Correspondences across views from images of a natural scene, and the yardstick's dots.
+
+  1. Features: OpenCV SIFT (default) or ORB, at most max_features per image.
+  2. Matching of every pair of images: two nearest neighbours (L2 for SIFT, Hamming for ORB), Lowe's
+     ratio test, mutual best match, then geometric verification: OpenCV's RANSAC fundamental matrix
+     (ransac_threshold px); a pair with fewer than min_matches verified matches is left out.
+  3. Tracks: union-find over the verified matches; a track that holds two features of one image is
+     inconsistent and dropped; every track seen in two or more images becomes a scene point id
+     (0, 1, ...).
+  4. Yardstick: dark round dots on a white surround (round connected components of the dark pixels
+     with a white ring around them, then measured by ViSP's vpDot2: centre of gravity and area), two
+     per image; the smaller is end a, the larger end b (radius ratio at least 1.2); their centres
+     get the ids num_tracks and num_tracks + 1.
+
+  Statistics for the report: features per image, verified matches per pair, the track-length
+  histogram, where the yardstick was found.
+*/
+class vpFeatureFrontEnd
+{
+public:
+  enum Detector { SIFT, ORB };
+  static const char *detectorName(Detector d);
+  //! "sift" or "orb"; throws vpSelfCalibException otherwise.
+  static Detector detectorFromName(const std::string &name);
+
+  struct Options {
+    Detector detector = SIFT;
+    unsigned int max_features = 2000;
+    double ratio = 0.8;              //!< Lowe's ratio test
+    bool mutual = true;              //!< keep mutual best matches only
+    double ransac_threshold = 1.0;   //!< px, fundamental-matrix RANSAC
+    unsigned int min_matches = 20;   //!< verified matches a pair needs
+    bool yardstick = true;           //!< detect the yardstick's dots
+    double dot_min_radius = 2.5;     //!< px
+    double dot_max_radius = 40;      //!< px
+    void check() const;
+  };
+
+  struct Result {
+    //! Per image, the observations with their scene point ids (tracks, then the yardstick's ends).
+    std::vector<std::vector<vpSelfCalibDataset::Observation>> observations;
+    unsigned int num_tracks = 0;
+    int yardstick_a = -1, yardstick_b = -1; //!< ids of the ends, -1 when not found in two images
+    std::vector<unsigned int> features;     //!< per image
+    std::vector<std::vector<unsigned int>> matches; //!< verified matches of pair (i, j), i < j (0 if left out)
+    std::vector<unsigned int> track_lengths; //!< histogram: track_lengths[n] tracks seen in n images
+    std::vector<bool> yardstick_seen;        //!< per image
+    double seconds = 0;
+  };
+
+  //! Throws vpSelfCalibException with fewer than 2 images, images of different sizes, or bad options.
+  static Result process(const std::vector<vpImage<unsigned char>> &images, const Options &options);
+
+  /*!
+    A dataset whose views have images but no points: reads every view's image (vpImageIo), checks
+    its size against the dataset's camera, runs process() and fills the observations; the
+    yardstick's ends get the ids of the dots found (its length stays the dataset's). Throws
+    vpSelfCalibException naming the view and the file when an image is missing, unreadable or of
+    another size, or when a view has no image.
+  */
+  static Result fillDataset(vpSelfCalibDataset &dataset, const Options &options);
+};
+
+#endif

@@ -1,0 +1,60 @@
+/*
+ * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ */
+#ifndef VP_SELFCALIB_RENDERER_H
+#define VP_SELFCALIB_RENDERER_H
+
+#include <string>
+#include <vector>
+
+#include <visp3/core/vpColVector.h>
+#include <visp3/core/vpImage.h>
+#include <visp3/selfcalib/vpSelfCalibDataset.h>
+#include <visp3/selfcalib/vpSelfCalibSimulator.h>
+
+/*!
+  \class vpSelfCalibRenderer
+  \brief Rendered images of the reference scenario, seen through the simulator's true robot, for
+  the image front end: a non-planar textured scene (two planes meeting at a ridge through the
+  scene centre, tilted +-30 degrees towards the home viewpoint, 0.11 x 0.16 m each, textured with
+  ViSP's Klimt and Solvay images from visp-images-data) and a yardstick: two dark dots on white
+  square patches of 3 cm (a: dot radius 4 mm, b: 6 mm) lying on the first plane, the simulator's
+  yardstick length apart. Rendering is ViSP's vpImageSimulator (bilinear), then Gaussian blur and
+  Gaussian pixel noise (seeded per view).
+*/
+class vpSelfCalibRenderer
+{
+public:
+  struct Options {
+    std::string texture_dir; //!< empty: visp-images-data's ViSP-images directory
+    double blur_sd = 0.7;    //!< px, Gaussian blur of the rendered image (0: none)
+    double noise_sd = 2.0;   //!< grey levels, Gaussian noise added after the blur
+    uint64_t seed = 1;
+    void check() const;
+  };
+
+  //! Throws vpSelfCalibException when a texture cannot be read (visp-images-data missing).
+  vpSelfCalibRenderer(const vpSelfCalibSimulator &simulator, const Options &options);
+
+  //! The image of the true camera at joints q; view_index selects the noise stream.
+  vpImage<unsigned char> render(const vpColVector &q, unsigned int view_index) const;
+
+  //! The yardstick's ends in f (3-vectors) and its length.
+  const vpColVector &getYardstickEndA() const { return m_end_a; }
+  const vpColVector &getYardstickEndB() const { return m_end_b; }
+  double getYardstickLength() const;
+  //! Radius of the dots of ends a and b (m).
+  static constexpr double kDotRadiusA = 0.004, kDotRadiusB = 0.006;
+
+private:
+  struct Quad {
+    vpImage<unsigned char> texture;
+    vpColVector corners[4]; //!< in f: top-left, top-right, bottom-right, bottom-left
+  };
+  const vpSelfCalibSimulator &m_sim;
+  Options m_opt;
+  std::vector<Quad> m_quads;
+  vpColVector m_end_a, m_end_b;
+};
+
+#endif

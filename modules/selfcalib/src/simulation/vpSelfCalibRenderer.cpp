@@ -1,0 +1,157 @@
+/*
+ * ViSP SelfCalib: rendered images of the reference scenario (vpImageSimulator). See the header.
+ */
+#include <visp3/selfcalib/vpSelfCalibRenderer.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+
+#include <cmath>
+#include <fstream>
+#include <list>
+
+#include <visp3/core/vpImageFilter.h>
+#include <visp3/io/vpImageIo.h>
+#include <visp3/robot/vpImageSimulator.h>
+
+#include "../core/vpSelfCalibMath.h"
+#include "../core/vpSelfCalibRandom.h"
+
+using namespace vpSelfCalib;
+
+namespace
+{
+vpColVector toCol(const Eigen::Vector3d &v)
+{
+  vpColVector c(3);
+  for (unsigned int a = 0; a < 3; ++a)
+    c[a] = v(a);
+  return c;
+}
+
+// A white square patch with a dark disk of the given radius (fraction of the half side).
+vpImage<unsigned char> dotTexture(double radius_fraction)
+{
+  const int n = 64;
+  vpImage<unsigned char> I(n, n, 255);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double y = (i + 0.5) / n * 2 - 1, x = (j + 0.5) / n * 2 - 1;
+      if (x * x + y * y <= radius_fraction * radius_fraction)
+        I[i][j] = 20;
+    }
+  return I;
+}
+} // namespace
+
+void vpSelfCalibRenderer::Options::check() const
+{
+  if (!(blur_sd >= 0) || !(noise_sd >= 0) || !std::isfinite(blur_sd) || !std::isfinite(noise_sd))
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpSelfCalibRenderer: blur_sd and noise_sd must be >= 0");
+}
+
+vpSelfCalibRenderer::vpSelfCalibRenderer(const vpSelfCalibSimulator &sim, const Options &opt) : m_sim(sim), m_opt(opt)
+{
+  opt.check();
+  const std::string dir = opt.texture_dir.empty() ? "/usr/share/visp-images-data/ViSP-images" : opt.texture_dir;
+  const std::string files[2] = {dir + "/Klimt/Klimt.pgm", dir + "/Solvay/Solvay_conference_1927_Version2_640x440.png"};
+  // Frame of the scene: the ridge along e2 through the centre, d towards the home viewpoint.
+  const vpColVector home = sim.getOptions().home.size() ? sim.getOptions().home
+                                                        : vpSelfCalibSimulator::homeConfiguration(sim.getNominalChain());
+  const Rigid H = rigidFromVisp(sim.getNominalChain().get_fMc(home));
+  const Eigen::Vector3d c = vec3(sim.getSceneCentre());
+  const Eigen::Vector3d d = (H.t - c).normalized();
+  Eigen::Vector3d e1 = H.R.col(0) - H.R.col(0).dot(d) * d;
+  e1.normalize();
+  const Eigen::Vector3d e2 = d.cross(e1); // roughly the image's down direction seen from home
+  const double width = 0.11, height = 0.16, tilt = 30 * M_PI / 180;
+  for (int side = 0; side < 2; ++side) {
+    Quad q;
+    try {
+      vpImageIo::read(q.texture, files[side]);
+    } catch (const vpException &e) {
+      throw vpSelfCalibException(vpSelfCalibException::ioError,
+                                 "vpSelfCalibRenderer: cannot read the texture '" + files[side] +
+                                     "' (Debian package visp-images-data): " + e.getStringMessage());
+    }
+    // Plane side 0 on the -e1 side of the ridge, side 1 on the +e1 side, both leaning back from the viewer.
+    const double s = side == 0 ? -1 : 1;
+    const Eigen::Vector3d u = (std::cos(tilt) * e1 * s - std::sin(tilt) * d).normalized(); // away from the ridge
+    const Eigen::Vector3d a = c, b = c + width * u;
+    const Eigen::Vector3d inner_top = a - 0.5 * height * e2, outer_top = b - 0.5 * height * e2;
+    const Eigen::Vector3d inner_bottom = a + 0.5 * height * e2, outer_bottom = b + 0.5 * height * e2;
+    if (side == 0) {
+      q.corners[0] = toCol(outer_top);
+      q.corners[1] = toCol(inner_top);
+      q.corners[2] = toCol(inner_bottom);
+      q.corners[3] = toCol(outer_bottom);
+    } else {
+      q.corners[0] = toCol(inner_top);
+      q.corners[1] = toCol(outer_top);
+      q.corners[2] = toCol(outer_bottom);
+      q.corners[3] = toCol(inner_bottom);
+    }
+    m_quads.push_back(q);
+    if (side == 0) {
+      // The yardstick: two dot patches on this plane, 1 mm in front of it, along e2.
+      const Eigen::Vector3d nrm = u.cross(e2).dot(d) > 0 ? u.cross(e2).normalized() : (-u.cross(e2)).normalized();
+      const Eigen::Vector3d mid = c + 0.5 * width * u + 0.001 * nrm;
+      const double L = sim.getYardstick().length;
+      const Eigen::Vector3d ends[2] = {mid - 0.5 * L * e2, mid + 0.5 * L * e2};
+      const double radius[2] = {kDotRadiusA, kDotRadiusB};
+      for (int k = 0; k < 2; ++k) {
+        const double half = 0.015; // 3 cm white patch
+        Quad dot;
+        dot.texture = dotTexture(radius[k] / half);
+        const Eigen::Vector3d &p = ends[k];
+        const Eigen::Vector3d uu = u * half * (side == 0 ? -1 : 1), vv = e2 * half;
+        dot.corners[0] = toCol(p - uu - vv);
+        dot.corners[1] = toCol(p + uu - vv);
+        dot.corners[2] = toCol(p + uu + vv);
+        dot.corners[3] = toCol(p - uu + vv);
+        m_quads.push_back(dot);
+      }
+      m_end_a = toCol(ends[0]);
+      m_end_b = toCol(ends[1]);
+    }
+  }
+}
+
+double vpSelfCalibRenderer::getYardstickLength() const { return (m_end_a - m_end_b).frobeniusNorm(); }
+
+vpImage<unsigned char> vpSelfCalibRenderer::render(const vpColVector &q, unsigned int view_index) const
+{
+  const vpHomogeneousMatrix cMf = m_sim.getTrueChain().get_fMc(q).inverse();
+  std::list<vpImageSimulator> list;
+  for (const Quad &quad : m_quads) {
+    vpImageSimulator s;
+    s.setInterpolationType(vpImageSimulator::BILINEAR_INTERPOLATION);
+    // vpImageSimulator takes the corners in the frame of the quad and its pose; the quad frame here is f.
+    // vpImageSimulator draws a quad from the side its corner order makes the front only: the
+    // texture is mirrored (corners swapped left-right) when the camera is on the other side.
+    const Eigen::Vector3d c0 = vec3(quad.corners[0]), c1 = vec3(quad.corners[1]), c3 = vec3(quad.corners[3]);
+    const Eigen::Vector3d n = (c1 - c0).cross(c3 - c0), cam = rigidFromVisp(cMf).inverse().t;
+    const bool front = n.dot(cam - c0) < 0;
+    vpColVector X[4] = {quad.corners[0], quad.corners[1], quad.corners[2], quad.corners[3]};
+    if (!front) {
+      std::swap(X[0], X[1]);
+      std::swap(X[2], X[3]);
+    }
+    s.init(quad.texture, X);
+    s.setCameraPosition(cMf);
+    list.push_back(s);
+  }
+  const vpSelfCalibSimulator::Options &so = m_sim.getOptions();
+  vpImage<unsigned char> I(so.height, so.width, 128);
+  vpImageSimulator::getImage(I, list, m_sim.getCamera());
+  vpImage<double> F;
+  if (m_opt.blur_sd > 0) {
+    vpImage<double> G;
+    vpImageConvert::convert(I, G);
+    vpImageFilter::gaussianBlur(G, F, static_cast<unsigned int>(2 * std::ceil(3 * m_opt.blur_sd) + 1), m_opt.blur_sd);
+  } else
+    vpImageConvert::convert(I, F);
+  Random rng(m_opt.seed, 1000 + view_index);
+  for (unsigned int i = 0; i < I.getHeight(); ++i)
+    for (unsigned int j = 0; j < I.getWidth(); ++j)
+      I[i][j] = static_cast<unsigned char>(std::max(0.0, std::min(255.0, std::round(F[i][j] + rng.normal(m_opt.noise_sd)))));
+  return I;
+}

@@ -1,0 +1,123 @@
+/*
+ * Tests of the image front end on rendered images of the reference scenario, end to end.
+ */
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <visp3/selfcalib/vpCalibrationVerifier.h>
+#include <visp3/selfcalib/vpFeatureFrontEnd.h>
+#include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibRenderer.h>
+
+#include "core/vpSelfCalibMath.h"
+#include "core/vpSelfCalibRandom.h"
+
+using namespace vpSelfCalib;
+
+namespace
+{
+// Mean held-out position error (m) of the default pipeline on the first C views, verified on the rest.
+double heldOut(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds, unsigned int C, double *rms = nullptr)
+{
+  vpRobotSelfCalibration::Options o;
+  o.num_calibration_poses = C;
+  const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
+  EXPECT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
+  if (rms)
+    *rms = r.bundle.rms;
+  const std::vector<vpSelfCalibDataset::View> ver(ds.views.begin() + C, ds.views.end());
+  return vpCalibrationVerifier::verify(r.calibrated, r.camera, ver, ds.yardstick, {}, sim.getTrueCameraPoses(ver))
+      .position_error_mean;
+}
+} // namespace
+
+// 12 rendered poses (8 calibrating, 4 held out): the tracks are right (they triangulate through the
+// true cameras within a pixel), the yardstick's dots are found and located, and the calibration on
+// the front end's correspondences is within 2x of the same run on exact correspondences of the same
+// points with the same pixel noise.
+TEST(FrontEnd, RenderedImagesEndToEnd)
+{
+  const unsigned int N = 12, C = 8;
+  vpSelfCalibSimulator::Options so;
+  so.seed = 91;
+  const vpSelfCalibSimulator sim(vpKinematicChain::preset("viper850"), so);
+  const vpSelfCalibRenderer renderer(sim, vpSelfCalibRenderer::Options());
+  const std::vector<vpColVector> q = sim.generateConfigurations(N);
+  std::vector<vpImage<unsigned char>> images;
+  for (unsigned int k = 0; k < N; ++k)
+    images.push_back(renderer.render(q[k], k));
+  const vpFeatureFrontEnd::Result fe = vpFeatureFrontEnd::process(images, vpFeatureFrontEnd::Options());
+  ASSERT_GT(fe.num_tracks, 300u);
+  ASSERT_GE(fe.yardstick_a, 0) << "yardstick not found";
+  unsigned int seen = 0;
+  for (bool b : fe.yardstick_seen)
+    seen += b;
+  EXPECT_GE(seen, 3u);
+
+  vpSelfCalibDataset ds = sim.makeDataset(q);
+  for (unsigned int k = 0; k < N; ++k)
+    ds.views[k].points = fe.observations[k];
+  ds.yardstick.length = renderer.getYardstickLength();
+  ds.yardstick.id_a = fe.yardstick_a;
+  ds.yardstick.id_b = fe.yardstick_b;
+
+  // Tracks through the true cameras: triangulated, reprojected.
+  const std::map<int, vpColVector> X = vpCalibrationVerifier::triangulate(sim.getTrueChain(), ds.cam, ds.views);
+  const std::vector<vpHomogeneousMatrix> T = sim.getTrueCameraPoses(ds.views);
+  unsigned int good = 0, total = 0;
+  for (unsigned int k = 0; k < N; ++k)
+    for (const auto &o : ds.views[k].points) {
+      const Eigen::Vector3d c = rigidFromVisp(T[k]).inverse() * vec3(X.at(o.id));
+      const double du = 320 + 1500 * c(0) / c(2) - o.ip.get_u(), dv = 240 + 1500 * c(1) / c(2) - o.ip.get_v();
+      good += std::hypot(du, dv) < 1.0;
+      ++total;
+    }
+  EXPECT_GT(good, 0.95 * total);
+  // The dots: their centroids against the projections of the true ends.
+  for (unsigned int k = 0; k < N; ++k)
+    for (const auto &o : ds.views[k].points)
+      if (o.id == fe.yardstick_a || o.id == fe.yardstick_b) {
+        const vpColVector &E = o.id == fe.yardstick_a ? renderer.getYardstickEndA() : renderer.getYardstickEndB();
+        const Eigen::Vector3d c = rigidFromVisp(T[k]).inverse() * vec3(E);
+        EXPECT_NEAR(320 + 1500 * c(0) / c(2), o.ip.get_u(), 0.2) << "view " << k;
+        EXPECT_NEAR(240 + 1500 * c(1) / c(2), o.ip.get_v(), 0.2) << "view " << k;
+      }
+
+  double rms = 0;
+  const double rendered = heldOut(sim, ds, C, &rms);
+  // The same points (triangulated through the true cameras; the yardstick's true ends), projected
+  // exactly, with Gaussian noise of the rendered run's residual RMS.
+  vpSelfCalibDataset exact = ds;
+  Random rng(91, 5);
+  for (unsigned int k = 0; k < N; ++k)
+    for (auto &o : exact.views[k].points) {
+      const vpColVector &P = o.id == fe.yardstick_a ? renderer.getYardstickEndA()
+                                                    : (o.id == fe.yardstick_b ? renderer.getYardstickEndB() : X.at(o.id));
+      const Eigen::Vector3d c = rigidFromVisp(T[k]).inverse() * vec3(P);
+      o.ip = vpImagePoint(240 + 1500 * c(1) / c(2) + rng.normal(rms), 320 + 1500 * c(0) / c(2) + rng.normal(rms));
+    }
+  const double reference = heldOut(sim, exact, C);
+  EXPECT_LT(rendered, 2 * reference) << "rendered " << rendered << " m, exact correspondences " << reference << " m";
+}
+
+TEST(FrontEnd, BadInput)
+{
+  vpImage<unsigned char> a(480, 640, 128), b(240, 320, 128);
+  EXPECT_THROW(vpFeatureFrontEnd::process({a}, vpFeatureFrontEnd::Options()), vpSelfCalibException);
+  EXPECT_THROW(vpFeatureFrontEnd::process({a, b}, vpFeatureFrontEnd::Options()), vpSelfCalibException);
+  vpFeatureFrontEnd::Options o;
+  o.ratio = 2;
+  EXPECT_THROW(o.check(), vpSelfCalibException);
+  EXPECT_THROW(vpFeatureFrontEnd::detectorFromName("surf"), vpSelfCalibException);
+  // Featureless images: no tracks, no yardstick, no crash.
+  const auto r = vpFeatureFrontEnd::process({a, a, a}, vpFeatureFrontEnd::Options());
+  EXPECT_EQ(r.num_tracks, 0u);
+  EXPECT_EQ(r.yardstick_a, -1);
+  vpSelfCalibRenderer::Options ro;
+  ro.texture_dir = "/nonexistent";
+  vpSelfCalibSimulator::Options so;
+  const vpSelfCalibSimulator sim(vpKinematicChain::preset("viper850"), so);
+  EXPECT_THROW(vpSelfCalibRenderer(sim, ro), vpSelfCalibException);
+}
