@@ -33,6 +33,7 @@
 #include <visp3/selfcalib/vpFeatureFrontEnd.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpSelfCalibRenderer.h>
+#include <visp3/selfcalib/vpSelfCalibReport.h>
 #include <visp3/selfcalib/vpModelExport.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
@@ -59,7 +60,8 @@ int usage(std::ostream &os, int code)
      << "writes no points (calibrate then runs the image front end); --force replaces an existing file.\n"
      << "calibrate: the method defaults to hand-eye when the dataset has poses without joints, else bundle.\n"
      << "calibrate uses the first N views (default 15, or all but 2 when fewer) and verifies on the others;\n"
-     << "it writes DIR/model.yaml, DIR/model.urdf, DIR/camera.xml and DIR/results.yaml, never over an input.\n"
+     << "it writes DIR/model.yaml, DIR/model.urdf, DIR/camera.xml, DIR/results.yaml and DIR/report/ (report.md,\n"
+     << "figures drawn by gnuplot), never over an input.\n"
      << "verify prints the paper's 3-D yardstick error of MODEL on the dataset's views.\n"
      << "export writes the model as URDF joint origins (exact), or as a DH / modified-DH robot-model file\n"
      << "without corrections when one reproduces it (exit 3 when none does; a warning when it is ill-conditioned).\n"
@@ -328,9 +330,10 @@ int calibrate(const std::vector<std::string> &a)
   bool need_front_end = false;
   for (const auto &v : ds.views)
     need_front_end = need_front_end || (v.points.empty() && !v.image.empty());
+  vpFeatureFrontEnd::Result fe;
   if (need_front_end) {
     std::cerr << "... image front end (" << ds.views.size() << " images)\n";
-    const vpFeatureFrontEnd::Result fe = vpFeatureFrontEnd::fillDataset(ds, vpFeatureFrontEnd::Options());
+    fe = vpFeatureFrontEnd::fillDataset(ds, vpFeatureFrontEnd::Options());
     unsigned int seen = 0;
     for (bool b : fe.yardstick_seen)
       seen += b;
@@ -398,6 +401,11 @@ int calibrate(const std::vector<std::string> &a)
     std::cout << "; yardstick 3-D error on the held-out views " << std::setprecision(3)
               << 1e3 * r.before.yardstick_error << " mm (nominal) -> " << 1e3 * r.after.yardstick_error << " mm";
   std::cout << "\nwrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
+  std::cerr << "... report\n";
+  const vpSelfCalibReport::Result rep = vpSelfCalibReport::write(out + "/report", nominal, ds, po, r,
+                                                                 need_front_end ? &fe : nullptr,
+                                                                 vpSelfCalibReport::Options());
+  std::cout << "report: " << out << "/report/report.md (" << rep.message << ")\n";
   return 0;
 }
 

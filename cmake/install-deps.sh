@@ -9,6 +9,7 @@ PACKAGES=(
   cmake g++ make pkg-config
   libvisp-dev visp-images-data
   libeigen3-dev libopencv-dev libnlopt-cxx-dev libceres-dev libyaml-cpp-dev libgtest-dev
+  gnuplot-nox
 )
 
 missing=()

@@ -30,14 +30,18 @@ struct PointReprojection {
   }
 };
 
-//! The model's camera pose of a view: fMc(q), or fMe eMc for a view with a controller pose only.
-vpHomogeneousMatrix cameraPose(const vpKinematicChain &model, const vpSelfCalibDataset::View &v)
+} // namespace
+
+vpHomogeneousMatrix vpCalibrationVerifier::cameraPose(const vpKinematicChain &model, const vpSelfCalibDataset::View &v)
 {
   if (v.q.size() == model.getNumJoints())
     return model.get_fMc(v.q);
+  if (!v.has_fMe)
+    throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                               "vpCalibrationVerifier: a view has no joint vector of size " +
+                                   std::to_string(model.getNumJoints()) + " and no fMe");
   return v.fMe * model.get_eMc_corrected();
 }
-} // namespace
 
 std::map<int, vpColVector> vpCalibrationVerifier::triangulate(const vpKinematicChain &model,
                                                               const vpCameraParameters &cam,

@@ -10,7 +10,11 @@
 #include <visp3/selfcalib/vpKinematicIdentification.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibReport.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
+
+#include <fstream>
+#include <sys/stat.h>
 
 namespace
 {
@@ -120,4 +124,34 @@ TEST(RobotSelfCalibration, BadInputsGiveAStatusOrAnError)
   bad = ds;
   bad.views[3].q.resize(4);
   EXPECT_THROW(vpRobotSelfCalibration::run(sim.getNominalChain(), bad, o), vpSelfCalibException);
+}
+
+// The report without gnuplot: data files and report.md written, figures reported as not drawn.
+TEST(Report, WithoutGnuplotTheDataAndTheTextAreStillWritten)
+{
+  const vpSelfCalibSimulator sim = makeSim(14, 0.2);
+  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
+  vpRobotSelfCalibration::Options o;
+  o.num_calibration_poses = 9;
+  const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
+  ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
+  char dir[] = "/tmp/selfcalib-report-XXXXXX";
+  ASSERT_NE(mkdtemp(dir), nullptr);
+  vpSelfCalibReport::Options ro;
+  ro.gnuplot = "/nonexistent/gnuplot";
+  const auto rep = vpSelfCalibReport::write(dir, sim.getNominalChain(), ds, o, r, nullptr, ro);
+  EXPECT_FALSE(rep.figures);
+  EXPECT_NE(rep.message.find("gnuplot-nox"), std::string::npos);
+  std::ifstream md(std::string(dir) + "/report.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("| j2.tx |"), std::string::npos);
+  EXPECT_NE(text.find("Not estimated"), std::string::npos);
+  std::ifstream curve(std::string(dir) + "/errors_vs_poses.dat");
+  std::string line;
+  unsigned int rows = 0;
+  while (std::getline(curve, line))
+    rows += !line.empty() && line[0] != '#';
+  EXPECT_EQ(rows, 4u); // 6, 7, 8 and 9 calibration poses
+  EXPECT_THROW(vpSelfCalibReport::write("/nonexistent/dir/report", sim.getNominalChain(), ds, o, r, nullptr, ro),
+               vpSelfCalibException);
 }

@@ -42,6 +42,9 @@ public:
     double position_error_mean = 0, rotation_error_mean = 0;
   };
 
+  //! The model's camera pose of a view: fMc(q), or fMe eMc for a view with a controller pose only.
+  static vpHomogeneousMatrix cameraPose(const vpKinematicChain &model, const vpSelfCalibDataset::View &view);
+
   /*!
     Triangulation of every id seen in two or more of the views (at least 2 views), with the model's
     fMc(q) of each view, or fMe eMc for a view that has a controller pose fMe and no joints. Throws

@@ -1,0 +1,51 @@
+/*
+ * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ */
+#ifndef VP_SELFCALIB_REPORT_H
+#define VP_SELFCALIB_REPORT_H
+
+#include <string>
+#include <vector>
+
+#include <visp3/selfcalib/vpFeatureFrontEnd.h>
+#include <visp3/selfcalib/vpRobotSelfCalibration.h>
+
+/*!
+  \class vpSelfCalibReport
+  \brief The report of a calibration run: a folder with report.md and PNG figures drawn by gnuplot
+  (Debian package gnuplot-nox) from data files kept beside them (plots.gp redraws them).
+
+  report.md: the run (method, views, f, scale, stage times), the front end (features per image,
+  tracks, track-length histogram, the yardstick's views) when there is one, the estimated
+  parameters with their standard deviations, those left out and why, the reprojection residuals
+  and the verification on the held-out views.
+  Figures: trajectory.png (camera positions of every view in 3-D, calibration and held-out),
+  position_norms.png (|t_i| of c_i M c_1, the paper's Figures 4-5), residuals.png (histogram of
+  the reprojection residuals on the calibration views), verification.png (reprojection RMS of
+  each held-out view), errors_vs_poses.png (3-D yardstick error on the held-out views against
+  the number of calibration poses, recalibrated for each, the paper's Figure 6).
+  Without gnuplot the data files and report.md are still written and the result says so.
+*/
+class vpSelfCalibReport
+{
+public:
+  struct Options {
+    std::string gnuplot = "gnuplot"; //!< the program; empty: no figures
+    bool errors_vs_poses = true;     //!< recalibrate for 6 .. N poses (Figure 6)
+  };
+  struct Result {
+    bool figures = false; //!< the PNG files were drawn
+    std::string message;
+    std::vector<std::string> files; //!< everything written
+  };
+  /*!
+    Writes the report of `result` (run with `options` on `dataset`) into `directory` (created if
+    missing). front_end may be null. Throws vpSelfCalibException when the directory cannot be
+    written; a missing or failing gnuplot is reported in the result.
+  */
+  static Result write(const std::string &directory, const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
+                      const vpRobotSelfCalibration::Options &options, const vpRobotSelfCalibration::Result &result,
+                      const vpFeatureFrontEnd::Result *front_end, const Options &report_options);
+};
+
+#endif

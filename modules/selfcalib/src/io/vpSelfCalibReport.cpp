@@ -1,0 +1,246 @@
+/*
+ * ViSP SelfCalib: the report of a calibration run (report.md, data files, gnuplot figures).
+ */
+#include <visp3/selfcalib/vpSelfCalibReport.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+#include <sys/stat.h>
+
+#include <visp3/core/vpMeterPixelConversion.h>
+
+#include "vpSelfCalibYaml.h"
+
+using namespace vpSelfCalib;
+
+namespace
+{
+// Reprojection residual norms (px) of every observation of the views, points triangulated from them.
+std::vector<std::vector<double>> residuals(const vpKinematicChain &model, const vpCameraParameters &cam,
+                                           const std::vector<vpSelfCalibDataset::View> &views)
+{
+  std::vector<std::vector<double>> out(views.size());
+  if (views.size() < 2)
+    return out;
+  const std::map<int, vpColVector> X = vpCalibrationVerifier::triangulate(model, cam, views);
+  for (size_t k = 0; k < views.size(); ++k) {
+    const vpHomogeneousMatrix cMf = vpCalibrationVerifier::cameraPose(model, views[k]).inverse();
+    for (const auto &o : views[k].points) {
+      auto it = X.find(o.id);
+      if (it == X.end())
+        continue;
+      vpColVector P(4, 1.0);
+      for (unsigned int a = 0; a < 3; ++a)
+        P[a] = it->second[a];
+      const vpColVector c = cMf * P;
+      if (!(c[2] > 0))
+        continue;
+      double u = 0, v = 0;
+      vpMeterPixelConversion::convertPoint(cam, c[0] / c[2], c[1] / c[2], u, v);
+      out[k].push_back(std::hypot(u - o.ip.get_u(), v - o.ip.get_v()));
+    }
+  }
+  return out;
+}
+
+void writeText(const std::string &file, const std::string &text, std::vector<std::string> &files)
+{
+  writeFileAtomically(file, text, "report file");
+  files.push_back(file);
+}
+
+std::string mm(double m, int precision = 3)
+{
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(precision) << 1e3 * m;
+  return os.str();
+}
+
+const char *kPlots = R"(# Figures of the ViSP SelfCalib report: gnuplot plots.gp (in this directory)
+set terminal pngcairo size 800,600
+set grid
+set output 'trajectory.png'
+set title 'Camera positions (calibrated model), m'
+set xlabel 'x'
+set ylabel 'y'
+set zlabel 'z'
+set format xy '%.2f'
+splot 'trajectory.dat' index 0 using 1:2:3 with linespoints title 'calibration views', \
+      '' index 1 using 1:2:3 with points pt 7 title 'held-out views'
+set format xy '%g'
+set output 'position_norms.png'
+set title 'Norm of the position vector |t_i| of c_i M c_1 (calibrated model)'
+set xlabel 'pose i'
+set ylabel '|t_i| (m)'
+plot 'position_norms.dat' using 1:2 with linespoints notitle
+set output 'residuals.png'
+set title 'Reprojection residuals on the calibration views'
+set xlabel 'residual (px)'
+set ylabel 'observations'
+binwidth = 0.05
+bin(x) = binwidth * floor(x / binwidth) + binwidth / 2
+set boxwidth binwidth
+set style fill solid 0.5
+plot 'residuals.dat' using (bin($1)):(1.0) smooth freq with boxes notitle
+set output 'verification.png'
+set title 'Reprojection RMS of each held-out view (points triangulated on the held-out views)'
+set xlabel 'held-out view'
+set ylabel 'RMS (px)'
+set style fill solid 0.5
+set boxwidth 0.6
+plot 'verification.dat' using 1:2 with boxes notitle
+set output 'errors_vs_poses.png'
+set title '3-D yardstick error on the held-out views against the number of calibration poses'
+set xlabel 'calibration poses'
+set ylabel 'error (mm)'
+plot 'errors_vs_poses.dat' using 1:2 with linespoints title 'calibrated', \
+     '' using 1:3 with lines dt 2 title 'nominal'
+)";
+} // namespace
+
+vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const vpKinematicChain &nominal,
+                                                   const vpSelfCalibDataset &ds,
+                                                   const vpRobotSelfCalibration::Options &po,
+                                                   const vpRobotSelfCalibration::Result &r,
+                                                   const vpFeatureFrontEnd::Result *fe, const Options &ro)
+{
+  struct stat st;
+  if (stat(dir.c_str(), &st) != 0 && mkdir(dir.c_str(), 0777) != 0)
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               "vpSelfCalibReport: cannot create the directory '" + dir + "'");
+  Result res;
+  const unsigned int N = std::min<unsigned int>(po.num_calibration_poses, static_cast<unsigned int>(ds.views.size()));
+  const std::vector<vpSelfCalibDataset::View> cal(ds.views.begin(), ds.views.begin() + N),
+      ver(ds.views.begin() + N, ds.views.end());
+  const bool ok = r.status == vpRobotSelfCalibration::OK;
+  const vpKinematicChain &model = ok ? r.calibrated : nominal;
+
+  // Data files.
+  std::ostringstream traj, norms, resid, verif, curve;
+  traj << std::setprecision(10) << "# x y z (m): calibration views, then (index 1) held-out views\n";
+  for (size_t k = 0; k < ds.views.size(); ++k) {
+    if (k == N)
+      traj << "\n\n";
+    const vpTranslationVector t = vpCalibrationVerifier::cameraPose(model, ds.views[k]).getTranslationVector();
+    traj << t[0] << " " << t[1] << " " << t[2] << "\n";
+  }
+  norms << std::setprecision(10) << "# pose |t_i| (m) of c_i M c_1\n";
+  const vpHomogeneousMatrix fMc1 = vpCalibrationVerifier::cameraPose(model, cal[0]);
+  for (size_t k = 1; k < cal.size(); ++k)
+    norms << k + 1 << " "
+          << (vpCalibrationVerifier::cameraPose(model, cal[k]).inverse() * fMc1).getTranslationVector().frobeniusNorm()
+          << "\n";
+  const auto rc = residuals(model, r.camera, cal);
+  double sum2 = 0;
+  size_t count = 0;
+  resid << std::setprecision(6) << "# reprojection residual (px), calibration views\n";
+  for (const auto &v : rc)
+    for (double e : v) {
+      resid << e << "\n";
+      sum2 += e * e;
+      ++count;
+    }
+  const auto rv = residuals(model, r.camera, ver);
+  verif << std::setprecision(6) << "# held-out view, reprojection RMS (px)\n";
+  std::vector<double> ver_rms;
+  for (size_t k = 0; k < rv.size(); ++k) {
+    double s = 0;
+    for (double e : rv[k])
+      s += e * e;
+    ver_rms.push_back(rv[k].empty() ? 0 : std::sqrt(s / rv[k].size()));
+    verif << k + 1 << " " << ver_rms.back() << "\n";
+  }
+  curve << std::setprecision(6) << "# calibration poses, yardstick 3-D error (mm): calibrated, nominal\n";
+  std::vector<std::pair<unsigned int, double>> curve_points;
+  if (ro.errors_vs_poses && ok && ver.size() >= 2 && ds.yardstick.isSet()) {
+    const double nominal_error = vpCalibrationVerifier::verify(nominal, ds.cam, ver, ds.yardstick).yardstick_error;
+    for (unsigned int n = std::min(6u, N); n <= N; ++n) {
+      std::vector<vpSelfCalibDataset::View> views(cal.begin(), cal.begin() + n);
+      views.insert(views.end(), ver.begin(), ver.end());
+      vpSelfCalibDataset sub = ds;
+      sub.views = views;
+      vpRobotSelfCalibration::Options o = po;
+      o.num_calibration_poses = n;
+      const auto rn = vpRobotSelfCalibration::run(nominal, sub, o);
+      if (rn.status == vpRobotSelfCalibration::OK && rn.verified) {
+        curve << n << " " << 1e3 * rn.after.yardstick_error << " " << 1e3 * nominal_error << "\n";
+        curve_points.push_back({n, rn.after.yardstick_error});
+      }
+    }
+  }
+  writeText(dir + "/trajectory.dat", traj.str(), res.files);
+  writeText(dir + "/position_norms.dat", norms.str(), res.files);
+  writeText(dir + "/residuals.dat", resid.str(), res.files);
+  writeText(dir + "/verification.dat", verif.str(), res.files);
+  writeText(dir + "/errors_vs_poses.dat", curve.str(), res.files);
+  writeText(dir + "/plots.gp", kPlots, res.files);
+
+  // Figures.
+  if (!ro.gnuplot.empty()) {
+    const std::string cmd = "cd '" + dir + "' && " + ro.gnuplot + " plots.gp > gnuplot.log 2>&1";
+    const int rc_plot = std::system(cmd.c_str());
+    res.figures = rc_plot == 0;
+    res.message = res.figures ? "figures drawn with " + ro.gnuplot
+                              : "figures not drawn: '" + ro.gnuplot + "' failed or is missing (Debian package "
+                                                                      "gnuplot-nox); see gnuplot.log";
+    if (res.figures)
+      for (const char *f : {"trajectory", "position_norms", "residuals", "verification", "errors_vs_poses"})
+        res.files.push_back(dir + "/" + f + ".png");
+  } else
+    res.message = "figures not requested";
+
+  // report.md
+  std::ostringstream md;
+  md << "# ViSP SelfCalib report\n\n"
+     << "| | |\n|---|---|\n"
+     << "| robot | " << nominal.getName() << " |\n"
+     << "| method | " << vpRobotSelfCalibration::methodName(r.method) << " |\n"
+     << "| status | " << vpRobotSelfCalibration::statusName(r.status) << " |\n"
+     << "| views | " << N << " calibrating, " << ver.size() << " held out |\n"
+     << "| f_x | " << std::setprecision(7) << r.camera.get_px() << " px (sd " << std::setprecision(3) << r.fx_sd
+     << "), " << (ds.focal_known ? "known" : "self-calibrated") << " |\n";
+  if (r.method != vpRobotSelfCalibration::PAPER && r.bundle.num_observations)
+    md << "| scale | from " << vpKinematicBundleAdjustment::scaleSourceName(r.bundle.scale_source) << " |\n"
+       << "| bundle adjustment | " << r.bundle.num_observations << " observations (" << r.bundle.num_outliers
+       << " dropped as outliers), reprojection RMS " << std::setprecision(3) << r.bundle.rms << " px, sigma0 "
+       << r.bundle.sigma0 << " |\n";
+  md << "\nMessage: " << r.message << "\n\n## Stage times\n\n| stage | s |\n|---|---|\n";
+  for (const auto &s : r.stage_seconds)
+    md << "| " << s.first << " | " << std::setprecision(3) << s.second << " |\n";
+  if (fe) {
+    md << "\n## Image front end\n\n" << fe->num_tracks << " tracks (scene points seen in two or more images), "
+       << std::setprecision(3) << fe->seconds << " s.\n\n| image | features | yardstick |\n|---|---|---|\n";
+    for (size_t k = 0; k < fe->features.size(); ++k)
+      md << "| " << k + 1 << " | " << fe->features[k] << " | " << (fe->yardstick_seen[k] ? "yes" : "no") << " |\n";
+    md << "\nTrack lengths (images per track):\n\n| length | tracks |\n|---|---|\n";
+    for (size_t n = 2; n < fe->track_lengths.size(); ++n)
+      md << "| " << n << " | " << fe->track_lengths[n] << " |\n";
+  }
+  const std::vector<std::string> names = nominal.getParameterNames();
+  md << "\n## Estimated parameters\n\n| parameter | estimate (mm or mrad) | sd (mm or mrad) |\n|---|---|---|\n";
+  for (unsigned int k : r.identifiability.identified)
+    md << "| " << names[k] << " | " << mm(r.calibrated.getParameters()[k]) << " | "
+       << mm(k < r.parameter_sd.size() ? r.parameter_sd[k] : 0.0) << " |\n";
+  md << "\n## Not estimated (kept at nominal)\n\n| parameter | why |\n|---|---|\n";
+  for (const auto &u : r.identifiability.unidentifiable)
+    md << "| " << u.name << " | " << u.reason << " |\n";
+  md << "\n## Residuals\n\nReprojection RMS on the calibration views (points triangulated with the calibrated model): "
+     << std::setprecision(3) << (count ? std::sqrt(sum2 / count) : 0.0) << " px over " << count
+     << " observations.\n\n![residuals](residuals.png)\n";
+  md << "\n## Verification on the held-out views\n\n";
+  if (r.verified)
+    md << "3-D yardstick error (the paper's): nominal " << mm(r.before.yardstick_error) << " mm, calibrated "
+       << mm(r.after.yardstick_error) << " mm.\n\n";
+  md << "| held-out view | reprojection RMS (px) |\n|---|---|\n";
+  for (size_t k = 0; k < ver_rms.size(); ++k)
+    md << "| " << k + 1 << " | " << std::setprecision(3) << ver_rms[k] << " |\n";
+  md << "\n![verification](verification.png)\n\n![errors against poses](errors_vs_poses.png)\n\n"
+     << "## Trajectory\n\n![trajectory](trajectory.png)\n\n![position norms](position_norms.png)\n\n"
+     << "Figures: " << res.message << ". Data files beside them; `gnuplot plots.gp` redraws them.\n";
+  writeText(dir + "/report.md", md.str(), res.files);
+  return res;
+}
