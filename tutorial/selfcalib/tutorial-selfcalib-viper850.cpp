@@ -4,12 +4,16 @@
   Main job of ViSP SelfCalib: builds the reference scenario on ViSP's simulated Viper850, prints
   what self-calibration starts from (the robot, the true seeded errors of the simulated arm, the
   planned poses and what the camera sees at each, how far the nominal model is from the true
-  camera poses), self-calibrates on the first 15 poses (default: multi-view reconstruction +
-  kinematic bundle adjustment; --method paper: the paper's procedure) and verifies on the others.
+  camera poses), acquires rendered images at the poses through the simulated robot and finds the
+  correspondences and the yardstick in them (--acquisition points: the simulator's exact
+  correspondences with pixel noise instead), self-calibrates on the first 15 poses (default:
+  multi-view reconstruction + kinematic bundle adjustment; --method paper: the paper's procedure),
+  verifies on the others and writes the report (--report DIR, default selfcalib-report).
 
     tutorial-selfcalib-viper850 [--robot viper850|puma560] [--seed N] [--poses N] [--noise PX]
                                 [--method bundle|paper] [--focal known|shared|per-pair]
-                                [--plan auto|paper|observability|none] [-c] [-d] [-h]
+                                [--plan auto|paper|observability|none] [--acquisition images|points]
+                                [--report DIR] [-c] [-d] [-h]
 
   -c and -d are ViSP's tutorial flags (no click, no display); this program never opens a display.
 */
@@ -28,7 +32,10 @@
 #include <visp3/selfcalib/vpSelfCalibSimulatorViper850.h>
 #include <visp3/selfcalib/vpCalibrationVerifier.h>
 #include <visp3/selfcalib/vpMeasurementPlanner.h>
+#include <visp3/selfcalib/vpFeatureFrontEnd.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibRenderer.h>
+#include <visp3/selfcalib/vpSelfCalibReport.h>
 
 namespace
 {
@@ -46,6 +53,9 @@ void usage(const char *argv0)
             << "  --plan MODE    auto (default: observability with bundle, paper with paper), paper (the\n"
             << "                 paper's optimal trajectory, eqs. 22-39, planned from random feasible poses),\n"
             << "                 observability (O1-optimal choice from a pool of 60) or none (random poses)\n"
+            << "  --acquisition M images (default: rendered images, SIFT tracks and the yardstick's dots) or\n"
+            << "                 points (the simulator's exact correspondences with --noise pixel noise)\n"
+            << "  --report DIR   where the report goes (default selfcalib-report; 'none': no report)\n"
             << "  -c, -d         accepted for ViSP's tutorial convention; nothing is displayed\n"
             << "  -h, --help     this help\n";
 }
@@ -69,7 +79,7 @@ int main(int argc, char **argv)
     std::string robot_name = "viper850";
     vpSelfCalibSimulator::Options opt;
     unsigned int poses = 25;
-    std::string focal = "known", plan = "auto", method = "bundle";
+    std::string focal = "known", plan = "auto", method = "bundle", acquisition = "images", report = "selfcalib-report";
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
       if (a == "--robot" && i + 1 < argc)
@@ -87,6 +97,14 @@ int main(int argc, char **argv)
           return EXIT_FAILURE;
         }
       }
+      else if (a == "--acquisition" && i + 1 < argc) {
+        acquisition = argv[++i];
+        if (acquisition != "images" && acquisition != "points") {
+          std::cerr << "--acquisition must be images or points\n";
+          return EXIT_FAILURE;
+        }
+      } else if (a == "--report" && i + 1 < argc)
+        report = argv[++i];
       else if (a == "--method" && i + 1 < argc) {
         method = argv[++i];
         if (method != "bundle" && method != "paper") {
@@ -234,8 +252,34 @@ int main(int argc, char **argv)
               << " scene points; the nominal model is off by up to " << std::setprecision(2) << worst_rel
               << " mm in relative camera position.\n";
 
-    // The paper's procedure (Section 4.1, steps 2-5) on the first 15 views; the rest verify.
+    // Rendered acquisition: the images the camera takes at the acquired joints, through the true
+    // robot; the image front end finds the correspondences and the yardstick's dots in them.
     vpSelfCalibDataset data = ds;
+    vpFeatureFrontEnd::Result fe;
+    if (acquisition == "images") {
+      vpSelfCalibRenderer::Options ro;
+      ro.seed = opt.seed;
+      const vpSelfCalibRenderer renderer(sim, ro);
+      std::vector<vpImage<unsigned char>> images;
+      for (size_t k = 0; k < ds.views.size(); ++k)
+        images.push_back(renderer.render(ds.views[k].q, static_cast<unsigned int>(k)));
+      std::cerr << "   ... image front end on " << images.size() << " images\n";
+      fe = vpFeatureFrontEnd::process(images, vpFeatureFrontEnd::Options());
+      unsigned int seen = 0;
+      for (size_t k = 0; k < ds.views.size(); ++k) {
+        data.views[k].points = fe.observations[k];
+        seen += fe.yardstick_seen[k];
+      }
+      data.yardstick.length = renderer.getYardstickLength();
+      data.yardstick.id_a = fe.yardstick_a;
+      data.yardstick.id_b = fe.yardstick_b;
+      std::cout << "== Acquisition: " << images.size() << " rendered images (textured planes, blur, noise); "
+                << "front end (SIFT, ratio + mutual + RANSAC, tracks): " << fe.num_tracks << " tracks, yardstick dots in "
+                << seen << " images, " << std::setprecision(1) << fe.seconds << " s\n";
+    } else
+      std::cout << "== Acquisition: the simulator's exact correspondences with " << opt.pixel_noise_sd << " px noise\n";
+
+    // Self-calibration on the first 15 views; the rest verify.
     data.focal_known = focal != "shared" && focal != "per-pair";
     if (!data.focal_known) // start from a rough guess, as a user with a lens data sheet would
       data.cam.initPersProjWithoutDistortion(0.93 * opt.px, 0.93 * opt.py, opt.u0, opt.v0);
@@ -297,23 +341,34 @@ int main(int argc, char **argv)
     // Verification on the held-out views against the simulated truth.
     if (q.size() > po.num_calibration_poses + 1) {
       const std::vector<vpSelfCalibDataset::View> ver(ds.views.begin() + po.num_calibration_poses, ds.views.end());
-      const std::map<int, vpColVector> true_points = sim.getScenePointsById();
+      const std::vector<vpSelfCalibDataset::View> ver_data(data.views.begin() + po.num_calibration_poses,
+                                                           data.views.end());
+      // True scene points are known for the simulator's points, not for the tracks of the images.
+      const std::map<int, vpColVector> true_points =
+          acquisition == "points" ? sim.getScenePointsById() : std::map<int, vpColVector>();
       const std::vector<vpHomogeneousMatrix> true_fMc = sim.getTrueCameraPoses(ver);
       const vpCalibrationVerifier::Result before =
-          vpCalibrationVerifier::verify(nominal, ds.cam, ver, ys, true_points, true_fMc);
+          vpCalibrationVerifier::verify(nominal, ds.cam, ver_data, data.yardstick, true_points, true_fMc);
       const vpCalibrationVerifier::Result after =
-          vpCalibrationVerifier::verify(r.calibrated, r.camera, ver, ys, true_points, true_fMc);
+          vpCalibrationVerifier::verify(r.calibrated, r.camera, ver_data, data.yardstick, true_points, true_fMc);
       std::cout << "== Verification on " << ver.size() << " held-out poses     nominal   calibrated\n" << std::setprecision(3)
                 << "   yardstick 3-D error [mm]        " << std::setw(10) << 1e3 * before.yardstick_error << std::setw(12)
-                << 1e3 * after.yardstick_error << "\n"
-                << "   point-pair distance error, mean [mm] " << std::setw(5) << 1e3 * before.distance_error_mean
-                << std::setw(12) << 1e3 * after.distance_error_mean << "\n"
+                << 1e3 * after.yardstick_error << "\n";
+      if (acquisition == "points")
+        std::cout << "   point-pair distance error, mean [mm] " << std::setw(5) << 1e3 * before.distance_error_mean
+                  << std::setw(12) << 1e3 * after.distance_error_mean << "\n";
+      std::cout
                 << "   relative pose error, mean [mm]  " << std::setw(10) << 1e3 * before.position_error_mean
                 << std::setw(12) << 1e3 * after.position_error_mean << "\n"
                 << "   relative pose error, mean [mrad]" << std::setw(10) << 1e3 * before.rotation_error_mean
                 << std::setw(12) << 1e3 * after.rotation_error_mean << "\n";
     }
     std::cout << "== Pipeline time " << std::setprecision(2) << r.seconds << " s\n";
+    if (report != "none") {
+      const vpSelfCalibReport::Result rep = vpSelfCalibReport::write(
+          report, nominal, data, po, r, acquisition == "images" ? &fe : nullptr, vpSelfCalibReport::Options());
+      std::cout << "== Report: " << report << "/report.md (" << rep.message << ")\n";
+    }
     return EXIT_SUCCESS;
   } catch (const vpException &e) {
     std::cerr << "error: " << e.getStringMessage() << std::endl;
