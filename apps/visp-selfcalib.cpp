@@ -5,6 +5,7 @@
  *   visp-selfcalib predict   MODEL [JOINTS_FILE]   fMc for each joint vector (one per line, rad;
  *                                                  from the file or standard input), printed as
  *                                                  one pose vector per line: tx ty tz tux tuy tuz
+ *   visp-selfcalib plan      OUT.txt [options]     planned calibration poses of the reference scenario
  *   visp-selfcalib simulate  OUT.yaml [options]    a dataset of the reference scenario (observations)
  *   visp-selfcalib calibrate DATASET --out DIR [options]
  *                                                  calibrated model, camera and results in DIR
@@ -32,6 +33,7 @@
 #include <visp3/io/vpImageIo.h>
 #include <visp3/selfcalib/vpFeatureFrontEnd.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpMeasurementPlanner.h>
 #include <visp3/selfcalib/vpSelfCalibRenderer.h>
 #include <visp3/selfcalib/vpSelfCalibReport.h>
 #include <visp3/selfcalib/vpModelExport.h>
@@ -47,7 +49,10 @@ int usage(std::ostream &os, int code)
   os << "Usage:\n"
      << "  visp-selfcalib info      MODEL\n"
      << "  visp-selfcalib predict   MODEL [JOINTS_FILE]\n"
-     << "  visp-selfcalib simulate  OUT.yaml [--robot NAME] [--seed N] [--poses N] [--noise PX] [--focal known|shared]\n"
+     << "  visp-selfcalib plan      OUT.txt [--robot NAME] [--seed N] [--poses N] [--held-out N]\n"
+     << "                           [--method observability|paper] [--force]\n"
+     << "  visp-selfcalib simulate  OUT.yaml [--robot NAME] [--seed N] [--poses N | --joints FILE] [--noise PX]\n"
+     << "                           [--focal known|shared]\n"
      << "                           [--controller-poses] [--images] [--force]\n"
      << "  visp-selfcalib calibrate DATASET --out DIR [--method bundle|paper|hand-eye] [--calibration N]\n"
      << "                           [--pixel-sd PX]\n"
@@ -55,7 +60,10 @@ int usage(std::ostream &os, int code)
      << "  visp-selfcalib verify    MODEL DATASET\n"
      << "  visp-selfcalib export    MODEL (--urdf OUT.urdf | --dh OUT.yaml | --mdh OUT.yaml)\n"
      << "MODEL: a preset (puma560, viper850) or a robot-model YAML file. DATASET: a dataset YAML file (README).\n"
-     << "simulate writes the reference scenario's observations (no images); --controller-poses writes the true\n"
+     << "plan writes calibration poses planned on the reference scenario's nominal model (observability: O1-optimal\n"
+     << "choice from a pool; paper: the paper's optimal trajectory), then random held-out poses, one per line.\n"
+     << "simulate writes the reference scenario's observations (no images) at random poses or at --joints FILE\n"
+     << "(same robot and seed as the plan); --controller-poses writes the true\n"
      << "end-effector poses fMe instead of joints; --images renders the images (OUT's directory/images/) and\n"
      << "writes no points (calibrate then runs the image front end); --force replaces an existing file.\n"
      << "calibrate: the method defaults to hand-eye when the dataset has poses without joints, else bundle.\n"
@@ -81,11 +89,11 @@ int info(const vpKinematicChain &c)
   return 0;
 }
 
-int predict(const vpKinematicChain &c, std::istream &in, const std::string &source)
+//! Joint vectors, one per line (rad, spaces or commas, '#' comments); false with a message on error.
+bool readJoints(std::istream &in, const std::string &source, unsigned int n, std::vector<vpColVector> &out)
 {
   std::string line;
   unsigned int lineno = 0;
-  std::cout << std::setprecision(17);
   while (std::getline(in, line)) {
     ++lineno;
     const size_t hash = line.find('#');
@@ -101,29 +109,40 @@ int predict(const vpKinematicChain &c, std::istream &in, const std::string &sour
       try {
         size_t used = 0;
         v.push_back(std::stod(tok, &used));
-        if (used != tok.size())
+        if (used != tok.size() || !std::isfinite(v.back()))
           throw std::invalid_argument(tok);
       } catch (const std::exception &) {
         std::cerr << source << ":" << lineno << ": '" << tok << "' is not a number\n";
-        return 1;
+        return false;
       }
     }
     if (v.empty())
       continue;
-    if (v.size() != c.getNumJoints()) {
-      std::cerr << source << ":" << lineno << ": expected " << c.getNumJoints() << " joint values, got " << v.size()
-                << "\n";
-      return 1;
+    if (v.size() != n) {
+      std::cerr << source << ":" << lineno << ": expected " << n << " joint values, got " << v.size() << "\n";
+      return false;
     }
-    const vpColVector q(v);
+    out.push_back(vpColVector(v));
+  }
+  return true;
+}
+
+int predict(const vpKinematicChain &c, std::istream &in, const std::string &source)
+{
+  std::vector<vpColVector> qs;
+  if (!readJoints(in, source, c.getNumJoints(), qs))
+    return 1;
+  std::cout << std::setprecision(17);
+  for (const vpColVector &q : qs) {
     if (!c.isInJointLimits(q))
-      std::cerr << source << ":" << lineno << ": warning: joints outside the model's limits\n";
+      std::cerr << source << ": warning: joints outside the model's limits\n";
     const vpPoseVector p(c.get_fMc(q));
     for (unsigned int k = 0; k < 6; ++k)
       std::cout << p[k] << (k < 5 ? " " : "\n");
   }
   return 0;
 }
+
 //! Canonical path of an existing file or directory, or "" when it does not exist.
 std::string canonical(const std::string &p)
 {
@@ -165,8 +184,11 @@ int simulate(const std::vector<std::string> &a)
   vpSelfCalibSimulator::Options so;
   unsigned int poses = 25;
   bool force = false, controller = false, images = false;
+  std::string joints_file;
   for (size_t i = 0; i < a.size(); ++i) {
-    if (a[i] == "--controller-poses")
+    if (a[i] == "--joints")
+      joints_file = textArg(a, i);
+    else if (a[i] == "--controller-poses")
       controller = true;
     else if (a[i] == "--images")
       images = true;
@@ -200,10 +222,34 @@ int simulate(const std::vector<std::string> &a)
     return 1;
   }
   const vpSelfCalibSimulator sim(vpKinematicChain::preset(robot), so);
-  vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(poses, [](unsigned int d, unsigned int n) {
-    std::cerr << "configurations " << d << "/" << n << "\r" << std::flush;
-  }));
-  std::cerr << "\n";
+  std::vector<vpColVector> configurations;
+  if (!joints_file.empty()) {
+    // The given configurations (a plan), each checked for joint limits and visibility.
+    std::ifstream in(joints_file);
+    if (!in) {
+      std::cerr << "error: cannot open joints file '" << joints_file << "'\n";
+      return 1;
+    }
+    if (!readJoints(in, joints_file, sim.getNominalChain().getNumJoints(), configurations))
+      return 1;
+    for (size_t k = 0; k < configurations.size(); ++k)
+      if (!sim.getNominalChain().isInJointLimits(configurations[k]) || !sim.isVisible(configurations[k])) {
+        std::cerr << "error: " << joints_file << ": configuration " << k + 1
+                  << " is outside the joint limits or does not see the whole scene\n";
+        return 1;
+      }
+    if (configurations.size() < 3) {
+      std::cerr << "error: " << joints_file << ": at least 3 configurations are needed\n";
+      return 1;
+    }
+    poses = static_cast<unsigned int>(configurations.size());
+  } else {
+    configurations = sim.generateConfigurations(poses, [](unsigned int d, unsigned int n) {
+      std::cerr << "configurations " << d << "/" << n << "\r" << std::flush;
+    });
+    std::cerr << "\n";
+  }
+  vpSelfCalibDataset ds = sim.makeDataset(configurations);
   ds.robot = robot;
   std::vector<vpColVector> qs;
   for (const auto &v : ds.views)
@@ -426,6 +472,99 @@ int verify(const std::string &model_name, const std::string &dataset)
             << "), 3-D error " << 1e3 * v.yardstick_error << " mm, " << v.points.size() << " points triangulated\n";
   return 0;
 }
+int plan(const std::vector<std::string> &a)
+{
+  std::string out, robot = "viper850", method = "observability";
+  vpSelfCalibSimulator::Options so;
+  unsigned int poses = 15, held_out = 10;
+  bool force = false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i] == "--robot")
+      robot = textArg(a, i);
+    else if (a[i] == "--seed")
+      so.seed = static_cast<uint64_t>(numberArg(a, i));
+    else if (a[i] == "--poses")
+      poses = static_cast<unsigned int>(numberArg(a, i));
+    else if (a[i] == "--held-out")
+      held_out = static_cast<unsigned int>(numberArg(a, i));
+    else if (a[i] == "--method")
+      method = textArg(a, i);
+    else if (a[i] == "--force")
+      force = true;
+    else if (!a[i].empty() && a[i][0] == '-')
+      throw BadUsage("plan: unknown option '" + a[i] + "'");
+    else if (out.empty())
+      out = a[i];
+    else
+      throw BadUsage("plan: one output file");
+  }
+  if (out.empty())
+    throw BadUsage("plan: the output file is missing");
+  if (method != "paper" && method != "observability")
+    throw BadUsage("plan: --method is paper or observability");
+  if (poses < 6)
+    throw BadUsage("plan: --poses must be at least 6");
+  if (!force && !canonical(out).empty()) {
+    std::cerr << "error: '" << out << "' exists; use --force to replace it\n";
+    return 1;
+  }
+  const vpSelfCalibSimulator sim(vpKinematicChain::preset(robot), so);
+  const unsigned int pool = method == "observability" ? 60 : 0;
+  std::cerr << "... random feasible configurations\n";
+  const std::vector<vpColVector> q = sim.generateConfigurations(poses + held_out + pool);
+  const std::vector<vpColVector> initial(q.begin(), q.begin() + poses);
+  vpMeasurementPlanner::Scene scene;
+  scene.points = sim.getScenePoints();
+  scene.cam = sim.getCamera();
+  scene.width = so.width;
+  scene.height = so.height;
+  scene.margin = so.image_margin;
+  const vpMeasurementPlanner planner(sim.getNominalChain(), scene);
+  vpMeasurementPlanner::Result pr;
+  if (method == "paper") {
+    vpMeasurementPlanner::TrajectoryOptions to;
+    to.seed = so.seed;
+    pr = planner.planTrajectory(initial, to, [](const std::string &stage, unsigned int d, unsigned int n) {
+      std::cerr << "... " << stage << " " << d + 1 << "/" << n << "\n";
+    });
+  } else {
+    std::vector<vpColVector> candidates = initial;
+    candidates.insert(candidates.end(), q.begin() + poses + held_out, q.end());
+    pr = planner.selectObservable(candidates, poses);
+  }
+  if (pr.status != vpMeasurementPlanner::OK) {
+    std::cerr << "planning failed: " << vpMeasurementPlanner::statusName(pr.status) << ": " << pr.message << "\n";
+    return 3;
+  }
+  std::ostringstream os;
+  os << std::setprecision(17) << "# " << robot << ", seed " << so.seed << ": " << poses << " planned (" << method
+     << ") calibration poses, then " << held_out << " random held-out poses; rad\n";
+  std::vector<vpColVector> all = pr.configurations;
+  all.insert(all.end(), q.begin() + poses, q.begin() + poses + held_out);
+  for (const vpColVector &c : all) {
+    for (unsigned int i = 0; i < c.size(); ++i)
+      os << c[i] << (i + 1 < c.size() ? " " : "\n");
+  }
+  const std::string tmp = out + ".tmp";
+  {
+    std::ofstream f(tmp);
+    f << os.str();
+    if (!f) {
+      std::cerr << "error: cannot write '" << tmp << "'\n";
+      return 1;
+    }
+  }
+  if (std::rename(tmp.c_str(), out.c_str()) != 0) {
+    std::cerr << "error: cannot write '" << out << "'\n";
+    return 1;
+  }
+  std::cout << "wrote " << out << ": " << poses << " planned + " << held_out << " held-out configurations; "
+            << std::setprecision(3) << "cond(J) " << pr.before.condition << " -> " << pr.after.condition << ", O1 "
+            << pr.observability_before.O1 << " -> " << pr.observability_after.O1 << ", " << std::setprecision(2)
+            << pr.seconds << " s\n";
+  return 0;
+}
+
 int exportModel(const std::vector<std::string> &a)
 {
   std::string model_name, kind, out;
@@ -483,6 +622,8 @@ int main(int argc, char **argv)
       return calibrate(rest);
     if (cmd == "export")
       return exportModel(rest);
+    if (cmd == "plan")
+      return plan(rest);
     if (cmd == "verify") {
       if (rest.size() != 2)
         throw BadUsage("verify: MODEL DATASET");
