@@ -513,13 +513,7 @@ int plan(const std::vector<std::string> &a)
   std::cerr << "... random feasible configurations\n";
   const std::vector<vpColVector> q = sim.generateConfigurations(poses + held_out + pool);
   const std::vector<vpColVector> initial(q.begin(), q.begin() + poses);
-  vpMeasurementPlanner::Scene scene;
-  scene.points = sim.getScenePoints();
-  scene.cam = sim.getCamera();
-  scene.width = so.width;
-  scene.height = so.height;
-  scene.margin = so.image_margin;
-  const vpMeasurementPlanner planner(sim.getNominalChain(), scene);
+  const vpMeasurementPlanner planner(sim.getNominalChain(), sim.getPlannerScene());
   vpMeasurementPlanner::Result pr;
   if (method == "paper") {
     vpMeasurementPlanner::TrajectoryOptions to;

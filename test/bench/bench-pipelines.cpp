@@ -204,7 +204,7 @@ int main(int argc, char **argv)
               vpMeasurementPlanner::TrajectoryOptions to;
               to.seed = seed;
               const auto plan =
-                  vpMeasurementPlanner(sim.getNominalChain(), bench::plannerScene(sim)).planTrajectory(cal, to);
+                  vpMeasurementPlanner(sim.getNominalChain(), sim.getPlannerScene()).planTrajectory(cal, to);
               plans[seed] = plan.status == vpMeasurementPlanner::OK ? plan.configurations : cal;
               if (plan.status != vpMeasurementPlanner::OK)
                 std::cerr << "\n" << robot << " seed " << seed << ": planner: " << plan.message << " (random poses kept)\n";

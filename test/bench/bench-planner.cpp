@@ -130,7 +130,7 @@ int main(int argc, char **argv)
         so.seed = seed;
         const vpSelfCalibSimulator sim0(vpKinematicChain::preset(robots[ri]), so);
         const std::vector<vpColVector> initial = sim0.generateConfigurations(kPoses);
-        const vpMeasurementPlanner planner(sim0.getNominalChain(), bench::plannerScene(sim0));
+        const vpMeasurementPlanner planner(sim0.getNominalChain(), sim0.getPlannerScene());
         vpMeasurementPlanner::TrajectoryOptions o = po;
         o.seed = seed;
         const vpMeasurementPlanner::Result plan = planner.planTrajectory(initial, o);

@@ -13,7 +13,6 @@
 
 #include <visp3/core/vpThetaUVector.h>
 #include <visp3/selfcalib/vpCalibrationVerifier.h>
-#include <visp3/selfcalib/vpMeasurementPlanner.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
@@ -42,18 +41,6 @@ inline vpSelfCalibDataset pipelineDataset(const vpSelfCalibSimulator &sim, const
     ds.cam.initPersProjWithoutDistortion(0.93 * c.get_px(), 0.93 * c.get_py(), c.get_u0(), c.get_v0());
   }
   return ds;
-}
-
-//! The planner's view of the simulated scene: its points, camera, image size and margin.
-inline vpMeasurementPlanner::Scene plannerScene(const vpSelfCalibSimulator &sim)
-{
-  vpMeasurementPlanner::Scene scene;
-  scene.points = sim.getScenePoints();
-  scene.cam = sim.getCamera();
-  scene.width = sim.getOptions().width;
-  scene.height = sim.getOptions().height;
-  scene.margin = sim.getOptions().image_margin;
-  return scene;
 }
 
 //! Table 2 of the paper: errors of the scaled pose measurements c_iMc_1 of the pairs (1, i).

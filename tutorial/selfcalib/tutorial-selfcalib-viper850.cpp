@@ -196,13 +196,7 @@ int main(int argc, char **argv)
     // verification poses stay random.
     const unsigned int n_cal = std::min<unsigned int>(15, poses);
     if (plan != "none" && n_cal >= 6) {
-      vpMeasurementPlanner::Scene scene;
-      scene.points = sim.getScenePoints();
-      scene.cam = sim.getCamera();
-      scene.width = opt.width;
-      scene.height = opt.height;
-      scene.margin = opt.image_margin;
-      const vpMeasurementPlanner planner(nominal, scene);
+      const vpMeasurementPlanner planner(nominal, sim.getPlannerScene());
       const std::vector<vpColVector> initial(q.begin(), q.begin() + n_cal);
       vpMeasurementPlanner::Result pr;
       if (plan == "paper") {

@@ -350,3 +350,14 @@ vpSelfCalibDataset vpSelfCalibSimulator::acquire(vpRobot &robot, const std::vect
   }
   return ds;
 }
+
+vpMeasurementPlanner::Scene vpSelfCalibSimulator::getPlannerScene() const
+{
+  vpMeasurementPlanner::Scene scene;
+  scene.points = m_points;
+  scene.cam = getCamera();
+  scene.width = m_opt.width;
+  scene.height = m_opt.height;
+  scene.margin = m_opt.image_margin;
+  return scene;
+}
