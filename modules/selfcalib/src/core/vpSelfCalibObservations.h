@@ -8,6 +8,8 @@
 #include <map>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include <ceres/loss_function.h>
 #include <visp3/selfcalib/vpMultiViewReconstruction.h>
 
@@ -63,6 +65,34 @@ inline RobustSchedule robustSchedule(bool robust, double loss_scale, double trim
   }
   return s;
 }
+/*!
+  Scene points in one contiguous array in id order. Ceres orders the parameter blocks it eliminates
+  by address; with points in separately allocated map nodes that order, hence the rounding of every
+  sum, would depend on where the allocator put them (on other threads' allocations, for one), and
+  the same data could give different last digits. Built once; no point is added afterwards (the
+  addresses handed to Ceres stay valid).
+*/
+class PointStore
+{
+public:
+  explicit PointStore(const std::map<int, Eigen::Vector3d> &points)
+  {
+    for (const auto &e : points) {
+      m_index[e.first] = m_points.size();
+      m_points.push_back(e.second);
+    }
+  }
+  Eigen::Vector3d &operator[](int id) { return m_points[m_index.at(id)]; }
+  size_t count(int id) const { return m_index.count(id); }
+  size_t size() const { return m_points.size(); }
+  //! id -> position, in id order.
+  const std::map<int, size_t> &index() const { return m_index; }
+
+private:
+  std::vector<Eigen::Vector3d> m_points;
+  std::map<int, size_t> m_index;
+};
+
 //! The Ceres loss of a robust option (nullptr: plain least squares); scale on whitened residuals.
 inline ceres::LossFunction *makeLoss(vpMultiViewReconstruction::Loss loss, double scale)
 {

@@ -4,6 +4,7 @@
 #include <visp3/selfcalib/vpFeatureFrontEnd.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -135,7 +136,22 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<u
   std::vector<size_t> offset(m + 1, 0);
   for (size_t k = 0; k < m; ++k) {
     mats[k] = toMat(images[k]);
-    det->detectAndCompute(mats[k], cv::noArray(), kp[k], desc[k]);
+    // Detection runs in parallel inside OpenCV and returns the keypoints in an order that depends
+    // on the thread count: sorted here (position, then scale), so that tracks, ids and every sum
+    // downstream are the same whatever the threads.
+    det->detect(mats[k], kp[k]);
+    std::sort(kp[k].begin(), kp[k].end(), [](const cv::KeyPoint &a, const cv::KeyPoint &b) {
+      if (a.pt.y != b.pt.y)
+        return a.pt.y < b.pt.y;
+      if (a.pt.x != b.pt.x)
+        return a.pt.x < b.pt.x;
+      if (a.size != b.size)
+        return a.size < b.size;
+      if (a.angle != b.angle)
+        return a.angle < b.angle;
+      return a.octave < b.octave;
+    });
+    det->compute(mats[k], kp[k], desc[k]);
     res.features.push_back(static_cast<unsigned int>(kp[k].size()));
     offset[k + 1] = offset[k] + kp[k].size();
   }

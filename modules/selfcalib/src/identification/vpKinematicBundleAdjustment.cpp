@@ -332,15 +332,16 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
       ++seen[o.id];
     }
   }
-  std::map<int, Eigen::Vector3d> X;
+  std::map<int, Eigen::Vector3d> X0;
   for (const auto &e : points0) {
     if (e.second.size() != 3 || !allFinite(e.second))
       throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicBundleAdjustment: point " +
                                                                      std::to_string(e.first) +
                                                                      " is not a finite 3-vector");
     if (seen[e.first] >= 2)
-      X[e.first] = vec3(e.second);
+      X0[e.first] = vec3(e.second);
   }
+  PointStore X(X0);
 
   KBA::Result res;
   res.chain = start;

@@ -269,7 +269,7 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
   for (bool p : res.posed)
     num_posed += p;
 
-  std::map<int, Eigen::Vector3d> X;
+  std::map<int, Eigen::Vector3d> Xinit;
   {
     std::map<int, std::vector<Eigen::Vector3d>> cand;
     for (unsigned int k = 1; k < m; ++k)
@@ -284,7 +284,7 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
           v.push_back(p(a));
         x(a) = median(v);
       }
-      X[c.first] = x;
+      Xinit[c.first] = x;
     }
   }
 
@@ -296,7 +296,7 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
     for (unsigned int k = 1; k < m; ++k)
       if (res.posed[k])
         for (const auto &e : byId[k])
-          if (!X.count(e.first))
+          if (!Xinit.count(e.first))
             seen_in[e.first].push_back(k);
     auto normalized = [&](const vpImagePoint &ip, double x[2]) {
       x[0] = (ip.get_u() - u0) / res.fx;
@@ -340,18 +340,19 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
           }
         }
       if (best >= 3)
-        X[e.first] = best_X;
+        Xinit[e.first] = best_X;
     }
   }
 
   // 3. Bundle adjustment, on at most max_bundle_points points (evenly spread over the ids, the
   // yardstick ends always in); the others are triangulated afterwards with the adjusted poses.
+  PointStore X(Xinit);
   std::set<int> bundled, later;
   {
     const size_t n = X.size();
     const size_t keep = opt.max_bundle_points > 0 ? std::min<size_t>(n, opt.max_bundle_points) : n;
     std::vector<int> all;
-    for (const auto &e : X)
+    for (const auto &e : X.index())
       all.push_back(e.first);
     for (size_t i = 0; i < keep; ++i)
       bundled.insert(all[i * n / keep]);

@@ -26,6 +26,10 @@
      per image; the smaller is end a, the larger end b (radius ratio at least 1.2); their centres
      get the ids num_tracks and num_tracks + 1.
 
+  Reproducibility: keypoints are sorted after detection, so the result does not depend on the
+  order OpenCV's parallel detection returns them in; the same images and the same OpenCV thread
+  count (cv::setNumThreads) give the same tracks. visp-selfcalib uses one thread by default.
+
   Statistics for the report: features per image, verified matches per pair, the track-length
   histogram, where the yardstick was found.
 */
