@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Builds the tests with AddressSanitizer and UndefinedBehaviorSanitizer and runs them (about 15 min
+# on 2 cores): cmake/sanitize.sh [BUILD_DIR]   (default build-asan). Not part of the default test run.
+set -euo pipefail
+SRC="$(cd "$(dirname "$0")/.." && pwd)"
+BUILD="${1:-build-asan}"
+# Every UB check aborts, except nonnull-attribute, which stays recoverable so that ubsan.supp can
+# suppress it (suppressions only apply to recoverable checks).
+FLAGS="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined -fsanitize-recover=nonnull-attribute"
+cmake -S "$SRC" -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS="$FLAGS" \
+  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DVISP_SELFCALIB_BUILD_BENCHMARKS=OFF
+cmake --build "$BUILD" -j2
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:suppressions=$SRC/cmake/ubsan.supp"
+ctest --test-dir "$BUILD" --output-on-failure -j2
