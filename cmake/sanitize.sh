@@ -6,10 +6,15 @@ SRC="$(cd "$(dirname "$0")/.." && pwd)"
 BUILD="${1:-build-asan}"
 # Every UB check aborts, except nonnull-attribute, which stays recoverable so that ubsan.supp can
 # suppress it (suppressions only apply to recoverable checks).
+# Eigen allocates differently when it sees __SANITIZE_ADDRESS__ (Memory.h); Ceres's prebuilt Eigen
+# code does not, and the two would free each other's blocks: keep Eigen's usual scheme.
 FLAGS="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined -fsanitize-recover=nonnull-attribute"
+FLAGS="$FLAGS -DEIGEN_MALLOC_ALREADY_ALIGNED=1"
 cmake -S "$SRC" -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS="$FLAGS" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DVISP_SELFCALIB_BUILD_BENCHMARKS=OFF
 cmake --build "$BUILD" -j2
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:suppressions=$SRC/cmake/ubsan.supp"
-ctest --test-dir "$BUILD" --output-on-failure -j2
+# install-and-consume links the installed (sanitized) static library into a plain consumer project,
+# which then lacks the sanitizer runtime: it tests the packaging, not the code, and is left out.
+ctest --test-dir "$BUILD" --output-on-failure -j2 -E install-and-consume

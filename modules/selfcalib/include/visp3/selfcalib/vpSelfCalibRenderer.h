@@ -33,7 +33,8 @@ public:
     void check() const;
   };
 
-  //! Throws vpSelfCalibException when a texture cannot be read (visp-images-data missing).
+  //! Keeps a reference to the simulator, which must outlive the renderer. Throws
+  //! vpSelfCalibException when a texture cannot be read (visp-images-data missing).
   vpSelfCalibRenderer(const vpSelfCalibSimulator &simulator, const Options &options);
 
   //! The image of the true camera at joints q; view_index selects the noise stream.
