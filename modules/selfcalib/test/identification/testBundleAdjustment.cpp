@@ -13,36 +13,21 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
+#include "../testCommon.h"
 #include "core/vpSelfCalibMath.h"
 #include "core/vpSelfCalibRandom.h"
+
+using namespace selfcalib_test;
 
 using namespace vpSelfCalib;
 
 namespace
 {
-vpSelfCalibSimulator makeSim(const std::string &robot, uint64_t seed, double noise)
-{
-  vpSelfCalibSimulator::Options o;
-  o.seed = seed;
-  o.pixel_noise_sd = noise;
-  return vpSelfCalibSimulator(vpKinematicChain::preset(robot), o);
-}
-
 void addNoise(vpSelfCalibDataset &ds, double sd, Random &rng)
 {
   for (auto &v : ds.views)
     for (auto &o : v.points)
       o.ip = vpImagePoint(o.ip.get_i() + rng.normal(sd), o.ip.get_j() + rng.normal(sd));
-}
-
-// 20% of the observations replaced by uniform pixels.
-void corrupt(vpSelfCalibDataset &ds, double fraction, uint64_t seed)
-{
-  Random rng(seed, 78);
-  for (auto &v : ds.views)
-    for (auto &o : v.points)
-      if (rng.uniform(0, 1) < fraction)
-        o.ip = vpImagePoint(rng.uniform(0, ds.height), rng.uniform(0, ds.width));
 }
 
 std::vector<vpSelfCalibDataset::View> slice(const vpSelfCalibDataset &ds, size_t a, size_t b)
@@ -333,7 +318,7 @@ TEST(KinematicBundleAdjustment, DefaultPipelineIsRobustToWrongMatches)
     vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(25));
     ds.focal_known = false;
     vpSelfCalibDataset bad = ds;
-    corrupt(bad, 0.2, seed);
+    corrupt(bad, 0.2, seed, 78);
     vpRobotSelfCalibration::Options o;
     const auto rc = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
     const auto rb = vpRobotSelfCalibration::run(sim.getNominalChain(), bad, o);

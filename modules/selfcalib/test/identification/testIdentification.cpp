@@ -13,8 +13,11 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
+#include "../testCommon.h"
 #include "core/vpSelfCalibMath.h"
 #include "core/vpSelfCalibRandom.h"
+
+using namespace selfcalib_test;
 
 using namespace vpSelfCalib;
 
@@ -42,12 +45,6 @@ Measurements exactMeasurements(const vpKinematicChain &truth, const std::vector<
   return ms;
 }
 
-vpSelfCalibSimulator makeSim(const std::string &robot, uint64_t seed)
-{
-  vpSelfCalibSimulator::Options o;
-  o.seed = seed;
-  return vpSelfCalibSimulator(vpKinematicChain::preset(robot), o);
-}
 } // namespace
 
 // Theory (README, "Identifiability"): 4 n + 6 = 30 independent parameters for a 6R arm with

@@ -14,20 +14,16 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
+#include "../testCommon.h"
 #include "core/vpSelfCalibMath.h"
 #include "core/vpSelfCalibRandom.h"
+
+using namespace selfcalib_test;
 
 using namespace vpSelfCalib;
 
 namespace
 {
-vpSelfCalibSimulator makeSim(const std::string &robot, uint64_t seed)
-{
-  vpSelfCalibSimulator::Options o;
-  o.seed = seed;
-  return vpSelfCalibSimulator(vpKinematicChain::preset(robot), o);
-}
-
 // The origins of the URDF's joints, in order, as transforms (xyz, rpy with R = Rz(y) Ry(p) Rx(r)).
 std::vector<vpHomogeneousMatrix> origins(const std::string &urdf)
 {

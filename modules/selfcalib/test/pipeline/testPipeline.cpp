@@ -16,22 +16,16 @@
 #include <fstream>
 #include <sys/stat.h>
 
-namespace
-{
-vpSelfCalibSimulator makeSim(uint64_t seed, double noise)
-{
-  vpSelfCalibSimulator::Options o;
-  o.seed = seed;
-  o.pixel_noise_sd = noise;
-  return vpSelfCalibSimulator(vpKinematicChain::preset("viper850"), o);
-}
-} // namespace
+#include "../testCommon.h"
+
+using namespace selfcalib_test;
+
 
 // Noise-free: with the model identified from exact relative poses (oracle scale), the paper's 3-D
 // errors and the held-out pose errors vanish (1e-6 mm); with the nominal model they do not.
 TEST(Verifier, NoiseFreeIdentifiedModelVerifiesExactly)
 {
-  const vpSelfCalibSimulator sim = makeSim(11, 0.0);
+  const vpSelfCalibSimulator sim = makeSim("viper850", 11, 0.0);
   const std::vector<vpColVector> q = sim.generateConfigurations(25);
   const vpSelfCalibDataset ds = sim.makeDataset(q);
   std::vector<vpKinematicIdentification::Measurement> ms;
@@ -68,7 +62,7 @@ TEST(Verifier, NoiseFreeIdentifiedModelVerifiesExactly)
 // nominal one on held-out poses, and the yardstick scale is within a few percent.
 TEST(RobotSelfCalibration, PaperPipelineOnNoiseFreeImagesImprovesTheModel)
 {
-  const vpSelfCalibSimulator sim = makeSim(12, 0.0);
+  const vpSelfCalibSimulator sim = makeSim("viper850", 12, 0.0);
   const std::vector<vpColVector> q = sim.generateConfigurations(25);
   const vpSelfCalibDataset ds = sim.makeDataset(q);
   vpRobotSelfCalibration::Options o;
@@ -92,7 +86,7 @@ TEST(RobotSelfCalibration, PaperPipelineOnNoiseFreeImagesImprovesTheModel)
 
 TEST(RobotSelfCalibration, BadInputsGiveAStatusOrAnError)
 {
-  const vpSelfCalibSimulator sim = makeSim(13, 0.2);
+  const vpSelfCalibSimulator sim = makeSim("viper850", 13, 0.2);
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(18));
   vpRobotSelfCalibration::Options o;
   o.method = vpRobotSelfCalibration::PAPER;
@@ -129,7 +123,7 @@ TEST(RobotSelfCalibration, BadInputsGiveAStatusOrAnError)
 // The report without gnuplot: data files and report.md written, figures reported as not drawn.
 TEST(Report, WithoutGnuplotTheDataAndTheTextAreStillWritten)
 {
-  const vpSelfCalibSimulator sim = makeSim(14, 0.2);
+  const vpSelfCalibSimulator sim = makeSim("viper850", 14, 0.2);
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
   vpRobotSelfCalibration::Options o;
   o.num_calibration_poses = 9;

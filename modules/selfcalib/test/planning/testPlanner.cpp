@@ -11,26 +11,12 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
+#include "../testCommon.h"
+
+using namespace selfcalib_test;
+
 namespace
 {
-vpSelfCalibSimulator makeSim(const std::string &robot, uint64_t seed)
-{
-  vpSelfCalibSimulator::Options o;
-  o.seed = seed;
-  return vpSelfCalibSimulator(vpKinematicChain::preset(robot), o);
-}
-
-vpMeasurementPlanner::Scene sceneOf(const vpSelfCalibSimulator &sim)
-{
-  vpMeasurementPlanner::Scene s;
-  s.points = sim.getScenePoints();
-  s.cam = sim.getCamera();
-  s.width = sim.getOptions().width;
-  s.height = sim.getOptions().height;
-  s.margin = sim.getOptions().image_margin;
-  return s;
-}
-
 double tNorm(const vpKinematicChain &c, const vpColVector &qi, const vpColVector &q0)
 {
   return (c.get_fMc(qi).inverse() * c.get_fMc(q0)).getTranslationVector().frobeniusNorm();
@@ -53,7 +39,7 @@ TEST(Planner, RatioSensitivityIsTheDerivativeOfLogNorm)
 {
   const vpSelfCalibSimulator sim = makeSim("viper850", 3);
   const std::vector<vpColVector> q = sim.generateConfigurations(6);
-  const vpMeasurementPlanner planner(sim.getNominalChain(), sceneOf(sim));
+  const vpMeasurementPlanner planner(sim.getNominalChain(), sim.getPlannerScene());
   const std::vector<unsigned int> &ids = planner.identifiableParameters();
   ASSERT_EQ(ids.size(), 24u);
   const std::vector<vpColVector> g = planner.ratioSensitivities(q);
@@ -97,7 +83,7 @@ TEST(Planner, GradientMatchesFiniteDifferences)
     std::vector<vpColVector> q = sim.generateConfigurations(7);
     q[3] = q[2];
     q[3][5] += 0.01;
-    const vpMeasurementPlanner planner(sim.getNominalChain(), sceneOf(sim));
+    const vpMeasurementPlanner planner(sim.getNominalChain(), sim.getPlannerScene());
     vpMeasurementPlanner::TrajectoryOptions o;
     o.lambda = 1e-2;
     o.planning_margin = 150;
@@ -135,7 +121,7 @@ TEST(Planner, PlannedTrajectoryIsFeasibleCheaperAndFixesTheRatios)
   for (uint64_t seed : {1, 2, 3}) {
     const vpSelfCalibSimulator sim = makeSim("viper850", seed);
     const std::vector<vpColVector> initial = sim.generateConfigurations(12);
-    const vpMeasurementPlanner planner(sim.getNominalChain(), sceneOf(sim));
+    const vpMeasurementPlanner planner(sim.getNominalChain(), sim.getPlannerScene());
     vpMeasurementPlanner::TrajectoryOptions o;
     o.multistart = 0;
     o.max_evaluations = 600;
@@ -143,7 +129,7 @@ TEST(Planner, PlannedTrajectoryIsFeasibleCheaperAndFixesTheRatios)
     ASSERT_EQ(r.status, vpMeasurementPlanner::OK) << r.message;
     ASSERT_EQ(r.configurations.size(), initial.size());
     for (size_t k = 0; k < r.configurations.size(); ++k) {
-      EXPECT_TRUE(planner.isVisible(r.configurations[k], sceneOf(sim).margin)) << "seed " << seed << " pose " << k;
+      EXPECT_TRUE(planner.isVisible(r.configurations[k], sim.getPlannerScene().margin)) << "seed " << seed << " pose " << k;
       EXPECT_TRUE(sim.getNominalChain().isInJointLimits(r.configurations[k], 1e-9));
       for (size_t l = k + 1; l < r.configurations.size(); ++l)
         EXPECT_GE((r.configurations[k] - r.configurations[l]).frobeniusNorm(), o.min_joint_distance - 1e-6);
@@ -163,13 +149,13 @@ TEST(Planner, ImpossibleRequestsGiveAStatus)
 {
   const vpSelfCalibSimulator sim = makeSim("viper850", 4);
   const std::vector<vpColVector> q = sim.generateConfigurations(8);
-  const vpMeasurementPlanner planner(sim.getNominalChain(), sceneOf(sim));
+  const vpMeasurementPlanner planner(sim.getNominalChain(), sim.getPlannerScene());
   // 4 configurations: 18 equations for 24 parameters.
   const std::vector<vpColVector> few(q.begin(), q.begin() + 4);
   EXPECT_EQ(planner.planTrajectory(few).status, vpMeasurementPlanner::TOO_FEW_CONFIGURATIONS);
   EXPECT_EQ(planner.selectObservable(q, 4).status, vpMeasurementPlanner::TOO_FEW_CONFIGURATIONS);
   // Two scene points 5 m on either side of the object: no camera pose sees them both.
-  vpMeasurementPlanner::Scene wide = sceneOf(sim);
+  vpMeasurementPlanner::Scene wide = sim.getPlannerScene();
   const vpColVector c = wide.points[0];
   wide.points.push_back(vpColVector({c[0] + 5, c[1], c[2]}));
   wide.points.push_back(vpColVector({c[0] - 5, c[1], c[2]}));
@@ -187,7 +173,7 @@ TEST(Planner, BadInputThrows)
 {
   const vpSelfCalibSimulator sim = makeSim("viper850", 4);
   const std::vector<vpColVector> q = sim.generateConfigurations(8);
-  const vpMeasurementPlanner planner(sim.getNominalChain(), sceneOf(sim));
+  const vpMeasurementPlanner planner(sim.getNominalChain(), sim.getPlannerScene());
   std::vector<vpColVector> wrong = q;
   wrong[2].resize(5);
   EXPECT_THROW(planner.planTrajectory(wrong), vpSelfCalibException);
@@ -200,10 +186,10 @@ TEST(Planner, BadInputThrows)
   EXPECT_THROW(planner.selectObservable(q, 9), vpSelfCalibException);
   EXPECT_THROW(vpMeasurementPlanner::algorithmFromName("newton"), vpSelfCalibException);
   EXPECT_THROW(vpMeasurementPlanner::indexFromName("O7"), vpSelfCalibException);
-  vpMeasurementPlanner::Scene empty = sceneOf(sim);
+  vpMeasurementPlanner::Scene empty = sim.getPlannerScene();
   empty.points.clear();
   EXPECT_THROW(vpMeasurementPlanner(sim.getNominalChain(), empty), vpSelfCalibException);
-  vpMeasurementPlanner::Scene nocam = sceneOf(sim);
+  vpMeasurementPlanner::Scene nocam = sim.getPlannerScene();
   nocam.width = 0;
   EXPECT_THROW(vpMeasurementPlanner(sim.getNominalChain(), nocam), vpSelfCalibException);
 }
@@ -214,7 +200,7 @@ TEST(Planner, ObservabilitySelectionBeatsTheFirstOnes)
 {
   const vpSelfCalibSimulator sim = makeSim("puma560", 6);
   const std::vector<vpColVector> pool = sim.generateConfigurations(40);
-  const vpMeasurementPlanner planner(sim.getNominalChain(), sceneOf(sim));
+  const vpMeasurementPlanner planner(sim.getNominalChain(), sim.getPlannerScene());
   for (const std::string index : {"O1", "O3"}) {
     vpMeasurementPlanner::SelectionOptions o;
     o.index = vpMeasurementPlanner::indexFromName(index);

@@ -9,21 +9,16 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
+#include "../testCommon.h"
 #include "core/vpSelfCalibMath.h"
 #include "core/vpSelfCalibRandom.h"
+
+using namespace selfcalib_test;
 
 using namespace vpSelfCalib;
 
 namespace
 {
-vpSelfCalibSimulator makeSim(uint64_t seed, double noise)
-{
-  vpSelfCalibSimulator::Options o;
-  o.seed = seed;
-  o.pixel_noise_sd = noise;
-  return vpSelfCalibSimulator(vpKinematicChain::preset("viper850"), o);
-}
-
 vpMultiViewReconstruction::Options options(const vpSelfCalibSimulator &sim, bool focal_known)
 {
   vpMultiViewReconstruction::Options o;
@@ -35,16 +30,6 @@ vpMultiViewReconstruction::Options options(const vpSelfCalibSimulator &sim, bool
   o.twoview.mu = c.get_py() / c.get_px();
   o.pixel_sd = std::max(0.2, sim.getOptions().pixel_noise_sd);
   return o;
-}
-
-// Replaces a fraction of the observations of every view by uniform pixels (wrong matches).
-void corrupt(vpSelfCalibDataset &ds, double fraction, uint64_t seed)
-{
-  Random rng(seed, 77);
-  for (auto &v : ds.views)
-    for (auto &o : v.points)
-      if (rng.uniform(0, 1) < fraction)
-        o.ip = vpImagePoint(rng.uniform(0, ds.height), rng.uniform(0, ds.width));
 }
 
 // Mean translation-direction error (rad) of the poses against the truth.
@@ -67,7 +52,7 @@ double directionError(const vpMultiViewReconstruction::Result &r, const std::vec
 // the points the true ones in the first camera frame, f the true one.
 TEST(MultiViewReconstruction, NoiseFreeExactRecoveryWithSelfCalibratedFocal)
 {
-  const vpSelfCalibSimulator sim = makeSim(21, 0.0);
+  const vpSelfCalibSimulator sim = makeSim("viper850", 21, 0.0);
   const std::vector<vpColVector> q = sim.generateConfigurations(10);
   const vpSelfCalibDataset ds = sim.makeDataset(q);
   vpMultiViewReconstruction::Options o = options(sim, false);
@@ -94,7 +79,7 @@ TEST(MultiViewReconstruction, NoiseFreeExactRecoveryWithSelfCalibratedFocal)
 // Without the yardstick the result is in the unit of the reference pair's baseline.
 TEST(MultiViewReconstruction, WithoutYardstickTheReferenceBaselineIsTheUnit)
 {
-  const vpSelfCalibSimulator sim = makeSim(22, 0.0);
+  const vpSelfCalibSimulator sim = makeSim("viper850", 22, 0.0);
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(6));
   const vpMultiViewReconstruction::Result r =
       vpMultiViewReconstruction::reconstruct(ds.views, vpSelfCalibDataset::Yardstick(), options(sim, true));
@@ -109,10 +94,10 @@ TEST(MultiViewReconstruction, WrongMatchesAreRejected)
 {
   double robust = 0, removed = 0, plain_error = 0;
   for (uint64_t seed : {31, 32, 33}) {
-    const vpSelfCalibSimulator sim = makeSim(seed, 0.2);
+    const vpSelfCalibSimulator sim = makeSim("viper850", seed, 0.2);
     const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
     vpSelfCalibDataset bad = ds;
-    corrupt(bad, 0.2, seed);
+    corrupt(bad, 0.2, seed, 77);
     vpMultiViewReconstruction::Options o = options(sim, false);
     o.tight = true; // both solves to the bottom of a flat valley, so that they can be compared
     const auto rb = vpMultiViewReconstruction::reconstruct(bad.views, bad.yardstick, o);
@@ -158,7 +143,7 @@ TEST(MultiViewReconstruction, WrongMatchesAreRejected)
 
 TEST(MultiViewReconstruction, BadInputThrowsAndUselessDataGivesAStatus)
 {
-  const vpSelfCalibSimulator sim = makeSim(23, 0.2);
+  const vpSelfCalibSimulator sim = makeSim("viper850", 23, 0.2);
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(4));
   const vpMultiViewReconstruction::Options o = options(sim, true);
   EXPECT_THROW(vpMultiViewReconstruction::reconstruct({ds.views[0]}, ds.yardstick, o), vpSelfCalibException);

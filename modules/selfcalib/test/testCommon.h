@@ -1,0 +1,37 @@
+/*
+ * Helpers shared by the module's tests (not installed).
+ */
+#ifndef VP_SELFCALIB_TEST_COMMON_H
+#define VP_SELFCALIB_TEST_COMMON_H
+
+#include <cstdint>
+#include <string>
+
+#include <visp3/selfcalib/vpSelfCalibSimulator.h>
+
+#include "core/vpSelfCalibRandom.h"
+
+namespace selfcalib_test
+{
+//! The reference scenario for a preset, with the given seed and pixel noise (default: the simulator's).
+inline vpSelfCalibSimulator makeSim(const std::string &robot, uint64_t seed, double noise = 0.2)
+{
+  vpSelfCalibSimulator::Options o;
+  o.seed = seed;
+  o.pixel_noise_sd = noise;
+  return vpSelfCalibSimulator(vpKinematicChain::preset(robot), o);
+}
+
+//! Wrong matches: each observation replaced by a uniform pixel with probability `fraction`
+//! (random stream `stream` of the seed).
+inline void corrupt(vpSelfCalibDataset &ds, double fraction, uint64_t seed, uint64_t stream)
+{
+  vpSelfCalib::Random rng(seed, stream);
+  for (auto &v : ds.views)
+    for (auto &o : v.points)
+      if (rng.uniform(0, 1) < fraction)
+        o.ip = vpImagePoint(rng.uniform(0, ds.height), rng.uniform(0, ds.width));
+}
+} // namespace selfcalib_test
+
+#endif
