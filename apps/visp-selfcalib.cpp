@@ -151,6 +151,21 @@ std::string canonical(const std::string &p)
   return realpath(p.c_str(), buf) ? std::string(buf) : std::string();
 }
 
+//! Text to a temporary file, then renamed into place; false (with a message) when that fails.
+bool writeAtomically(const std::string &file, const std::string &text)
+{
+  const std::string tmp = file + ".tmp";
+  std::ofstream os(tmp);
+  os << text;
+  os.close();
+  if (!os || std::rename(tmp.c_str(), file.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    std::cerr << "error: cannot write '" << file << "'\n";
+    return false;
+  }
+  return true;
+}
+
 struct BadUsage : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
@@ -438,16 +453,8 @@ int calibrate(const std::vector<std::string> &a)
       return 1;
     }
   }
-  {
-    const std::string tmp = files[2] + ".tmp";
-    std::ofstream os(tmp);
-    os << resultsYaml(r, nominal, dataset);
-    os.close();
-    if (!os || std::rename(tmp.c_str(), files[2].c_str()) != 0) {
-      std::cerr << "error: cannot write '" << files[2] << "'\n";
-      return 1;
-    }
-  }
+  if (!writeAtomically(files[2], resultsYaml(r, nominal, dataset)))
+    return 1;
   std::cout << "calibrated " << r.identifiability.identified.size() << " parameters on " << po.num_calibration_poses
             << " views (" << vpRobotSelfCalibration::methodName(r.method) << "), f_x " << std::setprecision(6)
             << r.camera.get_px() << " px";
@@ -547,19 +554,8 @@ int plan(const std::vector<std::string> &a)
     for (unsigned int i = 0; i < c.size(); ++i)
       os << c[i] << (i + 1 < c.size() ? " " : "\n");
   }
-  const std::string tmp = out + ".tmp";
-  {
-    std::ofstream f(tmp);
-    f << os.str();
-    if (!f) {
-      std::cerr << "error: cannot write '" << tmp << "'\n";
-      return 1;
-    }
-  }
-  if (std::rename(tmp.c_str(), out.c_str()) != 0) {
-    std::cerr << "error: cannot write '" << out << "'\n";
+  if (!writeAtomically(out, os.str()))
     return 1;
-  }
   std::cout << "wrote " << out << ": " << poses << " planned + " << held_out << " held-out configurations; "
             << std::setprecision(3) << "cond(J) " << pr.before.condition << " -> " << pr.after.condition << ", O1 "
             << pr.observability_before.O1 << " -> " << pr.observability_after.O1 << ", " << std::setprecision(2)
