@@ -93,7 +93,7 @@ vpKinematicChain parse(const YAML::Node &root, const std::string &source)
       r.fail("corrections", "expected a map 'parameter name: value', got " + Reader::show(corr));
     const std::vector<std::string> names = chain.getParameterNames();
     for (const auto &kv : corr) {
-      const std::string name = kv.first.as<std::string>();
+      const std::string name = r.keyName(kv.first, "corrections");
       const std::string key = "corrections." + name;
       if (std::find(names.begin(), names.end(), name) == names.end())
         r.fail(key, "unknown parameter (expected base.*, j1.* .. j" + std::to_string(chain.getNumJoints()) +
@@ -115,7 +115,7 @@ void emitPose(YAML::Emitter &out, const vpPoseVector &p)
 
 vpKinematicChain vpKinematicChain::fromYamlString(const std::string &yaml, const std::string &source)
 {
-  return parse(loadYamlRoot(yaml, "robot model", source), source);
+  return parseYaml("robot model", source, [&] { return parse(loadYamlRoot(yaml, "robot model", source), source); });
 }
 
 vpKinematicChain vpKinematicChain::loadYaml(const std::string &filename)

@@ -85,8 +85,8 @@ void parseCamera(const Reader &r, const YAML::Node &root, const std::string &bas
     r.fail("camera", "expected a map {width, height, u0, v0, px, py}, got " + Reader::show(c));
   r.onlyKeys(c, {"width", "height", "u0", "v0", "px", "py", "f_guess"}, "camera");
   const double w = r.number(c["width"], "camera.width"), h = r.number(c["height"], "camera.height");
-  if (!(w >= 1 && h >= 1 && w == std::floor(w) && h == std::floor(h)))
-    r.fail("camera", "width and height must be positive whole numbers of pixels");
+  if (!(w >= 1 && h >= 1 && w <= 1e6 && h <= 1e6 && w == std::floor(w) && h == std::floor(h)))
+    r.fail("camera", "width and height must be whole numbers of pixels from 1 to 1000000");
   ds.width = static_cast<unsigned int>(w);
   ds.height = static_cast<unsigned int>(h);
   const double u0 = r.number(c["u0"], "camera.u0"), v0 = r.number(c["v0"], "camera.v0");
@@ -201,7 +201,8 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
       if (!e.IsSequence() || e.size() != 2)
         r.fail("yardstick.ends", "expected [id_a, id_b], got " + Reader::show(e));
       const double a = r.number(e[0], "yardstick.ends[0]"), b = r.number(e[1], "yardstick.ends[1]");
-      if (!(a >= 0 && b >= 0 && a == std::floor(a) && b == std::floor(b) && a != b))
+      if (!(a >= 0 && b >= 0 && a < 2147483647.0 && b < 2147483647.0 && a == std::floor(a) && b == std::floor(b) &&
+            a != b))
         r.fail("yardstick.ends", "two different non-negative point ids");
       ds.yardstick.id_a = static_cast<int>(a);
       ds.yardstick.id_b = static_cast<int>(b);
@@ -224,7 +225,7 @@ std::string readFile(const std::string &filename)
 vpSelfCalibDataset vpSelfCalibDataset::fromYamlString(const std::string &yaml, const std::string &source,
                                                       const std::string &base_dir)
 {
-  return parse(loadYamlRoot(yaml, kWhat, source), source, base_dir);
+  return parseYaml(kWhat, source, [&] { return parse(loadYamlRoot(yaml, kWhat, source), source, base_dir); });
 }
 
 vpSelfCalibDataset vpSelfCalibDataset::loadYaml(const std::string &filename)

@@ -164,6 +164,12 @@ TEST(DatasetYaml, BadInputNamesTheKey)
       {kHead + pose + "yardstick: {length: -0.1, ends: [3, 4]}\n", "yardstick.length"},
       {kHead + "poses: [\n", "syntax error"},
       {"- 1\n- 2\n", "top level"},
+      // Found by fuzzing (cmake/fuzz.sh): a list as a map key escaped as a yaml-cpp exception.
+      {"? [camera]: 1\n" + kHead, "keys are plain names"},
+      {"camera: {width: 640, height: 480, u0: 320, v0: 240, px: 1500, py: 1500, {a: 1}: 2}\nrobot: viper850\n" + pose,
+       "camera.(key)"},
+      {"camera: {width: 1e300, height: 480, u0: 320, v0: 240}\nrobot: viper850\n" + pose, "camera"},
+      {kHead + pose + "yardstick: {length: 0.1, ends: [3, 1e12]}\n", "yardstick.ends"},
   };
   for (const auto &c : cases) {
     const std::string msg = parseError(c.first);

@@ -139,6 +139,10 @@ TEST(KinematicChainYaml, MalformedFilesNameFileKeyAndExpectation)
   expectError("preset: kuka\n", {"preset", "unknown robot preset 'kuka'"});
   expectError("convention: dh\njoints: []\n", {"joints", "non-empty list"});
   expectError("convention: dh\njoints: [5]\n", {"joints[0]", "expected a map"});
+  // Found by fuzzing (cmake/fuzz.sh): YAML allows a map or a list as a key; it escaped as a
+  // yaml-cpp exception instead of an error naming the file.
+  expectError("preset: viper850\ncorrections: {j2.tx: 0.001}\n? eMc: [0, 0, 0.1, 0, 0, 0]\n", {"keys are plain names"});
+  expectError("preset: viper850\ncorrections: {[j2.tx]: 0.001}\n", {"corrections.(key)", "keys are plain names"});
 }
 
 TEST(KinematicChainYaml, UnreadableFileIsNamed)
