@@ -21,6 +21,76 @@ using namespace vpSelfCalib;
 
 namespace
 {
+/*!
+  Covariance of the `kept` blocks (in order, tangent coordinates) with the 3-D `eliminated` blocks
+  marginalized: the inverse of the Schur complement of J^T J, J from Problem::Evaluate on one
+  thread. Computed here rather than by ceres::Covariance (SPARSE_QR): SuiteSparseQR runs on TBB's
+  threads, and its sums, so the last digits of every standard deviation, changed from run to run
+  once another library had started TBB workers. False when the information is singular (relative
+  eigenvalue of the diagonally scaled complement below 1e-15) or a point is not determined.
+*/
+bool marginalCovariance(ceres::Problem &problem, const std::vector<double *> &kept,
+                        const std::vector<double *> &eliminated, Eigen::MatrixXd &cov)
+{
+  ceres::Problem::EvaluateOptions eo;
+  eo.parameter_blocks = kept;
+  eo.parameter_blocks.insert(eo.parameter_blocks.end(), eliminated.begin(), eliminated.end());
+  eo.num_threads = 1;
+  ceres::CRSMatrix J;
+  if (!problem.Evaluate(eo, nullptr, nullptr, nullptr, &J))
+    return false;
+  const int nA = J.num_cols - 3 * static_cast<int>(eliminated.size());
+  if (nA <= 0)
+    return false;
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(nA, nA);
+  std::vector<Eigen::Matrix<double, Eigen::Dynamic, 3>> B(eliminated.size(), Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(nA, 3));
+  std::vector<Eigen::Matrix3d> C(eliminated.size(), Eigen::Matrix3d::Zero());
+  std::vector<std::pair<int, double>> a;
+  for (int r = 0; r < J.num_rows; ++r) {
+    a.clear();
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    int point = -1;
+    for (int k = J.rows[r]; k < J.rows[r + 1]; ++k) {
+      const int c = J.cols[k];
+      if (c < nA)
+        a.push_back({c, J.values[k]});
+      else {
+        const int i = (c - nA) / 3;
+        if (point >= 0 && point != i)
+          return false; // a residual on two eliminated points: not this problem's structure
+        point = i;
+        p((c - nA) % 3) = J.values[k];
+      }
+    }
+    for (const auto &x : a)
+      for (const auto &y : a)
+        H(x.first, y.first) += x.second * y.second;
+    if (point >= 0) {
+      for (const auto &x : a)
+        B[point].row(x.first) += x.second * p.transpose();
+      C[point] += p * p.transpose();
+    }
+  }
+  for (size_t i = 0; i < C.size(); ++i) {
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(C[i]);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-12 * ldlt.vectorD().maxCoeff()))
+      return false;
+    H.noalias() -= B[i] * ldlt.solve(B[i].transpose());
+  }
+  const Eigen::VectorXd d = H.diagonal();
+  if (!(d.minCoeff() > 0))
+    return false;
+  const Eigen::VectorXd scale = d.cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd Hs = scale.asDiagonal() * H * scale.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (Hs + Hs.transpose()));
+  if (eig.info() != Eigen::Success || !(eig.eigenvalues().minCoeff() > 1e-15 * eig.eigenvalues().maxCoeff()))
+    return false;
+  cov = scale.asDiagonal() *
+        (eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() * eig.eigenvectors().transpose()) *
+        scale.asDiagonal();
+  return cov.allFinite();
+}
+
 constexpr int kIntrinsics = 5; // p_x, mu, u0, v0, k_ud
 const char *const kIntrinsicNames[kIntrinsics] = {"fx", "mu", "u0", "v0", "kud"};
 
@@ -481,8 +551,10 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
                                 nullptr, X[yardstick.id_a].data(), X[yardstick.id_b].data());
     else if (!opt.hand_eye_only)
       problem->AddResidualBlock(new ScaleCost(scale_dir, rho0), nullptr, state.rho.data());
-    order->AddElementToGroup(state.rho.data(), 1);
-    order->AddElementToGroup(in, 1);
+    // One group per block: within a group Ceres orders blocks by address, and the address order of
+    // separately allocated blocks changes from run to run (and so would the last digits).
+    order->AddElementToGroup(state.rho.data(), 2);
+    order->AddElementToGroup(in, 3);
     if (free_in.empty())
       problem->SetParameterBlockConstant(in);
     else if (subset)
@@ -550,33 +622,27 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   // Covariance of the corrections and the estimated intrinsics, points marginalized.
   if (opt.covariance) {
     const auto tc = std::chrono::steady_clock::now();
-    ceres::Covariance::Options co = covarianceOptions();
-    co.algorithm_type = ceres::SPARSE_QR;
-    co.num_threads = static_cast<int>(opt.num_threads);
-    ceres::Covariance cov(co);
-    std::vector<std::pair<const double *, const double *>> blocks = {{state.rho.data(), state.rho.data()}};
-    if (!free_in.empty()) {
-      blocks.push_back({state.rho.data(), in});
-      blocks.push_back({in, in});
-    }
+    std::vector<double *> kept = {state.rho.data()}, eliminated;
+    if (!free_in.empty())
+      kept.push_back(in);
+    // The yardstick's ends are linked by their residual: kept in the complement (as in the solve).
+    std::set<const double *> ends;
+    if (has_yardstick && problem->HasParameterBlock(X[yardstick.id_a].data()) &&
+        problem->HasParameterBlock(X[yardstick.id_b].data()))
+      for (int e : {yardstick.id_a, yardstick.id_b}) {
+        kept.push_back(X[e].data());
+        ends.insert(X[e].data());
+      }
+    for (const auto &e : X.index())
+      if (!ends.count(X[e.first].data()) && problem->HasParameterBlock(X[e.first].data()))
+        eliminated.push_back(X[e.first].data());
     const int N = P + static_cast<int>(free_in.size());
-    if (cov.Compute(blocks, problem.get())) {
-      std::vector<double> crr(P * P), cri(P * kIntrinsics), cii(kIntrinsics * kIntrinsics);
-      cov.GetCovarianceBlock(state.rho.data(), state.rho.data(), crr.data());
-      if (!free_in.empty()) {
-        cov.GetCovarianceBlock(state.rho.data(), in, cri.data());
-        cov.GetCovarianceBlock(in, in, cii.data());
-      }
+    Eigen::MatrixXd full;
+    if (marginalCovariance(*problem, kept, eliminated, full)) {
       res.covariance.resize(N, N);
-      for (int a = 0; a < P; ++a) {
-        for (int b = 0; b < P; ++b)
-          res.covariance[a][b] = crr[a * P + b];
-        for (size_t b = 0; b < free_in.size(); ++b)
-          res.covariance[a][P + b] = res.covariance[P + b][a] = cri[a * kIntrinsics + free_in[b]];
-      }
-      for (size_t a = 0; a < free_in.size(); ++a)
-        for (size_t b = 0; b < free_in.size(); ++b)
-          res.covariance[P + a][P + b] = cii[free_in[a] * kIntrinsics + free_in[b]];
+      for (int a = 0; a < N; ++a)
+        for (int b = 0; b < N; ++b)
+          res.covariance[a][b] = full(a, b);
       for (int a = 0; a < P; ++a)
         res.sd[id[a]] = std::sqrt(std::max(0.0, res.covariance[a][a]));
       for (size_t a = 0; a < free_in.size(); ++a) {

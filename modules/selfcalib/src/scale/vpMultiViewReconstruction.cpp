@@ -480,15 +480,17 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
         problem.SetManifold(quat[k].data(), &quaternion);
         if (k == ref)
           problem.SetManifold(trans[k].data(), &sphere);
-        order->AddElementToGroup(quat[k].data(), 1);
-        order->AddElementToGroup(trans[k].data(), 1);
+        // One group per block, in view order: within a group Ceres orders blocks by address, which
+        // changes from run to run for separately allocated blocks (and so would the last digits).
+        order->AddElementToGroup(quat[k].data(), static_cast<int>(2 * k - 1));
+        order->AddElementToGroup(trans[k].data(), static_cast<int>(2 * k));
       }
     if (!problem.HasParameterBlock(&f)) {
       res.status = TOO_FEW_VIEWS;
       res.message = "no observation left";
       return res;
     }
-    order->AddElementToGroup(&f, 1);
+    order->AddElementToGroup(&f, static_cast<int>(2 * m));
     if (opt.focal_known)
       problem.SetParameterBlockConstant(&f);
     ceres::Solver::Options so = solverOptions(opt.max_iterations, opt.tight,
