@@ -21,6 +21,7 @@
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include <cstdlib>
 #include <opencv2/core.hpp>
@@ -56,7 +57,7 @@ int usage(std::ostream &os, int code)
      << "                           [--focal known|shared]\n"
      << "                           [--controller-poses] [--images] [--force]\n"
      << "  visp-selfcalib calibrate DATASET --out DIR [--method bundle|paper|hand-eye] [--calibration N]\n"
-     << "                           [--pixel-sd PX] [--threads N (OpenCV's, default 1: bit-reproducible)]\n"
+     << "                           [--pixel-sd PX] [--threads N (image front end; default: all cores; results do not depend on it)]\n"
      << "                           [--focal auto|known|shared|per-pair]\n"
      << "  visp-selfcalib verify    MODEL DATASET\n"
      << "  visp-selfcalib export    MODEL (--urdf OUT.urdf | --dh OUT.yaml | --mdh OUT.yaml)\n"
@@ -316,13 +317,29 @@ int simulate(const std::vector<std::string> &a)
   return 0;
 }
 
+//! A YAML double-quoted scalar.
+std::string quoted(const std::string &text)
+{
+  std::string q = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\')
+      q += '\\';
+    q += c;
+  }
+  return q + "\"";
+}
+
 std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinematicChain &nominal,
                         const std::string &dataset)
 {
   std::ostringstream os;
   os << std::setprecision(17);
   os << "dataset: " << dataset << "\nmethod: " << vpRobotSelfCalibration::methodName(r.method) << "\nstatus: "
-     << vpRobotSelfCalibration::statusName(r.status) << "\nmessage: \"" << r.message << "\"\n";
+     << vpRobotSelfCalibration::statusName(r.status) << "\nmessage: " << quoted(r.message) << "\n";
+  os << "findings:" << (r.findings.empty() ? " []" : "") << "  # what the data check found, and what to do\n";
+  for (const auto &f : r.findings)
+    os << "  - {code: " << f.code << ", severity: " << (f.severity == vpSelfCalibDataCheck::DEGENERATE ? "degenerate" : "warning")
+       << ", message: " << quoted(f.message) << "}\n";
   os << "camera: {px: " << r.camera.get_px() << ", py: " << r.camera.get_py() << ", u0: " << r.camera.get_u0()
      << ", v0: " << r.camera.get_v0() << ", px_sd: " << r.fx_sd << "}\n";
   if (r.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT)
@@ -336,7 +353,7 @@ std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinemat
        << (k < r.parameter_sd.size() ? r.parameter_sd[k] : 0.0) << "]\n";
   os << "not_estimated:\n";
   for (const auto &u : r.identifiability.unidentifiable)
-    os << "  " << u.name << ": \"" << u.reason << "\"\n";
+    os << "  " << u.name << ": " << quoted(u.reason) << "\n";
   if (r.verified)
     os << "verification:  # the paper's 3-D yardstick error on the held-out views (m)\n"
        << "  yardstick_error_nominal: " << r.before.yardstick_error << "\n  yardstick_error_calibrated: "
@@ -350,7 +367,7 @@ int calibrate(const std::vector<std::string> &a)
   std::string dataset, out, method, focal = "auto";
   unsigned int calibration = 0;
   double pixel_sd = 0.2;
-  int threads = 1;
+  int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   for (size_t i = 0; i < a.size(); ++i) {
     if (a[i] == "--threads")
       threads = static_cast<int>(numberArg(a, i));
@@ -390,9 +407,11 @@ int calibrate(const std::vector<std::string> &a)
 
   if (threads < 1)
     throw BadUsage("calibrate: --threads must be at least 1");
-  // OpenCV's threads (the image front end); the solvers are single-threaded. One thread by default:
-  // with more, OpenCV's parallel loops change the last digits from run to run (measured: 2 threads
-  // gave two different results in four runs), and the result files must be reproducible.
+  // The image front end runs on `threads` OpenCV threads: its results do not depend on them (test
+  // app-deterministic). Everything after it runs on one thread, OpenMP included (OpenCV's
+  // setNumThreads sets OpenMP's count, which CHOLMOD/SPQR in the covariance use, and their sums
+  // change with it); Ceres's multi-threaded Schur elimination also sums in a scheduling-dependent
+  // order. The result files must be bit-reproducible.
   cv::setNumThreads(threads);
   vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
@@ -409,6 +428,7 @@ int calibrate(const std::vector<std::string> &a)
     std::cerr << "... " << fe.num_tracks << " tracks, yardstick in " << seen << " images, " << std::setprecision(2)
               << fe.seconds << " s\n";
   }
+  cv::setNumThreads(1);
   if (method.empty())
     for (const auto &v : ds.views)
       if (v.q.size() == 0 && v.has_fMe)
@@ -437,6 +457,8 @@ int calibrate(const std::vector<std::string> &a)
     std::cerr << "calibration failed: " << vpRobotSelfCalibration::statusName(r.status) << ": " << r.message << "\n";
     return 3;
   }
+  for (const auto &f : r.findings)
+    std::cerr << "warning: " << f.message << "\n";
   vpKinematicChain model = r.calibrated;
   model.setName(nominal.getName() + "-calibrated");
   model.saveYaml(files[0]);

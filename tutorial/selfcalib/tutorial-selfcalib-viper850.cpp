@@ -309,6 +309,8 @@ int main(int argc, char **argv)
                 << r.bundle.num_outliers << " dropped), reprojection RMS " << std::setprecision(3) << r.bundle.rms
                 << " px, sigma0 " << std::setprecision(2) << r.bundle.sigma0 << ", scale from "
                 << vpKinematicBundleAdjustment::scaleSourceName(r.bundle.scale_source) << "\n";
+    for (const auto &f : r.findings)
+      std::cout << "   data check: " << f.message << "\n";
     if (r.status != vpRobotSelfCalibration::OK)
       return EXIT_FAILURE;
     std::cout << "   estimated " << r.identifiability.identified.size() << " of " << truth.getNumParameters()

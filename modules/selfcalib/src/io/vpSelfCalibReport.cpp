@@ -208,7 +208,15 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
        << "| bundle adjustment | " << r.bundle.num_observations << " observations (" << r.bundle.num_outliers
        << " dropped as outliers), reprojection RMS " << std::setprecision(3) << r.bundle.rms << " px, sigma0 "
        << r.bundle.sigma0 << " |\n";
-  md << "\nMessage: " << r.message << "\n\n## Stage times\n\n| stage | s |\n|---|---|\n";
+  md << "\nMessage: " << r.message << "\n";
+  md << "\n## Data check\n\n";
+  if (r.findings.empty())
+    md << "Nothing to report: the poses move every joint, the camera rotates and translates, the scene has "
+          "relief, the yardstick is seen.\n";
+  for (const auto &f : r.findings)
+    md << "- **" << (f.severity == vpSelfCalibDataCheck::DEGENERATE ? "degenerate" : "warning") << "** (" << f.code
+       << "): " << f.message << "\n";
+  md << "\n## Stage times\n\n| stage | s |\n|---|---|\n";
   for (const auto &s : r.stage_seconds)
     md << "| " << s.first << " | " << std::setprecision(3) << s.second << " |\n";
   if (fe) {

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "../core/vpSelfCalibMath.h"
+#include "../core/vpSelfCalibRandom.h"
 
 #include <opencv2/calib3d.hpp>
 
@@ -62,6 +63,8 @@ const char *vpRobotSelfCalibration::statusName(Status s)
     return "scale failed";
   case IDENTIFICATION_FAILED:
     return "identification failed";
+  case DEGENERATE_DATA:
+    return "degenerate data";
   }
   return "unknown";
 }
@@ -92,8 +95,14 @@ void vpRobotSelfCalibration::Options::check() const
   if (!(pose_sd_rotation > 0 && pose_sd_direction > 0))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpRobotSelfCalibration: pose_sd_rotation and pose_sd_direction must be positive");
+  if (!(outlier_warning > 0 && outlier_warning <= 1 && min_posed_fraction >= 0 && min_posed_fraction <= 1 &&
+        max_outlier_fraction > 0 && max_outlier_fraction <= 1))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpRobotSelfCalibration: outlier_warning, min_posed_fraction and max_outlier_fraction "
+                               "must be fractions in (0, 1]");
   identification.check();
   bundle.check();
+  data_check.check();
 }
 
 vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChain &nominal,
@@ -133,14 +142,31 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
   res.method = opt.method;
   res.calibrated = nominal;
   res.camera = ds.cam;
+  vpSelfCalibDataCheck::Options co = opt.data_check;
+  co.pixel_sd = opt.pixel_sd;
+  res.findings = vpSelfCalibDataCheck::check(nominal, ds, N, opt.method == HAND_EYE, co);
+  if (vpSelfCalibDataCheck::degenerate(res.findings)) {
+    res.status = DEGENERATE_DATA;
+    for (const auto &f : res.findings)
+      if (f.severity == vpSelfCalibDataCheck::DEGENERATE)
+        res.message += (res.message.empty() ? "" : "; ") + f.message;
+    res.seconds = seconds(t0);
+    return res;
+  }
   if (opt.method == BUNDLE_ADJUSTMENT)
     runBundle(nominal, ds, opt, mode, N, progress, res);
   else if (opt.method == HAND_EYE)
     runHandEye(nominal, ds, opt, mode, N, progress, res);
   else
     runPaper(nominal, ds, opt, mode, N, progress, res);
-  if (res.status != OK)
+  checkResult(nominal, ds, opt, N, res);
+  if (res.status != OK) {
+    // What the checks found often explains the failure: say it with the failure.
+    for (const auto &f : res.findings)
+      res.message += "; " + f.message;
+    res.seconds = seconds(t0);
     return res;
+  }
 
   // Step 5: verification on the remaining views.
   if (ds.views.size() >= N + 2) {
@@ -155,6 +181,74 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
   }
   res.seconds = seconds(t0);
   return res;
+}
+
+void vpRobotSelfCalibration::checkResult(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds,
+                                         const Options &opt, unsigned int N, Result &res)
+{
+  using Finding = vpSelfCalibDataCheck::Finding;
+  // Data left unused: observations rejected as wrong matches, or on points the reconstruction could
+  // not place. Many of them mean a poor front end.
+  unsigned int total = 0;
+  for (unsigned int k = 0; k < N; ++k)
+    total += static_cast<unsigned int>(ds.views[k].points.size());
+  const unsigned int kept = res.bundle.num_observations;
+  if (opt.method != PAPER && total > 0 && kept > 0 && total - kept > opt.outlier_warning * total) {
+    std::ostringstream os;
+    os << total - kept << " of " << total << " observations of the calibration poses ("
+       << static_cast<int>(std::lround(100.0 * (total - kept) / total))
+       << "%) were not used: rejected as wrong matches, or on points the reconstruction could not place; check the "
+          "correspondences (ratio test, geometric verification, the dot detection) and that every pose's joints "
+          "belong to its image";
+    res.findings.push_back(Finding{vpSelfCalibDataCheck::WARNING, "outliers", os.str()});
+  }
+  // A yardstick in the data that the bundle adjustment could not use.
+  const bool unseen = std::any_of(res.findings.begin(), res.findings.end(),
+                                  [](const Finding &f) { return f.code == "yardstick-unseen"; });
+  if (res.status == OK && opt.method == BUNDLE_ADJUSTMENT && ds.yardstick.isSet() && !unseen &&
+      res.bundle.scale_source == vpKinematicBundleAdjustment::SCALE_NOMINAL)
+    res.findings.push_back(Finding{vpSelfCalibDataCheck::WARNING, "yardstick-unused",
+                                   "the yardstick is in the data but its points were rejected (wrong matches, or "
+                                   "not placed by the reconstruction): the scale is the nominal model's; check the "
+                                   "yardstick's observations"});
+  if (res.status != OK || opt.method == HAND_EYE)
+    return;
+  // Parameters that poses spread over the joint ranges identify but these poses do not.
+  vpSelfCalib::Random rng(0x5e1fca1b, 1);
+  std::vector<vpKinematicIdentification::Measurement> rich;
+  vpColVector q0(nominal.getNumJoints());
+  for (unsigned int k = 0; k <= 4 * nominal.getNumJoints() + 6; ++k) {
+    vpColVector q(nominal.getNumJoints());
+    for (unsigned int j = 0; j < q.size(); ++j)
+      q[j] = rng.uniform(nominal.getJoints()[j].min, nominal.getJoints()[j].max);
+    if (k == 0) {
+      q0 = q;
+      continue;
+    }
+    vpKinematicIdentification::Measurement m;
+    m.q = q;
+    m.q_ref = q0;
+    m.M = nominal.get_fMc(q).inverse() * nominal.get_fMc(q0);
+    rich.push_back(m);
+  }
+  vpKinematicIdentification::Options io = opt.identification;
+  for (const std::string &f : opt.bundle.fixed)
+    io.fixed.push_back(f);
+  const auto best = vpKinematicIdentification::analyse(nominal, rich, io);
+  std::vector<std::string> lost;
+  for (unsigned int i : best.identified)
+    if (std::find(res.identifiability.identified.begin(), res.identifiability.identified.end(), i) ==
+        res.identifiability.identified.end())
+      lost.push_back(nominal.getParameterNames()[i]);
+  if (res.identifiability.identified.size() < best.identified.size()) {
+    std::ostringstream os;
+    os << "these " << N << " poses identify " << res.identifiability.identified.size()
+       << " parameters, poses spread over the joint ranges " << best.identified.size() << " (not identified here:";
+    for (size_t k = 0; k < lost.size() && k < 6; ++k)
+      os << " " << lost[k];
+    os << (lost.size() > 6 ? " ...)" : ")") << ": add poses that move every joint, with rotations of 10 deg or more";
+    res.findings.push_back(Finding{vpSelfCalibDataCheck::WARNING, "identifiability-lost", os.str()});
+  }
 }
 
 void vpRobotSelfCalibration::runPaper(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, const Options &opt,
@@ -384,6 +478,19 @@ bool vpRobotSelfCalibration::bundle(const vpKinematicChain &start, const vpHomog
     res.message = label + ": " + res.bundle.message;
     return false;
   }
+  unsigned int total = 0;
+  for (const auto &v : views)
+    total += static_cast<unsigned int>(v.points.size());
+  if (total - res.bundle.num_observations > opt.max_outlier_fraction * total) {
+    std::ostringstream os;
+    os << label << ": " << total - res.bundle.num_observations << " of " << total
+       << " observations were not used (rejected as wrong matches, or on points the reconstruction could not "
+          "place), more than "
+       << std::lround(100 * opt.max_outlier_fraction) << "%: a model resting on the rest is not trusted";
+    res.status = IDENTIFICATION_FAILED;
+    res.message = os.str();
+    return false;
+  }
   res.fx = res.camera.get_px();
   res.fx_sd = res.bundle.fx_sd;
   res.status = OK;
@@ -411,6 +518,17 @@ bool vpRobotSelfCalibration::multiView(const vpSelfCalibDataset &ds, const std::
   if (res.multiview.status != vpMultiViewReconstruction::OK) {
     res.status = TWO_VIEW_FAILED;
     res.message = std::string("multi-view reconstruction: ") + res.multiview.message;
+    return false;
+  }
+  const unsigned int posed =
+      static_cast<unsigned int>(std::count(res.multiview.posed.begin(), res.multiview.posed.end(), true));
+  const unsigned int needed = std::max<unsigned int>(
+      3, static_cast<unsigned int>(std::ceil(opt.min_posed_fraction * static_cast<double>(cal.size()))));
+  if (posed < needed) {
+    res.status = TWO_VIEW_FAILED;
+    res.message = "multi-view reconstruction: only " + std::to_string(posed) + " of " + std::to_string(cal.size()) +
+                  " calibration views could be placed (" + std::to_string(needed) +
+                  " needed): too many wrong matches, or too little overlap between the views";
     return false;
   }
   res.fx = res.multiview.fx;

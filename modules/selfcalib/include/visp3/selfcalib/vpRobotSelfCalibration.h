@@ -15,6 +15,7 @@
 #include <visp3/selfcalib/vpKinematicIdentification.h>
 #include <visp3/selfcalib/vpMultiViewReconstruction.h>
 #include <visp3/selfcalib/vpPoseScale.h>
+#include <visp3/selfcalib/vpSelfCalibDataCheck.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
 #include <visp3/selfcalib/vpTwoViewEstimator.h>
 
@@ -89,16 +90,40 @@ public:
     //! BUNDLE_ADJUSTMENT: the FX flag of intrinsics is set from the focal mode (cleared when known).
     vpKinematicBundleAdjustment::Options bundle;
     double pixel_sd = 0.2; //!< px, image noise sd: weights of multiview and bundle
+    //! The checks run before calibrating (their pixel_sd is set from pixel_sd above).
+    vpSelfCalibDataCheck::Options data_check;
+    //! After a run: a warning when more than this fraction of the calibration observations was not
+    //! used (rejected as wrong matches, or on points the reconstruction could not place).
+    double outlier_warning = 0.25;
+    //! Acceptance (BUNDLE_ADJUSTMENT, HAND_EYE): a run fails, rather than return a model built on a
+    //! small remnant of the data, when the multi-view step places fewer than this fraction of the
+    //! calibration views (and at least 3), or when the bundle adjustment uses less than
+    //! 1 - max_outlier_fraction of the calibration observations.
+    double min_posed_fraction = 0.5;
+    double max_outlier_fraction = 0.5;
     void check() const;
   };
 
-  enum Status { OK, TWO_VIEW_FAILED, SCALE_FAILED, IDENTIFICATION_FAILED };
+  enum Status {
+    OK,
+    TWO_VIEW_FAILED,
+    SCALE_FAILED,
+    IDENTIFICATION_FAILED,
+    DEGENERATE_DATA //!< the data check found data that cannot determine the calibration (message: what to do)
+  };
   static const char *statusName(Status s);
 
   struct Result {
     Status status = TWO_VIEW_FAILED;
     std::string message;
     Method method = BUNDLE_ADJUSTMENT;
+    /*!
+      What the data check found before calibrating (vpSelfCalibDataCheck), then, after the run:
+      "outliers" (many observations not used), "yardstick-unused" (in the data, but rejected: the scale
+      is the nominal model's) and "identifiability-lost" (parameters that a richer set of poses
+      identifies, missing here), each with what to do.
+    */
+    std::vector<vpSelfCalibDataCheck::Finding> findings;
     //! The final estimate, either method: parameters estimated (and left out, with the reason) and
     //! their sd (per chain parameter, 0 for those not estimated).
     vpKinematicIdentification::Identifiability identifiability;
@@ -126,9 +151,10 @@ public:
 
   /*!
     Throws vpSelfCalibException on caller mistakes: fewer than 3 calibration views, a view without
-    joints of the model's size or without any image point, no yardstick in the dataset (PAPER only:
-    the bundle adjustment then keeps the nominal scale), an unknown focal length with FOCAL_KNOWN.
-    Numerical failures are statuses.
+    joints of the model's size or without any image point, non-finite values, joints outside the
+    model's limits, no yardstick in the dataset (PAPER only: the bundle adjustment then keeps the
+    nominal scale), an unknown focal length with FOCAL_KNOWN. Degenerate data is DEGENERATE_DATA or
+    a finding; numerical failures are statuses.
   */
   static Result run(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
                     const Progress &progress = Progress());
@@ -146,6 +172,9 @@ private:
                         const Options &options, FocalMode mode, const Progress &progress, Result &result);
   static void runHandEye(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
                          FocalMode mode, unsigned int num_calibration, const Progress &progress, Result &result);
+  //! Findings after a run: many outliers, parameters a richer trajectory would identify.
+  static void checkResult(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
+                          unsigned int num_calibration, Result &result);
   static void runBundle(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
                         FocalMode mode, unsigned int num_calibration, const Progress &progress, Result &result);
 };

@@ -1,0 +1,316 @@
+/*
+ * ViSP SelfCalib: checks of a calibration dataset, with findings that say what to do.
+ */
+#include <visp3/selfcalib/vpSelfCalibDataCheck.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include <opencv2/calib3d.hpp>
+
+#include "../core/vpSelfCalibMath.h"
+
+using namespace vpSelfCalib;
+
+namespace
+{
+std::string fmt(double v, int precision = 2)
+{
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  os.precision(precision);
+  os << v;
+  return os.str();
+}
+
+double deg(double rad) { return rad * 180.0 / M_PI; }
+
+[[noreturn]] void fail(const std::string &what)
+{
+  throw vpSelfCalibException(vpSelfCalibException::badValue, "dataset check: " + what);
+}
+
+// "joint 4", "joints 4 and 5", "joints 4-6", "joints 1, 3 and 5" (1-based).
+std::string jointList(const std::vector<unsigned int> &j)
+{
+  std::ostringstream os;
+  if (j.size() == 1) {
+    os << "joint " << j[0] + 1;
+    return os.str();
+  }
+  bool consecutive = true;
+  for (size_t k = 1; k < j.size(); ++k)
+    consecutive = consecutive && j[k] == j[k - 1] + 1;
+  if (consecutive && j.size() > 2) {
+    os << "joints " << j.front() + 1 << "-" << j.back() + 1;
+    return os.str();
+  }
+  os << "joints ";
+  for (size_t k = 0; k < j.size(); ++k)
+    os << (k == 0 ? "" : (k + 1 == j.size() ? " and " : ", ")) << j[k] + 1;
+  return os.str();
+}
+
+// The end-effector pose of a view: its controller pose, else the model's.
+Rigid endEffector(const vpKinematicChain &nominal, const vpSelfCalibDataset::View &v)
+{
+  return rigidFromVisp(v.has_fMe ? v.fMe : nominal.get_fMe(v.q));
+}
+} // namespace
+
+void vpSelfCalibDataCheck::Options::check() const
+{
+  if (!(joint_limit_tolerance >= 0 && same_pose_tolerance >= 0 && min_joint_range >= 0 && min_rotation >= 0 &&
+        parallel_axes_tolerance >= 0 && pixel_sd > 0 && homography_inliers > 0 && homography_inliers <= 1))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpSelfCalibDataCheck::Options: tolerances must be non-negative, pixel_sd positive "
+                               "and homography_inliers in (0, 1]");
+}
+
+bool vpSelfCalibDataCheck::degenerate(const std::vector<Finding> &findings)
+{
+  return std::any_of(findings.begin(), findings.end(), [](const Finding &f) { return f.severity == DEGENERATE; });
+}
+
+std::vector<vpSelfCalibDataCheck::Finding> vpSelfCalibDataCheck::check(const vpKinematicChain &nominal,
+                                                                       const vpSelfCalibDataset &ds,
+                                                                       unsigned int num_calibration, bool hand_eye,
+                                                                       const Options &opt)
+{
+  opt.check();
+  const unsigned int n = nominal.getNumJoints();
+  const unsigned int N = std::min<unsigned int>(num_calibration, static_cast<unsigned int>(ds.views.size()));
+
+  // Caller mistakes, on every view (the verification views too).
+  for (size_t k = 0; k < ds.views.size(); ++k) {
+    const auto &v = ds.views[k];
+    const std::string pose = "pose " + std::to_string(k);
+    if (v.q.size() != 0 && v.q.size() != n)
+      fail(pose + " has " + std::to_string(v.q.size()) + " joint values, the robot model has " + std::to_string(n));
+    for (unsigned int j = 0; j < v.q.size(); ++j) {
+      const auto &J = nominal.getJoints()[j];
+      if (!std::isfinite(v.q[j]))
+        fail(pose + ": joint " + std::to_string(j + 1) + " is not a finite number");
+      if (v.q[j] < J.min - opt.joint_limit_tolerance || v.q[j] > J.max + opt.joint_limit_tolerance)
+        fail(pose + ": joint " + std::to_string(j + 1) + " = " + fmt(v.q[j], 4) + " rad is outside the model's limits [" +
+             fmt(J.min, 4) + ", " + fmt(J.max, 4) +
+             "]: check the joint readings (radians, in the model's joint order and zero) or the limits in the robot "
+             "model");
+    }
+    if (v.has_fMe)
+      for (unsigned int r = 0; r < 3; ++r)
+        for (unsigned int c = 0; c < 4; ++c)
+          if (!std::isfinite(v.fMe[r][c]))
+            fail(pose + ": the controller pose fMe is not finite");
+    for (const auto &o : v.points)
+      if (!std::isfinite(o.ip.get_u()) || !std::isfinite(o.ip.get_v()))
+        fail(pose + ": point " + std::to_string(o.id) + " has a non-finite pixel position");
+  }
+
+  std::vector<Finding> out;
+  auto add = [&out](Severity s, const std::string &code, const std::string &msg) { out.push_back({s, code, msg}); };
+  const std::vector<vpSelfCalibDataset::View> cal(ds.views.begin(), ds.views.begin() + N);
+
+  // Points: too few in a view, outside the image.
+  {
+    std::vector<std::string> few;
+    unsigned int outside = 0;
+    std::string example;
+    for (size_t k = 0; k < cal.size(); ++k) {
+      if (cal[k].points.size() < opt.min_points)
+        few.push_back(std::to_string(k) + " (" + std::to_string(cal[k].points.size()) + ")");
+      for (const auto &o : cal[k].points)
+        if (ds.width > 0 && (o.ip.get_u() < -1 || o.ip.get_v() < -1 || o.ip.get_u() > ds.width ||
+                             o.ip.get_v() > ds.height)) {
+          if (outside++ == 0)
+            example = "pose " + std::to_string(k) + ", point " + std::to_string(o.id) + " at (" +
+                      fmt(o.ip.get_u(), 1) + ", " + fmt(o.ip.get_v(), 1) + ")";
+        }
+    }
+    if (!few.empty()) {
+      std::string list;
+      for (const auto &f : few)
+        list += (list.empty() ? "" : ", ") + f;
+      add(WARNING, "few-points",
+          "calibration poses with fewer than " + std::to_string(opt.min_points) + " image points: " + list +
+              "; such a pose cannot be placed by the reconstruction and adds little: aim the camera so that it sees "
+              "more of the scene");
+    }
+    if (outside > 0)
+      add(WARNING, "points-outside-image",
+          std::to_string(outside) + " image points lie outside the " + std::to_string(ds.width) + " x " +
+              std::to_string(ds.height) + " image (" + example +
+              "): check that the camera size matches the images and that points are (u, v) = (column, row)");
+  }
+
+  // Repeated poses and joint motion (views with joints).
+  std::vector<unsigned int> with_joints;
+  for (unsigned int k = 0; k < N; ++k)
+    if (cal[k].q.size() == n)
+      with_joints.push_back(k);
+  unsigned int distinct = 0;
+  {
+    std::vector<std::string> repeats;
+    for (size_t a = 0; a < cal.size(); ++a) {
+      bool repeated = false;
+      for (size_t b = 0; b < a && !repeated; ++b) {
+        double d = 0;
+        if (cal[a].q.size() == n && cal[b].q.size() == n) {
+          for (unsigned int j = 0; j < n; ++j)
+            d = std::max(d, std::fabs(cal[a].q[j] - cal[b].q[j]));
+        } else {
+          const Rigid A = endEffector(nominal, cal[a]), B = endEffector(nominal, cal[b]);
+          d = std::max(logSO3(A.R.transpose() * B.R).norm(), (A.t - B.t).norm());
+        }
+        if (d <= opt.same_pose_tolerance) {
+          repeated = true;
+          repeats.push_back(std::to_string(b) + " and " + std::to_string(a));
+        }
+      }
+      if (!repeated)
+        ++distinct;
+    }
+    if (distinct < 2) {
+      add(DEGENERATE, "identical-poses",
+          "all calibration poses are the same robot configuration: nothing moves, so nothing can be calibrated; "
+          "record poses that move every joint");
+      return out;
+    }
+    if (!repeats.empty()) {
+      std::string list;
+      for (size_t k = 0; k < repeats.size() && k < 5; ++k)
+        list += (list.empty() ? "" : ", ") + repeats[k];
+      if (repeats.size() > 5)
+        list += ", ...";
+      add(WARNING, "repeated-poses",
+          "poses " + list + " are the same configuration: a repeated pose only averages image noise and adds no "
+          "geometry; use distinct configurations");
+    }
+  }
+  if (with_joints.size() >= 2) {
+    std::vector<unsigned int> still;
+    std::string ranges;
+    for (unsigned int j = 0; j < n; ++j) {
+      double lo = cal[with_joints[0]].q[j], hi = lo;
+      for (unsigned int k : with_joints) {
+        lo = std::min(lo, cal[k].q[j]);
+        hi = std::max(hi, cal[k].q[j]);
+      }
+      if (hi - lo < opt.min_joint_range) {
+        still.push_back(j);
+        ranges += (ranges.empty() ? "" : ", ") + fmt(deg(hi - lo));
+      }
+    }
+    if (!still.empty() && !hand_eye)
+      add(WARNING, "joints-barely-move",
+          jointList(still) + " barely move" + (still.size() == 1 ? "s" : "") + " (range " + ranges +
+              " deg over the calibration poses): the parameters that need " + (still.size() == 1 ? "its" : "their") +
+              " motion are unidentifiable or poorly determined; add poses with larger " + jointList(still) +
+              " rotations (10 deg or more)");
+  }
+
+  // Camera rotation and the axes of the end-effector rotations.
+  {
+    std::vector<Rigid> fMe;
+    for (const auto &v : cal)
+      fMe.push_back(endEffector(nominal, v));
+    double max_rotation = 0;
+    std::vector<Eigen::Vector3d> axes; // in f, of the rotations between view pairs
+    for (size_t a = 0; a < fMe.size(); ++a)
+      for (size_t b = a + 1; b < fMe.size(); ++b) {
+        const Eigen::Vector3d r = logSO3(fMe[b].R * fMe[a].R.transpose());
+        max_rotation = std::max(max_rotation, r.norm());
+        if (r.norm() > 2 * opt.parallel_axes_tolerance)
+          axes.push_back(r.normalized());
+      }
+    if (max_rotation < opt.min_rotation)
+      add(WARNING, "barely-rotates",
+          "the camera barely rotates between the calibration poses (largest relative rotation " +
+              fmt(deg(max_rotation)) +
+              " deg): the focal length, the hand-eye rotation and the joint offsets are poorly determined; add poses "
+              "rotated by 10 deg or more about different axes");
+    else if (hand_eye && !axes.empty()) {
+      double spread = 0;
+      for (const auto &x : axes)
+        spread = std::max(spread, std::acos(std::min(1.0, std::fabs(x.dot(axes[0])))));
+      if (spread < opt.parallel_axes_tolerance)
+        add(WARNING, "parallel-rotation-axes",
+            "every end-effector rotation is about the same axis direction (within " + fmt(deg(spread)) +
+                " deg): the hand-eye translation along that axis is unobservable (see its standard deviation); add "
+                "poses rotated about another axis");
+    }
+  }
+
+  // Parallax: a homography explaining the matches of every pair means no depth information.
+  {
+    const double threshold = std::max(1.0, 3.0 * opt.pixel_sd);
+    unsigned int pairs = 0, flat = 0;
+    double max_baseline = 0;
+    const Rigid eMc = rigidFromVisp(nominal.get_eMc_corrected());
+    const Rigid c0 = endEffector(nominal, cal[0]) * eMc;
+    std::map<int, vpImagePoint> first;
+    for (const auto &o : cal[0].points)
+      first[o.id] = o.ip;
+    for (size_t k = 1; k < cal.size(); ++k) {
+      max_baseline = std::max(max_baseline, ((endEffector(nominal, cal[k]) * eMc).t - c0.t).norm());
+      std::vector<cv::Point2d> a, b;
+      for (const auto &o : cal[k].points) {
+        const auto it = first.find(o.id);
+        if (it != first.end()) {
+          a.emplace_back(it->second.get_u(), it->second.get_v());
+          b.emplace_back(o.ip.get_u(), o.ip.get_v());
+        }
+      }
+      if (a.size() < 8)
+        continue;
+      // RANSAC with a loose threshold (a homography from 4 noisy points of a grazing plane
+      // extrapolates poorly), then every point against the refined homography.
+      const cv::Mat H = cv::findHomography(a, b, cv::RANSAC, 3 * threshold, cv::noArray(), 2000, 0.999);
+      ++pairs;
+      if (H.empty())
+        continue;
+      std::vector<cv::Point2d> mapped;
+      cv::perspectiveTransform(a, mapped, H);
+      unsigned int explained = 0;
+      for (size_t i = 0; i < a.size(); ++i)
+        explained += cv::norm(mapped[i] - b[i]) < threshold;
+      if (explained >= opt.homography_inliers * static_cast<double>(a.size()))
+        ++flat;
+    }
+    if (pairs > 0 && flat == pairs) {
+      if (max_baseline < 0.01)
+        add(DEGENERATE, "no-parallax",
+            "the camera only rotates: its centre moves by " + fmt(max_baseline * 1e3, 1) +
+                " mm at most, and a homography explains the matched points of every pair, so no depth can be "
+                "measured; add poses that translate the camera (10% of the distance to the scene or more)");
+      else
+        add(DEGENERATE, "no-parallax",
+            "a homography explains the matched points of every pair (" + std::to_string(pairs) +
+                " pairs): the scene is a plane, or it is far away compared with the camera's motion, and the two-view "
+                "geometry is undefined; add objects at other depths (a relief of a few percent of the distance is "
+                "enough) or move the camera closer");
+    }
+  }
+
+  // The yardstick needs each end in two calibration views to be triangulated.
+  if (ds.yardstick.isSet()) {
+    unsigned int seen_a = 0, seen_b = 0;
+    for (const auto &v : cal)
+      for (const auto &o : v.points) {
+        seen_a += o.id == ds.yardstick.id_a;
+        seen_b += o.id == ds.yardstick.id_b;
+      }
+    const unsigned int seen = std::min(seen_a, seen_b);
+    if (seen < 2)
+      add(WARNING, "yardstick-unseen",
+          std::string("the yardstick (points ") + std::to_string(ds.yardstick.id_a) + " and " +
+              std::to_string(ds.yardstick.id_b) + ") is seen in " + std::to_string(seen) +
+              " calibration pose" + (seen == 1 ? "" : "s") +
+              ": two are needed to triangulate it, so it cannot set the scale (the bundle adjustment keeps the "
+              "nominal model's scale; the paper's method fails); show both ends in two or more poses");
+  }
+  return out;
+}
