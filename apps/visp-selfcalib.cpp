@@ -46,38 +46,78 @@
 
 namespace
 {
+struct Command {
+  const char *name;
+  const char *synopsis; //!< after "visp-selfcalib NAME "
+  const char *help;     //!< what it does, its options
+};
+
+const Command kCommands[] = {
+    {"info", "MODEL", "Prints the robot model: convention, joints, number of error-model parameters, the corrections\n"
+                      "that are not zero.\n"},
+    {"predict", "MODEL [JOINTS_FILE]",
+     "Reads one joint vector per line (rad, separated by spaces or commas; '#' starts a comment) from\n"
+     "JOINTS_FILE or standard input and prints the camera pose fMc as 'tx ty tz tux tuy tuz' (m, rad) per line.\n"},
+    {"plan", "OUT.txt [--robot NAME] [--seed N] [--poses N] [--held-out N] [--method observability|paper] [--force]",
+     "Writes calibration poses planned on the reference scenario's nominal model, then random held-out\n"
+     "poses, one joint vector per line.\n"
+     "  --robot NAME      viper850 (default) or puma560\n"
+     "  --seed N          scenario seed (default 1)\n"
+     "  --poses N         calibration poses (default 15)\n"
+     "  --held-out N      held-out poses after them (default 10)\n"
+     "  --method M        observability (default): O1-optimal choice from a pool; paper: the paper's\n"
+     "                    optimal trajectory (eqs. 22-39)\n"
+     "  --force           replace an existing OUT.txt\n"},
+    {"simulate",
+     "OUT.yaml [--robot NAME] [--seed N] [--poses N | --joints FILE] [--noise PX] [--focal known|shared]\n"
+     "                           [--controller-poses] [--images] [--force]",
+     "Writes a dataset of the reference scenario (simulated robot with seeded errors, scene, yardstick).\n"
+     "  --poses N         random feasible poses (default 25); --joints FILE: the poses of a plan\n"
+     "  --noise PX        image noise sd (default 0.2)\n"
+     "  --focal M         known (default: px, py in the file) or shared (f to be self-calibrated)\n"
+     "  --controller-poses  the true end-effector poses fMe instead of joints (hand-eye datasets)\n"
+     "  --images          render the images (OUT's directory/images/) and write no points: calibrate\n"
+     "                    then runs the image front end\n"
+     "  --force           replace an existing OUT.yaml\n"},
+    {"calibrate",
+     "DATASET --out DIR [--method bundle|paper|hand-eye] [--calibration N] [--focal auto|known|shared|per-pair]\n"
+     "                           [--pixel-sd PX] [--threads N]",
+     "Self-calibrates on the first N views and verifies on the others. Writes DIR/model.yaml,\n"
+     "DIR/model.urdf, DIR/camera.xml, DIR/results.yaml and DIR/report/ (report.md, gnuplot figures),\n"
+     "each atomically, never over an input. The data check's findings are printed as warnings.\n"
+     "  --method M        bundle (default; hand-eye when the poses have fMe and no joints): multi-view\n"
+     "                    reconstruction + kinematic bundle adjustment; paper: the paper's procedure;\n"
+     "                    hand-eye: kinematics trusted, eMc, f and points estimated\n"
+     "  --calibration N   calibration views (default 15, or all but 2 when fewer)\n"
+     "  --focal M         auto (default: known when the dataset gives px, py), known, shared, per-pair\n"
+     "  --pixel-sd PX     image noise sd used as weight (default 0.2)\n"
+     "  --threads N       threads of the image front end (default: all cores); the results do not depend on it\n"
+     "Exit codes: 0 calibrated, 1 bad input, 2 bad usage, 3 failed or degenerate data (message on stderr).\n"},
+    {"verify", "MODEL DATASET", "Prints the paper's 3-D yardstick error of MODEL on the dataset's views.\n"},
+    {"export", "MODEL (--urdf OUT.urdf | --dh OUT.yaml | --mdh OUT.yaml)",
+     "Writes the model as URDF joint origins (exact), or as a DH / modified-DH robot-model file without\n"
+     "corrections when one reproduces it (exit 3 when none does; a warning when it is ill-conditioned).\n"},
+};
+
 int usage(std::ostream &os, int code)
 {
-  os << "Usage:\n"
-     << "  visp-selfcalib info      MODEL\n"
-     << "  visp-selfcalib predict   MODEL [JOINTS_FILE]\n"
-     << "  visp-selfcalib plan      OUT.txt [--robot NAME] [--seed N] [--poses N] [--held-out N]\n"
-     << "                           [--method observability|paper] [--force]\n"
-     << "  visp-selfcalib simulate  OUT.yaml [--robot NAME] [--seed N] [--poses N | --joints FILE] [--noise PX]\n"
-     << "                           [--focal known|shared]\n"
-     << "                           [--controller-poses] [--images] [--force]\n"
-     << "  visp-selfcalib calibrate DATASET --out DIR [--method bundle|paper|hand-eye] [--calibration N]\n"
-     << "                           [--pixel-sd PX] [--threads N (image front end; default: all cores; results do not depend on it)]\n"
-     << "                           [--focal auto|known|shared|per-pair]\n"
-     << "  visp-selfcalib verify    MODEL DATASET\n"
-     << "  visp-selfcalib export    MODEL (--urdf OUT.urdf | --dh OUT.yaml | --mdh OUT.yaml)\n"
-     << "MODEL: a preset (puma560, viper850) or a robot-model YAML file. DATASET: a dataset YAML file (README).\n"
-     << "plan writes calibration poses planned on the reference scenario's nominal model (observability: O1-optimal\n"
-     << "choice from a pool; paper: the paper's optimal trajectory), then random held-out poses, one per line.\n"
-     << "simulate writes the reference scenario's observations (no images) at random poses or at --joints FILE\n"
-     << "(same robot and seed as the plan); --controller-poses writes the true\n"
-     << "end-effector poses fMe instead of joints; --images renders the images (OUT's directory/images/) and\n"
-     << "writes no points (calibrate then runs the image front end); --force replaces an existing file.\n"
-     << "calibrate: the method defaults to hand-eye when the dataset has poses without joints, else bundle.\n"
-     << "calibrate uses the first N views (default 15, or all but 2 when fewer) and verifies on the others;\n"
-     << "it writes DIR/model.yaml, DIR/model.urdf, DIR/camera.xml, DIR/results.yaml and DIR/report/ (report.md,\n"
-     << "figures drawn by gnuplot), never over an input.\n"
-     << "verify prints the paper's 3-D yardstick error of MODEL on the dataset's views.\n"
-     << "export writes the model as URDF joint origins (exact), or as a DH / modified-DH robot-model file\n"
-     << "without corrections when one reproduces it (exit 3 when none does; a warning when it is ill-conditioned).\n"
-     << "predict reads one joint vector per line (rad, separated by spaces or commas; '#' starts a comment)\n"
-     << "from JOINTS_FILE or standard input and prints fMc as 'tx ty tz tux tuy tuz' (m, rad) per line.\n";
+  os << "Usage:\n";
+  for (const Command &c : kCommands)
+    os << "  visp-selfcalib " << c.name << std::string(10 - std::string(c.name).size(), ' ') << c.synopsis << "\n";
+  os << "MODEL: a preset (puma560, viper850) or a robot-model YAML file. DATASET: a dataset YAML file (README).\n"
+     << "'visp-selfcalib COMMAND --help' describes a command and its options.\n";
   return code;
+}
+
+//! The help of one command; the global usage for an unknown one.
+int commandHelp(const std::string &name)
+{
+  for (const Command &c : kCommands)
+    if (name == c.name) {
+      std::cout << "Usage: visp-selfcalib " << c.name << " " << c.synopsis << "\n\n" << c.help;
+      return 0;
+    }
+  return usage(std::cout, 0);
 }
 
 int info(const vpKinematicChain &c)
@@ -634,7 +674,7 @@ int main(int argc, char **argv)
   const std::vector<std::string> rest(argv + 2, argv + argc);
   for (const std::string &a : rest)
     if (a == "--help" || a == "-h")
-      return usage(std::cout, 0);
+      return commandHelp(cmd);
   try {
     if (cmd == "simulate")
       return simulate(rest);

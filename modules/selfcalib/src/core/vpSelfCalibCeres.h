@@ -61,6 +61,13 @@ public:
 private:
   int m_saved;
 };
+
+//! ceres::Solve under QuietCeres: every solve of the module goes through here (the module never prints).
+inline void solve(const ceres::Solver::Options &options, ceres::Problem *problem, ceres::Solver::Summary *summary)
+{
+  const QuietCeres quiet;
+  ceres::Solve(options, problem, summary);
+}
 } // namespace vpSelfCalib
 
 #endif

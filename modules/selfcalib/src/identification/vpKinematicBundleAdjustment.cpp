@@ -564,7 +564,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     ceres::Solver::Options so = solverOptions(opt.max_iterations, opt.tight, ceres::DENSE_SCHUR);
     so.linear_solver_ordering = order;
     so.num_threads = static_cast<int>(opt.num_threads);
-    ceres::Solve(so, problem.get(), &summary);
+    vpSelfCalib::solve(so, problem.get(), &summary);
     res.iterations += static_cast<unsigned int>(summary.iterations.size());
     state.update(true); // the callback last saw the final trial point, not necessarily the solution
     if (!summary.IsSolutionUsable())

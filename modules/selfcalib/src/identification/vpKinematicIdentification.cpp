@@ -342,7 +342,7 @@ vpKinematicIdentification::Result vpKinematicIdentification::identify(const vpKi
     problem.AddResidualBlock(new MeasurementCost(start, id, m), nullptr, x.data());
   const ceres::Solver::Options so = solverOptions(opt.max_iterations, opt.tight);
   ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
+  vpSelfCalib::solve(so, &problem, &summary);
   res.iterations = static_cast<unsigned int>(summary.iterations.size());
   vpColVector params = start.getParameters();
   for (size_t k = 0; k < p; ++k)

@@ -142,7 +142,7 @@ vpModelExport::DHFit vpModelExport::fitDH(const vpKinematicChain &model, vpKinem
   problem.AddResidualBlock(cost, nullptr, x.data());
   ceres::Solver::Options so = solverOptions(opt.max_iterations, true);
   ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
+  vpSelfCalib::solve(so, &problem, &summary);
 
   DHFit fit;
   fit.table = tableFrom(model, convention, x.data());

@@ -83,7 +83,7 @@ std::map<int, vpColVector> vpCalibrationVerifier::triangulate(const vpKinematicC
                                nullptr, X.data());
     const ceres::Solver::Options so = solverOptions(50, true);
     ceres::Solver::Summary summary;
-    ceres::Solve(so, &problem, &summary);
+    vpSelfCalib::solve(so, &problem, &summary);
     if (X.allFinite())
       out[kv.first] = vpColVector({X.x(), X.y(), X.z()});
   }

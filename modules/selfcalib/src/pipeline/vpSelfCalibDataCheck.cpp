@@ -267,8 +267,10 @@ std::vector<vpSelfCalibDataCheck::Finding> vpSelfCalibDataCheck::check(const vpK
       if (a.size() < 8)
         continue;
       // RANSAC with a loose threshold (a homography from 4 noisy points of a grazing plane
-      // extrapolates poorly), then every point against the refined homography.
-      const cv::Mat H = cv::findHomography(a, b, cv::RANSAC, 3 * threshold, cv::noArray(), 2000, 0.999);
+      // extrapolates poorly), then every point against the refined homography. 200 samples find a
+      // homography that explains 90% of the points with probability 1 - (1 - 0.9^4)^200; a scene
+      // with relief leaves RANSAC at that cap (2000 made the check cost 40 ms per pair).
+      const cv::Mat H = cv::findHomography(a, b, cv::RANSAC, 3 * threshold, cv::noArray(), 200, 0.999);
       ++pairs;
       if (H.empty())
         continue;

@@ -497,7 +497,7 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
                                               m > 60 ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR);
     so.linear_solver_ordering = order;
     so.num_threads = static_cast<int>(opt.num_threads);
-    ceres::Solve(so, &problem, &summary);
+    vpSelfCalib::solve(so, &problem, &summary);
     if (!summary.IsSolutionUsable())
       break;
     if (stage == 0 && robust && !resected) {

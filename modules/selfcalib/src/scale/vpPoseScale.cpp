@@ -101,7 +101,7 @@ vpPoseScale::Result vpPoseScale::yardstick(const std::vector<YardstickView> &vie
   scale = scale0 / views.size();
   const ceres::Solver::Options so = solverOptions(50, true);
   ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
+  vpSelfCalib::solve(so, &problem, &summary);
   res.scale = scale;
   if (views.size() > 1) {
     // sd of the least-squares scale: sigma^2 (a^T a)^-1 with sigma^2 from the residuals.

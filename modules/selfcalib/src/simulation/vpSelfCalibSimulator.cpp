@@ -9,6 +9,7 @@
 
 #include <ceres/ceres.h>
 
+#include "../core/vpSelfCalibCeres.h"
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibRandom.h"
 
@@ -213,7 +214,7 @@ bool vpSelfCalibSimulator::inverseKinematics(const vpHomogeneousMatrix &fMc, con
   so.parameter_tolerance = 1e-14;
   so.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
+  vpSelfCalib::solve(so, &problem, &summary);
   // Converged to the exact pose (cost = |r|^2 / 2): 1e-9 m and 1e-9 rad.
   if (!(summary.final_cost < 0.5e-18))
     return false;

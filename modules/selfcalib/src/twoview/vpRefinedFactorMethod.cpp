@@ -180,7 +180,7 @@ vpRefinedFactorMethod::Result vpRefinedFactorMethod::refine(const std::vector<Pa
   const ceres::Solver::Options so =
       solverOptions(opt.max_iterations, opt.tight, pairs.size() > 1 ? ceres::DENSE_SCHUR : ceres::DENSE_QR);
   ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
+  vpSelfCalib::solve(so, &problem, &summary);
   res.iterations = static_cast<unsigned int>(summary.iterations.size());
   res.converged = summary.termination_type == ceres::CONVERGENCE && std::isfinite(f) && f > 0;
   res.message = summary.message;
