@@ -70,7 +70,7 @@ const Command kCommands[] = {
      "  --force           replace an existing OUT.txt\n"},
     {"simulate",
      "OUT.yaml [--robot NAME] [--seed N] [--poses N | --joints FILE] [--noise PX] [--focal known|shared]\n"
-     "                           [--controller-poses] [--images] [--force]",
+     "                           [--controller-poses] [--images [--target textured|dots]] [--force]",
      "Writes a dataset of the reference scenario (simulated robot with seeded errors, scene, yardstick).\n"
      "  --poses N         random feasible poses (default 25); --joints FILE: the poses of a plan\n"
      "  --noise PX        image noise sd (default 0.2)\n"
@@ -78,10 +78,13 @@ const Command kCommands[] = {
      "  --controller-poses  the true end-effector poses fMe instead of joints (hand-eye datasets)\n"
      "  --images          render the images (OUT's directory/images/) and write no points: calibrate\n"
      "                    then runs the image front end\n"
+     "  --target T        textured (default: photographs on two planes, natural features) or dots (the\n"
+     "                    paper's experiment: dot grids 4x5 and 4x9 on the two planes; calibrate with\n"
+     "                    --dot-grids 4x5,4x9 --no-features)\n"
      "  --force           replace an existing OUT.yaml\n"},
     {"calibrate",
      "DATASET --out DIR [--method bundle|paper|hand-eye] [--calibration N] [--focal auto|known|shared|per-pair]\n"
-     "                           [--pixel-sd PX] [--threads N]",
+     "                           [--pixel-sd PX] [--threads N] [--dot-grids CxR[,CxR...]] [--no-features]",
      "Self-calibrates on the first N views and verifies on the others. Writes DIR/model.yaml,\n"
      "DIR/model.urdf, DIR/camera.xml, DIR/results.yaml and DIR/report/ (report.md, gnuplot figures),\n"
      "each atomically, never over an input. The data check's findings are printed as warnings.\n"
@@ -92,6 +95,9 @@ const Command kCommands[] = {
      "  --focal M         auto (default: known when the dataset gives px, py), known, shared, per-pair\n"
      "  --pixel-sd PX     image noise sd used as weight (default 0.2)\n"
      "  --threads N       threads of the image front end (default: all cores); the results do not depend on it\n"
+     "  --dot-grids LIST  dot targets for the front end: asymmetric circle grids, C columns x R rows (R odd),\n"
+     "                    grid g numbered from 1000000 + 1000 g; their dots must differ in size\n"
+     "  --no-features     no natural features (dot targets only)\n"
      "Exit codes: 0 calibrated, 1 bad input, 2 bad usage, 3 failed or degenerate data (message on stderr).\n"},
     {"verify", "MODEL DATASET", "Prints the paper's 3-D yardstick error of MODEL on the dataset's views.\n"},
     {"export", "MODEL (--urdf OUT.urdf | --dh OUT.yaml | --mdh OUT.yaml)",
@@ -241,6 +247,7 @@ int simulate(const std::vector<std::string> &a)
   vpSelfCalibSimulator::Options so;
   unsigned int poses = 25;
   bool force = false, controller = false, images = false;
+  std::string target = "textured";
   std::string joints_file;
   for (size_t i = 0; i < a.size(); ++i) {
     if (a[i] == "--joints")
@@ -249,6 +256,8 @@ int simulate(const std::vector<std::string> &a)
       controller = true;
     else if (a[i] == "--images")
       images = true;
+    else if (a[i] == "--target")
+      target = textArg(a, i);
     else if (a[i] == "--robot")
       robot = textArg(a, i);
     else if (a[i] == "--seed")
@@ -270,6 +279,10 @@ int simulate(const std::vector<std::string> &a)
   }
   if (out.empty())
     throw BadUsage("simulate: the output file is missing");
+  if (target != "textured" && target != "dots")
+    throw BadUsage("simulate: --target is textured or dots");
+  if (target == "dots" && !images)
+    throw BadUsage("simulate: --target dots renders images: add --images");
   if (focal != "known" && focal != "shared")
     throw BadUsage("simulate: --focal is known or shared");
   if (poses < 3)
@@ -334,6 +347,7 @@ int simulate(const std::vector<std::string> &a)
     }
     vpSelfCalibRenderer::Options ro;
     ro.seed = so.seed;
+    ro.scene = target == "dots" ? vpSelfCalibRenderer::DOTS : vpSelfCalibRenderer::TEXTURED;
     const vpSelfCalibRenderer renderer(sim, ro);
     for (size_t k = 0; k < ds.views.size(); ++k) {
       std::ostringstream name;
@@ -408,10 +422,26 @@ int calibrate(const std::vector<std::string> &a)
   unsigned int calibration = 0;
   double pixel_sd = 0.2;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  vpFeatureFrontEnd::Options fo;
   for (size_t i = 0; i < a.size(); ++i) {
     if (a[i] == "--threads")
       threads = static_cast<int>(numberArg(a, i));
-    else if (a[i] == "--out")
+    else if (a[i] == "--no-features")
+      fo.features = false;
+    else if (a[i] == "--dot-grids") {
+      // C x R, comma-separated; grid g numbered from 1000000 + 1000 g (as simulate --target dots).
+      std::istringstream list(textArg(a, i));
+      std::string item;
+      while (std::getline(list, item, ',')) {
+        vpFeatureFrontEnd::DotGrid g;
+        char x = 0;
+        std::istringstream is(item);
+        if (!(is >> g.cols >> x >> g.rows) || x != 'x' || !is.eof())
+          throw BadUsage("calibrate: --dot-grids takes COLSxROWS[,COLSxROWS...], got '" + item + "'");
+        g.first_id = vpSelfCalibRenderer::kFirstDotId + 1000 * static_cast<int>(fo.dot_grids.size());
+        fo.dot_grids.push_back(g);
+      }
+    } else if (a[i] == "--out")
       out = textArg(a, i);
     else if (a[i] == "--method")
       method = textArg(a, i);
@@ -461,12 +491,24 @@ int calibrate(const std::vector<std::string> &a)
   vpFeatureFrontEnd::Result fe;
   if (need_front_end) {
     std::cerr << "... image front end (" << ds.views.size() << " images)\n";
-    fe = vpFeatureFrontEnd::fillDataset(ds, vpFeatureFrontEnd::Options());
+    fe = vpFeatureFrontEnd::fillDataset(ds, fo);
     unsigned int seen = 0;
     for (bool b : fe.yardstick_seen)
       seen += b;
+    unsigned int grids = 0;
+    for (const auto &g : fe.grid_seen)
+      for (bool b : g)
+        grids += b;
+    if (!fo.dot_grids.empty())
+      std::cerr << "... dot grids found " << grids << " times in " << ds.views.size() << " images\n";
     std::cerr << "... " << fe.num_tracks << " tracks, yardstick in " << seen << " images, " << std::setprecision(2)
               << fe.seconds << " s\n";
+    // A view where the front end found nothing cannot be used: left out, said.
+    for (size_t k = ds.views.size(); k-- > 0;)
+      if (ds.views[k].points.empty()) {
+        std::cerr << "warning: view " << k << " (" << ds.views[k].image << "): no correspondence found; left out\n";
+        ds.views.erase(ds.views.begin() + static_cast<long>(k));
+      }
   }
   cv::setNumThreads(1);
   if (method.empty())

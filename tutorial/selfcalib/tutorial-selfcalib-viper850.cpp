@@ -5,14 +5,15 @@
   what self-calibration starts from (the robot, the true seeded errors of the simulated arm, the
   planned poses and what the camera sees at each, how far the nominal model is from the true
   camera poses), acquires rendered images at the poses through the simulated robot and finds the
-  correspondences and the yardstick in them (--acquisition points: the simulator's exact
-  correspondences with pixel noise instead), self-calibrates on the first 15 poses (default:
+  correspondences and the yardstick in them (--acquisition dots: the paper's experiment, dot grids
+  on a non-planar object; --acquisition points: the simulator's exact correspondences with pixel
+  noise instead), self-calibrates on the first 15 poses (default:
   multi-view reconstruction + kinematic bundle adjustment; --method paper: the paper's procedure),
   verifies on the others and writes the report (--report DIR, default selfcalib-report).
 
     tutorial-selfcalib-viper850 [--robot viper850|puma560] [--seed N] [--poses N] [--noise PX]
                                 [--method bundle|paper] [--focal known|shared|per-pair]
-                                [--plan auto|paper|observability|none] [--acquisition images|points]
+                                [--plan auto|paper|observability|none] [--acquisition images|dots|points]
                                 [--report DIR] [-c] [-d] [-h]
 
   -c and -d are ViSP's tutorial flags (no click, no display); this program never opens a display.
@@ -53,8 +54,10 @@ void usage(const char *argv0)
             << "  --plan MODE    auto (default: observability with bundle, paper with paper), paper (the\n"
             << "                 paper's optimal trajectory, eqs. 22-39, planned from random feasible poses),\n"
             << "                 observability (O1-optimal choice from a pool of 60) or none (random poses)\n"
-            << "  --acquisition M images (default: rendered images, SIFT tracks and the yardstick's dots) or\n"
-            << "                 points (the simulator's exact correspondences with --noise pixel noise)\n"
+            << "  --acquisition M images (default: rendered images, SIFT tracks and the yardstick's dots),\n"
+            << "                 dots (the paper's experiment: rendered dot grids on two planes, matched by\n"
+            << "                 their place in the grid) or points (the simulator's exact correspondences\n"
+            << "                 with --noise pixel noise)\n"
             << "  --report DIR   where the report goes (default selfcalib-report; 'none': no report)\n"
             << "  -c, -d         accepted for ViSP's tutorial convention; nothing is displayed\n"
             << "  -h, --help     this help\n";
@@ -99,8 +102,8 @@ int main(int argc, char **argv)
       }
       else if (a == "--acquisition" && i + 1 < argc) {
         acquisition = argv[++i];
-        if (acquisition != "images" && acquisition != "points") {
-          std::cerr << "--acquisition must be images or points\n";
+        if (acquisition != "images" && acquisition != "dots" && acquisition != "points") {
+          std::cerr << "--acquisition must be images, dots or points\n";
           return EXIT_FAILURE;
         }
       } else if (a == "--report" && i + 1 < argc)
@@ -220,7 +223,7 @@ int main(int argc, char **argv)
       else
         std::cout << "   " << pr.message << "; the random poses are kept\n";
     }
-    const vpSelfCalibDataset ds = viper ? sim.acquire(*viper, q) : sim.makeDataset(q);
+    vpSelfCalibDataset ds = viper ? sim.acquire(*viper, q) : sim.makeDataset(q);
     if (viper)
       std::cout << "   acquired through vpSimulatorViper850 (vpRobot interface)\n";
 
@@ -250,15 +253,21 @@ int main(int argc, char **argv)
     // robot; the image front end finds the correspondences and the yardstick's dots in them.
     vpSelfCalibDataset data = ds;
     vpFeatureFrontEnd::Result fe;
-    if (acquisition == "images") {
+    if (acquisition != "points") {
       vpSelfCalibRenderer::Options ro;
       ro.seed = opt.seed;
+      ro.scene = acquisition == "dots" ? vpSelfCalibRenderer::DOTS : vpSelfCalibRenderer::TEXTURED;
       const vpSelfCalibRenderer renderer(sim, ro);
       std::vector<vpImage<unsigned char>> images;
       for (size_t k = 0; k < ds.views.size(); ++k)
         images.push_back(renderer.render(ds.views[k].q, static_cast<unsigned int>(k)));
       std::cerr << "   ... image front end on " << images.size() << " images\n";
-      fe = vpFeatureFrontEnd::process(images, vpFeatureFrontEnd::Options());
+      vpFeatureFrontEnd::Options fo;
+      if (acquisition == "dots") { // the paper's experiment: dot grids only
+        fo.features = false;
+        fo.dot_grids = vpFeatureFrontEnd::dotGrids(renderer);
+      }
+      fe = vpFeatureFrontEnd::process(images, fo);
       unsigned int seen = 0;
       for (size_t k = 0; k < ds.views.size(); ++k) {
         data.views[k].points = fe.observations[k];
@@ -267,9 +276,25 @@ int main(int argc, char **argv)
       data.yardstick.length = renderer.getYardstickLength();
       data.yardstick.id_a = fe.yardstick_a;
       data.yardstick.id_b = fe.yardstick_b;
-      std::cout << "== Acquisition: " << images.size() << " rendered images (textured planes, blur, noise); "
-                << "front end (SIFT, ratio + mutual + RANSAC, tracks): " << fe.num_tracks << " tracks, yardstick dots in "
-                << seen << " images, " << std::setprecision(1) << fe.seconds << " s\n";
+      if (acquisition == "dots") {
+        unsigned int grids = 0;
+        for (const auto &g : fe.grid_seen)
+          for (bool b : g)
+            grids += b;
+        std::cout << "== Acquisition: " << images.size() << " rendered images (dot grids on two planes, blur, noise); "
+                  << "front end (vpDot2 dots, OpenCV circle-grid order): " << grids << " of " << fe.grid_seen.size() * images.size()
+                  << " grids found, yardstick dots in " << seen << " images, " << std::setprecision(1) << fe.seconds << " s\n";
+      } else
+        std::cout << "== Acquisition: " << images.size() << " rendered images (textured planes, blur, noise); "
+                  << "front end (SIFT, ratio + mutual + RANSAC, tracks): " << fe.num_tracks << " tracks, yardstick dots in "
+                  << seen << " images, " << std::setprecision(1) << fe.seconds << " s\n";
+      // A view where the front end found nothing (the grids and the yardstick missed) is left out.
+      for (size_t k = data.views.size(); k-- > 0;)
+        if (data.views[k].points.empty()) {
+          std::cout << "   pose " << k + 1 << ": nothing found in its image, left out\n";
+          data.views.erase(data.views.begin() + static_cast<long>(k));
+          ds.views.erase(ds.views.begin() + static_cast<long>(k));
+        }
     } else
       std::cout << "== Acquisition: the simulator's exact correspondences with " << opt.pixel_noise_sd << " px noise\n";
 
@@ -335,7 +360,7 @@ int main(int argc, char **argv)
     std::cout << "\n";
 
     // Verification on the held-out views against the simulated truth.
-    if (q.size() > po.num_calibration_poses + 1) {
+    if (data.views.size() > po.num_calibration_poses + 1) {
       const std::vector<vpSelfCalibDataset::View> ver(ds.views.begin() + po.num_calibration_poses, ds.views.end());
       const std::vector<vpSelfCalibDataset::View> ver_data(data.views.begin() + po.num_calibration_poses,
                                                            data.views.end());
@@ -362,7 +387,7 @@ int main(int argc, char **argv)
     std::cout << "== Pipeline time " << std::setprecision(2) << r.seconds << " s\n";
     if (report != "none") {
       const vpSelfCalibReport::Result rep = vpSelfCalibReport::write(
-          report, nominal, data, po, r, acquisition == "images" ? &fe : nullptr, vpSelfCalibReport::Options());
+          report, nominal, data, po, r, acquisition != "points" ? &fe : nullptr, vpSelfCalibReport::Options());
       std::cout << "== Report: " << report << "/report.md (" << rep.message << ")\n";
     }
     return EXIT_SUCCESS;

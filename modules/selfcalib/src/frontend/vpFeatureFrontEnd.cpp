@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
+#include <set>
 #include <numeric>
 
 #include <opencv2/calib3d.hpp>
@@ -39,7 +41,8 @@ struct UnionFind {
 
 struct Dot {
   cv::Point2f centre;
-  float radius;
+  float radius; //!< sqrt(area / pi)
+  float major;  //!< semi-major axis of the ellipse of the same moments: the dot's size without foreshortening
 };
 
 // Dark round blobs with a white surround: the yardstick's dots. Candidates are the connected
@@ -57,7 +60,7 @@ std::vector<Dot> findDots(const vpImage<unsigned char> &I, const cv::Mat &img, c
     if (area < amin || area > amax || w > 2 * h || h > 2 * w)
       continue;
     const double fill = area / (w * h);
-    if (fill < 0.65 || fill > 0.9)
+    if (fill < 0.5 || fill > 0.9) // an ellipse at 45 degrees fills 0.6 of its box, pixelated less
       continue;
     const double cx = centroids.at<double>(c, 0), cy = centroids.at<double>(c, 1), r = std::sqrt(area / M_PI);
     double sum = 0;
@@ -76,15 +79,96 @@ std::vector<Dot> findDots(const vpImage<unsigned char> &I, const cv::Mat &img, c
     try {
       vpDot2 d;
       d.setGraphics(false);
+      d.setComputeMoments(true);
       d.initTracking(I, vpImagePoint(cy, cx));
       const vpImagePoint g = d.getCog();
+      const vpColVector n = d.get_nij(); // n20, n11, n02: covariance of the blob
+      const double lmax = 0.5 * (n[0] + n[2]) + std::sqrt(0.25 * (n[0] - n[2]) * (n[0] - n[2]) + n[1] * n[1]);
       dots.push_back({cv::Point2f(static_cast<float>(g.get_u()), static_cast<float>(g.get_v())),
-                      static_cast<float>(std::sqrt(d.getArea() / M_PI))});
+                      static_cast<float>(std::sqrt(d.getArea() / M_PI)),
+                      static_cast<float>(std::max(2 * std::sqrt(std::max(0.0, lmax)), std::sqrt(d.getArea() / M_PI)))});
     } catch (const vpException &) {
       // vpDot2 could not follow this blob: not a dot.
     }
   }
   return dots;
+}
+// A Feature2D that "detects" given keypoints: hands our vpDot2 centres to findCirclesGrid.
+class GivenKeypoints : public cv::Feature2D
+{
+public:
+  explicit GivenKeypoints(const std::vector<cv::KeyPoint> &kp) : m_kp(kp) {}
+  void detect(cv::InputArray, std::vector<cv::KeyPoint> &kp, cv::InputArray = cv::noArray()) override { kp = m_kp; }
+
+private:
+  std::vector<cv::KeyPoint> m_kp;
+};
+
+// The dots of `group` in grid g's order (OpenCV's asymmetric-grid order): empty when the group is
+// not that grid.
+std::vector<Dot> orderGrid(const cv::Mat &img, const std::vector<Dot> &dots, const std::vector<size_t> &group,
+                           const vpFeatureFrontEnd::DotGrid &g, std::vector<size_t> &members)
+{
+  members.clear();
+  std::vector<cv::KeyPoint> kp;
+  for (size_t i : group)
+    kp.emplace_back(dots[i].centre, 2 * dots[i].radius);
+  std::vector<cv::Point2f> centres;
+  const cv::Ptr<cv::FeatureDetector> given = cv::makePtr<GivenKeypoints>(kp);
+  const cv::Size size(static_cast<int>(g.cols), static_cast<int>(g.rows));
+  if (!(cv::findCirclesGrid(img, size, centres, cv::CALIB_CB_ASYMMETRIC_GRID, given) ||
+        cv::findCirclesGrid(img, size, centres, cv::CALIB_CB_ASYMMETRIC_GRID | cv::CALIB_CB_CLUSTERING, given)) ||
+      centres.size() != g.cols * g.rows)
+    return {};
+  std::vector<Dot> ordered;
+  for (const cv::Point2f &c : centres) {
+    size_t best = group[0];
+    for (size_t i : group)
+      if (cv::norm(dots[i].centre - c) < cv::norm(dots[best].centre - c))
+        best = i;
+    if (std::find(members.begin(), members.end(), best) != members.end())
+      return {}; // two grid places on one dot
+    members.push_back(best);
+    ordered.push_back(dots[best]);
+  }
+  // OpenCV's labelling can be any symmetry of the lattice it sees (the order reversed, the rows
+  // reversed), and the ids must mean the same dot in every view. Of the four relabellings, keep
+  // those that fit the grid's layout (dot k at ((2 j + i % 2), i), a homography within 1 px), then
+  // the one a camera sees from the front: first row and first column counterclockwise (y down).
+  const unsigned int n = g.cols * g.rows;
+  std::vector<Dot> best;
+  double best_error = 1.0;
+  for (int variant = 0; variant < 4; ++variant) {
+    std::vector<Dot> cand(n);
+    for (unsigned int k = 0; k < n; ++k) {
+      unsigned int src = variant & 1 ? n - 1 - k : k;
+      if (variant & 2)
+        src = (g.rows - 1 - src / g.cols) * g.cols + src % g.cols;
+      cand[k] = ordered[src];
+    }
+    std::vector<cv::Point2f> layout, image;
+    for (unsigned int k = 0; k < n; ++k) {
+      const unsigned int i = k / g.cols, j = k % g.cols;
+      layout.emplace_back(static_cast<float>(2 * j + i % 2), static_cast<float>(i));
+      image.push_back(cand[k].centre);
+    }
+    const cv::Point2f a = cand[g.cols - 1].centre - cand[0].centre, b = cand[(g.rows - 1) * g.cols].centre - cand[0].centre;
+    if (a.x * b.y - a.y * b.x <= 0)
+      continue;
+    const cv::Mat H = cv::findHomography(layout, image, 0);
+    if (H.empty())
+      continue;
+    std::vector<cv::Point2f> mapped;
+    cv::perspectiveTransform(layout, mapped, H);
+    double error = 0;
+    for (unsigned int k = 0; k < n; ++k)
+      error = std::max(error, static_cast<double>(cv::norm(mapped[k] - image[k])));
+    if (error < best_error) {
+      best_error = error;
+      best = cand;
+    }
+  }
+  return best;
 }
 } // namespace
 
@@ -106,6 +190,24 @@ void vpFeatureFrontEnd::Options::check() const
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpFeatureFrontEnd: max_features >= 8, ratio in (0, 1], ransac_threshold > 0, "
                                "min_matches >= 8 and 0 < dot_min_radius < dot_max_radius are needed");
+  if (!features && dot_grids.empty())
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpFeatureFrontEnd: neither natural features nor dot grids to find");
+  std::set<unsigned int> sizes;
+  for (const DotGrid &g : dot_grids) {
+    if (g.cols < 2 || g.rows < 3 || g.first_id < 0)
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpFeatureFrontEnd: a dot grid needs 2 or more columns, 3 or more rows and a "
+                                 "non-negative first id");
+    for (const DotGrid &h : dot_grids)
+      if (&h != &g && g.first_id <= h.first_id && h.first_id < g.first_id + static_cast<int>(g.cols * g.rows))
+        throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                   "vpFeatureFrontEnd: the dot grids' id ranges overlap");
+    if (!sizes.insert(g.cols * g.rows).second)
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpFeatureFrontEnd: the dot grids must have different numbers of dots (a group of "
+                                 "dots is recognised by its size)");
+  }
 }
 
 vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<unsigned char>> &images,
@@ -136,6 +238,11 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<u
   std::vector<size_t> offset(m + 1, 0);
   for (size_t k = 0; k < m; ++k) {
     mats[k] = toMat(images[k]);
+    if (!opt.features) {
+      res.features.push_back(0);
+      offset[k + 1] = offset[k];
+      continue;
+    }
     // Detection runs in parallel inside OpenCV and returns the keypoints in an order that depends
     // on the thread count: sorted here (position, then scale), so that tracks, ids and every sum
     // downstream are the same whatever the threads.
@@ -223,13 +330,66 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<u
     }
   }
 
+  // Dot grids: every dot of a recognised grid gets the grid's id for its place; the dots left
+  // over are candidates for the yardstick.
+  for (const DotGrid &g : opt.dot_grids)
+    if (g.first_id < static_cast<int>(res.num_tracks) + 2)
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpFeatureFrontEnd: dot grid ids from " + std::to_string(g.first_id) +
+                                     " collide with the " + std::to_string(res.num_tracks) +
+                                     " feature tracks' ids: use a larger first_id");
+  res.grid_seen.assign(opt.dot_grids.size(), std::vector<bool>(m, false));
+  std::vector<std::vector<Dot>> loose(m);
+  if (opt.yardstick || !opt.dot_grids.empty())
+    for (size_t k = 0; k < m; ++k) {
+      const std::vector<Dot> dots = findDots(images[k], mats[k], opt);
+      std::vector<bool> used(dots.size(), false);
+      // The grids' dots differ in size: a grid is a run of the dots sorted by size, as long as the
+      // grid, with a jump in size at both ends; the runs with the largest jumps are tried first.
+      std::vector<size_t> by_size(dots.size());
+      std::iota(by_size.begin(), by_size.end(), 0);
+      std::stable_sort(by_size.begin(), by_size.end(), [&](size_t x, size_t y) { return dots[x].major < dots[y].major; });
+      auto jump = [&](size_t n) { // size ratio between sorted dots n - 1 and n (large at the ends)
+        return n == 0 || n >= by_size.size() ? 1e9 : dots[by_size[n]].major / std::max(1e-3f, dots[by_size[n - 1]].major);
+      };
+      for (size_t g = 0; g < opt.dot_grids.size(); ++g) {
+        const DotGrid &grid = opt.dot_grids[g];
+        const size_t count = grid.cols * grid.rows;
+        std::vector<std::pair<double, size_t>> runs; // (smaller end jump, first index)
+        for (size_t first = 0; first + count <= by_size.size(); ++first)
+          runs.push_back({std::min(jump(first), jump(first + count)), first});
+        std::stable_sort(runs.begin(), runs.end(), [](const std::pair<double, size_t> &x, const std::pair<double, size_t> &y) {
+          return x.first > y.first;
+        });
+        for (size_t r = 0; r < runs.size() && r < 3 && runs[r].first > 1.1; ++r) {
+          std::vector<size_t> group(by_size.begin() + runs[r].second, by_size.begin() + runs[r].second + count);
+          if (std::any_of(group.begin(), group.end(), [&](size_t i) { return used[i]; }))
+            continue;
+          std::vector<size_t> members;
+          const std::vector<Dot> ordered = orderGrid(mats[k], dots, group, grid, members);
+          if (ordered.empty())
+            continue;
+          for (size_t i = 0; i < ordered.size(); ++i)
+            res.observations[k].push_back(
+                {grid.first_id + static_cast<int>(i), vpImagePoint(ordered[i].centre.y, ordered[i].centre.x)});
+          for (size_t i : members)
+            used[i] = true;
+          res.grid_seen[g][k] = true;
+          break;
+        }
+      }
+      for (size_t i = 0; i < dots.size(); ++i)
+        if (!used[i])
+          loose[k].push_back(dots[i]);
+    }
+
   // The yardstick: two dots, the smaller is end a.
   res.yardstick_seen.assign(m, false);
   if (opt.yardstick) {
     unsigned int seen = 0;
     std::vector<std::pair<Dot, Dot>> ends(m);
     for (size_t k = 0; k < m; ++k) {
-      std::vector<Dot> dots = findDots(images[k], mats[k], opt);
+      std::vector<Dot> dots = loose[k];
       if (dots.size() != 2)
         continue;
       if (dots[0].radius > dots[1].radius)
@@ -283,4 +443,17 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::fillDataset(vpSelfCalibDataset &ds,
   ds.yardstick.id_a = r.yardstick_a;
   ds.yardstick.id_b = r.yardstick_b;
   return r;
+}
+
+std::vector<vpFeatureFrontEnd::DotGrid> vpFeatureFrontEnd::dotGrids(const vpSelfCalibRenderer &renderer)
+{
+  std::vector<DotGrid> out;
+  for (const vpSelfCalibRenderer::Grid &g : renderer.getDotGrids()) {
+    DotGrid d;
+    d.cols = g.cols;
+    d.rows = g.rows;
+    d.first_id = g.first_id;
+    out.push_back(d);
+  }
+  return out;
 }

@@ -40,6 +40,37 @@ vpImage<unsigned char> dotTexture(double radius_fraction)
     }
   return I;
 }
+// The layout of an asymmetric circle grid (OpenCV's): dot k = (row i, column j), k = i * cols + j,
+// at (x, y) = ((2 j + i % 2) step, i step).
+Eigen::Vector2d gridDot(unsigned int cols, unsigned int k, double step)
+{
+  const unsigned int i = k / cols, j = k % cols;
+  return Eigen::Vector2d((2.0 * j + i % 2) * step, i * step);
+}
+
+// A face of width x height (m) seen with u along the columns and v along the rows, white, with the
+// grid's dots centred at (u0 + x, v0 + y).
+vpImage<unsigned char> gridTexture(double width, double height, unsigned int cols, unsigned int rows, double step,
+                                   double u0, double v0, double r, bool mirror_u)
+{
+  const double px_per_m = 4000;
+  const unsigned int W = static_cast<unsigned int>(width * px_per_m), H = static_cast<unsigned int>(height * px_per_m);
+  vpImage<unsigned char> I(H, W, 235);
+  for (unsigned int k = 0; k < cols * rows; ++k) {
+    const Eigen::Vector2d c = gridDot(cols, k, step) + Eigen::Vector2d(u0, v0);
+    for (unsigned int i = 0; i < H; ++i) {
+      const double v = (i + 0.5) / px_per_m;
+      if (std::fabs(v - c.y()) > r)
+        continue;
+      for (unsigned int j = 0; j < W; ++j) {
+        const double u = mirror_u ? width - (j + 0.5) / px_per_m : (j + 0.5) / px_per_m;
+        if ((u - c.x()) * (u - c.x()) + (v - c.y()) * (v - c.y()) <= r * r)
+          I[i][j] = 20;
+      }
+    }
+  }
+  return I;
+}
 } // namespace
 
 void vpSelfCalibRenderer::Options::check() const
@@ -63,18 +94,54 @@ vpSelfCalibRenderer::vpSelfCalibRenderer(const vpSelfCalibSimulator &sim, const 
   e1.normalize();
   const Eigen::Vector3d e2 = d.cross(e1); // roughly the image's down direction seen from home
   const double width = 0.11, height = 0.16, tilt = 30 * M_PI / 180;
+  // Scene DOTS: grid g on side g, in face coordinates (u from the ridge, v from the top edge).
+  const unsigned int grid_rows[2] = {5, 9};
+  // Dot radii differ between the grids (and from the yardstick's 4 and 6 mm): the front end tells
+  // the grids apart by the dots' size.
+  const double step = 0.01, grid_u0 = 0.035, dot_radius[2] = {0.0022, 0.0032};
   for (int side = 0; side < 2; ++side) {
     Quad q;
-    try {
-      vpImageIo::read(q.texture, files[side]);
-    } catch (const vpException &e) {
-      throw vpSelfCalibException(vpSelfCalibException::ioError,
-                                 "vpSelfCalibRenderer: cannot read the texture '" + files[side] +
-                                     "' (Debian package visp-images-data): " + e.getStringMessage());
-    }
     // Plane side 0 on the -e1 side of the ridge, side 1 on the +e1 side, both leaning back from the viewer.
     const double s = side == 0 ? -1 : 1;
     const Eigen::Vector3d u = (std::cos(tilt) * e1 * s - std::sin(tilt) * d).normalized(); // away from the ridge
+    if (opt.scene == DOTS) {
+      // Texture columns run from corner 0 to corner 1: outer to inner on side 0 (u mirrored), unless
+      // render() swaps the corners because the cameras see the quad from its back (it mirrors
+      // photographs; the dots' places must not move).
+      const Eigen::Vector3d top = c - 0.5 * height * e2, c0 = side == 0 ? top + width * u : top,
+                            c1 = side == 0 ? top : top + width * u, c3 = c0 + height * e2;
+      const bool back = !((c1 - c0).cross(c3 - c0).dot(H.t - c0) < 0);
+      const Grid g{4, grid_rows[side], kFirstDotId + 1000 * side};
+      const double v0 = 0.5 * (height - (g.rows - 1) * step);
+      q.texture = gridTexture(width, height, g.cols, g.rows, step, grid_u0, v0, dot_radius[side], (side == 0) != back);
+      // Ids as vpFeatureFrontEnd numbers them: the first row and the first column turn
+      // counterclockwise in the image (seen from the home viewpoint), else the rows are numbered
+      // from the other end.
+      std::vector<Eigen::Vector3d> X;
+      for (unsigned int k = 0; k < g.cols * g.rows; ++k) {
+        const Eigen::Vector2d p = gridDot(g.cols, k, step);
+        X.push_back(c + (grid_u0 + p.x()) * u + (v0 + p.y() - 0.5 * height) * e2);
+      }
+      const Rigid cMf = H.inverse();
+      auto image = [&](unsigned int k) {
+        const Eigen::Vector3d x = cMf * X[k];
+        return Eigen::Vector2d(x.x() / x.z(), x.y() / x.z());
+      };
+      const Eigen::Vector2d a = image(g.cols - 1) - image(0), b = image((g.rows - 1) * g.cols) - image(0);
+      const bool reversed = a.x() * b.y() - a.y() * b.x() < 0;
+      for (unsigned int k = 0; k < g.cols * g.rows; ++k) {
+        const unsigned int i = k / g.cols, j = k % g.cols, label = (reversed ? g.rows - 1 - i : i) * g.cols + j;
+        m_dot_centres[g.first_id + static_cast<int>(label)] = toCol(X[k]);
+      }
+      m_grids.push_back(g);
+    } else
+      try {
+        vpImageIo::read(q.texture, files[side]);
+      } catch (const vpException &e) {
+        throw vpSelfCalibException(vpSelfCalibException::ioError,
+                                   "vpSelfCalibRenderer: cannot read the texture '" + files[side] +
+                                       "' (Debian package visp-images-data): " + e.getStringMessage());
+      }
     const Eigen::Vector3d a = c, b = c + width * u;
     const Eigen::Vector3d inner_top = a - 0.5 * height * e2, outer_top = b - 0.5 * height * e2;
     const Eigen::Vector3d inner_bottom = a + 0.5 * height * e2, outer_bottom = b + 0.5 * height * e2;

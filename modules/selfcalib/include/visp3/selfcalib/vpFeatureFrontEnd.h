@@ -9,6 +9,7 @@
 
 #include <visp3/core/vpImage.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
+#include <visp3/selfcalib/vpSelfCalibRenderer.h>
 
 /*!
   \class vpFeatureFrontEnd
@@ -21,7 +22,16 @@
   3. Tracks: union-find over the verified matches; a track that holds two features of one image is
      inconsistent and dropped; every track seen in two or more images becomes a scene point id
      (0, 1, ...).
-  4. Yardstick: dark round dots on a white surround (round connected components of the dark pixels
+  4. Dot targets (the paper's experiment), when Options::dot_grids lists them: dark round dots on a
+     white surround (below, measured by vpDot2), sorted by size (the semi-major axis of their
+     ellipse, which foreshortening leaves alone): a grid is a run of as many dots as it has, with a
+     jump in size (over 10%) at both ends, so the grids' dots must differ in size from each other's
+     and from the yardstick's; the run is ordered by OpenCV's findCirclesGrid (asymmetric grid). Dot k of grid g gets the id dot_grids[g].first_id + k in
+     every image: the dots are matched across views by their place in the grid, which assumes the
+     target is seen with the same side up in every view (within about 45 degrees of roll; the
+     asymmetric grid has no 180-degree symmetry with an odd number of rows, but OpenCV orders it
+     from the image). The grids' numbers of dots must differ.
+  5. Yardstick: dark round dots on a white surround (round connected components of the dark pixels
      with a white ring around them, then measured by ViSP's vpDot2: centre of gravity and area), two
      per image; the smaller is end a, the larger end b (radius ratio at least 1.2); their centres
      get the ids num_tracks and num_tracks + 1.
@@ -41,7 +51,16 @@ public:
   //! "sift" or "orb"; throws vpSelfCalibException otherwise.
   static Detector detectorFromName(const std::string &name);
 
+  //! An asymmetric circle grid (OpenCV's layout: `rows` rows of `cols` dots, odd rows shifted by
+  //! half a step).
+  struct DotGrid {
+    unsigned int cols = 4, rows = 5;
+    int first_id = 1000000; //!< id of dot 0; dot k has first_id + k
+  };
+
   struct Options {
+    bool features = true;            //!< natural features (steps 1-3)
+    std::vector<DotGrid> dot_grids;  //!< dot targets to find (step 4)
     Detector detector = SIFT;
     unsigned int max_features = 2000;
     double ratio = 0.8;              //!< Lowe's ratio test
@@ -63,6 +82,7 @@ public:
     std::vector<std::vector<unsigned int>> matches; //!< verified matches of pair (i, j), i < j (0 if left out)
     std::vector<unsigned int> track_lengths; //!< histogram: track_lengths[n] tracks seen in n images
     std::vector<bool> yardstick_seen;        //!< per image
+    std::vector<std::vector<bool>> grid_seen; //!< per dot grid, per image
     double seconds = 0;
   };
 
@@ -77,6 +97,9 @@ public:
     another size, or when a view has no image.
   */
   static Result fillDataset(vpSelfCalibDataset &dataset, const Options &options);
+
+  //! The dot grids of a renderer's DOTS scene, as the front end looks for them.
+  static std::vector<DotGrid> dotGrids(const vpSelfCalibRenderer &renderer);
 };
 
 #endif

@@ -4,6 +4,7 @@
 #ifndef VP_SELFCALIB_RENDERER_H
 #define VP_SELFCALIB_RENDERER_H
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -21,11 +22,23 @@
   square patches of 3 cm (a: dot radius 4 mm, b: 6 mm) lying on the first plane, the simulator's
   yardstick length apart. Rendering is ViSP's vpImageSimulator (bilinear), then Gaussian blur and
   Gaussian pixel noise (seeded per view).
+
+  Scene DOTS (the paper's experiment: a dot pattern on a non-planar object): the same two planes
+  carry white faces with asymmetric circle grids of dark dots instead of the photographs: 4 x 5
+  dots of radius 2.2 mm on the first plane (between the yardstick's patches), 4 x 9 of radius 3.2 mm
+  on the second, 1 cm steps (see vpFeatureFrontEnd::DotGrid). getDotGrids() describes them and
+  getDotCentres() gives their centres in f.
 */
 class vpSelfCalibRenderer
 {
 public:
+  enum Scene {
+    TEXTURED, //!< photographs on the two planes (natural features)
+    DOTS      //!< asymmetric dot grids on the two planes (dot targets)
+  };
+
   struct Options {
+    Scene scene = TEXTURED;
     std::string texture_dir; //!< empty: visp-images-data's ViSP-images directory
     double blur_sd = 0.7;    //!< px, Gaussian blur of the rendered image (0: none)
     double noise_sd = 2.0;   //!< grey levels, Gaussian noise added after the blur
@@ -47,6 +60,16 @@ public:
   //! Radius of the dots of ends a and b (m).
   static constexpr double kDotRadiusA = 0.004, kDotRadiusB = 0.006;
 
+  //! Scene DOTS: the grids (columns, rows, first point id) and every dot's centre in f, by id.
+  struct Grid {
+    unsigned int cols = 0, rows = 0;
+    int first_id = 0;
+  };
+  const std::vector<Grid> &getDotGrids() const { return m_grids; }
+  const std::map<int, vpColVector> &getDotCentres() const { return m_dot_centres; }
+  //! First id of the dot grids' points (far above the feature tracks' ids).
+  static constexpr int kFirstDotId = 1000000;
+
 private:
   struct Quad {
     vpImage<unsigned char> texture;
@@ -56,6 +79,8 @@ private:
   Options m_opt;
   std::vector<Quad> m_quads;
   vpColVector m_end_a, m_end_b;
+  std::vector<Grid> m_grids;
+  std::map<int, vpColVector> m_dot_centres;
 };
 
 #endif
