@@ -193,7 +193,7 @@ void vpRobotSelfCalibration::checkResult(const vpKinematicChain &nominal, const 
   for (unsigned int k = 0; k < N; ++k)
     total += static_cast<unsigned int>(ds.views[k].points.size());
   const unsigned int kept = res.bundle.num_observations;
-  if (opt.method != PAPER && total > 0 && kept > 0 && total - kept > opt.outlier_warning * total) {
+  if (opt.method != PAPER && kept > 0 && total > kept && total - kept > opt.outlier_warning * total) {
     std::ostringstream os;
     os << total - kept << " of " << total << " observations of the calibration poses ("
        << static_cast<int>(std::lround(100.0 * (total - kept) / total))
@@ -481,7 +481,7 @@ bool vpRobotSelfCalibration::bundle(const vpKinematicChain &start, const vpHomog
   unsigned int total = 0;
   for (const auto &v : views)
     total += static_cast<unsigned int>(v.points.size());
-  if (total - res.bundle.num_observations > opt.max_outlier_fraction * total) {
+  if (total > res.bundle.num_observations && total - res.bundle.num_observations > opt.max_outlier_fraction * total) {
     std::ostringstream os;
     os << label << ": " << total - res.bundle.num_observations << " of " << total
        << " observations were not used (rejected as wrong matches, or on points the reconstruction could not "
