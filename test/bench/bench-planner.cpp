@@ -3,16 +3,18 @@
  *
  *   bench-planner [--seeds N] [--noise 0,0.2,0.5] [--robots puma560,viper850] [--focal shared]
  *                 [--algorithm lbfgs] [--ratio-cost consecutive|spread] [--lambda 1e-7]
- *                 [--csv FILE] [--trajectory-csv FILE] [-h]
+ *                 [--start random|smooth] [--csv FILE] [--trajectory-csv FILE] [-h]
  *
  * For every robot and seed the reference scenario is drawn with 25 random feasible configurations
- * (the "initial" trajectory of bench-paper); vpMeasurementPlanner::planTrajectory plans 25
- * configurations from it on the nominal model (the "optimal" trajectory). Then, for every noise
+ * (the "initial" trajectory of bench-paper; --start smooth: vpMeasurementPlanner::smoothTrajectory,
+ * a closed loop in joint space around the home configuration, amplitudes up to 0.6 rad);
+ * vpMeasurementPlanner::planTrajectory plans 25 configurations from it on the nominal model (the
+ * "optimal" trajectory). Then, for every noise
  * level, on both trajectories:
  *   - Table 2: errors of the 24 scaled pose measurements (position mm, orientation 1e-4 rad, f_x px);
  *   - the eq. 21 ratio error |(|t_i|/|t_1|) / (|t̄_i|/|t̄_1|) - 1| (true vs nominal; noise-free);
  *   - held-out relative pose errors of the model calibrated on the first 15 configurations of the
- *     trajectory, verified on the last 10 initial ones (the same for both);
+ *     trajectory, verified on the last 10 random ones (the same for both);
  * and the planner's wall time, cost terms, cond(J). --trajectory-csv writes the data of the
  * paper's Figures 3-5: camera positions (in f) and |t_i| of both trajectories.
  */
@@ -45,6 +47,7 @@ void usage(const char *argv0)
             << "  --algorithm NAME      lbfgs (default), mma, slsqp, bobyqa\n"
             << "  --ratio-cost NAME     consecutive (default, the intent of eq. 39) or spread\n"
             << "  --lambda L            weight of cond(J) (default 1e-7, the paper's)\n"
+            << "  --start S             initial trajectory: random (default, bench-paper's) or smooth (a loop)\n"
             << "  --csv FILE            one row per robot, seed, noise, trajectory and pose measurement\n"
             << "  --trajectory-csv FILE camera positions and |t_i| of both trajectories (Figures 3-5)\n"
             << "  -h, --help            this help\n";
@@ -62,7 +65,7 @@ int main(int argc, char **argv)
     unsigned int seeds = 10;
     std::vector<double> noises = {0, 0.2, 0.5};
     std::vector<std::string> robots = {"puma560", "viper850"};
-    std::string focal = "shared", csv_path, traj_path;
+    std::string focal = "shared", csv_path, traj_path, start = "random";
     vpMeasurementPlanner::TrajectoryOptions po;
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
@@ -87,6 +90,13 @@ int main(int argc, char **argv)
         csv_path = argv[++i];
       else if (a == "--trajectory-csv" && i + 1 < argc)
         traj_path = argv[++i];
+      else if (a == "--start" && i + 1 < argc) {
+        start = argv[++i];
+        if (start != "random" && start != "smooth") {
+          std::cerr << "--start is random or smooth\n";
+          return EXIT_FAILURE;
+        }
+      }
       else if (a == "-h" || a == "--help") {
         usage(argv[0]);
         return EXIT_SUCCESS;
@@ -112,7 +122,8 @@ int main(int argc, char **argv)
 
     bench::Csv csv(csv_path, "robot,seed,noise_px,trajectory,pair,position_error_m,orientation_error_rad");
     bench::Csv traj(traj_path, "robot,seed,trajectory,pose,x,y,z,norm_t");
-    std::cout << "bench-planner: initial (random feasible) vs optimal (planned, " << kPoses << " poses) trajectories, "
+    std::cout << "bench-planner: initial (" << (start == "smooth" ? "smooth loop" : "random feasible")
+              << ") vs optimal (planned, " << kPoses << " poses) trajectories, "
               << seeds << " seeds, focal " << focal << ", lambda " << po.lambda << "\n";
 
     const char *names[2] = {"initial", "optimal"};
@@ -129,8 +140,19 @@ int main(int argc, char **argv)
         vpSelfCalibSimulator::Options so;
         so.seed = seed;
         const vpSelfCalibSimulator sim0(vpKinematicChain::preset(robots[ri]), so);
-        const std::vector<vpColVector> initial = sim0.generateConfigurations(kPoses);
+        const std::vector<vpColVector> random = sim0.generateConfigurations(kPoses);
         const vpMeasurementPlanner planner(sim0.getNominalChain(), sim0.getPlannerScene());
+        std::vector<vpColVector> initial = random;
+        if (start == "smooth") {
+          const vpColVector home = vpSelfCalibSimulator::homeConfiguration(sim0.getNominalChain());
+          initial = planner.smoothTrajectory(home, vpColVector(home.size(), 0.6), kPoses,
+                                             sim0.getPlannerScene().margin + po.planning_margin);
+          if (initial.empty()) {
+            std::cerr << "\n" << robots[ri] << " seed " << seed << ": no smooth start fits\n";
+            ++plan_failed[ri];
+            continue;
+          }
+        }
         vpMeasurementPlanner::TrajectoryOptions o = po;
         o.seed = seed;
         const vpMeasurementPlanner::Result plan = planner.planTrajectory(initial, o);
@@ -144,7 +166,7 @@ int main(int argc, char **argv)
         ratio_before[ri].add(plan.before.ratio);
         ratio_after[ri].add(plan.after.ratio);
         const std::vector<vpColVector> *trajectories[2] = {&initial, &plan.configurations};
-        const std::vector<vpColVector> verification(initial.end() - (kPoses - kCalibration), initial.end());
+        const std::vector<vpColVector> verification(random.end() - (kPoses - kCalibration), random.end());
         if (traj.enabled())
           for (int t = 0; t < 2; ++t) {
             const std::vector<vpColVector> &q = *trajectories[t];

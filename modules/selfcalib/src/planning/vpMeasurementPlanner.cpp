@@ -255,6 +255,41 @@ bool vpMeasurementPlanner::isVisible(const vpColVector &q, double margin) const
   return true;
 }
 
+std::vector<vpColVector> vpMeasurementPlanner::smoothTrajectory(const vpColVector &centre, const vpColVector &amplitude,
+                                                                unsigned int m, double margin) const
+{
+  const unsigned int n = m_chain.getNumJoints();
+  if (centre.size() != n || amplitude.size() != n || m < 2)
+    throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                               "vpMeasurementPlanner::smoothTrajectory: centre and amplitude need one value per joint, "
+                               "and m at least 2");
+  // Each joint's amplitude first shrunk until moving that joint alone by +-a keeps the scene in view
+  // (a shoulder turns the view far more than a wrist roll), then one common scale for the loop.
+  vpColVector a = amplitude;
+  for (unsigned int j = 0; j < n; ++j)
+    for (int halving = 0; halving < 20; ++halving) {
+      vpColVector lo = centre, hi = centre;
+      lo[j] -= a[j];
+      hi[j] += a[j];
+      if (m_chain.isInJointLimits(lo, 0) && m_chain.isInJointLimits(hi, 0) && isVisible(lo, margin) &&
+          isVisible(hi, margin))
+        break;
+      a[j] *= 0.5;
+    }
+  for (double s = 1; s > 1e-3; s *= 0.8) {
+    std::vector<vpColVector> q(m, centre);
+    bool ok = true;
+    for (unsigned int k = 0; k < m && ok; ++k) {
+      for (unsigned int j = 0; j < n; ++j)
+        q[k][j] += s * a[j] * std::sin(2 * M_PI * k / m + 2 * M_PI * j / n);
+      ok = m_chain.isInJointLimits(q[k], 0) && isVisible(q[k], margin);
+    }
+    if (ok)
+      return q;
+  }
+  return {};
+}
+
 std::vector<vpColVector> vpMeasurementPlanner::ratioSensitivities(const std::vector<vpColVector> &q) const
 {
   checkConfigurations(q, "ratioSensitivities", false);

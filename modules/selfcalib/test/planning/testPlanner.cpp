@@ -145,6 +145,44 @@ TEST(Planner, PlannedTrajectoryIsFeasibleCheaperAndFixesTheRatios)
   EXPECT_LT(after, 0.5 * before);
 }
 
+// The smooth start: a closed loop in joint space, every configuration visible with the planning
+// margin and within the limits, consecutive configurations close; planning from it lowers the cost.
+TEST(Planner, SmoothInitialTrajectoryIsFeasibleAndPlanningImprovesIt)
+{
+  for (const std::string robot : {"viper850", "puma560"}) {
+    const vpSelfCalibSimulator sim = makeSim(robot, 4);
+    const vpMeasurementPlanner planner(sim.getNominalChain(), sim.getPlannerScene());
+    const vpColVector home = vpSelfCalibSimulator::homeConfiguration(sim.getNominalChain());
+    vpColVector amplitude(home.size(), 0.6);
+    const double margin = sim.getPlannerScene().margin + 40;
+    const std::vector<vpColVector> q = planner.smoothTrajectory(home, amplitude, 12, margin);
+    ASSERT_EQ(q.size(), 12u) << robot;
+    double step = 0, spread = 0;
+    for (size_t k = 0; k < q.size(); ++k) {
+      EXPECT_TRUE(planner.isVisible(q[k], margin));
+      EXPECT_TRUE(sim.getNominalChain().isInJointLimits(q[k], 0));
+      step = std::max(step, (q[(k + 1) % q.size()] - q[k]).frobeniusNorm());
+      spread = std::max(spread, (q[k] - q[0]).frobeniusNorm());
+    }
+    EXPECT_GT(spread, 0.05) << robot << ": the loop has a size";
+    EXPECT_LT(step, 0.7 * spread) << robot << ": consecutive configurations are neighbours";
+    vpMeasurementPlanner::TrajectoryOptions o;
+    o.max_evaluations = 600;
+    const vpMeasurementPlanner::Result r = planner.planTrajectory(q, o);
+    EXPECT_EQ(r.status, vpMeasurementPlanner::OK) << robot << ": " << r.message;
+    EXPECT_LT(r.after.total, 0.1 * r.before.total) << robot;
+  }
+  // Nothing fits: a scene behind the camera.
+  const vpSelfCalibSimulator sim = makeSim("viper850", 4);
+  vpMeasurementPlanner::Scene scene = sim.getPlannerScene();
+  for (auto &P : scene.points)
+    P = -1.0 * P;
+  const vpMeasurementPlanner behind(sim.getNominalChain(), scene);
+  const vpColVector home = vpSelfCalibSimulator::homeConfiguration(sim.getNominalChain());
+  EXPECT_TRUE(behind.smoothTrajectory(home, vpColVector(home.size(), 0.3), 12, 10).empty());
+  EXPECT_THROW(behind.smoothTrajectory(home, vpColVector(3, 0.3), 12, 10), vpSelfCalibException);
+}
+
 TEST(Planner, ImpossibleRequestsGiveAStatus)
 {
   const vpSelfCalibSimulator sim = makeSim("viper850", 4);

@@ -160,6 +160,17 @@ public:
   bool isVisible(const vpColVector &q, double margin) const;
 
   /*!
+    An initial smooth trajectory for planTrajectory: m configurations on a closed curve in joint
+    space, q_k = centre + s a .* sin(2 pi k / m + 2 pi j / n) for joint j (n joints, so the joints
+    are out of phase and the curve is a loop, not a line). a_j is amplitude_j halved until moving
+    joint j alone by +-a_j keeps the scene in view and the joint within its limits; s is the largest
+    of {1, 0.8, 0.8^2, ...} (down to 1e-3) for which every configuration does. Empty when none does. Throws on sizes that do not match the chain
+    or m < 2.
+  */
+  std::vector<vpColVector> smoothTrajectory(const vpColVector &centre, const vpColVector &amplitude, unsigned int m,
+                                            double margin) const;
+
+  /*!
     The paper's optimal trajectory from an initial one (its size is m). Throws on a configuration
     of the wrong size or outside the joint limits.
   */
