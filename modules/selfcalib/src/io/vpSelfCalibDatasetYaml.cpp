@@ -220,6 +220,44 @@ std::string readFile(const std::string &filename)
   os << in.rdbuf();
   return os.str();
 }
+/*!
+  The pose vector written for a controller pose: theta-u from the matrix can be one ulp away from
+  the vector the matrix was built from, and a dataset would then drift by an ulp at every write and
+  read (found by fuzzing). The theta-u components are nudged by up to 2 ulps each until the vector
+  rebuilds the matrix bit for bit; when none does, the plain conversion is written.
+*/
+vpPoseVector exactPose(const vpHomogeneousMatrix &M)
+{
+  const vpPoseVector p0(M);
+  auto rebuilds = [&M](const vpPoseVector &p) {
+    const vpHomogeneousMatrix B(p);
+    for (unsigned int r = 0; r < 3; ++r)
+      for (unsigned int c = 0; c < 4; ++c)
+        if (B[r][c] != M[r][c])
+          return false;
+    return true;
+  };
+  if (rebuilds(p0))
+    return p0;
+  auto nudge = [](double x, int ulps) {
+    for (; ulps > 0; --ulps)
+      x = std::nextafter(x, HUGE_VAL);
+    for (; ulps < 0; ++ulps)
+      x = std::nextafter(x, -HUGE_VAL);
+    return x;
+  };
+  for (int a = -2; a <= 2; ++a)
+    for (int b = -2; b <= 2; ++b)
+      for (int c = -2; c <= 2; ++c) {
+        vpPoseVector p = p0;
+        p[3] = nudge(p0[3], a);
+        p[4] = nudge(p0[4], b);
+        p[5] = nudge(p0[5], c);
+        if (rebuilds(p))
+          return p;
+      }
+  return p0;
+}
 } // namespace
 
 vpSelfCalibDataset vpSelfCalibDataset::fromYamlString(const std::string &yaml, const std::string &source,
@@ -257,7 +295,7 @@ std::string vpSelfCalibDataset::toYamlString(const std::string &base_dir) const
       out << YAML::EndSeq;
     }
     if (v.has_fMe) {
-      const vpPoseVector p(v.fMe);
+      const vpPoseVector p = exactPose(v.fMe);
       out << YAML::Key << "fMe" << YAML::Value << YAML::Flow << YAML::BeginSeq;
       for (unsigned int i = 0; i < 6; ++i)
         out << p[i];
