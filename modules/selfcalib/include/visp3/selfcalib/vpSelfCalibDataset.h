@@ -76,7 +76,9 @@ struct vpSelfCalibDataset {
   //! The same from text; base_dir resolves relative paths (empty: kept as they are).
   static vpSelfCalibDataset fromYamlString(const std::string &yaml, const std::string &source = "<string>",
                                            const std::string &base_dir = "");
-  //! Full precision (17 significant digits): a written dataset reads back identical. Paths under
+  //! Full precision (17 significant digits): a written dataset reads back identical, controller
+  //! poses bit for bit when a pose vector rebuilds their matrix exactly (the writer looks for one;
+  //! a pose read from a file with a rotation angle of at most pi has one), else within 1e-15. Paths under
   //! base_dir are written relative to it.
   std::string toYamlString(const std::string &base_dir = "") const;
   //! Written atomically (temporary file, then rename); paths relative to the file's directory.
