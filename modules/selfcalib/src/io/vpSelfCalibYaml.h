@@ -61,7 +61,48 @@ public:
       fail(key, "missing; expected a string");
     if (!n.IsScalar())
       fail(key, "expected a string, got " + show(n));
+    // yaml-cpp reads any bytes but writes invalid UTF-8 as U+FFFD: such a name or path would not
+    // survive a write and read (found by fuzzing), and is a wrong file name anyway.
+    if (!validUtf8(n.Scalar()))
+      fail(key, "expected UTF-8 text, got invalid bytes");
     return n.Scalar();
+  }
+
+  static bool validUtf8(const std::string &s)
+  {
+    for (size_t i = 0; i < s.size();) {
+      const unsigned char c = static_cast<unsigned char>(s[i]);
+      size_t n = 0;
+      unsigned int cp = 0;
+      if (c < 0x80) {
+        ++i;
+        continue;
+      } else if ((c >> 5) == 0x6) {
+        n = 1;
+        cp = c & 0x1F;
+      } else if ((c >> 4) == 0xE) {
+        n = 2;
+        cp = c & 0x0F;
+      } else if ((c >> 3) == 0x1E) {
+        n = 3;
+        cp = c & 0x07;
+      } else
+        return false;
+      for (size_t k = 1; k <= n; ++k) {
+        if (i + k >= s.size())
+          return false;
+        const unsigned char d = static_cast<unsigned char>(s[i + k]);
+        if ((d >> 6) != 0x2)
+          return false;
+        cp = (cp << 6) | (d & 0x3F);
+      }
+      // Overlong forms, surrogates and values above U+10FFFF are not UTF-8.
+      if ((n == 1 && cp < 0x80) || (n == 2 && cp < 0x800) || (n == 3 && cp < 0x10000) || cp > 0x10FFFF ||
+          (cp >= 0xD800 && cp <= 0xDFFF))
+        return false;
+      i += n + 1;
+    }
+    return true;
   }
 
   vpPoseVector pose(const YAML::Node &n, const std::string &key) const
