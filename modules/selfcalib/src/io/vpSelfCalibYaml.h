@@ -113,6 +113,14 @@ public:
     vpPoseVector p;
     for (unsigned int i = 0; i < 6; ++i)
       p[i] = number(n[i], key + "[" + std::to_string(i) + "]");
+    // A theta-u vector far beyond a turn is a mistake (and loses all precision: 4e307 rad became a
+    // NaN pose on writing, found by fuzzing).
+    const double angle = std::hypot(p[3], p[4], p[5]);
+    if (!(angle <= 2 * M_PI + 1e-9)) {
+      std::ostringstream os;
+      os << "a rotation of |theta u| = " << angle << " rad: expected at most 2 pi";
+      fail(key, os.str());
+    }
     return p;
   }
 

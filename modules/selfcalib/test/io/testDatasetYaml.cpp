@@ -188,6 +188,8 @@ TEST(DatasetYaml, BadInputNamesTheKey)
        "camera.(key)"},
       {"camera: {width: 1e300, height: 480, u0: 320, v0: 240}\nrobot: viper850\n" + pose, "camera"},
       {kHead + pose + "yardstick: {length: 0.1, ends: [3, 1e12]}\n", "yardstick.ends"},
+      // Found by fuzzing: a huge theta-u (its matrix turned into a NaN pose on writing).
+      {kHead + "poses:\n  - fMe: [0.1, 0, 0.4, 0, 0.41e308, 5.0]\n    points: [[1, 10, 20]]\n", "poses[0].fMe"},
       // Found by fuzzing: invalid UTF-8 in a name or path (yaml-cpp writes it back as U+FFFD).
       {"camera: {width: 640, height: 480, u0: 320, v0: 240}\nrobot: model.ya\xEA\x06v2ml\n" + pose, "robot"},
       {kHead + "poses:\n  - joints: [0, 0, 0, 0, 0, 0]\n    image: a\xC0\xAF.png\n", "poses[0].image"},
