@@ -136,21 +136,20 @@ std::vector<Dot> orderGrid(const cv::Mat &img, const std::vector<Dot> &dots, con
   // those that fit the grid's layout (dot k at ((2 j + i % 2), i), a homography within 1 px), then
   // the one a camera sees from the front: first row and first column counterclockwise (y down).
   const unsigned int n = g.cols * g.rows;
+  std::vector<cv::Point2f> layout;
+  for (unsigned int k = 0; k < n; ++k)
+    layout.emplace_back(static_cast<float>(2 * (k % g.cols) + (k / g.cols) % 2), static_cast<float>(k / g.cols));
   std::vector<Dot> best;
   double best_error = 1.0;
   for (int variant = 0; variant < 4; ++variant) {
     std::vector<Dot> cand(n);
+    std::vector<cv::Point2f> image(n);
     for (unsigned int k = 0; k < n; ++k) {
       unsigned int src = variant & 1 ? n - 1 - k : k;
       if (variant & 2)
         src = (g.rows - 1 - src / g.cols) * g.cols + src % g.cols;
       cand[k] = ordered[src];
-    }
-    std::vector<cv::Point2f> layout, image;
-    for (unsigned int k = 0; k < n; ++k) {
-      const unsigned int i = k / g.cols, j = k % g.cols;
-      layout.emplace_back(static_cast<float>(2 * j + i % 2), static_cast<float>(i));
-      image.push_back(cand[k].centre);
+      image[k] = cand[k].centre;
     }
     const cv::Point2f a = cand[g.cols - 1].centre - cand[0].centre, b = cand[(g.rows - 1) * g.cols].centre - cand[0].centre;
     if (a.x * b.y - a.y * b.x <= 0)

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <iostream>
 
 #include <visp3/selfcalib/vpCalibrationVerifier.h>
@@ -32,6 +33,20 @@ double heldOut(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds, un
   return vpCalibrationVerifier::verify(r.calibrated, r.camera, ver, ds.yardstick, {}, sim.getTrueCameraPoses(ver))
       .position_error_mean;
 }
+// The same observations, replaced by the exact projections of their true points (truth(id), in f)
+// through the true cameras T, plus Gaussian noise of sd `sd` (stream 5 of `seed`).
+vpSelfCalibDataset exactProjections(vpSelfCalibDataset ds, const std::vector<vpHomogeneousMatrix> &T,
+                                    const std::function<const vpColVector &(int)> &truth, double sd, uint64_t seed)
+{
+  Random rng(seed, 5);
+  for (size_t k = 0; k < ds.views.size(); ++k)
+    for (auto &o : ds.views[k].points) {
+      const Eigen::Vector3d c = rigidFromVisp(T[k]).inverse() * vec3(truth(o.id));
+      o.ip = vpImagePoint(240 + 1500 * c(1) / c(2) + rng.normal(sd), 320 + 1500 * c(0) / c(2) + rng.normal(sd));
+    }
+  return ds;
+}
+
 // The simulator's dataset with the front end's observations and yardstick ends in place of its points.
 vpSelfCalibDataset withFrontEnd(vpSelfCalibDataset ds, const vpFeatureFrontEnd::Result &fe,
                                 const vpSelfCalibRenderer &renderer)
@@ -96,16 +111,10 @@ TEST(FrontEnd, RenderedImagesEndToEnd)
   const double rendered = heldOut(sim, ds, C, &rms);
   // The same points (triangulated through the true cameras; the yardstick's true ends), projected
   // exactly, with Gaussian noise of the rendered run's residual RMS.
-  vpSelfCalibDataset exact = ds;
-  Random rng(91, 5);
-  for (unsigned int k = 0; k < N; ++k)
-    for (auto &o : exact.views[k].points) {
-      const vpColVector &P = o.id == fe.yardstick_a ? renderer.getYardstickEndA()
-                                                    : (o.id == fe.yardstick_b ? renderer.getYardstickEndB() : X.at(o.id));
-      const Eigen::Vector3d c = rigidFromVisp(T[k]).inverse() * vec3(P);
-      o.ip = vpImagePoint(240 + 1500 * c(1) / c(2) + rng.normal(rms), 320 + 1500 * c(0) / c(2) + rng.normal(rms));
-    }
-  const double reference = heldOut(sim, exact, C);
+  const double reference = heldOut(sim, exactProjections(ds, T, [&](int id) -> const vpColVector & {
+    return id == fe.yardstick_a ? renderer.getYardstickEndA()
+                                : (id == fe.yardstick_b ? renderer.getYardstickEndB() : X.at(id));
+  }, rms, 91), C);
   EXPECT_LT(rendered, 2 * reference) << "rendered " << rendered << " m, exact correspondences " << reference << " m";
 }
 
@@ -157,14 +166,7 @@ TEST(FrontEnd, DotTargetEndToEnd)
 
   double rms = 0;
   const double rendered = heldOut(sim, ds, C, &rms);
-  vpSelfCalibDataset exact = ds;
-  Random rng(92, 5);
-  for (unsigned int k = 0; k < N; ++k)
-    for (auto &o : exact.views[k].points) {
-      const Eigen::Vector3d c = rigidFromVisp(T[k]).inverse() * vec3(truth(o.id));
-      o.ip = vpImagePoint(240 + 1500 * c(1) / c(2) + rng.normal(rms), 320 + 1500 * c(0) / c(2) + rng.normal(rms));
-    }
-  const double reference = heldOut(sim, exact, C);
+  const double reference = heldOut(sim, exactProjections(ds, T, truth, rms, 92), C);
   std::cout << "dot target, held-out position error: " << 1e3 * rendered << " mm on the rendered images, "
             << 1e3 * reference << " mm on exact projections with the same noise (" << rms << " px)\n";
   EXPECT_LT(rendered, 2 * reference) << "rendered " << rendered << " m, exact correspondences " << reference << " m";
