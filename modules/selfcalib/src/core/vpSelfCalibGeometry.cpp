@@ -1,0 +1,198 @@
+/*
+ * ViSP SelfCalib: the geometry every layer shares. See vpSelfCalibGeometry.h.
+ */
+#include "vpSelfCalibGeometry.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+
+#include <ceres/ceres.h>
+#include <opencv2/calib3d.hpp>
+
+#include "vpSelfCalibCeres.h"
+
+namespace vpSelfCalib
+{
+namespace
+{
+//! Reprojection error (px) of a point X (frame f) in a camera cMf.
+struct PointReprojection {
+  PointReprojection(const CameraModel &camera, const Rigid &cMf, const Eigen::Vector2d &uv)
+    : camera_(camera), cMf_(cMf), uv_(uv)
+  {
+  }
+  template <typename T> bool operator()(const T *X, T *r) const
+  {
+    T Xc[3], in[kMaxIntrinsics], uv[2];
+    for (int i = 0; i < 3; ++i)
+      Xc[i] = T(cMf_.R(i, 0)) * X[0] + T(cMf_.R(i, 1)) * X[1] + T(cMf_.R(i, 2)) * X[2] + T(cMf_.t(i));
+    for (int i = 0; i < camera_.size(); ++i)
+      in[i] = T(camera_.intrinsics()[i]);
+    projectPoint(camera_.distortion(), in, Xc, uv);
+    r[0] = uv[0] - T(uv_(0));
+    r[1] = uv[1] - T(uv_(1));
+    return true;
+  }
+  CameraModel camera_;
+  Rigid cMf_;
+  Eigen::Vector2d uv_;
+};
+} // namespace
+
+Ray rayThrough(const Rigid &fMc, const CameraModel &camera, const Eigen::Vector2d &uv)
+{
+  const Eigen::Vector2d xy = camera.unproject(uv);
+  return {fMc.t, (fMc.R * Eigen::Vector3d(xy(0), xy(1), 1.0)).normalized()};
+}
+
+bool triangulateMidpoint(const std::vector<Ray> &rays, Eigen::Vector3d &X)
+{
+  if (rays.size() < 2)
+    return false;
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (const Ray &r : rays) {
+    const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - r.direction * r.direction.transpose();
+    A += P;
+    b += P * r.origin;
+  }
+  const Eigen::LDLT<Eigen::Matrix3d> ldlt(A);
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().cwiseAbs().minCoeff() > 1e-12 * A.trace()))
+    return false;
+  X = ldlt.solve(b);
+  if (!X.allFinite())
+    return false;
+  for (const Ray &r : rays)
+    if (!(r.direction.dot(X - r.origin) > 0))
+      return false;
+  return true;
+}
+
+bool refineTriangulation(const CameraModel &camera, const std::vector<Rigid> &cMf,
+                         const std::vector<Eigen::Vector2d> &uv, Eigen::Vector3d &X)
+{
+  ceres::Problem problem;
+  for (size_t i = 0; i < cMf.size(); ++i)
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PointReprojection, 2, 3>(
+                                 new PointReprojection(camera, cMf[i], uv[i])),
+                             nullptr, X.data());
+  const ceres::Solver::Options so = solverOptions(50, true);
+  ceres::Solver::Summary summary;
+  solve(so, &problem, &summary);
+  if (!summary.IsSolutionUsable() || !X.allFinite())
+    return false;
+  for (const Rigid &M : cMf)
+    if (!inFront(M * X))
+      return false;
+  return true;
+}
+
+void relativePoseJacobian(const Rigid &A, const Eigen::MatrixXd &JA, const Rigid &B, const Eigen::MatrixXd &JB,
+                          Eigen::MatrixXd &Jt, Eigen::MatrixXd &Jr)
+{
+  const Eigen::Matrix3d RAt = A.R.transpose();
+  Jt = RAt * (JB.topRows(3) - JA.topRows(3) + skew(B.t - A.t) * JA.bottomRows(3));
+  Jr = RAt * (JB.bottomRows(3) - JA.bottomRows(3));
+}
+
+bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eigen::Vector2d> &b,
+                   double ransac_threshold, int max_iterations, double confidence, Eigen::Matrix3d &H,
+                   std::vector<bool> &inliers)
+{
+  if (a.size() != b.size() || a.size() < 4)
+    return false;
+  std::vector<cv::Point2d> ca, cb;
+  for (size_t i = 0; i < a.size(); ++i) {
+    ca.emplace_back(a[i](0), a[i](1));
+    cb.emplace_back(b[i](0), b[i](1));
+  }
+  cv::Mat mask;
+  const cv::Mat Hc = cv::findHomography(ca, cb, cv::RANSAC, ransac_threshold, mask, max_iterations, confidence);
+  if (Hc.empty())
+    return false;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      H(i, j) = Hc.at<double>(i, j);
+  inliers.assign(a.size(), false);
+  for (size_t i = 0; i < a.size(); ++i)
+    inliers[i] = mask.at<uchar>(static_cast<int>(i)) != 0;
+  return true;
+}
+
+bool marginalCovariance(ceres::Problem &problem, const std::vector<double *> &kept,
+                        const std::vector<double *> &eliminated, Eigen::MatrixXd &cov)
+{
+  ceres::Problem::EvaluateOptions eo;
+  eo.parameter_blocks = kept;
+  eo.parameter_blocks.insert(eo.parameter_blocks.end(), eliminated.begin(), eliminated.end());
+  eo.num_threads = 1;
+  ceres::CRSMatrix J;
+  if (!problem.Evaluate(eo, nullptr, nullptr, nullptr, &J))
+    return false;
+  const int nA = J.num_cols - 3 * static_cast<int>(eliminated.size());
+  if (nA <= 0)
+    return false;
+  // Normal equations [H B; B^T C] accumulated row by row: H over the kept blocks, B and the 3 x 3
+  // blocks C per eliminated point.
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(nA, nA);
+  std::vector<Eigen::Matrix<double, Eigen::Dynamic, 3>> B(eliminated.size(),
+                                                          Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(nA, 3));
+  std::vector<Eigen::Matrix3d> C(eliminated.size(), Eigen::Matrix3d::Zero());
+  std::vector<std::pair<int, double>> a;
+  for (int r = 0; r < J.num_rows; ++r) {
+    a.clear();
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    int point = -1;
+    for (int k = J.rows[r]; k < J.rows[r + 1]; ++k) {
+      const int c = J.cols[k];
+      if (c < nA)
+        a.push_back({c, J.values[k]});
+      else {
+        const int i = (c - nA) / 3;
+        if (point >= 0 && point != i)
+          return false; // a residual on two eliminated points: not this problem's structure
+        point = i;
+        p((c - nA) % 3) = J.values[k];
+      }
+    }
+    for (const auto &x : a)
+      for (const auto &y : a)
+        H(x.first, y.first) += x.second * y.second;
+    if (point >= 0) {
+      for (const auto &x : a)
+        B[point].row(x.first) += x.second * p.transpose();
+      C[point] += p * p.transpose();
+    }
+  }
+  for (size_t i = 0; i < C.size(); ++i) {
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(C[i]);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-12 * ldlt.vectorD().maxCoeff()))
+      return false;
+    H.noalias() -= B[i] * ldlt.solve(B[i].transpose());
+  }
+  const Eigen::VectorXd d = H.diagonal();
+  if (!(d.minCoeff() > 0))
+    return false;
+  const Eigen::VectorXd scale = d.cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd Hs = scale.asDiagonal() * H * scale.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (Hs + Hs.transpose()));
+  if (eig.info() != Eigen::Success || !(eig.eigenvalues().minCoeff() > 1e-15 * eig.eigenvalues().maxCoeff()))
+    return false;
+  cov = scale.asDiagonal() *
+        (eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() * eig.eigenvectors().transpose()) *
+        scale.asDiagonal();
+  return cov.allFinite();
+}
+
+ceres::LossFunction *makeLoss(RobustLoss loss, double scale)
+{
+  switch (loss) {
+  case RobustLoss::HUBER:
+    return new ceres::HuberLoss(scale);
+  case RobustLoss::CAUCHY:
+    return new ceres::CauchyLoss(scale);
+  default:
+    return nullptr;
+  }
+}
+} // namespace vpSelfCalib

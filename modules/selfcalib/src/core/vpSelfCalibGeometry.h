@@ -1,0 +1,82 @@
+/*
+ * ViSP SelfCalib: the geometry every layer shares (private, not installed): multi-ray triangulation
+ * with cheirality, the relative-pose Jacobian, the homography (planarity) fit, the marginal
+ * covariance of a bundle adjustment and the choice of robust loss.
+ */
+#ifndef VP_SELFCALIB_GEOMETRY_H
+#define VP_SELFCALIB_GEOMETRY_H
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include <ceres/loss_function.h>
+#include <ceres/problem.h>
+
+#include "vpSelfCalibCamera.h"
+#include "vpSelfCalibMath.h"
+
+namespace vpSelfCalib
+{
+//! A ray of the scene: origin (camera centre) and unit direction, in one common frame.
+struct Ray {
+  Eigen::Vector3d origin;
+  Eigen::Vector3d direction;
+};
+
+//! The ray through pixel uv of a camera at fMc (f: the common frame).
+Ray rayThrough(const Rigid &fMc, const CameraModel &camera, const Eigen::Vector2d &uv);
+
+/*!
+  Linear multi-ray triangulation: the point closest to all rays in the least-squares sense,
+  sum_i (I - d_i d_i^T) (X - o_i) = 0. False when fewer than two rays are given, the rays are
+  (nearly) parallel, or the point is not in front of every camera (cheirality: d_i . (X - o_i) > 0).
+*/
+bool triangulateMidpoint(const std::vector<Ray> &rays, Eigen::Vector3d &X);
+
+/*!
+  Refines X (frame f) on the reprojection error of its observations uv[i] in cameras cMf[i], by
+  Ceres. False when the solve is not usable, X is not finite or not in front of every camera.
+*/
+bool refineTriangulation(const CameraModel &camera, const std::vector<Rigid> &cMf,
+                         const std::vector<Eigen::Vector2d> &uv, Eigen::Vector3d &X);
+
+/*!
+  First-order change of the relative pose c_A M c_B = A^-1 B when two absolute poses A = fMc_A,
+  B = fMc_B move by dA = J_A d rho, dB = J_B d rho. J_A, J_B: 6 x P, rows 0-2 the position change,
+  rows 3-5 the rotation change (left perturbation exp([dphi]x) R, in the base frame), as
+  vpKinematicChain::getJacobian gives. Output: Jt (3 x P) and Jr (3 x P) of the relative pose's
+  translation and left rotation perturbation, expressed in frame A:
+    dt = R_A^T (dt_B - dt_A + [t_B - t_A]x dphi_A),  dphi = R_A^T (dphi_B - dphi_A).
+*/
+void relativePoseJacobian(const Rigid &A, const Eigen::MatrixXd &JA, const Rigid &B, const Eigen::MatrixXd &JB,
+                          Eigen::MatrixXd &Jt, Eigen::MatrixXd &Jr);
+
+/*!
+  The homography of matched pixels a -> b by OpenCV's RANSAC (findHomography) with the given
+  inlier threshold (px), sample cap and confidence; inliers: its RANSAC mask. False when OpenCV
+  finds none (fewer than 4 points, or a degenerate sample set).
+*/
+bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eigen::Vector2d> &b,
+                   double ransac_threshold, int max_iterations, double confidence, Eigen::Matrix3d &H,
+                   std::vector<bool> &inliers);
+
+/*!
+  Covariance of the `kept` blocks (in order, tangent coordinates) with the 3-D `eliminated` blocks
+  marginalized: the inverse of the Schur complement of J^T J, J from Problem::Evaluate on one
+  thread. Computed here rather than by ceres::Covariance (SPARSE_QR): SuiteSparseQR runs on TBB's
+  threads, and its sums, so the last digits of every standard deviation, changed from run to run
+  once another library had started TBB workers. False when the information is singular (relative
+  eigenvalue of the diagonally scaled complement below 1e-15), a point is not determined, or a
+  residual involves two eliminated blocks.
+*/
+bool marginalCovariance(ceres::Problem &problem, const std::vector<double *> &kept,
+                        const std::vector<double *> &eliminated, Eigen::MatrixXd &cov);
+
+//! Robust losses on whitened residuals. The values are those of vpMultiViewReconstruction::Loss.
+enum class RobustLoss { NONE = 0, HUBER = 1, CAUCHY = 2 };
+//! The Ceres loss of a robust option (nullptr: plain least squares); scale on whitened residuals.
+ceres::LossFunction *makeLoss(RobustLoss loss, double scale);
+} // namespace vpSelfCalib
+
+#endif

@@ -1,0 +1,274 @@
+/*
+ * Tests of the module's one camera model and shared geometry (core layer).
+ */
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include <ceres/ceres.h>
+#include <opencv2/calib3d.hpp>
+#include <visp3/core/vpMeterPixelConversion.h>
+#include <visp3/core/vpPixelMeterConversion.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+
+#include "core/vpSelfCalibCamera.h"
+#include "core/vpSelfCalibGeometry.h"
+#include "core/vpSelfCalibMath.h"
+#include "core/vpSelfCalibRandom.h"
+
+using namespace vpSelfCalib;
+
+namespace
+{
+CameraModel opencvCamera()
+{
+  // A wide lens with every OpenCV coefficient non-zero.
+  const double in[9] = {541.3, 1.0028, 322.6, 215.2, 0.02, 0.109, 1.5e-3, -2e-3, -0.05};
+  return CameraModel(Distortion::OPENCV, in);
+}
+CameraModel vispCamera()
+{
+  const double in[5] = {600, 1.01, 330, 238, 0.2};
+  return CameraModel(Distortion::VISP, in);
+}
+//! A linear residual over a 2-vector k and a 3-vector p (the marginal covariance test).
+struct LinearCost {
+  double a[5], y;
+  template <typename T> bool operator()(const T *k, const T *p, T *r) const
+  {
+    r[0] = T(a[0]) * k[0] + T(a[1]) * k[1] + T(a[2]) * p[0] + T(a[3]) * p[1] + T(a[4]) * p[2] - T(y);
+    return true;
+  }
+};
+std::vector<Eigen::Vector3d> pointsInView(uint64_t seed)
+{
+  Random rng(seed, 0);
+  std::vector<Eigen::Vector3d> X;
+  for (int i = 0; i < 50; ++i)
+    X.emplace_back(rng.uniform(-0.35, 0.35), rng.uniform(-0.3, 0.3), rng.uniform(0.5, 1.5));
+  return X;
+}
+} // namespace
+
+// The VISP model is ViSP's own perspectiveProjWithDistortion (meter -> pixel).
+TEST(Camera, VispModelMatchesViSP)
+{
+  const CameraModel cam = vispCamera();
+  const vpCameraParameters vc = cam.toVisp();
+  for (const Eigen::Vector3d &X : pointsInView(1)) {
+    double u, v;
+    vpMeterPixelConversion::convertPoint(vc, X(0) / X(2), X(1) / X(2), u, v);
+    const Eigen::Vector2d uv = cam.project(X);
+    EXPECT_NEAR(uv(0), u, 1e-9);
+    EXPECT_NEAR(uv(1), v, 1e-9);
+  }
+  const CameraModel back = CameraModel::fromVisp(vc);
+  EXPECT_EQ(back.distortion(), Distortion::VISP);
+  for (int i = 0; i < 5; ++i)
+    EXPECT_NEAR(back.intrinsics()[i], cam.intrinsics()[i], 1e-12);
+}
+
+// The OPENCV model is cv::projectPoints' with (k1, k2, p1, p2, k3).
+TEST(Camera, OpencvModelMatchesOpenCV)
+{
+  const CameraModel cam = opencvCamera();
+  const double *in = cam.intrinsics();
+  const cv::Matx33d K(in[0], 0, in[2], 0, in[1] * in[0], in[3], 0, 0, 1);
+  const std::vector<double> dist = {in[4], in[5], in[6], in[7], in[8]};
+  std::vector<cv::Point3d> P;
+  const std::vector<Eigen::Vector3d> X = pointsInView(2);
+  for (const auto &x : X)
+    P.emplace_back(x(0), x(1), x(2));
+  std::vector<cv::Point2d> p;
+  cv::projectPoints(P, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), K, dist, p);
+  for (size_t i = 0; i < X.size(); ++i) {
+    const Eigen::Vector2d uv = cam.project(X[i]);
+    EXPECT_NEAR(uv(0), p[i].x, 1e-9);
+    EXPECT_NEAR(uv(1), p[i].y, 1e-9);
+  }
+  EXPECT_THROW(cam.toVisp(), vpSelfCalibException);
+}
+
+// Analytic Jacobians against central differences, every model.
+TEST(Camera, JacobiansMatchFiniteDifferences)
+{
+  const double pin[4] = {800, 0.98, 310, 250};
+  for (const CameraModel &cam : {CameraModel(Distortion::NONE, pin), vispCamera(), opencvCamera()}) {
+    const int n = cam.size();
+    for (const Eigen::Vector3d &X : pointsInView(3)) {
+      Eigen::Vector2d uv;
+      Eigen::Matrix<double, 2, 3> JX;
+      std::vector<double> Jin(2 * n);
+      ASSERT_TRUE(cam.project(X, uv, &JX, Jin.data()));
+      for (int c = 0; c < 3; ++c) {
+        const double h = 1e-6;
+        Eigen::Vector3d a = X, b = X;
+        a(c) += h;
+        b(c) -= h;
+        const Eigen::Vector2d d = (cam.project(a) - cam.project(b)) / (2 * h);
+        EXPECT_NEAR(JX(0, c), d(0), 1e-5 * (1 + std::fabs(d(0))));
+        EXPECT_NEAR(JX(1, c), d(1), 1e-5 * (1 + std::fabs(d(1))));
+      }
+      for (int c = 0; c < n; ++c) {
+        const double h = 1e-6 * std::max(1.0, std::fabs(cam.intrinsics()[c]));
+        CameraModel a = cam, b = cam;
+        a.intrinsics()[c] += h;
+        b.intrinsics()[c] -= h;
+        const Eigen::Vector2d d = (a.project(X) - b.project(X)) / (2 * h);
+        EXPECT_NEAR(Jin[c], d(0), 1e-5 * (1 + std::fabs(d(0))));
+        EXPECT_NEAR(Jin[n + c], d(1), 1e-5 * (1 + std::fabs(d(1))));
+      }
+    }
+  }
+}
+
+// Unprojection inverts projection, distortion included; a point behind the camera is refused.
+TEST(Camera, UnprojectInvertsProjectAndCheiralityHolds)
+{
+  for (const CameraModel &cam : {vispCamera(), opencvCamera()}) {
+    for (const Eigen::Vector3d &X : pointsInView(4)) {
+      Eigen::Vector2d xy;
+      ASSERT_TRUE(cam.unproject(cam.project(X), xy));
+      EXPECT_NEAR(xy(0), X(0) / X(2), 1e-12);
+      EXPECT_NEAR(xy(1), X(1) / X(2), 1e-12);
+      EXPECT_NEAR((cam.ray(cam.project(X)) - X.normalized()).norm(), 0, 1e-12);
+    }
+    Eigen::Vector2d uv;
+    EXPECT_FALSE(cam.project(Eigen::Vector3d(0.1, 0.1, -1), uv, nullptr, nullptr));
+  }
+}
+
+// Multi-ray triangulation: exact on exact rays, through a distorted camera; a point behind a
+// camera or parallel rays are refused.
+TEST(Geometry, TriangulationExactWithDistortionAndCheirality)
+{
+  const CameraModel cam = opencvCamera();
+  Random rng(5, 0);
+  std::vector<Rigid> fMc;
+  for (int k = 0; k < 4; ++k) {
+    double v[6] = {rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2), rng.uniform(-0.1, 0.1),
+                   rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1)};
+    fMc.push_back(rigidFromVector(v));
+  }
+  for (const Eigen::Vector3d &Xf : pointsInView(6)) {
+    std::vector<Ray> rays;
+    std::vector<Rigid> cMf;
+    std::vector<Eigen::Vector2d> uv;
+    for (const Rigid &M : fMc) {
+      cMf.push_back(M.inverse());
+      uv.push_back(cam.project(cMf.back() * Xf));
+      rays.push_back(rayThrough(M, cam, uv.back()));
+    }
+    Eigen::Vector3d X;
+    ASSERT_TRUE(triangulateMidpoint(rays, X));
+    EXPECT_LT((X - Xf).norm(), 1e-9);
+    X += Eigen::Vector3d(0.01, -0.02, 0.03);
+    ASSERT_TRUE(refineTriangulation(cam, cMf, uv, X));
+    EXPECT_LT((X - Xf).norm(), 1e-9);
+    // The same rays pointing away: the point would be behind every camera.
+    for (Ray &r : rays)
+      r.direction = -r.direction;
+    EXPECT_FALSE(triangulateMidpoint(rays, X));
+  }
+  const std::vector<Ray> parallel = {{Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0, 0, 1)},
+                                     {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0, 0, 1)}};
+  Eigen::Vector3d X;
+  EXPECT_FALSE(triangulateMidpoint(parallel, X));
+  EXPECT_FALSE(triangulateMidpoint({parallel[0]}, X));
+}
+
+// The relative-pose Jacobian against finite differences of A(rho)^-1 B(rho).
+TEST(Geometry, RelativePoseJacobianMatchesFiniteDifferences)
+{
+  Random rng(7, 0);
+  const int P = 5;
+  Eigen::MatrixXd JA = Eigen::MatrixXd::Zero(6, P), JB = Eigen::MatrixXd::Zero(6, P);
+  for (int i = 0; i < 6; ++i)
+    for (int c = 0; c < P; ++c) {
+      JA(i, c) = rng.uniform(-1, 1);
+      JB(i, c) = rng.uniform(-1, 1);
+    }
+  double va[6] = {0.3, -0.1, 0.5, 0.2, -0.4, 0.1}, vb[6] = {-0.2, 0.4, 0.7, -0.3, 0.1, 0.5};
+  const Rigid A = rigidFromVector(va), B = rigidFromVector(vb);
+  // Absolute poses moved as getJacobian describes: t + J_t d, exp([J_phi d]x) R.
+  auto moved = [](const Rigid &M, const Eigen::MatrixXd &J, const Eigen::VectorXd &d) {
+    Rigid r;
+    r.t = M.t + J.topRows(3) * d;
+    r.R = expSO3(J.bottomRows(3) * d) * M.R;
+    return r;
+  };
+  Eigen::MatrixXd Jt, Jr;
+  relativePoseJacobian(A, JA, B, JB, Jt, Jr);
+  const Rigid rel0 = A.inverse() * B;
+  for (int c = 0; c < P; ++c) {
+    const double h = 1e-6;
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(P);
+    d(c) = h;
+    const Rigid plus = moved(A, JA, d).inverse() * moved(B, JB, d);
+    const Rigid minus = moved(A, JA, -d).inverse() * moved(B, JB, -d);
+    const Eigen::Vector3d dt = (plus.t - minus.t) / (2 * h);
+    const Eigen::Vector3d dphi = (logSO3(plus.R * rel0.R.transpose()) - logSO3(minus.R * rel0.R.transpose())) / (2 * h);
+    EXPECT_LT((Jt.col(c) - dt).norm(), 1e-6);
+    EXPECT_LT((Jr.col(c) - dphi).norm(), 1e-6);
+  }
+}
+
+// The marginal covariance equals the inverse of the full information's kept block.
+TEST(Geometry, MarginalCovarianceIsTheInverseOfTheFullInformation)
+{
+  Random rng(9, 0);
+  double k[2] = {0, 0};
+  std::vector<Eigen::Vector3d> pts(4, Eigen::Vector3d::Zero());
+  ceres::Problem problem;
+  Eigen::MatrixXd Jfull = Eigen::MatrixXd::Zero(40, 2 + 12);
+  for (int r = 0; r < 40; ++r) {
+    LinearCost c;
+    for (double &x : c.a)
+      x = rng.uniform(-1, 1);
+    c.y = rng.uniform(-1, 1);
+    const int i = r % 4;
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LinearCost, 1, 2, 3>(new LinearCost(c)), nullptr, k, pts[i].data());
+    Jfull(r, 0) = c.a[0];
+    Jfull(r, 1) = c.a[1];
+    for (int j = 0; j < 3; ++j)
+      Jfull(r, 2 + 3 * i + j) = c.a[2 + j];
+  }
+  std::vector<double *> eliminated;
+  for (auto &p : pts)
+    eliminated.push_back(p.data());
+  Eigen::MatrixXd cov;
+  ASSERT_TRUE(marginalCovariance(problem, {k}, eliminated, cov));
+  const Eigen::MatrixXd full = (Jfull.transpose() * Jfull).inverse();
+  EXPECT_LT((cov - full.topLeftCorner(2, 2)).norm(), 1e-10 * full.topLeftCorner(2, 2).norm());
+}
+
+// The homography fit: a plane's matches are all explained; a general scene's are not.
+TEST(Geometry, HomographyExplainsAPlaneOnly)
+{
+  const CameraModel cam = vispCamera().withoutDistortion();
+  double v[6] = {0.1, 0.02, 0.0, 0.02, 0.15, -0.05};
+  const Rigid c2Mc1 = rigidFromVector(v);
+  Random rng(11, 0);
+  for (bool planar : {true, false}) {
+    std::vector<Eigen::Vector2d> a, b;
+    for (int i = 0; i < 60; ++i) {
+      const Eigen::Vector3d X(rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), planar ? 1.0 : rng.uniform(0.6, 1.6));
+      a.push_back(cam.project(X));
+      b.push_back(cam.project(c2Mc1 * X));
+    }
+    Eigen::Matrix3d H;
+    std::vector<bool> inl;
+    ASSERT_TRUE(fitHomography(a, b, 1.0, 2000, 0.999, H, inl));
+    size_t n = 0;
+    for (bool x : inl)
+      n += x;
+    if (planar)
+      EXPECT_EQ(n, a.size());
+    else
+      EXPECT_LT(n, a.size() / 2);
+  }
+  Eigen::Matrix3d H;
+  std::vector<bool> inl;
+  EXPECT_FALSE(fitHomography({Eigen::Vector2d(0, 0)}, {Eigen::Vector2d(1, 1)}, 1.0, 100, 0.99, H, inl));
+}
