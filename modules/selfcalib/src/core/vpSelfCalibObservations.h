@@ -10,8 +10,6 @@
 
 #include <Eigen/Core>
 
-#include <ceres/loss_function.h>
-#include <visp3/selfcalib/vpMultiViewReconstruction.h>
 
 namespace vpSelfCalib
 {
@@ -93,18 +91,6 @@ private:
   std::map<int, size_t> m_index;
 };
 
-//! The Ceres loss of a robust option (nullptr: plain least squares); scale on whitened residuals.
-inline ceres::LossFunction *makeLoss(vpMultiViewReconstruction::Loss loss, double scale)
-{
-  switch (loss) {
-  case vpMultiViewReconstruction::LOSS_HUBER:
-    return new ceres::HuberLoss(scale);
-  case vpMultiViewReconstruction::LOSS_CAUCHY:
-    return new ceres::CauchyLoss(scale);
-  default:
-    return nullptr;
-  }
-}
 } // namespace vpSelfCalib
 
 #endif

@@ -15,6 +15,7 @@
 
 #include "../core/vpSelfCalibCeres.h"
 #include "../core/vpSelfCalibMath.h"
+#include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibObservations.h"
 
 using namespace vpSelfCalib;
@@ -530,7 +531,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
         continue;
       double *Xp = X[obs[n].id].data();
       problem->AddResidualBlock(new ObservationCost(&state, obs[n].view, obs[n].u, obs[n].v, opt.pixel_sd),
-                                robust ? makeLoss(opt.loss, loss_scale) : nullptr, state.rho.data(), in, Xp);
+                                robust ? makeLoss(static_cast<RobustLoss>(opt.loss), loss_scale) : nullptr, state.rho.data(), in, Xp);
       // The yardstick residual links its two ends: they stay in the reduced system.
       const bool end = has_yardstick && (obs[n].id == yardstick.id_a || obs[n].id == yardstick.id_b);
       order->AddElementToGroup(Xp, end ? 1 : 0);

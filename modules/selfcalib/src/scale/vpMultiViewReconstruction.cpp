@@ -18,9 +18,15 @@
 
 #include "../core/vpSelfCalibCeres.h"
 #include "../core/vpSelfCalibMath.h"
+#include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibObservations.h"
 
 using namespace vpSelfCalib;
+
+static_assert(static_cast<int>(RobustLoss::NONE) == vpMultiViewReconstruction::LOSS_NONE &&
+                  static_cast<int>(RobustLoss::HUBER) == vpMultiViewReconstruction::LOSS_HUBER &&
+                  static_cast<int>(RobustLoss::CAUCHY) == vpMultiViewReconstruction::LOSS_CAUCHY,
+              "the core robust losses and vpMultiViewReconstruction::Loss must agree");
 
 namespace
 {
@@ -464,7 +470,7 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
         continue;
       const Observation &o = obs[n];
       double *Xp = X[o.id].data();
-      ceres::LossFunction *loss = robust ? makeLoss(opt.loss, loss_scale) : nullptr;
+      ceres::LossFunction *loss = robust ? makeLoss(static_cast<RobustLoss>(opt.loss), loss_scale) : nullptr;
       if (o.view == 0)
         problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ReprojectionReference, 2, 3, 1>(
                                      new ReprojectionReference(o.u, o.v, u0, v0, mu, opt.pixel_sd)),
