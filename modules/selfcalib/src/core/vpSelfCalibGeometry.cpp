@@ -97,7 +97,7 @@ void relativePoseJacobian(const Rigid &A, const Eigen::MatrixXd &JA, const Rigid
 
 bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eigen::Vector2d> &b,
                    double ransac_threshold, int max_iterations, double confidence, Eigen::Matrix3d &H,
-                   std::vector<bool> &inliers)
+                   std::vector<bool> &inliers, int64_t seed)
 {
   if (a.size() != b.size() || a.size() < 4)
     return false;
@@ -106,6 +106,8 @@ bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eige
     ca.emplace_back(a[i](0), a[i](1));
     cb.emplace_back(b[i](0), b[i](1));
   }
+  if (seed >= 0)
+    cv::setRNGSeed(static_cast<int>(seed & 0x7fffffff));
   cv::Mat mask;
   const cv::Mat Hc = cv::findHomography(ca, cb, cv::RANSAC, ransac_threshold, mask, max_iterations, confidence);
   if (Hc.empty())

@@ -55,11 +55,12 @@ void relativePoseJacobian(const Rigid &A, const Eigen::MatrixXd &JA, const Rigid
 /*!
   The homography of matched pixels a -> b by OpenCV's RANSAC (findHomography) with the given
   inlier threshold (px), sample cap and confidence; inliers: its RANSAC mask. False when OpenCV
-  finds none (fewer than 4 points, or a degenerate sample set).
+  finds none (fewer than 4 points, or a degenerate sample set). seed >= 0: OpenCV's random generator
+  (cv::theRNG, per thread) is seeded with it first; -1 leaves it as it is.
 */
 bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eigen::Vector2d> &b,
                    double ransac_threshold, int max_iterations, double confidence, Eigen::Matrix3d &H,
-                   std::vector<bool> &inliers);
+                   std::vector<bool> &inliers, int64_t seed = -1);
 
 /*!
   Covariance of the `kept` blocks (in order, tangent coordinates) with the 3-D `eliminated` blocks

@@ -13,6 +13,7 @@
 
 #include <ceres/ceres.h>
 
+#include "../core/vpSelfCalibCamera.h"
 #include "../core/vpSelfCalibCeres.h"
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibGeometry.h"
@@ -22,76 +23,6 @@ using namespace vpSelfCalib;
 
 namespace
 {
-/*!
-  Covariance of the `kept` blocks (in order, tangent coordinates) with the 3-D `eliminated` blocks
-  marginalized: the inverse of the Schur complement of J^T J, J from Problem::Evaluate on one
-  thread. Computed here rather than by ceres::Covariance (SPARSE_QR): SuiteSparseQR runs on TBB's
-  threads, and its sums, so the last digits of every standard deviation, changed from run to run
-  once another library had started TBB workers. False when the information is singular (relative
-  eigenvalue of the diagonally scaled complement below 1e-15) or a point is not determined.
-*/
-bool marginalCovariance(ceres::Problem &problem, const std::vector<double *> &kept,
-                        const std::vector<double *> &eliminated, Eigen::MatrixXd &cov)
-{
-  ceres::Problem::EvaluateOptions eo;
-  eo.parameter_blocks = kept;
-  eo.parameter_blocks.insert(eo.parameter_blocks.end(), eliminated.begin(), eliminated.end());
-  eo.num_threads = 1;
-  ceres::CRSMatrix J;
-  if (!problem.Evaluate(eo, nullptr, nullptr, nullptr, &J))
-    return false;
-  const int nA = J.num_cols - 3 * static_cast<int>(eliminated.size());
-  if (nA <= 0)
-    return false;
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(nA, nA);
-  std::vector<Eigen::Matrix<double, Eigen::Dynamic, 3>> B(eliminated.size(), Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(nA, 3));
-  std::vector<Eigen::Matrix3d> C(eliminated.size(), Eigen::Matrix3d::Zero());
-  std::vector<std::pair<int, double>> a;
-  for (int r = 0; r < J.num_rows; ++r) {
-    a.clear();
-    Eigen::Vector3d p = Eigen::Vector3d::Zero();
-    int point = -1;
-    for (int k = J.rows[r]; k < J.rows[r + 1]; ++k) {
-      const int c = J.cols[k];
-      if (c < nA)
-        a.push_back({c, J.values[k]});
-      else {
-        const int i = (c - nA) / 3;
-        if (point >= 0 && point != i)
-          return false; // a residual on two eliminated points: not this problem's structure
-        point = i;
-        p((c - nA) % 3) = J.values[k];
-      }
-    }
-    for (const auto &x : a)
-      for (const auto &y : a)
-        H(x.first, y.first) += x.second * y.second;
-    if (point >= 0) {
-      for (const auto &x : a)
-        B[point].row(x.first) += x.second * p.transpose();
-      C[point] += p * p.transpose();
-    }
-  }
-  for (size_t i = 0; i < C.size(); ++i) {
-    const Eigen::LDLT<Eigen::Matrix3d> ldlt(C[i]);
-    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-12 * ldlt.vectorD().maxCoeff()))
-      return false;
-    H.noalias() -= B[i] * ldlt.solve(B[i].transpose());
-  }
-  const Eigen::VectorXd d = H.diagonal();
-  if (!(d.minCoeff() > 0))
-    return false;
-  const Eigen::VectorXd scale = d.cwiseSqrt().cwiseInverse();
-  const Eigen::MatrixXd Hs = scale.asDiagonal() * H * scale.asDiagonal();
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (Hs + Hs.transpose()));
-  if (eig.info() != Eigen::Success || !(eig.eigenvalues().minCoeff() > 1e-15 * eig.eigenvalues().maxCoeff()))
-    return false;
-  cov = scale.asDiagonal() *
-        (eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() * eig.eigenvectors().transpose()) *
-        scale.asDiagonal();
-  return cov.allFinite();
-}
-
 constexpr int kIntrinsics = 5; // p_x, mu, u0, v0, k_ud
 const char *const kIntrinsicNames[kIntrinsics] = {"fx", "mu", "u0", "v0", "kud"};
 
@@ -156,26 +87,22 @@ void computeHandEyeView(const vpKinematicChain &chain, const std::vector<unsigne
 }
 
 /*
-  Projection of X (f) through a view: (u, v), and on request its derivatives with respect to the
-  corrections (2 x P), the intrinsics (2 x 5) and X (2 x 3). in = (p_x, mu, u0, v0, k_ud).
+  Projection of X (f) through a view and the core camera model (ViSP's k_ud distortion; k_ud = 0 is
+  the pinhole): (u, v), and on request its derivatives with respect to the corrections (2 x P), the
+  intrinsics (2 x 5) and X (2 x 3), row-major. in = (p_x, mu, u0, v0, k_ud). With D = d uv / d X_c:
+  d uv / d rho = D (-R^T J_t + [X_c]x R^T J_phi), d uv / d X = D R^T.
 */
 bool project(const ViewState &v, const double *in, const double *Xp, double uv[2], double *Jrho, double *Jin,
              double *JX, int P)
 {
   const Eigen::Vector3d Xc = v.RT * (Eigen::Map<const Eigen::Vector3d>(Xp) - v.tf);
-  if (!(Xc(2) > 1e-9))
+  const CameraModel camera(Distortion::VISP, in);
+  Eigen::Vector2d p;
+  Eigen::Matrix<double, 2, 3> D;
+  if (!camera.project(Xc, p, (Jrho || JX) ? &D : nullptr, Jin))
     return false;
-  const double fx = in[0], mu = in[1], k = in[4];
-  const double x = Xc(0) / Xc(2), y = Xc(1) / Xc(2), r2 = x * x + y * y, g = 1 + k * r2;
-  uv[0] = in[2] + fx * x * g;
-  uv[1] = in[3] + mu * fx * y * g;
-  if (!Jrho && !Jin && !JX)
-    return true;
-  Eigen::Matrix2d Dxy;
-  Dxy << fx * (g + 2 * k * x * x), fx * 2 * k * x * y, mu * fx * 2 * k * x * y, mu * fx * (g + 2 * k * y * y);
-  Eigen::Matrix<double, 2, 3> Dc;
-  Dc << 1 / Xc(2), 0, -x / Xc(2), 0, 1 / Xc(2), -y / Xc(2);
-  const Eigen::Matrix<double, 2, 3> D = Dxy * Dc;
+  uv[0] = p(0);
+  uv[1] = p(1);
   if (JX) {
     Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> Jx(JX);
     Jx = D * v.RT;
@@ -183,10 +110,6 @@ bool project(const ViewState &v, const double *in, const double *Xp, double uv[2
   if (Jrho) {
     Eigen::Map<Eigen::Matrix<double, 2, Eigen::Dynamic, Eigen::RowMajor>> Jr(Jrho, 2, P);
     Jr = D * (-v.A + skew(Xc) * v.C);
-  }
-  if (Jin) {
-    Eigen::Map<Eigen::Matrix<double, 2, kIntrinsics, Eigen::RowMajor>> Ji(Jin);
-    Ji << x * g, 0, 1, 0, fx * x * r2, mu * y * g, fx * y * g, 0, 1, mu * fx * y * r2;
   }
   return true;
 }
@@ -337,43 +260,27 @@ struct Obs {
 
 void intrinsicsFrom(const vpCameraParameters &cam, double in[kIntrinsics])
 {
-  in[0] = cam.get_px();
-  in[1] = cam.get_py() / cam.get_px();
-  in[2] = cam.get_u0();
-  in[3] = cam.get_v0();
-  in[4] = cam.get_projModel() == vpCameraParameters::perspectiveProjWithDistortion ? cam.get_kud() : 0.0;
+  const CameraModel c = CameraModel::fromVisp(cam);
+  for (int i = 0; i < kIntrinsics; ++i)
+    in[i] = c.intrinsics()[i];
 }
 
 vpCameraParameters cameraFrom(const double in[kIntrinsics], bool distortion)
 {
-  vpCameraParameters c;
-  if (distortion)
-    // ViSP also stores the inverse model k_du; its first-order value is -k_ud.
-    c.initPersProjWithDistortion(in[0], in[1] * in[0], in[2], in[3], in[4], -in[4]);
-  else
-    c.initPersProjWithoutDistortion(in[0], in[1] * in[0], in[2], in[3]);
-  return c;
+  return CameraModel(distortion ? Distortion::VISP : Distortion::NONE, in).toVisp();
 }
 
-vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpCameraParameters &camera,
-                                        const std::vector<vpSelfCalibDataset::View> &views,
-                                        const vpSelfCalibDataset::Yardstick &yardstick,
-                                        const std::map<int, vpColVector> &points0,
-                                        const vpKinematicBundleAdjustment::Options &opt, bool solve)
+using KBA = vpKinematicBundleAdjustment;
+
+/*
+  Stage 1, inputs: every view's joints (or, hand-eye-only, its end-effector pose), checked; the
+  number of views that see each point id.
+*/
+void collectViews(const vpKinematicChain &start, const std::vector<vpSelfCalibDataset::View> &views, const KBA::Options &opt,
+                  std::vector<vpColVector> &q, std::vector<Rigid> &fMe, std::map<int, unsigned int> &seen)
 {
-  using KBA = vpKinematicBundleAdjustment;
-  opt.check();
-  const QuietCeres quiet;
-  const auto t0 = std::chrono::steady_clock::now();
   const unsigned int m = static_cast<unsigned int>(views.size());
-  if (m < 2)
-    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicBundleAdjustment: at least 2 views are needed");
-  if (!(camera.get_px() > 0) || !(camera.get_py() > 0))
-    throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpKinematicBundleAdjustment: the camera needs positive px and py");
-  std::vector<vpColVector> q(m);
-  std::vector<Rigid> fMe;
-  std::map<int, unsigned int> seen;
+  q.assign(m, vpColVector());
   for (unsigned int k = 0; k < m; ++k) {
     const bool has_q = views[k].q.size() == start.getNumJoints() && allFinite(views[k].q);
     if (opt.hand_eye_only) {
@@ -403,6 +310,12 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
       ++seen[o.id];
     }
   }
+}
+
+//! Stage 1, inputs: the start points of the ids seen in two views or more, checked.
+std::map<int, Eigen::Vector3d> startPoints(const std::map<int, vpColVector> &points0,
+                                           std::map<int, unsigned int> &seen)
+{
   std::map<int, Eigen::Vector3d> X0;
   for (const auto &e : points0) {
     if (e.second.size() != 3 || !allFinite(e.second))
@@ -412,251 +325,355 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     if (seen[e.first] >= 2)
       X0[e.first] = vec3(e.second);
   }
-  PointStore X(X0);
+  return X0;
+}
 
-  KBA::Result res;
-  res.chain = start;
-  res.camera = camera;
-  res.sd.resize(start.getNumParameters());
-
+/*
+  Stage 2, the estimated corrections: hand-eye-only, the eMc correction but for the components the
+  caller fixes (the kinematics are trusted); else the set independent for the relative poses of the
+  views at the start model.
+*/
+vpKinematicIdentification::Identifiability estimatedSet(const vpKinematicChain &start,
+                                                        const std::vector<vpColVector> &q, const KBA::Options &opt)
+{
   const std::vector<std::string> names = start.getParameterNames();
-  if (opt.hand_eye_only) {
-    // The eMc correction, but for the components the caller fixes; the kinematics are trusted.
-    const unsigned int first = start.getNumParameters() - vpKinematicChain::kBlockSize;
-    for (unsigned int i = 0; i < start.getNumParameters(); ++i) {
-      const bool fixed = std::find(opt.fixed.begin(), opt.fixed.end(), names[i]) != opt.fixed.end();
-      if (i >= first && !fixed)
-        res.identifiability.identified.push_back(i);
-      else
-        res.identifiability.unidentifiable.push_back(
-            {i, names[i], fixed ? "fixed by the caller" : "hand-eye-only mode: the robot's kinematics are trusted"});
-    }
-    for (const std::string &f : opt.fixed)
-      if (std::find(names.begin(), names.end(), f) == names.end())
-        throw vpSelfCalibException(vpSelfCalibException::badValue,
-                                   "vpKinematicBundleAdjustment: unknown fixed parameter '" + f + "'");
-    res.identifiability.rank = static_cast<unsigned int>(res.identifiability.identified.size());
-  } else {
-    // Estimated corrections: independent for the relative poses of the views at the start model.
-    std::vector<vpKinematicIdentification::Measurement> rel;
-    const vpHomogeneousMatrix fMc0 = start.get_fMc(q[0]);
-    for (unsigned int k = 1; k < m; ++k) {
-      vpKinematicIdentification::Measurement me;
-      me.q = q[k];
-      me.q_ref = q[0];
-      me.M = start.get_fMc(q[k]).inverse() * fMc0;
-      rel.push_back(me);
-    }
+  if (!opt.hand_eye_only) {
     vpKinematicIdentification::Options io;
     io.rank_tolerance = opt.rank_tolerance;
     io.fixed = opt.fixed;
-    res.identifiability = vpKinematicIdentification::analyse(start, rel, io);
+    return vpKinematicIdentification::analyseConfigurations(start, q, io);
   }
-  const std::vector<unsigned int> &id = res.identifiability.identified;
-  const int P = static_cast<int>(id.size());
+  vpKinematicIdentification::Identifiability ident;
+  const unsigned int first = start.getNumParameters() - vpKinematicChain::kBlockSize;
+  for (unsigned int i = 0; i < start.getNumParameters(); ++i) {
+    const bool fixed = std::find(opt.fixed.begin(), opt.fixed.end(), names[i]) != opt.fixed.end();
+    if (i >= first && !fixed)
+      ident.identified.push_back(i);
+    else
+      ident.unidentifiable.push_back(
+          {i, names[i], fixed ? "fixed by the caller" : "hand-eye-only mode: the robot's kinematics are trusted"});
+  }
+  for (const std::string &f : opt.fixed)
+    if (std::find(names.begin(), names.end(), f) == names.end())
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpKinematicBundleAdjustment: unknown fixed parameter '" + f + "'");
+  ident.rank = static_cast<unsigned int>(ident.identified.size());
+  return ident;
+}
 
-  std::vector<Obs> obs;
-  for (unsigned int k = 0; k < m; ++k)
-    for (const auto &o : views[k].points)
-      if (X.count(o.id))
-        obs.push_back({k, o.id, o.ip.get_u(), o.ip.get_v()});
-  double in[kIntrinsics];
+//! Stage 2, the intrinsics: their start values (in) and the indices estimated.
+std::vector<int> estimatedIntrinsics(const vpCameraParameters &camera, unsigned int flags, double in[kIntrinsics])
+{
   intrinsicsFrom(camera, in);
   std::vector<int> free_in;
-  if (opt.intrinsics & KBA::FX)
+  if (flags & KBA::FX)
     free_in.push_back(0);
-  if (opt.intrinsics & KBA::ASPECT)
+  if (flags & KBA::ASPECT)
     free_in.push_back(1);
-  if (opt.intrinsics & KBA::PRINCIPAL_POINT) {
+  if (flags & KBA::PRINCIPAL_POINT) {
     free_in.push_back(2);
     free_in.push_back(3);
   }
-  if (opt.intrinsics & KBA::DISTORTION)
+  if (flags & KBA::DISTORTION)
     free_in.push_back(4);
-  const bool distortion = (opt.intrinsics & KBA::DISTORTION) || in[4] != 0;
-  const size_t unknowns = P + free_in.size() + 3 * X.size();
-  if (P == 0 || 2 * obs.size() <= unknowns) {
-    res.status = KBA::TOO_FEW_OBSERVATIONS;
-    res.message = std::to_string(obs.size()) + " observations of points seen twice for " + std::to_string(unknowns) +
-                  " unknowns";
-    return res;
-  }
+  return free_in;
+}
 
-  KinematicState state(start, id, q, fMe);
-  state.update(true);
-  const std::vector<double> rho0 = state.rho;
-  const bool has_yardstick = yardstick.isSet() && X.count(yardstick.id_a) && X.count(yardstick.id_b);
-  // Hand-eye-only: the metric end-effector motion fixes the scale; no gauge constraint.
-  const Eigen::VectorXd scale_dir = opt.hand_eye_only ? Eigen::VectorXd() : scaleDirection(state);
+//! Everything one adjustment works on, built by the stages and shared by them.
+struct Adjustment {
+  Adjustment(const std::map<int, Eigen::Vector3d> &X0, const vpKinematicChain &start, const std::vector<unsigned int> &id,
+             const std::vector<vpColVector> &q, const std::vector<Rigid> &fMe)
+    : X(X0), state(start, id, q, fMe)
+  {
+  }
+  PointStore X;
+  KinematicState state;
+  std::vector<Obs> obs;
+  std::vector<bool> inlier;
+  double in[kIntrinsics];
+  std::vector<int> free_in;
+  std::unique_ptr<ceres::Manifold> subset; //!< the intrinsics held constant (none when all or none are)
+  std::vector<double> rho0;
+  Eigen::VectorXd scale_dir;
+  bool has_yardstick = false;
+  int P = 0;
 
-  // Observations of points behind their camera at the start cannot be evaluated: left out.
-  std::vector<bool> inlier(obs.size(), true);
-  for (size_t n = 0; n < obs.size(); ++n) {
-    double uv[2];
-    inlier[n] = project(state.views[obs[n].view], in, X[obs[n].id].data(), uv, nullptr, nullptr, nullptr, P);
+  bool reproject(size_t n, double uv[2])
+  {
+    return project(state.views[obs[n].view], in, X[obs[n].id].data(), uv, nullptr, nullptr, nullptr, P);
   }
-  dropPoorlyObservedPoints(obs, inlier);
-  ceres::Solver::Summary summary;
-  ceres::Problem::Options po;
-  po.evaluation_callback = &state;
-  po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  std::unique_ptr<ceres::Manifold> subset;
-  if (!free_in.empty() && free_in.size() < kIntrinsics) {
-    std::vector<int> constant;
-    for (int i = 0; i < kIntrinsics; ++i)
-      if (std::find(free_in.begin(), free_in.end(), i) == free_in.end())
-        constant.push_back(i);
-    subset.reset(new ceres::SubsetManifold(kIntrinsics, constant));
-  }
-  std::unique_ptr<ceres::Problem> problem;
-  RobustSchedule schedule;
-  if (solve) {
-    std::vector<double> start_errors;
+  //! Observations of points behind their camera cannot be evaluated: left out; then the points
+  //! seen fewer than twice.
+  void keepVisible()
+  {
+    inlier.assign(obs.size(), true);
     for (size_t n = 0; n < obs.size(); ++n) {
       double uv[2];
-      if (inlier[n] && project(state.views[obs[n].view], in, X[obs[n].id].data(), uv, nullptr, nullptr, nullptr, P))
-        start_errors.push_back(std::hypot(uv[0] - obs[n].u, uv[1] - obs[n].v) / opt.pixel_sd);
+      inlier[n] = reproject(n, uv);
     }
-    schedule = robustSchedule(opt.loss != vpMultiViewReconstruction::LOSS_NONE, opt.loss_scale, opt.outlier_threshold,
-                              start_errors);
-  } else
-    schedule.scales = {0};
-  for (size_t stage = 0; stage < schedule.scales.size(); ++stage) {
-    const double loss_scale = schedule.scales[stage];
-    const bool robust = loss_scale > 0;
-    problem.reset(new ceres::Problem(po));
-    auto order = std::make_shared<ceres::ParameterBlockOrdering>();
+    dropPoorlyObservedPoints(obs, inlier);
+  }
+  //! Stage 4, after the robust solve: observations beyond the threshold dropped.
+  void trim(double threshold_px)
+  {
     for (size_t n = 0; n < obs.size(); ++n) {
-      if (!inlier[n])
-        continue;
-      double *Xp = X[obs[n].id].data();
-      problem->AddResidualBlock(new ObservationCost(&state, obs[n].view, obs[n].u, obs[n].v, opt.pixel_sd),
-                                robust ? makeLoss(static_cast<RobustLoss>(opt.loss), loss_scale) : nullptr, state.rho.data(), in, Xp);
-      // The yardstick residual links its two ends: they stay in the reduced system.
-      const bool end = has_yardstick && (obs[n].id == yardstick.id_a || obs[n].id == yardstick.id_b);
-      order->AddElementToGroup(Xp, end ? 1 : 0);
+      double uv[2];
+      inlier[n] = reproject(n, uv) && std::hypot(uv[0] - obs[n].u, uv[1] - obs[n].v) <= threshold_px;
     }
-    if (!problem->HasParameterBlock(in)) {
-      res.status = KBA::TOO_FEW_OBSERVATIONS;
-      res.message = "every observation was rejected as an outlier";
-      res.chain = state.chain;
-      return res;
+    dropPoorlyObservedPoints(obs, inlier);
+  }
+  //! The whitened start errors of the kept observations (the robust schedule's first scale).
+  std::vector<double> startErrors(double pixel_sd)
+  {
+    std::vector<double> e;
+    for (size_t n = 0; n < obs.size(); ++n) {
+      double uv[2];
+      if (inlier[n] && reproject(n, uv))
+        e.push_back(std::hypot(uv[0] - obs[n].u, uv[1] - obs[n].v) / pixel_sd);
     }
-    const bool use_yardstick = has_yardstick && problem->HasParameterBlock(X[yardstick.id_a].data()) &&
-                               problem->HasParameterBlock(X[yardstick.id_b].data());
-    res.scale_source =
-        opt.hand_eye_only ? KBA::SCALE_ROBOT_MOTION : (use_yardstick ? KBA::SCALE_YARDSTICK : KBA::SCALE_NOMINAL);
-    if (use_yardstick)
-      problem->AddResidualBlock(new ceres::AutoDiffCostFunction<YardstickCost, 1, 3, 3>(
-                                    new YardstickCost(yardstick.length, opt.yardstick_sd)),
-                                nullptr, X[yardstick.id_a].data(), X[yardstick.id_b].data());
-    else if (!opt.hand_eye_only)
-      problem->AddResidualBlock(new ScaleCost(scale_dir, rho0), nullptr, state.rho.data());
-    // One group per block: within a group Ceres orders blocks by address, and the address order of
-    // separately allocated blocks changes from run to run (and so would the last digits).
-    order->AddElementToGroup(state.rho.data(), 2);
-    order->AddElementToGroup(in, 3);
-    if (free_in.empty())
-      problem->SetParameterBlockConstant(in);
-    else if (subset)
-      problem->SetManifold(in, subset.get());
-    if (!solve)
-      break;
+    return e;
+  }
+};
+
+/*
+  Stage 3, one Ceres problem of the schedule: the kept observations (robust loss of the given scale,
+  0: plain least squares), the gauge (yardstick residual, or the scale direction held, or nothing in
+  hand-eye-only mode), the ordering and the intrinsics' manifold. Null when no observation is kept.
+*/
+std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDataset::Yardstick &yardstick,
+                                             const KBA::Options &opt, double loss_scale,
+                                             std::shared_ptr<ceres::ParameterBlockOrdering> &order,
+                                             KBA::ScaleSource &scale_source)
+{
+  ceres::Problem::Options po;
+  po.evaluation_callback = &a.state;
+  po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  std::unique_ptr<ceres::Problem> problem(new ceres::Problem(po));
+  order = std::make_shared<ceres::ParameterBlockOrdering>();
+  for (size_t n = 0; n < a.obs.size(); ++n) {
+    if (!a.inlier[n])
+      continue;
+    double *Xp = a.X[a.obs[n].id].data();
+    problem->AddResidualBlock(new ObservationCost(&a.state, a.obs[n].view, a.obs[n].u, a.obs[n].v, opt.pixel_sd),
+                              loss_scale > 0 ? makeLoss(static_cast<RobustLoss>(opt.loss), loss_scale) : nullptr,
+                              a.state.rho.data(), a.in, Xp);
+    // The yardstick residual links its two ends: they stay in the reduced system.
+    const bool end = a.has_yardstick && (a.obs[n].id == yardstick.id_a || a.obs[n].id == yardstick.id_b);
+    order->AddElementToGroup(Xp, end ? 1 : 0);
+  }
+  if (!problem->HasParameterBlock(a.in))
+    return nullptr;
+  const bool use_yardstick = a.has_yardstick && problem->HasParameterBlock(a.X[yardstick.id_a].data()) &&
+                             problem->HasParameterBlock(a.X[yardstick.id_b].data());
+  scale_source =
+      opt.hand_eye_only ? KBA::SCALE_ROBOT_MOTION : (use_yardstick ? KBA::SCALE_YARDSTICK : KBA::SCALE_NOMINAL);
+  if (use_yardstick)
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<YardstickCost, 1, 3, 3>(
+                                  new YardstickCost(yardstick.length, opt.yardstick_sd)),
+                              nullptr, a.X[yardstick.id_a].data(), a.X[yardstick.id_b].data());
+  else if (!opt.hand_eye_only)
+    problem->AddResidualBlock(new ScaleCost(a.scale_dir, a.rho0), nullptr, a.state.rho.data());
+  // One group per block: within a group Ceres orders blocks by address, and the address order of
+  // separately allocated blocks changes from run to run (and so would the last digits).
+  order->AddElementToGroup(a.state.rho.data(), 2);
+  order->AddElementToGroup(a.in, 3);
+  if (a.free_in.empty())
+    problem->SetParameterBlockConstant(a.in);
+  else if (a.subset)
+    problem->SetManifold(a.in, a.subset.get());
+  return problem;
+}
+
+/*
+  Stage 4, the robust solve schedule (robustSchedule: a wide loss when the start is far off, the
+  narrow robust loss, trimming, plain least squares). Returns the last problem (for the covariance),
+  or null when every observation was rejected; summary: the last solve's.
+*/
+std::unique_ptr<ceres::Problem> solveSchedule(Adjustment &a, const vpSelfCalibDataset::Yardstick &yardstick,
+                                              const KBA::Options &opt, bool solve, ceres::Solver::Summary &summary,
+                                              KBA::Result &res)
+{
+  RobustSchedule schedule;
+  if (solve)
+    schedule = robustSchedule(opt.loss != vpMultiViewReconstruction::LOSS_NONE, opt.loss_scale, opt.outlier_threshold,
+                              a.startErrors(opt.pixel_sd));
+  else
+    schedule.scales = {0};
+  std::unique_ptr<ceres::Problem> problem;
+  for (size_t stage = 0; stage < schedule.scales.size(); ++stage) {
+    std::shared_ptr<ceres::ParameterBlockOrdering> order;
+    problem = buildProblem(a, yardstick, opt, schedule.scales[stage], order, res.scale_source);
+    if (!problem || !solve)
+      return problem;
     ceres::Solver::Options so = solverOptions(opt.max_iterations, opt.tight, ceres::DENSE_SCHUR);
     so.linear_solver_ordering = order;
     so.num_threads = static_cast<int>(opt.num_threads);
     vpSelfCalib::solve(so, problem.get(), &summary);
     res.iterations += static_cast<unsigned int>(summary.iterations.size());
-    state.update(true); // the callback last saw the final trial point, not necessarily the solution
+    a.state.update(true); // the callback last saw the final trial point, not necessarily the solution
     if (!summary.IsSolutionUsable())
       break;
-    if (static_cast<int>(stage) == schedule.trim_after) {
-      for (size_t n = 0; n < obs.size(); ++n) {
-        double uv[2];
-        inlier[n] = project(state.views[obs[n].view], in, X[obs[n].id].data(), uv, nullptr, nullptr, nullptr, P) &&
-                    std::hypot(uv[0] - obs[n].u, uv[1] - obs[n].v) <= opt.outlier_threshold * opt.pixel_sd;
-      }
-      dropPoorlyObservedPoints(obs, inlier);
-    }
+    if (static_cast<int>(stage) == schedule.trim_after)
+      a.trim(opt.outlier_threshold * opt.pixel_sd);
   }
-  res.seconds_solve = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return problem;
+}
 
-  // Results at the final state.
-  res.chain = state.chain;
-  res.camera = cameraFrom(in, distortion);
+//! Stage 5, the estimate at the final state: chain, camera, points, rms and sigma0, intrinsics.
+void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::Result &res)
+{
+  res.chain = a.state.chain;
+  res.camera = cameraFrom(a.in, distortion);
   std::set<int> kept;
   double sum = 0;
-  for (size_t n = 0; n < obs.size(); ++n) {
+  for (size_t n = 0; n < a.obs.size(); ++n) {
     double uv[2];
-    if (!inlier[n] ||
-        !project(state.views[obs[n].view], in, X[obs[n].id].data(), uv, nullptr, nullptr, nullptr, P)) {
-      inlier[n] = false;
+    if (!a.inlier[n] || !a.reproject(n, uv)) {
+      a.inlier[n] = false;
       ++res.num_outliers;
       continue;
     }
-    sum += std::pow(uv[0] - obs[n].u, 2) + std::pow(uv[1] - obs[n].v, 2);
+    sum += std::pow(uv[0] - a.obs[n].u, 2) + std::pow(uv[1] - a.obs[n].v, 2);
     ++res.num_observations;
-    kept.insert(obs[n].id);
+    kept.insert(a.obs[n].id);
   }
   res.rms = res.num_observations ? std::sqrt(sum / (2.0 * res.num_observations)) : 0;
-  const double dof = 2.0 * res.num_observations - static_cast<double>(P + free_in.size() + 3 * kept.size());
+  const double dof = 2.0 * res.num_observations - static_cast<double>(a.P + a.free_in.size() + 3 * kept.size());
   res.sigma0 = dof > 0 ? res.rms / opt.pixel_sd * std::sqrt(2.0 * res.num_observations / dof) : 0;
   for (int idp : kept) {
     vpColVector v(3);
-    for (unsigned int a = 0; a < 3; ++a)
-      v[a] = X[idp](a);
+    for (unsigned int c = 0; c < 3; ++c)
+      v[c] = a.X[idp](c);
     res.points[idp] = v;
   }
-  for (int i : free_in) {
+  for (int i : a.free_in)
     res.intrinsic_names.push_back(kIntrinsicNames[i]);
+  res.intrinsics.resize(static_cast<unsigned int>(a.free_in.size()));
+  res.intrinsics_sd.resize(static_cast<unsigned int>(a.free_in.size()));
+  for (size_t i = 0; i < a.free_in.size(); ++i)
+    res.intrinsics[static_cast<unsigned int>(i)] = a.in[a.free_in[i]];
+}
+
+/*
+  Stage 6, the covariance of the corrections and the estimated intrinsics with the points
+  marginalized (core marginalCovariance); the yardstick's ends, linked by their residual, stay in
+  the complement as in the solve. False when the information is singular.
+*/
+bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDataset::Yardstick &yardstick,
+                    const std::vector<std::string> &names, KBA::Result &res)
+{
+  const std::vector<unsigned int> &id = res.identifiability.identified;
+  std::vector<double *> kept = {a.state.rho.data()}, eliminated;
+  if (!a.free_in.empty())
+    kept.push_back(a.in);
+  std::set<const double *> ends;
+  if (a.has_yardstick && problem.HasParameterBlock(a.X[yardstick.id_a].data()) &&
+      problem.HasParameterBlock(a.X[yardstick.id_b].data()))
+    for (int e : {yardstick.id_a, yardstick.id_b}) {
+      kept.push_back(a.X[e].data());
+      ends.insert(a.X[e].data());
+    }
+  for (const auto &e : a.X.index())
+    if (!ends.count(a.X[e.first].data()) && problem.HasParameterBlock(a.X[e.first].data()))
+      eliminated.push_back(a.X[e.first].data());
+  const int P = a.P, N = P + static_cast<int>(a.free_in.size());
+  Eigen::MatrixXd full;
+  if (!marginalCovariance(problem, kept, eliminated, full))
+    return false;
+  res.covariance.resize(N, N);
+  for (int r = 0; r < N; ++r)
+    for (int c = 0; c < N; ++c)
+      res.covariance[r][c] = full(r, c);
+  for (int r = 0; r < P; ++r)
+    res.sd[id[r]] = std::sqrt(std::max(0.0, res.covariance[r][r]));
+  for (size_t r = 0; r < a.free_in.size(); ++r) {
+    res.intrinsics_sd[static_cast<unsigned int>(r)] = std::sqrt(std::max(0.0, res.covariance[P + r][P + r]));
+    if (a.free_in[r] == 0)
+      res.fx_sd = res.intrinsics_sd[static_cast<unsigned int>(r)];
   }
-  res.intrinsics.resize(static_cast<unsigned int>(free_in.size()));
-  res.intrinsics_sd.resize(static_cast<unsigned int>(free_in.size()));
-  for (size_t i = 0; i < free_in.size(); ++i)
-    res.intrinsics[static_cast<unsigned int>(i)] = in[free_in[i]];
+  for (int r = 0; r < P; ++r)
+    res.covariance_names.push_back(names[id[r]]);
+  for (int i : a.free_in)
+    res.covariance_names.push_back(kIntrinsicNames[i]);
+  res.has_covariance = true;
+  return true;
+}
+
+//! The adjustment (solve) or only its information at the start state (!solve); see the header.
+vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpCameraParameters &camera,
+                                        const std::vector<vpSelfCalibDataset::View> &views,
+                                        const vpSelfCalibDataset::Yardstick &yardstick,
+                                        const std::map<int, vpColVector> &points0,
+                                        const vpKinematicBundleAdjustment::Options &opt, bool solve)
+{
+  opt.check();
+  const QuietCeres quiet;
+  const auto t0 = std::chrono::steady_clock::now();
+  const unsigned int m = static_cast<unsigned int>(views.size());
+  if (m < 2)
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicBundleAdjustment: at least 2 views are needed");
+  if (!(camera.get_px() > 0) || !(camera.get_py() > 0))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment: the camera needs positive px and py");
+  std::vector<vpColVector> q;
+  std::vector<Rigid> fMe;
+  std::map<int, unsigned int> seen;
+  collectViews(start, views, opt, q, fMe, seen);
+  const std::map<int, Eigen::Vector3d> X0 = startPoints(points0, seen);
+
+  KBA::Result res;
+  res.chain = start;
+  res.camera = camera;
+  res.sd.resize(start.getNumParameters());
+  res.identifiability = estimatedSet(start, q, opt);
+  Adjustment a(X0, start, res.identifiability.identified, q, fMe);
+  a.P = static_cast<int>(res.identifiability.identified.size());
+  for (unsigned int k = 0; k < m; ++k)
+    for (const auto &o : views[k].points)
+      if (a.X.count(o.id))
+        a.obs.push_back({k, o.id, o.ip.get_u(), o.ip.get_v()});
+  a.free_in = estimatedIntrinsics(camera, opt.intrinsics, a.in);
+  const bool distortion = (opt.intrinsics & KBA::DISTORTION) || a.in[4] != 0;
+  const size_t unknowns = a.P + a.free_in.size() + 3 * a.X.size();
+  if (a.P == 0 || 2 * a.obs.size() <= unknowns) {
+    res.status = KBA::TOO_FEW_OBSERVATIONS;
+    res.message = std::to_string(a.obs.size()) + " observations of points seen twice for " +
+                  std::to_string(unknowns) + " unknowns";
+    return res;
+  }
+  a.state.update(true);
+  a.rho0 = a.state.rho;
+  a.has_yardstick = yardstick.isSet() && a.X.count(yardstick.id_a) && a.X.count(yardstick.id_b);
+  // Hand-eye-only: the metric end-effector motion fixes the scale; no gauge constraint.
+  if (!opt.hand_eye_only)
+    a.scale_dir = scaleDirection(a.state);
+  a.keepVisible();
+  if (!a.free_in.empty() && a.free_in.size() < kIntrinsics) {
+    std::vector<int> constant;
+    for (int i = 0; i < kIntrinsics; ++i)
+      if (std::find(a.free_in.begin(), a.free_in.end(), i) == a.free_in.end())
+        constant.push_back(i);
+    a.subset.reset(new ceres::SubsetManifold(kIntrinsics, constant));
+  }
+
+  ceres::Solver::Summary summary;
+  const std::unique_ptr<ceres::Problem> problem = solveSchedule(a, yardstick, opt, solve, summary, res);
+  if (!problem) {
+    res.status = KBA::TOO_FEW_OBSERVATIONS;
+    res.message = "every observation was rejected as an outlier";
+    res.chain = a.state.chain;
+    return res;
+  }
+  res.seconds_solve = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  fillEstimate(a, opt, distortion, res);
   if (solve && !summary.IsSolutionUsable()) {
     res.status = KBA::NO_CONVERGENCE;
     res.message = summary.message.empty() ? summary.BriefReport() : summary.message;
     return res;
   }
-
-  // Covariance of the corrections and the estimated intrinsics, points marginalized.
   if (opt.covariance) {
     const auto tc = std::chrono::steady_clock::now();
-    std::vector<double *> kept = {state.rho.data()}, eliminated;
-    if (!free_in.empty())
-      kept.push_back(in);
-    // The yardstick's ends are linked by their residual: kept in the complement (as in the solve).
-    std::set<const double *> ends;
-    if (has_yardstick && problem->HasParameterBlock(X[yardstick.id_a].data()) &&
-        problem->HasParameterBlock(X[yardstick.id_b].data()))
-      for (int e : {yardstick.id_a, yardstick.id_b}) {
-        kept.push_back(X[e].data());
-        ends.insert(X[e].data());
-      }
-    for (const auto &e : X.index())
-      if (!ends.count(X[e.first].data()) && problem->HasParameterBlock(X[e.first].data()))
-        eliminated.push_back(X[e.first].data());
-    const int N = P + static_cast<int>(free_in.size());
-    Eigen::MatrixXd full;
-    if (marginalCovariance(*problem, kept, eliminated, full)) {
-      res.covariance.resize(N, N);
-      for (int a = 0; a < N; ++a)
-        for (int b = 0; b < N; ++b)
-          res.covariance[a][b] = full(a, b);
-      for (int a = 0; a < P; ++a)
-        res.sd[id[a]] = std::sqrt(std::max(0.0, res.covariance[a][a]));
-      for (size_t a = 0; a < free_in.size(); ++a) {
-        res.intrinsics_sd[static_cast<unsigned int>(a)] = std::sqrt(std::max(0.0, res.covariance[P + a][P + a]));
-        if (free_in[a] == 0)
-          res.fx_sd = res.intrinsics_sd[static_cast<unsigned int>(a)];
-      }
-      for (int a = 0; a < P; ++a)
-        res.covariance_names.push_back(names[id[a]]);
-      for (int i : free_in)
-        res.covariance_names.push_back(kIntrinsicNames[i]);
-      res.has_covariance = true;
-    }
+    fillCovariance(a, *problem, yardstick, start.getParameterNames(), res);
     res.seconds_covariance = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc).count();
     if (!res.has_covariance) {
       res.status = KBA::RANK_DEFICIENT;
@@ -671,7 +688,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   }
   res.status = KBA::OK;
   std::ostringstream os;
-  os << "ok: " << P << " corrections, " << free_in.size() << " intrinsics, " << res.points.size() << " points, "
+  os << "ok: " << a.P << " corrections, " << a.free_in.size() << " intrinsics, " << res.points.size() << " points, "
      << res.num_observations << " observations (" << res.num_outliers << " dropped), rms " << res.rms
      << " px, scale from " << KBA::scaleSourceName(res.scale_source);
   res.message = os.str();
@@ -755,22 +772,20 @@ vpMatrix vpKinematicBundleAdjustment::relativePoseCovariance(const vpKinematicCh
                                  "vpKinematicBundleAdjustment::relativePoseCovariance: parameter index out of range");
   const Rigid A = rigidFromVisp(chain.get_fMc(q_ref)), B = rigidFromVisp(chain.get_fMc(q));
   const vpMatrix JA = chain.getJacobian(q_ref), JB = chain.getJacobian(q);
-  // c_ref M c = A^-1 B: dt = R_A^T (dt_B - dt_A + [t_B - t_A]x dphi_A), dphi = R_A^T (dphi_B - dphi_A).
-  const Eigen::Matrix3d RAt = A.R.transpose(), D = skew(B.t - A.t);
-  Eigen::MatrixXd G(6, P), S(P, P);
+  Eigen::MatrixXd JAs(6, P), JBs(6, P), S(P, P);
   for (unsigned int c = 0; c < P; ++c) {
-    Eigen::Vector3d tA, tB, pA, pB;
-    for (unsigned int a = 0; a < 3; ++a) {
-      tA(a) = JA[a][parameters[c]];
-      tB(a) = JB[a][parameters[c]];
-      pA(a) = JA[a + 3][parameters[c]];
-      pB(a) = JB[a + 3][parameters[c]];
+    for (unsigned int a = 0; a < 6; ++a) {
+      JAs(a, c) = JA[a][parameters[c]];
+      JBs(a, c) = JB[a][parameters[c]];
     }
-    G.block<3, 1>(0, c) = RAt * (tB - tA + D * pA);
-    G.block<3, 1>(3, c) = RAt * (pB - pA);
     for (unsigned int d = 0; d < P; ++d)
       S(c, d) = covariance[c][d];
   }
+  // c_ref M c = A^-1 B (core relativePoseJacobian), then G S G^T.
+  Eigen::MatrixXd Jt, Jr, G(6, P);
+  relativePoseJacobian(A, JAs, B, JBs, Jt, Jr);
+  G.topRows(3) = Jt;
+  G.bottomRows(3) = Jr;
   const Eigen::MatrixXd C = G * S * G.transpose();
   vpMatrix out(6, 6);
   for (unsigned int a = 0; a < 6; ++a)

@@ -14,7 +14,9 @@
 #include <ceres/ceres.h>
 
 #include "../core/vpSelfCalibCeres.h"
+#include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
+#include "../core/vpSelfCalibRandom.h"
 
 using namespace vpSelfCalib;
 
@@ -66,9 +68,10 @@ void evaluate(const vpKinematicChain &chain, const vpKinematicIdentification::Me
   const Eigen::Matrix3d JlInv = at_zero_residual ? Eigen::Matrix3d::Identity() : Eigen::Matrix3d(leftJacobianSO3(er).inverse());
   J->resize(6, JA.cols());
   if (m.isRelative()) {
-    const Eigen::Matrix3d RAt = A.R.transpose();
-    J->topRows(3) = RAt * (JB.topRows(3) - JA.topRows(3) + skew(B.t - A.t) * JA.bottomRows(3));
-    J->bottomRows(3) = JlInv * RAt * (JB.bottomRows(3) - JA.bottomRows(3));
+    Eigen::MatrixXd Jt, Jr;
+    relativePoseJacobian(A, JA, B, JB, Jt, Jr);
+    J->topRows(3) = Jt;
+    J->bottomRows(3) = JlInv * Jr;
   } else {
     J->topRows(3) = JA.topRows(3);
     J->bottomRows(3) = JlInv * JA.bottomRows(3);
@@ -222,6 +225,38 @@ vpMatrix fullJacobian(const vpKinematicChain &chain, const std::vector<vpKinemat
 vpMatrix vpKinematicIdentification::jacobian(const vpKinematicChain &chain, const std::vector<Measurement> &ms)
 {
   return fullJacobian(chain, ms, false);
+}
+
+vpKinematicIdentification::Identifiability
+vpKinematicIdentification::analyseConfigurations(const vpKinematicChain &chain, const std::vector<vpColVector> &q,
+                                                 const Options &options)
+{
+  if (q.size() < 2)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicIdentification::analyseConfigurations: at least 2 configurations are needed");
+  std::vector<Measurement> rel;
+  const vpHomogeneousMatrix fMc0 = chain.get_fMc(q[0]);
+  for (size_t k = 1; k < q.size(); ++k) {
+    Measurement m;
+    m.q = q[k];
+    m.q_ref = q[0];
+    m.M = chain.get_fMc(q[k]).inverse() * fMc0;
+    rel.push_back(m);
+  }
+  return analyse(chain, rel, options);
+}
+
+std::vector<vpColVector> vpKinematicIdentification::randomConfigurations(const vpKinematicChain &chain,
+                                                                         unsigned int count, uint64_t rng_seed,
+                                                                         uint64_t rng_stream)
+{
+  Random rng(rng_seed, rng_stream);
+  const vpColVector qmin = chain.getJointMin(), qmax = chain.getJointMax();
+  std::vector<vpColVector> q(count, vpColVector(chain.getNumJoints()));
+  for (vpColVector &c : q)
+    for (unsigned int j = 0; j < c.size(); ++j)
+      c[j] = rng.uniform(qmin[j], qmax[j]);
+  return q;
 }
 
 vpKinematicIdentification::Identifiability vpKinematicIdentification::analyse(const vpKinematicChain &chain,

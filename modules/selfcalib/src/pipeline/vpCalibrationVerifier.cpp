@@ -6,31 +6,10 @@
 
 #include <cmath>
 
-#include <ceres/ceres.h>
-
-#include "../core/vpSelfCalibCeres.h"
+#include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
 
 using namespace vpSelfCalib;
-
-namespace
-{
-// Reprojection of a point X (f frame) in a camera cMf with intrinsics; pixels.
-struct PointReprojection {
-  Rigid cMf;
-  double px, py, u0, v0, u, v;
-  template <typename T> bool operator()(const T *X, T *r) const
-  {
-    T p[3];
-    for (int i = 0; i < 3; ++i)
-      p[i] = T(cMf.R(i, 0)) * X[0] + T(cMf.R(i, 1)) * X[1] + T(cMf.R(i, 2)) * X[2] + T(cMf.t(i));
-    r[0] = T(px) * p[0] / p[2] + T(u0) - T(u);
-    r[1] = T(py) * p[1] / p[2] + T(v0) - T(v);
-    return true;
-  }
-};
-
-} // namespace
 
 vpHomogeneousMatrix vpCalibrationVerifier::cameraPose(const vpKinematicChain &model, const vpSelfCalibDataset::View &v)
 {
@@ -47,44 +26,32 @@ std::map<int, vpColVector> vpCalibrationVerifier::triangulate(const vpKinematicC
                                                               const vpCameraParameters &cam,
                                                               const std::vector<vpSelfCalibDataset::View> &views)
 {
-  struct Ray {
-    Rigid fMc;
-    double u, v;
+  // Each point: the midpoint of its rays through the camera model (distortion included), refined on
+  // its reprojection error; a point the rays place behind a camera is left out.
+  const CameraModel camera = CameraModel::fromVisp(cam);
+  struct Seen {
+    std::vector<Ray> rays;
+    std::vector<Rigid> cMf;
+    std::vector<Eigen::Vector2d> uv;
   };
-  std::map<int, std::vector<Ray>> rays;
+  std::map<int, Seen> seen;
   for (size_t k = 0; k < views.size(); ++k) {
     if (views[k].q.size() != model.getNumJoints() && !views[k].has_fMe)
       throw vpSelfCalibException(vpSelfCalibException::dimensionError,
                                  "vpCalibrationVerifier: view " + std::to_string(k) + " has no joint vector of size " +
                                      std::to_string(model.getNumJoints()) + " and no fMe");
     const Rigid fMc = rigidFromVisp(cameraPose(model, views[k]));
-    for (const auto &o : views[k].points)
-      rays[o.id].push_back({fMc, o.ip.get_u(), o.ip.get_v()});
+    for (const auto &o : views[k].points) {
+      Seen &s = seen[o.id];
+      s.uv.emplace_back(o.ip.get_u(), o.ip.get_v());
+      s.rays.push_back(rayThrough(fMc, camera, s.uv.back()));
+      s.cMf.push_back(fMc.inverse());
+    }
   }
   std::map<int, vpColVector> out;
-  for (const auto &kv : rays) {
-    if (kv.second.size() < 2)
-      continue;
-    // Linear start: the point closest to all rays, sum (I - d d^T) (X - c) = 0.
-    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d b = Eigen::Vector3d::Zero();
-    for (const Ray &r : kv.second) {
-      const Eigen::Vector3d dc((r.u - cam.get_u0()) / cam.get_px(), (r.v - cam.get_v0()) / cam.get_py(), 1.0);
-      const Eigen::Vector3d d = (r.fMc.R * dc).normalized();
-      const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - d * d.transpose();
-      A += P;
-      b += P * r.fMc.t;
-    }
-    Eigen::Vector3d X = A.ldlt().solve(b);
-    ceres::Problem problem;
-    for (const Ray &r : kv.second)
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PointReprojection, 2, 3>(new PointReprojection{
-                                   r.fMc.inverse(), cam.get_px(), cam.get_py(), cam.get_u0(), cam.get_v0(), r.u, r.v}),
-                               nullptr, X.data());
-    const ceres::Solver::Options so = solverOptions(50, true);
-    ceres::Solver::Summary summary;
-    vpSelfCalib::solve(so, &problem, &summary);
-    if (X.allFinite())
+  for (const auto &kv : seen) {
+    Eigen::Vector3d X;
+    if (triangulateMidpoint(kv.second.rays, X) && refineTriangulation(camera, kv.second.cMf, kv.second.uv, X))
       out[kv.first] = vpColVector({X.x(), X.y(), X.z()});
   }
   return out;

@@ -9,8 +9,7 @@
 #include <map>
 #include <sstream>
 
-#include <opencv2/calib3d.hpp>
-
+#include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
 
 using namespace vpSelfCalib;
@@ -256,7 +255,7 @@ std::vector<vpSelfCalibDataCheck::Finding> vpSelfCalibDataCheck::check(const vpK
       first[o.id] = o.ip;
     for (size_t k = 1; k < cal.size(); ++k) {
       max_baseline = std::max(max_baseline, ((endEffector(nominal, cal[k]) * eMc).t - c0.t).norm());
-      std::vector<cv::Point2d> a, b;
+      std::vector<Eigen::Vector2d> a, b;
       for (const auto &o : cal[k].points) {
         const auto it = first.find(o.id);
         if (it != first.end()) {
@@ -270,15 +269,14 @@ std::vector<vpSelfCalibDataCheck::Finding> vpSelfCalibDataCheck::check(const vpK
       // extrapolates poorly), then every point against the refined homography. 200 samples find a
       // homography that explains 90% of the points with probability 1 - (1 - 0.9^4)^200; a scene
       // with relief leaves RANSAC at that cap (2000 made the check cost 40 ms per pair).
-      const cv::Mat H = cv::findHomography(a, b, cv::RANSAC, 3 * threshold, cv::noArray(), 200, 0.999);
+      Eigen::Matrix3d H;
+      std::vector<bool> ransac_inliers;
       ++pairs;
-      if (H.empty())
+      if (!fitHomography(a, b, 3 * threshold, 200, 0.999, H, ransac_inliers))
         continue;
-      std::vector<cv::Point2d> mapped;
-      cv::perspectiveTransform(a, mapped, H);
       unsigned int explained = 0;
       for (size_t i = 0; i < a.size(); ++i)
-        explained += cv::norm(mapped[i] - b[i]) < threshold;
+        explained += ((H * a[i].homogeneous()).hnormalized() - b[i]).norm() < threshold;
       if (explained >= opt.homography_inliers * static_cast<double>(a.size()))
         ++flat;
     }

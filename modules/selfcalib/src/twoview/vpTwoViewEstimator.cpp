@@ -13,12 +13,21 @@
 #include <Eigen/SVD>
 #include <opencv2/calib3d.hpp>
 
+#include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
 
 using namespace vpSelfCalib;
 
 namespace
 {
+std::vector<Eigen::Vector2d> toEigen(const std::vector<vpImagePoint> &p)
+{
+  std::vector<Eigen::Vector2d> e;
+  for (const vpImagePoint &x : p)
+    e.emplace_back(x.get_u(), x.get_v());
+  return e;
+}
+
 std::vector<cv::Point2d> toCv(const std::vector<vpImagePoint> &p)
 {
   std::vector<cv::Point2d> out;
@@ -49,8 +58,6 @@ bool homographyExplains(const std::vector<vpImagePoint> &p1, const std::vector<v
 {
   if (p1.size() < 8)
     return false;
-  cv::Mat mask;
-  cv::setRNGSeed(static_cast<int>(o.ransac.seed & 0x7fffffff));
   // Only a homography that keeps at least planar_ratio * f_inliers points matters. If one exists,
   // a 4-point sample is all-inlier with probability w^4, w = planar_ratio * f_inliers / n, so
   // log(1 - confidence) / log(1 - w^4) samples find it with the RANSAC confidence. On a general
@@ -66,22 +73,15 @@ bool homographyExplains(const std::vector<vpImagePoint> &p1, const std::vector<v
       iterations = static_cast<int>(std::min(2000.0, std::ceil(std::log(1 - o.ransac.confidence) / std::log(1 - w4))));
     iterations = std::max(iterations, 1);
   }
-  const cv::Mat H = cv::findHomography(toCv(p1), toCv(p2), cv::RANSAC, o.ransac.inlier_threshold, mask, iterations,
-                                       o.ransac.confidence);
-  if (H.empty())
+  Eigen::Matrix3d He;
+  if (!fitHomography(toEigen(p1), toEigen(p2), o.ransac.inlier_threshold, iterations, o.ransac.confidence, He,
+                     h_inliers, static_cast<int64_t>(o.ransac.seed & 0x7fffffff)))
     return false;
-  const unsigned int nh = static_cast<unsigned int>(cv::countNonZero(mask));
+  const unsigned int nh = static_cast<unsigned int>(std::count(h_inliers.begin(), h_inliers.end(), true));
   // The homography explains the data when it keeps (nearly) as many points as the fundamental
   // matrix; with a plane the 8-point system is rank-deficient and F may not exist at all.
   if (nh < 8 || nh < o.planar_ratio * f_inliers)
     return false;
-  h_inliers.assign(p1.size(), false);
-  for (size_t i = 0; i < p1.size(); ++i)
-    h_inliers[i] = mask.at<uchar>(static_cast<int>(i)) != 0;
-  Eigen::Matrix3d He;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      He(i, j) = H.at<double>(i, j);
   const Eigen::Matrix3d A = toEigen3(vpFactorMethod::intrinsicMatrix(o.fx, o.u0, o.v0, o.mu));
   Eigen::Matrix3d M = A.inverse() * He * A;
   Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);

@@ -19,8 +19,10 @@
   \brief The paper's verification (Section 4.1, step 5) and held-out pose errors.
 
   - 3-D error: every scene point seen in at least two verification views is triangulated in the
-    reference frame f with the calibrated model (fMc(q) of each view) and camera: linear
-    least-squares intersection of the rays, then reprojection error minimized with Ceres. The
+    reference frame f with the calibrated model (fMc(q) of each view) and camera, its distortion
+    included (the module's one camera model): linear least-squares intersection of the rays, then
+    reprojection error minimized with Ceres; a point that lands behind one of its cameras is left
+    out. The
     paper's 3-D calibration error is | |X_a - X_b| - L | for the yardstick ends; with the true
     points known (simulation) the error of every point-pair distance is given as well.
   - Held-out pose errors: the model's relative pose c_0 M c_i between the first verification view
@@ -47,8 +49,9 @@ public:
 
   /*!
     Triangulation of every id seen in two or more of the views (at least 2 views), with the model's
-    fMc(q) of each view, or fMe eMc for a view that has a controller pose fMe and no joints. Throws
-    vpSelfCalibException when a view has neither.
+    fMc(q) of each view, or fMe eMc for a view that has a controller pose fMe and no joints, and the
+    camera with its distortion (ViSP's k_ud when cam has it). Points whose rays do not meet in front
+    of every camera are left out. Throws vpSelfCalibException when a view has neither joints nor fMe.
   */
   static std::map<int, vpColVector> triangulate(const vpKinematicChain &model, const vpCameraParameters &cam,
                                                 const std::vector<vpSelfCalibDataset::View> &views);

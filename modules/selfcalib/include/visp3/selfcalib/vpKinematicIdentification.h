@@ -4,6 +4,7 @@
 #ifndef VP_KINEMATIC_IDENTIFICATION_H
 #define VP_KINEMATIC_IDENTIFICATION_H
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -110,6 +111,22 @@ public:
   //! Identifiability analysis at the chain's current parameters.
   static Identifiability analyse(const vpKinematicChain &chain, const std::vector<Measurement> &measurements,
                                  const Options &options);
+
+  /*!
+    The identifiable set of a list of configurations: analyse() on the relative poses
+    c_kMc_0 = fMc(q_k)^-1 fMc(q_0) of configurations 1.. against configuration 0, at the chain's
+    current parameters (the measurement values do not matter: the analysis uses the Jacobian of the
+    prediction). Throws vpSelfCalibException with fewer than 2 configurations.
+  */
+  static Identifiability analyseConfigurations(const vpKinematicChain &chain, const std::vector<vpColVector> &q,
+                                               const Options &options);
+
+  /*!
+    count configurations drawn uniformly within the chain's joint limits from rng_seed / rng_stream
+    (the module's seeded generator), joint by joint, configuration by configuration.
+  */
+  static std::vector<vpColVector> randomConfigurations(const vpKinematicChain &chain, unsigned int count,
+                                                       uint64_t rng_seed, uint64_t rng_stream);
 
   /*!
     Identification from the chain's current parameters. Throws vpSelfCalibException on caller
