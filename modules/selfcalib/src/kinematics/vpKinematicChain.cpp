@@ -84,7 +84,7 @@ void vpKinematicChain::buildPlacements()
   m_L = toVisp(L);
 }
 
-std::vector<std::string> vpKinematicChain::presetNames() { return {"puma560", "viper850"}; }
+std::vector<std::string> vpKinematicChain::presetNames() { return {"puma560", "viper850", "panda", "ur5"}; }
 
 vpColVector vpKinematicChain::getJointMin() const
 {

@@ -72,6 +72,38 @@ vpKinematicChain viper850()
   return vpKinematicChain("viper850", vpKinematicChain::DH, j, vpPoseVector(),
                           vpPoseVector(0, 0, v.D6(), 0, 0, 0), vpPoseVector(eMc));
 }
+/*
+  Franka Emika Panda, Craig's modified DH as in Franka's public documentation (the robot's
+  kinematic table): a (0, 0, 0, 0.0825, -0.0825, 0, 0.088), d (0.333, 0, 0.316, 0, 0.384, 0, 0),
+  alpha (0, -pi/2, pi/2, pi/2, -pi/2, pi/2, pi/2), flange Tz(0.107); its joint limits. The camera
+  guess eMc = (0, 0, 0.05): a camera in front of the flange, along its axis.
+*/
+vpKinematicChain panda()
+{
+  const double l = 166.0031; // deg, joints 1, 3, 5, 7 (+-2.8973 rad)
+  std::vector<vpKinematicChain::Joint> j = {
+      row(0, 0.333, 0, 0, -l, l),          row(0, 0, -M_PI / 2, 0, -101, 101),
+      row(0, 0.316, M_PI / 2, 0, -l, l),   row(0.0825, 0, M_PI / 2, 0, -176, -4),
+      row(-0.0825, 0.384, -M_PI / 2, 0, -l, l), row(0, 0, M_PI / 2, 0, -1, 215),
+      row(0.088, 0, M_PI / 2, 0, -l, l)};
+  return vpKinematicChain("panda", vpKinematicChain::MDH, j, vpPoseVector(), vpPoseVector(0, 0, 0.107, 0, 0, 0),
+                          vpPoseVector(0, 0, 0.05, 0, 0, 0));
+}
+
+/*
+  Universal Robots UR5, standard DH from Universal Robots' published parameters: d1 0.089159,
+  a2 -0.425, a3 -0.39225, d4 0.10915, d5 0.09465, d6 0.0823, alpha (pi/2, 0, 0, pi/2, -pi/2, 0);
+  joints +-360 deg. Camera guess as for the PUMA.
+*/
+vpKinematicChain ur5()
+{
+  std::vector<vpKinematicChain::Joint> j = {
+      row(0, 0.089159, M_PI / 2, 0, -360, 360), row(-0.425, 0, 0, 0, -360, 360),
+      row(-0.39225, 0, 0, 0, -360, 360),      row(0, 0.10915, M_PI / 2, 0, -360, 360),
+      row(0, 0.09465, -M_PI / 2, 0, -360, 360), row(0, 0.0823, 0, 0, -360, 360)};
+  return vpKinematicChain("ur5", vpKinematicChain::DH, j, vpPoseVector(), vpPoseVector(),
+                          vpPoseVector(0, 0.06, 0.08, 0, 0, 0));
+}
 } // namespace
 
 vpKinematicChain vpKinematicChain::preset(const std::string &name)
@@ -80,6 +112,10 @@ vpKinematicChain vpKinematicChain::preset(const std::string &name)
     return puma560();
   if (name == "viper850")
     return viper850();
+  if (name == "panda")
+    return panda();
+  if (name == "ur5")
+    return ur5();
   std::string known;
   for (const std::string &p : presetNames())
     known += (known.empty() ? "" : ", ") + p;

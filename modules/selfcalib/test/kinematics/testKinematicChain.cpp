@@ -248,3 +248,27 @@ TEST(KinematicChain, BadConstructionThrows)
   vpKinematicChain c = vpKinematicChain::preset("puma560");
   EXPECT_THROW(c.setJointLimits(vpColVector(6, 1.0), vpColVector(6, 0.0)), vpSelfCalibException);
 }
+
+// The Panda (7 axes, modified DH) and UR5 presets at their zero configurations, against the
+// manufacturers' published zero poses of the flange: Panda (0.088, 0, 0.926) with the flange
+// z axis pointing down; UR5 (a2 + a3, -(d4 + d6), d1 - d5) with the flange z axis along -y.
+TEST(KinematicChain, PandaAndUr5PresetsAtZero)
+{
+  const vpKinematicChain panda = vpKinematicChain::preset("panda");
+  ASSERT_EQ(panda.getNumJoints(), 7u);
+  EXPECT_EQ(panda.getNumParameters(), 6u * 9u);
+  const vpHomogeneousMatrix P = panda.get_fMe(vpColVector(7, 0.0));
+  EXPECT_NEAR(P[0][3], 0.088, 1e-12);
+  EXPECT_NEAR(P[1][3], 0.0, 1e-12);
+  EXPECT_NEAR(P[2][3], 0.333 + 0.316 + 0.384 - 0.107, 1e-12);
+  EXPECT_NEAR(P[0][0], 1.0, 1e-12);
+  EXPECT_NEAR(P[1][1], -1.0, 1e-12);
+  EXPECT_NEAR(P[2][2], -1.0, 1e-12);
+  const vpKinematicChain ur5 = vpKinematicChain::preset("ur5");
+  ASSERT_EQ(ur5.getNumJoints(), 6u);
+  const vpHomogeneousMatrix U = ur5.get_fMe(vpColVector(6, 0.0));
+  EXPECT_NEAR(U[0][3], -0.425 - 0.39225, 1e-12);
+  EXPECT_NEAR(U[1][3], -(0.10915 + 0.0823), 1e-12);
+  EXPECT_NEAR(U[2][3], 0.089159 - 0.09465, 1e-12);
+  EXPECT_NEAR(U[1][2], -1.0, 1e-12);
+}
