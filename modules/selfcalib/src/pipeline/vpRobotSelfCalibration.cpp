@@ -50,6 +50,33 @@ double seconds(const std::chrono::steady_clock::time_point &since)
 {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
+
+/*
+  A field that a builder derives from another setting: accepted when the caller left it at its
+  default or set it to the derived value (a builder's output put back), a conflict otherwise.
+  Returns the derived value.
+*/
+template <typename T>
+T derived(const T &set, const T &default_value, const T &value, const char *field, const char *source)
+{
+  if (set == default_value || set == value)
+    return value;
+  std::ostringstream os;
+  os << std::boolalpha << "vpRobotSelfCalibration: " << field << " (" << set << ") is derived from " << source
+     << " (" << value << ") and not read: set " << source << " instead, or leave " << field << " at its default";
+  throw vpSelfCalibException(vpSelfCalibException::badValue, os.str());
+}
+
+// Every field of two two-view options equal.
+bool same(const vpTwoViewEstimator::Options &a, const vpTwoViewEstimator::Options &b)
+{
+  return a.focal_mode == b.focal_mode && a.fx == b.fx && a.u0 == b.u0 && a.v0 == b.v0 && a.mu == b.mu &&
+         a.ransac.inlier_threshold == b.ransac.inlier_threshold && a.ransac.confidence == b.ransac.confidence &&
+         a.ransac.max_iterations == b.ransac.max_iterations && a.ransac.seed == b.ransac.seed &&
+         a.refine == b.refine && a.huber == b.huber && a.planar_ratio == b.planar_ratio &&
+         a.min_coplanarity == b.min_coplanarity && a.rotation_tolerance == b.rotation_tolerance &&
+         a.max_fx_relative_sd == b.max_fx_relative_sd;
+}
 } // namespace
 
 const char *vpRobotSelfCalibration::statusName(Status s)
@@ -103,6 +130,83 @@ void vpRobotSelfCalibration::Options::check() const
   identification.check();
   bundle.check();
   data_check.check();
+  // The derived fields that conflict whatever the dataset (the builders find the others).
+  derived(data_check.pixel_sd, vpSelfCalibDataCheck::Options().pixel_sd, pixel_sd, "data_check.pixel_sd", "pixel_sd");
+  derived(multiview.pixel_sd, vpMultiViewReconstruction::Options().pixel_sd, pixel_sd, "multiview.pixel_sd",
+          "pixel_sd");
+  const vpKinematicBundleAdjustment::Options bundle_default;
+  derived(bundle.pixel_sd, bundle_default.pixel_sd, pixel_sd, "bundle.pixel_sd", "pixel_sd");
+  derived(bundle.hand_eye_only, bundle_default.hand_eye_only, method == HAND_EYE, "bundle.hand_eye_only", "method");
+}
+
+vpRobotSelfCalibration::FocalMode vpRobotSelfCalibration::resolveFocalMode(const Options &opt,
+                                                                           const vpSelfCalibDataset &ds)
+{
+  FocalMode mode = opt.focal_mode;
+  if (mode == FOCAL_AUTO)
+    mode = ds.focal_known ? FOCAL_KNOWN : FOCAL_SHARED;
+  if (mode == FOCAL_KNOWN && !(ds.cam.get_px() > 0))
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpRobotSelfCalibration: FOCAL_KNOWN without px");
+  return mode;
+}
+
+vpTwoViewEstimator::Options vpRobotSelfCalibration::twoViewOptions(const Options &opt, const vpSelfCalibDataset &ds)
+{
+  const bool known = resolveFocalMode(opt, ds) == FOCAL_KNOWN;
+  const vpTwoViewEstimator::Options def;
+  const char *camera = "the dataset's camera";
+  vpTwoViewEstimator::Options to = opt.twoview;
+  to.fx = derived(opt.twoview.fx, def.fx, ds.cam.get_px(), "twoview.fx", camera);
+  to.u0 = derived(opt.twoview.u0, def.u0, ds.cam.get_u0(), "twoview.u0", camera);
+  to.v0 = derived(opt.twoview.v0, def.v0, ds.cam.get_v0(), "twoview.v0", camera);
+  to.mu = derived(opt.twoview.mu, def.mu, ds.cam.get_py() / ds.cam.get_px(), "twoview.mu", camera);
+  to.focal_mode = derived(opt.twoview.focal_mode, def.focal_mode,
+                          known ? vpRefinedFactorMethod::KNOWN : vpRefinedFactorMethod::PER_PAIR,
+                          "twoview.focal_mode", "focal_mode");
+  return to;
+}
+
+vpMultiViewReconstruction::Options vpRobotSelfCalibration::multiViewOptions(const Options &opt,
+                                                                             const vpSelfCalibDataset &ds)
+{
+  const vpMultiViewReconstruction::Options def;
+  vpMultiViewReconstruction::Options mo = opt.multiview;
+  mo.twoview = twoViewOptions(opt, ds);
+  if (!same(opt.multiview.twoview, def.twoview) && !same(opt.multiview.twoview, mo.twoview))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpRobotSelfCalibration: multiview.twoview is derived from twoview and the dataset "
+                               "(twoViewOptions()) and not read: set twoview instead, or leave multiview.twoview "
+                               "at its default");
+  mo.focal_known = derived(opt.multiview.focal_known, def.focal_known, resolveFocalMode(opt, ds) == FOCAL_KNOWN,
+                           "multiview.focal_known", "focal_mode");
+  mo.pixel_sd = derived(opt.multiview.pixel_sd, def.pixel_sd, opt.pixel_sd, "multiview.pixel_sd", "pixel_sd");
+  return mo;
+}
+
+vpKinematicBundleAdjustment::Options vpRobotSelfCalibration::bundleOptions(const Options &opt,
+                                                                            const vpSelfCalibDataset &ds)
+{
+  const unsigned int FX = vpKinematicBundleAdjustment::FX;
+  const vpKinematicBundleAdjustment::Options def;
+  vpKinematicBundleAdjustment::Options bo = opt.bundle;
+  bo.pixel_sd = derived(opt.bundle.pixel_sd, def.pixel_sd, opt.pixel_sd, "bundle.pixel_sd", "pixel_sd");
+  const bool fx = derived((opt.bundle.intrinsics & FX) != 0, (def.intrinsics & FX) != 0,
+                          resolveFocalMode(opt, ds) != FOCAL_KNOWN, "the FX flag of bundle.intrinsics", "focal_mode");
+  if (fx)
+    bo.intrinsics |= FX;
+  else
+    bo.intrinsics &= ~FX;
+  bo.hand_eye_only =
+      derived(opt.bundle.hand_eye_only, def.hand_eye_only, opt.method == HAND_EYE, "bundle.hand_eye_only", "method");
+  return bo;
+}
+
+vpSelfCalibDataCheck::Options vpRobotSelfCalibration::dataCheckOptions(const Options &opt)
+{
+  vpSelfCalibDataCheck::Options co = opt.data_check;
+  co.pixel_sd = derived(opt.data_check.pixel_sd, vpSelfCalibDataCheck::Options().pixel_sd, opt.pixel_sd,
+                        "data_check.pixel_sd", "pixel_sd");
+  return co;
 }
 
 vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChain &nominal,
@@ -132,19 +236,17 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpRobotSelfCalibration: the dataset has no yardstick (length and two end ids); "
                                "the scale cannot be fixed without it");
-  FocalMode mode = opt.focal_mode;
-  if (mode == FOCAL_AUTO)
-    mode = ds.focal_known ? FOCAL_KNOWN : FOCAL_SHARED;
-  if (mode == FOCAL_KNOWN && !(ds.cam.get_px() > 0))
-    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpRobotSelfCalibration: FOCAL_KNOWN without px");
+  const FocalMode mode = resolveFocalMode(opt, ds);
+  // The remaining caller mistakes (derived options set against their source) throw before any work.
+  twoViewOptions(opt, ds);
+  multiViewOptions(opt, ds);
+  bundleOptions(opt, ds);
 
   Result res;
   res.method = opt.method;
   res.calibrated = nominal;
   res.camera = ds.cam;
-  vpSelfCalibDataCheck::Options co = opt.data_check;
-  co.pixel_sd = opt.pixel_sd;
-  res.findings = vpSelfCalibDataCheck::check(nominal, ds, N, opt.method == HAND_EYE, co);
+  res.findings = vpSelfCalibDataCheck::check(nominal, ds, N, opt.method == HAND_EYE, dataCheckOptions(opt));
   if (vpSelfCalibDataCheck::degenerate(res.findings)) {
     res.status = DEGENERATE_DATA;
     for (const auto &f : res.findings)
@@ -154,9 +256,9 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
     return res;
   }
   if (opt.method == BUNDLE_ADJUSTMENT)
-    runBundle(nominal, ds, opt, mode, N, progress, res);
+    runBundle(nominal, ds, opt, N, progress, res);
   else if (opt.method == HAND_EYE)
-    runHandEye(nominal, ds, opt, mode, N, progress, res);
+    runHandEye(nominal, ds, opt, N, progress, res);
   else
     runPaper(nominal, ds, opt, mode, N, progress, res);
   checkResult(nominal, ds, opt, N, res);
@@ -257,11 +359,7 @@ void vpRobotSelfCalibration::runPaper(const vpKinematicChain &nominal, const vpS
   auto ts = std::chrono::steady_clock::now();
 
   // Step 2: pose measurements on the pairs (1, i).
-  vpTwoViewEstimator::Options to = opt.twoview;
-  to.fx = ds.cam.get_px();
-  to.u0 = ds.cam.get_u0();
-  to.v0 = ds.cam.get_v0();
-  to.mu = ds.cam.get_py() / ds.cam.get_px();
+  const vpTwoViewEstimator::Options to = twoViewOptions(opt, ds);
   std::vector<std::vector<vpImagePoint>> p1(N - 1), p2(N - 1);
   for (unsigned int i = 1; i < N; ++i)
     correspondences(ds.views[0], ds.views[i], p1[i - 1], p2[i - 1]);
@@ -278,7 +376,6 @@ void vpRobotSelfCalibration::runPaper(const vpKinematicChain &nominal, const vpS
     res.fx = sr.fx;
     res.fx_sd = sr.fx_sd;
   } else {
-    to.focal_mode = mode == FOCAL_KNOWN ? vpRefinedFactorMethod::KNOWN : vpRefinedFactorMethod::PER_PAIR;
     std::vector<double> focals;
     for (unsigned int i = 1; i < N; ++i) {
       if (progress)
@@ -381,13 +478,13 @@ void vpRobotSelfCalibration::runPaper(const vpKinematicChain &nominal, const vpS
 }
 
 void vpRobotSelfCalibration::runBundle(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, const Options &opt,
-                                       FocalMode mode, unsigned int N, const Progress &progress, Result &res)
+                                       unsigned int N, const Progress &progress, Result &res)
 {
   auto ts = std::chrono::steady_clock::now();
   const std::vector<vpSelfCalibDataset::View> cal(ds.views.begin(), ds.views.begin() + N);
 
   // 1. Scale-consistent poses and points of the calibration views, one focal length.
-  if (!multiView(ds, cal, opt, mode, progress, res))
+  if (!multiView(ds, cal, opt, progress, res))
     return;
   res.fx = res.multiview.fx;
   res.fx_sd = res.multiview.fx_sd;
@@ -424,7 +521,7 @@ void vpRobotSelfCalibration::runBundle(const vpKinematicChain &nominal, const vp
   res.stage_seconds.push_back({"identification", seconds(ts)});
 
   // 3. Kinematic bundle adjustment, points moved to f through the start model.
-  vpKinematicBundleAdjustment::Options bo = opt.bundle;
+  vpKinematicBundleAdjustment::Options bo = bundleOptions(opt, ds);
   // The same estimated set as the identification that gave the start (the others are still at the
   // nominal values); QR pivoting at the start model could pick another, equivalent set, and the
   // parameters left out would then keep the identification's values.
@@ -432,8 +529,7 @@ void vpRobotSelfCalibration::runBundle(const vpKinematicChain &nominal, const vp
     for (const auto &u : res.identification.identifiability.unidentifiable)
       if (std::find(bo.fixed.begin(), bo.fixed.end(), u.name) == bo.fixed.end())
         bo.fixed.push_back(u.name);
-  if (!bundle(start, start.get_fMc(cal[0].q), s, cal, ds, opt, bo, mode, "kinematic bundle adjustment",
-              progress, res))
+  if (!bundle(start, start.get_fMc(cal[0].q), s, cal, ds, opt, bo, "kinematic bundle adjustment", progress, res))
     return;
   // The parameters fixed above because the identification found them dependent keep its reason.
   for (auto &u : res.identifiability.unidentifiable)
@@ -444,7 +540,7 @@ void vpRobotSelfCalibration::runBundle(const vpKinematicChain &nominal, const vp
 
 bool vpRobotSelfCalibration::bundle(const vpKinematicChain &start, const vpHomogeneousMatrix &fMc0_, double s,
                                     const std::vector<vpSelfCalibDataset::View> &views, const vpSelfCalibDataset &ds,
-                                    const Options &opt, vpKinematicBundleAdjustment::Options bo, FocalMode mode,
+                                    const Options &opt, const vpKinematicBundleAdjustment::Options &bo,
                                     const std::string &label, const Progress &progress, Result &res)
 {
   if (progress)
@@ -458,11 +554,6 @@ bool vpRobotSelfCalibration::bundle(const vpKinematicChain &start, const vpHomog
       v[a] = x(a);
     points[e.first] = v;
   }
-  bo.pixel_sd = opt.pixel_sd;
-  if (mode == FOCAL_KNOWN)
-    bo.intrinsics &= ~static_cast<unsigned int>(vpKinematicBundleAdjustment::FX);
-  else
-    bo.intrinsics |= vpKinematicBundleAdjustment::FX;
   vpCameraParameters cam0 = ds.cam;
   cam0.initPersProjWithoutDistortion(res.multiview.fx, res.multiview.fx * ds.cam.get_py() / ds.cam.get_px(),
                                      ds.cam.get_u0(), ds.cam.get_v0());
@@ -499,19 +590,11 @@ bool vpRobotSelfCalibration::bundle(const vpKinematicChain &start, const vpHomog
 }
 
 bool vpRobotSelfCalibration::multiView(const vpSelfCalibDataset &ds, const std::vector<vpSelfCalibDataset::View> &cal,
-                                       const Options &opt, FocalMode mode, const Progress &progress, Result &res)
+                                       const Options &opt, const Progress &progress, Result &res)
 {
   if (progress)
     progress("multi-view reconstruction", 0, 1);
-  vpMultiViewReconstruction::Options mo = opt.multiview;
-  mo.twoview = opt.twoview;
-  mo.twoview.fx = ds.cam.get_px();
-  mo.twoview.u0 = ds.cam.get_u0();
-  mo.twoview.v0 = ds.cam.get_v0();
-  mo.twoview.mu = ds.cam.get_py() / ds.cam.get_px();
-  mo.focal_known = mode == FOCAL_KNOWN;
-  mo.pixel_sd = opt.pixel_sd;
-  res.multiview = vpMultiViewReconstruction::reconstruct(cal, ds.yardstick, mo);
+  res.multiview = vpMultiViewReconstruction::reconstruct(cal, ds.yardstick, multiViewOptions(opt, ds));
   res.pairs = res.multiview.pairs;
   res.stage_seconds.push_back({"two-view poses", res.multiview.seconds_twoview});
   res.stage_seconds.push_back({"multi-view bundle adjustment", res.multiview.seconds_bundle});
@@ -537,10 +620,10 @@ bool vpRobotSelfCalibration::multiView(const vpSelfCalibDataset &ds, const std::
 }
 
 void vpRobotSelfCalibration::runHandEye(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, const Options &opt,
-                                        FocalMode mode, unsigned int N, const Progress &progress, Result &res)
+                                        unsigned int N, const Progress &progress, Result &res)
 {
   const std::vector<vpSelfCalibDataset::View> cal(ds.views.begin(), ds.views.begin() + N);
-  if (!multiView(ds, cal, opt, mode, progress, res))
+  if (!multiView(ds, cal, opt, progress, res))
     return;
   auto ts = std::chrono::steady_clock::now();
   std::vector<Rigid> fMe;
@@ -599,15 +682,13 @@ void vpRobotSelfCalibration::runHandEye(const vpKinematicChain &nominal, const v
   }
   res.stage_seconds.push_back({"hand-eye closed form", seconds(ts)});
 
-  // Kinematic bundle adjustment in hand-eye-only mode, points moved to f through the first eMc.
-  vpKinematicBundleAdjustment::Options bo = opt.bundle;
-  bo.hand_eye_only = true;
+  // Kinematic bundle adjustment in hand-eye-only mode (bundleOptions), points moved to f through the first eMc.
   std::vector<vpSelfCalibDataset::View> views = cal;
   for (unsigned int k = 0; k < N; ++k)
     if (!views[k].has_fMe) {
       views[k].has_fMe = true;
       views[k].fMe = toVisp(fMe[k]);
     }
-  bundle(start, toVisp(fMe[0]) * start.get_eMc_corrected(), s, views, ds, opt, bo, mode,
+  bundle(start, toVisp(fMe[0]) * start.get_eMc_corrected(), s, views, ds, opt, bundleOptions(opt, ds),
          "hand-eye bundle adjustment", progress, res);
 }
