@@ -239,25 +239,6 @@ public:
     Throws vpSelfCalibException when options.data_check.pixel_sd is neither its default nor pixel_sd.
   */
   static vpSelfCalibDataCheck::Options dataCheckOptions(const Options &options);
-
-private:
-  static void runPaper(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
-                       FocalMode mode, unsigned int num_calibration, const Progress &progress, Result &result);
-  //! The kinematic bundle adjustment from a start model, the multi-view points moved to f by
-  //! fMc0 (the start's pose of view 0) and scaled by s; fills the result.
-  static bool bundle(const vpKinematicChain &start, const vpHomogeneousMatrix &fMc0, double s,
-                     const std::vector<vpSelfCalibDataset::View> &views, const vpSelfCalibDataset &dataset,
-                     const Options &options, const vpKinematicBundleAdjustment::Options &bundle_options,
-                     const std::string &label, const Progress &progress, Result &result);
-  static bool multiView(const vpSelfCalibDataset &dataset, const std::vector<vpSelfCalibDataset::View> &calibration,
-                        const Options &options, const Progress &progress, Result &result);
-  static void runHandEye(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
-                         unsigned int num_calibration, const Progress &progress, Result &result);
-  //! Findings after a run: many outliers, parameters a richer trajectory would identify.
-  static void checkResult(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
-                          unsigned int num_calibration, Result &result);
-  static void runBundle(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
-                        unsigned int num_calibration, const Progress &progress, Result &result);
 };
 
 #endif
