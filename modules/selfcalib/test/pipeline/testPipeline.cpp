@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include <visp3/selfcalib/vpCalibrationVerifier.h>
 #include <visp3/selfcalib/vpKinematicIdentification.h>
@@ -118,6 +120,155 @@ TEST(RobotSelfCalibration, BadInputsGiveAStatusOrAnError)
   bad = ds;
   bad.views[3].q.resize(4);
   EXPECT_THROW(vpRobotSelfCalibration::run(sim.getNominalChain(), bad, o), vpSelfCalibException);
+}
+
+// The options of the steps come from the top-level Options and the dataset, by the builders: pixel_sd
+// from the top level, the camera from the dataset, the flags from the focal mode and the method; the
+// caller's other settings of each step are kept.
+TEST(RobotSelfCalibration, StepOptionsAreBuiltFromTheTopLevelOptionsAndTheDataset)
+{
+  using RSC = vpRobotSelfCalibration;
+  const vpSelfCalibSimulator sim = makeSim("viper850", 15, 0.2);
+  vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(6));
+  ds.focal_known = false;
+  ds.cam.initPersProjWithoutDistortion(1390, 1410, 318, 243); // a guess: f self-calibrated
+  RSC::Options o;
+  o.pixel_sd = 0.7;
+  o.twoview.ransac.inlier_threshold = 2;
+  o.multiview.max_pair_points = 123;
+  o.bundle.intrinsics |= vpKinematicBundleAdjustment::ASPECT;
+  o.bundle.fixed = {"j2.tx"};
+  o.data_check.min_points = 9;
+  ASSERT_NO_THROW(o.check());
+  EXPECT_EQ(RSC::resolveFocalMode(o, ds), RSC::FOCAL_SHARED);
+
+  const vpMultiViewReconstruction::Options mo = RSC::multiViewOptions(o, ds);
+  EXPECT_EQ(mo.pixel_sd, 0.7);
+  EXPECT_FALSE(mo.focal_known);
+  EXPECT_EQ(mo.max_pair_points, 123u);
+  EXPECT_EQ(mo.twoview.fx, 1390);
+  EXPECT_EQ(mo.twoview.u0, 318);
+  EXPECT_EQ(mo.twoview.v0, 243);
+  EXPECT_EQ(mo.twoview.mu, 1410.0 / 1390.0);
+  EXPECT_EQ(mo.twoview.focal_mode, vpRefinedFactorMethod::PER_PAIR);
+  EXPECT_EQ(mo.twoview.ransac.inlier_threshold, 2);
+  const vpTwoViewEstimator::Options to = RSC::twoViewOptions(o, ds);
+  EXPECT_EQ(to.fx, mo.twoview.fx);
+  EXPECT_EQ(to.mu, mo.twoview.mu);
+  const vpKinematicBundleAdjustment::Options bo = RSC::bundleOptions(o, ds);
+  EXPECT_EQ(bo.pixel_sd, 0.7);
+  EXPECT_EQ(bo.intrinsics, vpKinematicBundleAdjustment::FX | vpKinematicBundleAdjustment::ASPECT);
+  EXPECT_FALSE(bo.hand_eye_only);
+  EXPECT_EQ(bo.fixed, std::vector<std::string>{"j2.tx"});
+  const vpSelfCalibDataCheck::Options co = RSC::dataCheckOptions(o);
+  EXPECT_EQ(co.pixel_sd, 0.7);
+  EXPECT_EQ(co.min_points, 9u);
+
+  // A builder's output put back into the Options is accepted and builds the same.
+  RSC::Options back = o;
+  back.twoview = to;
+  back.multiview = mo;
+  back.bundle = bo;
+  back.data_check = co;
+  ASSERT_NO_THROW(back.check());
+  EXPECT_EQ(RSC::multiViewOptions(back, ds).twoview.fx, 1390);
+  EXPECT_EQ(RSC::bundleOptions(back, ds).intrinsics, bo.intrinsics);
+
+  // The focal length known: KNOWN everywhere, FX no longer estimated (the caller's ASPECT kept).
+  ds.focal_known = true;
+  EXPECT_EQ(RSC::resolveFocalMode(o, ds), RSC::FOCAL_KNOWN);
+  EXPECT_TRUE(RSC::multiViewOptions(o, ds).focal_known);
+  EXPECT_EQ(RSC::twoViewOptions(o, ds).focal_mode, vpRefinedFactorMethod::KNOWN);
+  EXPECT_EQ(RSC::bundleOptions(o, ds).intrinsics, static_cast<unsigned int>(vpKinematicBundleAdjustment::ASPECT));
+  o.method = RSC::HAND_EYE;
+  EXPECT_TRUE(RSC::bundleOptions(o, ds).hand_eye_only);
+}
+
+// A derived field set to another value than its default and the derived one would be ignored: it
+// throws instead, from check() or from the builders (thus from run(), before any work).
+TEST(RobotSelfCalibration, DerivedFieldsSetAgainstTheirSourceThrow)
+{
+  using RSC = vpRobotSelfCalibration;
+  const vpSelfCalibSimulator sim = makeSim("viper850", 16, 0.2);
+  vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(6));
+  ds.focal_known = false;
+  RSC::Options o;
+  o.pixel_sd = 0.5;
+  o.multiview.pixel_sd = 0.3;
+  EXPECT_THROW(o.check(), vpSelfCalibException);
+  EXPECT_THROW(RSC::multiViewOptions(o, ds), vpSelfCalibException);
+  EXPECT_THROW(RSC::run(sim.getNominalChain(), ds, o), vpSelfCalibException);
+  o.multiview.pixel_sd = 0.5; // the same as the top level: accepted
+  EXPECT_NO_THROW(o.check());
+  o.bundle.pixel_sd = 0.3;
+  EXPECT_THROW(o.check(), vpSelfCalibException);
+  EXPECT_THROW(RSC::bundleOptions(o, ds), vpSelfCalibException);
+  o = RSC::Options();
+  o.data_check.pixel_sd = 1;
+  EXPECT_THROW(o.check(), vpSelfCalibException);
+  EXPECT_THROW(RSC::dataCheckOptions(o), vpSelfCalibException);
+  o = RSC::Options();
+  o.bundle.hand_eye_only = true;
+  EXPECT_THROW(o.check(), vpSelfCalibException);
+  o.method = RSC::HAND_EYE;
+  EXPECT_NO_THROW(o.check());
+  // Conflicts with the dataset or the focal mode.
+  o = RSC::Options();
+  o.twoview.fx = ds.cam.get_px() + 10;
+  EXPECT_THROW(RSC::twoViewOptions(o, ds), vpSelfCalibException);
+  EXPECT_THROW(RSC::multiViewOptions(o, ds), vpSelfCalibException);
+  EXPECT_THROW(RSC::run(sim.getNominalChain(), ds, o), vpSelfCalibException);
+  o.twoview.fx = ds.cam.get_px();
+  EXPECT_NO_THROW(RSC::twoViewOptions(o, ds));
+  o = RSC::Options();
+  o.twoview.focal_mode = vpRefinedFactorMethod::KNOWN; // the focal length is self-calibrated here
+  EXPECT_THROW(RSC::twoViewOptions(o, ds), vpSelfCalibException);
+  o = RSC::Options();
+  o.multiview.twoview.huber = 1; // set twoview instead
+  EXPECT_THROW(RSC::multiViewOptions(o, ds), vpSelfCalibException);
+  o = RSC::Options();
+  o.multiview.focal_known = false;
+  EXPECT_NO_THROW(RSC::multiViewOptions(o, ds));
+  o.focal_mode = RSC::FOCAL_KNOWN;
+  EXPECT_THROW(RSC::multiViewOptions(o, ds), vpSelfCalibException);
+  o = RSC::Options();
+  o.bundle.intrinsics = 0; // the focal length is estimated unless focal_mode says it is known
+  EXPECT_THROW(RSC::bundleOptions(o, ds), vpSelfCalibException);
+  o.focal_mode = RSC::FOCAL_KNOWN;
+  EXPECT_EQ(RSC::bundleOptions(o, ds).intrinsics, 0u);
+}
+
+// run() builds what it needs from the caller's Options and leaves them as they were: a second run
+// with the same Options gives the same result.
+TEST(RobotSelfCalibration, RunLeavesTheOptionsUnchanged)
+{
+  using RSC = vpRobotSelfCalibration;
+  const vpSelfCalibSimulator sim = makeSim("viper850", 17, 0.2);
+  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
+  RSC::Options o;
+  o.num_calibration_poses = 9;
+  o.pixel_sd = 0.3;
+  o.bundle.fixed = {"j1.tz"};
+  const RSC::Options copy = o;
+  const RSC::Result a = RSC::run(sim.getNominalChain(), ds, o);
+  ASSERT_EQ(a.status, RSC::OK) << a.message;
+  EXPECT_EQ(o.pixel_sd, copy.pixel_sd);
+  EXPECT_EQ(o.multiview.pixel_sd, copy.multiview.pixel_sd);
+  EXPECT_EQ(o.multiview.focal_known, copy.multiview.focal_known);
+  EXPECT_EQ(o.multiview.twoview.fx, copy.multiview.twoview.fx);
+  EXPECT_EQ(o.twoview.fx, copy.twoview.fx);
+  EXPECT_EQ(o.twoview.mu, copy.twoview.mu);
+  EXPECT_EQ(o.twoview.focal_mode, copy.twoview.focal_mode);
+  EXPECT_EQ(o.bundle.pixel_sd, copy.bundle.pixel_sd);
+  EXPECT_EQ(o.bundle.intrinsics, copy.bundle.intrinsics);
+  EXPECT_EQ(o.bundle.hand_eye_only, copy.bundle.hand_eye_only);
+  EXPECT_EQ(o.bundle.fixed, copy.bundle.fixed); // the run's extra fixed parameters stay in the run
+  EXPECT_EQ(o.data_check.pixel_sd, copy.data_check.pixel_sd);
+  const RSC::Result b = RSC::run(sim.getNominalChain(), ds, o);
+  ASSERT_EQ(b.status, RSC::OK) << b.message;
+  EXPECT_EQ(a.fx, b.fx);
+  EXPECT_EQ(a.message, b.message);
+  EXPECT_EQ(a.calibrated.getParameters(), b.calibrated.getParameters());
 }
 
 // The report without gnuplot: data files and report.md written, figures reported as not drawn.

@@ -21,8 +21,8 @@
 
 /*!
   \class vpRobotSelfCalibration
-  \brief Self-calibration of a camera-equipped arm from a dataset, by one of two methods run on the
-  same data.
+  \brief Self-calibration of a camera-equipped arm from a dataset, by one of three methods run on the
+  same data (one pipeline each behind run()).
 
   <b>BUNDLE_ADJUSTMENT (the default, beyond the paper).</b>
   1. vpMultiViewReconstruction of the calibration views: scale-consistent poses c_kMc_0 and points
@@ -57,6 +57,18 @@
 
   Views are used in dataset order: the first num_calibration_poses for calibration, the rest for
   verification.
+
+  <b>Options of the steps.</b> Each setting has one source: pixel_sd is THE image noise, the
+  dataset's camera gives the camera (the known focal length, or the first guess of a self-calibrated
+  one), focal_mode and method give the flags that follow from them; the nested structs (twoview,
+  multiview, bundle, data_check) carry the caller's other settings of each step. The options each
+  step runs with are built from these by twoViewOptions(), multiViewOptions(), bundleOptions() and
+  dataCheckOptions(), public so that a caller can see exactly what will run; run() uses them and
+  never changes the caller's Options. A field that a builder derives (listed with each builder and
+  on the Options field) is not read: left at its default, or set to the value the builder gives it
+  (so that a builder's output can be put back into Options), it is accepted; any other value is a
+  caller mistake and throws vpSelfCalibException naming the setting to change instead, rather than
+  being silently ignored.
 */
 class vpRobotSelfCalibration
 {
@@ -81,16 +93,22 @@ public:
     Method method = BUNDLE_ADJUSTMENT;
     unsigned int num_calibration_poses = 15; //!< the paper's 15 of 25
     FocalMode focal_mode = FOCAL_AUTO;
-    vpTwoViewEstimator::Options twoview;      //!< fx, u0, v0, mu and focal_mode are set from the dataset
+    //! The two-view step of every method (PAPER's pairs, the multi-view step's pairs). Derived, not
+    //! read: fx, u0, v0, mu (the dataset's camera) and focal_mode (focal_mode above); see twoViewOptions().
+    vpTwoViewEstimator::Options twoview;
     double pose_sd_rotation = 5e-3;           //!< rad, expected two-view rotation error (weights)
     double pose_sd_direction = 5e-3;          //!< rad, expected translation-direction error (weights)
     vpKinematicIdentification::Options identification;
-    //! BUNDLE_ADJUSTMENT: its twoview and focal_known fields are set from the dataset and focal mode.
+    //! BUNDLE_ADJUSTMENT, HAND_EYE. Derived, not read: pixel_sd, focal_known and twoview (the whole
+    //! struct, from twoview above); see multiViewOptions().
     vpMultiViewReconstruction::Options multiview;
-    //! BUNDLE_ADJUSTMENT: the FX flag of intrinsics is set from the focal mode (cleared when known).
+    //! BUNDLE_ADJUSTMENT, HAND_EYE (`fixed` also counts in the identifiability finding of every method).
+    //! Derived, not read: pixel_sd, the FX flag of intrinsics and hand_eye_only; see bundleOptions().
     vpKinematicBundleAdjustment::Options bundle;
-    double pixel_sd = 0.2; //!< px, image noise sd: weights of multiview and bundle
-    //! The checks run before calibrating (their pixel_sd is set from pixel_sd above).
+    //! px, THE image noise sd: the pixel_sd of multiview, bundle and data_check are derived from it
+    //! (residual weights, robust loss scales, outlier tests, the data check's homography threshold).
+    double pixel_sd = 0.2;
+    //! The checks run before calibrating. Derived, not read: pixel_sd; see dataCheckOptions().
     vpSelfCalibDataCheck::Options data_check;
     //! After a run: a warning when more than this fraction of the calibration observations was not
     //! used (rejected as wrong matches, or on points the reconstruction could not place).
@@ -101,6 +119,13 @@ public:
     //! 1 - max_outlier_fraction of the calibration observations.
     double min_posed_fraction = 0.5;
     double max_outlier_fraction = 0.5;
+    /*!
+      Throws vpSelfCalibException on nonsense values, and on a derived field that conflicts with its
+      source without the dataset: multiview.pixel_sd, bundle.pixel_sd or data_check.pixel_sd neither
+      at its default nor equal to pixel_sd; bundle.hand_eye_only set with another method than
+      HAND_EYE. The conflicts that depend on the dataset are found by the builders (run() calls them
+      before any work).
+    */
     void check() const;
   };
 
@@ -153,30 +178,67 @@ public:
     Throws vpSelfCalibException on caller mistakes: fewer than 3 calibration views, a view without
     joints of the model's size or without any image point, non-finite values, joints outside the
     model's limits, no yardstick in the dataset (PAPER only: the bundle adjustment then keeps the
-    nominal scale), an unknown focal length with FOCAL_KNOWN. Degenerate data is DEGENERATE_DATA or
-    a finding; numerical failures are statuses.
+    nominal scale), an unknown focal length with FOCAL_KNOWN, an Options field that a builder
+    derives set against its source (see "Options of the steps" above); all before any work.
+    Degenerate data is DEGENERATE_DATA or a finding; numerical failures are statuses. The method's
+    pipeline runs with the options the builders make; `options` is not changed.
   */
   static Result run(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
                     const Progress &progress = Progress());
 
-private:
-  static void runPaper(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
-                       FocalMode mode, unsigned int num_calibration, const Progress &progress, Result &result);
-  //! The kinematic bundle adjustment from a start model, the multi-view points moved to f by
-  //! fMc0 (the start's pose of view 0) and scaled by s; fills the result.
-  static bool bundle(const vpKinematicChain &start, const vpHomogeneousMatrix &fMc0, double s,
-                     const std::vector<vpSelfCalibDataset::View> &views, const vpSelfCalibDataset &dataset,
-                     const Options &options, vpKinematicBundleAdjustment::Options bundle_options, FocalMode mode,
-                     const std::string &label, const Progress &progress, Result &result);
-  static bool multiView(const vpSelfCalibDataset &dataset, const std::vector<vpSelfCalibDataset::View> &calibration,
-                        const Options &options, FocalMode mode, const Progress &progress, Result &result);
-  static void runHandEye(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
-                         FocalMode mode, unsigned int num_calibration, const Progress &progress, Result &result);
-  //! Findings after a run: many outliers, parameters a richer trajectory would identify.
-  static void checkResult(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
-                          unsigned int num_calibration, Result &result);
-  static void runBundle(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
-                        FocalMode mode, unsigned int num_calibration, const Progress &progress, Result &result);
+  /*!
+    The focal mode a run uses: options.focal_mode, FOCAL_AUTO resolved to FOCAL_KNOWN when
+    dataset.focal_known, else FOCAL_SHARED. Throws vpSelfCalibException when it is FOCAL_KNOWN and
+    the dataset's camera has no px.
+  */
+  static FocalMode resolveFocalMode(const Options &options, const vpSelfCalibDataset &dataset);
+
+  /*!
+    The two-view options a run uses (PAPER's pairs; BUNDLE_ADJUSTMENT's and HAND_EYE's through
+    multiViewOptions()): options.twoview with, derived,
+    - fx, u0, v0 the dataset camera's px, u0, v0 (fx: the known focal length, or the first guess
+      when it is self-calibrated) and mu = py / px;
+    - focal_mode KNOWN when resolveFocalMode() is FOCAL_KNOWN, else PER_PAIR (FOCAL_SHARED runs
+      vpTwoViewEstimator::estimateShared, which sets its own).
+
+    Throws vpSelfCalibException when options.twoview sets one of these fields to a value other than
+    its default and the derived one, and as resolveFocalMode().
+  */
+  static vpTwoViewEstimator::Options twoViewOptions(const Options &options, const vpSelfCalibDataset &dataset);
+
+  /*!
+    The multi-view reconstruction options a run uses (BUNDLE_ADJUSTMENT, HAND_EYE): options.multiview
+    with, derived,
+    - pixel_sd = options.pixel_sd;
+    - focal_known true when resolveFocalMode() is FOCAL_KNOWN;
+    - twoview = twoViewOptions(options, dataset).
+
+    Throws vpSelfCalibException when options.multiview sets one of these fields to a value other
+    than its default and the derived one, and as twoViewOptions().
+  */
+  static vpMultiViewReconstruction::Options multiViewOptions(const Options &options, const vpSelfCalibDataset &dataset);
+
+  /*!
+    The kinematic bundle adjustment options a run uses (BUNDLE_ADJUSTMENT, HAND_EYE): options.bundle
+    with, derived,
+    - pixel_sd = options.pixel_sd;
+    - the FX flag of intrinsics cleared when resolveFocalMode() is FOCAL_KNOWN, set otherwise (the
+      other flags are the caller's);
+    - hand_eye_only true for HAND_EYE.
+
+    At run time BUNDLE_ADJUSTMENT adds to `fixed` the parameters that the identification giving its
+    start could not identify (so that the bundle adjustment estimates the same set). Throws
+    vpSelfCalibException when options.bundle sets a derived field to a value other than its default
+    and the derived one (FX cleared while the focal length is estimated; hand_eye_only with another
+    method), and as resolveFocalMode().
+  */
+  static vpKinematicBundleAdjustment::Options bundleOptions(const Options &options, const vpSelfCalibDataset &dataset);
+
+  /*!
+    The data check options a run uses: options.data_check with pixel_sd = options.pixel_sd (derived).
+    Throws vpSelfCalibException when options.data_check.pixel_sd is neither its default nor pixel_sd.
+  */
+  static vpSelfCalibDataCheck::Options dataCheckOptions(const Options &options);
 };
 
 #endif

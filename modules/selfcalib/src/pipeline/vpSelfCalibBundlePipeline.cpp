@@ -1,0 +1,69 @@
+/*
+ * ViSP SelfCalib: the default pipeline, multi-view reconstruction then kinematic bundle adjustment
+ * (beyond the paper).
+ */
+#include "vpSelfCalibPipelines.h"
+
+#include <algorithm>
+
+#include "../core/vpSelfCalibMath.h"
+
+using namespace vpSelfCalib;
+
+namespace vpSelfCalibPipeline
+{
+void runBundle(const Context &c, Result &res)
+{
+  auto ts = std::chrono::steady_clock::now();
+  const unsigned int N = c.num_calibration;
+  const std::vector<View> &cal = c.calibration;
+
+  // 1. Scale-consistent poses and points of the calibration views, one focal length.
+  if (!multiView(c, res))
+    return;
+  res.fx = res.multiview.fx;
+  res.fx_sd = res.multiview.fx_sd;
+  ts = std::chrono::steady_clock::now();
+
+  // Without the yardstick, the unit is the reference pair's baseline: give it the nominal length.
+  double s = 1;
+  if (!res.multiview.metric) {
+    const unsigned int r = res.multiview.reference_view;
+    const double nominal_baseline =
+        (c.nominal.get_fMc(cal[r].q).inverse() * c.nominal.get_fMc(cal[0].q)).getTranslationVector().frobeniusNorm();
+    s = nominal_baseline / res.multiview.cMc0[r].getTranslationVector().frobeniusNorm();
+  }
+
+  // 2. Pose-based identification from the multi-view poses: the start of the bundle adjustment.
+  for (unsigned int k = 1; k < N; ++k) {
+    if (!res.multiview.posed[k])
+      continue;
+    Rigid M = rigidFromVisp(res.multiview.cMc0[k]);
+    M.t *= s;
+    res.measurements.push_back(poseMeasurement(cal[k].q, cal[0].q, toVisp(M), M.t.norm(), c.options));
+  }
+  c.report("identification from the multi-view poses", 0, 1);
+  res.identification = vpKinematicIdentification::identify(c.nominal, res.measurements, c.options.identification);
+  const vpKinematicChain start =
+      res.identification.status == vpKinematicIdentification::OK ? res.identification.chain : c.nominal;
+  res.stage_seconds.push_back({"identification", seconds(ts)});
+
+  // 3. Kinematic bundle adjustment, points moved to f through the start model.
+  vpKinematicBundleAdjustment::Options bo = c.bundle;
+  // The same estimated set as the identification that gave the start (the others are still at the
+  // nominal values); QR pivoting at the start model could pick another, equivalent set, and the
+  // parameters left out would then keep the identification's values.
+  if (res.identification.status == vpKinematicIdentification::OK)
+    for (const auto &u : res.identification.identifiability.unidentifiable)
+      if (std::find(bo.fixed.begin(), bo.fixed.end(), u.name) == bo.fixed.end())
+        bo.fixed.push_back(u.name);
+  if (!bundle(c, start, start.get_fMc(cal[0].q), s, cal, bo, "kinematic bundle adjustment", res))
+    return;
+  // The parameters fixed above because the identification found them dependent keep its reason.
+  const std::vector<std::string> &caller_fixed = c.bundle.fixed;
+  for (auto &u : res.identifiability.unidentifiable)
+    for (const auto &v : res.identification.identifiability.unidentifiable)
+      if (u.name == v.name && std::find(caller_fixed.begin(), caller_fixed.end(), u.name) == caller_fixed.end())
+        u.reason = v.reason;
+}
+} // namespace vpSelfCalibPipeline

@@ -1,0 +1,178 @@
+/*
+ * ViSP SelfCalib: the paper's self-calibration procedure (Section 4.1, steps 2-4; step 5, the
+ * verification, is shared by every method).
+ */
+#include "vpSelfCalibPipelines.h"
+
+#include <algorithm>
+#include <map>
+#include <sstream>
+
+#include "../core/vpSelfCalibMath.h"
+
+using namespace vpSelfCalib;
+
+namespace vpSelfCalibPipeline
+{
+namespace
+{
+// Correspondences of two views by scene id.
+void correspondences(const View &a, const View &b, std::vector<vpImagePoint> &pa, std::vector<vpImagePoint> &pb)
+{
+  std::map<int, vpImagePoint> second;
+  for (const auto &o : b.points)
+    second[o.id] = o.ip;
+  pa.clear();
+  pb.clear();
+  for (const auto &o : a.points) {
+    auto it = second.find(o.id);
+    if (it != second.end()) {
+      pa.push_back(o.ip);
+      pb.push_back(it->second);
+    }
+  }
+}
+
+bool findPoint(const View &v, int id, vpImagePoint &ip)
+{
+  for (const auto &o : v.points)
+    if (o.id == id) {
+      ip = o.ip;
+      return true;
+    }
+  return false;
+}
+
+/*
+  Step 2: pose measurements c_iMc_1 (unit translation) on the pairs (1, i), i = 2..N, by the refined
+  nonlinear factor method, the focal length shared by all pairs, per pair (the median kept) or known.
+  False (TWO_VIEW_FAILED) when the shared focal length does not converge.
+*/
+bool measurePoses(const Context &c, Result &res)
+{
+  const unsigned int N = c.num_calibration;
+  vpTwoViewEstimator::Options to = c.twoview;
+  std::vector<std::vector<vpImagePoint>> p1(N - 1), p2(N - 1);
+  for (unsigned int i = 1; i < N; ++i)
+    correspondences(c.calibration[0], c.calibration[i], p1[i - 1], p2[i - 1]);
+  if (c.mode == vpRobotSelfCalibration::FOCAL_SHARED) {
+    c.report("pose measurements (shared focal length)", 0, N - 1);
+    const vpTwoViewEstimator::SharedResult sr = vpTwoViewEstimator::estimateShared(p1, p2, to);
+    res.pairs = sr.pairs;
+    if (!sr.converged) {
+      res.status = vpRobotSelfCalibration::TWO_VIEW_FAILED;
+      res.message = "shared focal length: " + sr.message;
+      return false;
+    }
+    res.fx = sr.fx;
+    res.fx_sd = sr.fx_sd;
+  } else {
+    std::vector<double> focals;
+    for (unsigned int i = 1; i < N; ++i) {
+      c.report("pose measurements", i - 1, N - 1);
+      res.pairs.push_back(vpTwoViewEstimator::estimate(p1[i - 1], p2[i - 1], to));
+      if (res.pairs.back().status == vpTwoViewEstimator::OK)
+        focals.push_back(res.pairs.back().fx);
+    }
+    if (c.mode == vpRobotSelfCalibration::FOCAL_KNOWN)
+      res.fx = c.dataset.cam.get_px();
+    else if (!focals.empty()) {
+      std::nth_element(focals.begin(), focals.begin() + focals.size() / 2, focals.end());
+      res.fx = focals[focals.size() / 2];
+    }
+  }
+  if (res.fx > 0)
+    res.camera.initPersProjWithoutDistortion(res.fx, res.fx * to.mu, to.u0, to.v0);
+  return true;
+}
+
+/*
+  Steps 3 and 4: the eq. 21 ratios from the nominal model, the global scale from the yardstick seen
+  in the pairs with a pose, then the scaled pose measurements (|T_i| = ratio_i |k_1|). False
+  (SCALE_FAILED, TWO_VIEW_FAILED) when the scale cannot be fixed or no pair gave a pose.
+*/
+bool scalePoses(const Context &c, Result &res)
+{
+  const unsigned int N = c.num_calibration;
+  const std::vector<View> &cal = c.calibration;
+  const vpSelfCalibDataset::Yardstick &ys = c.dataset.yardstick;
+  std::vector<vpColVector> qcal;
+  for (unsigned int i = 0; i < N; ++i)
+    qcal.push_back(cal[i].q);
+  res.ratios = vpPoseScale::nominalRatios(c.nominal, qcal);
+
+  std::vector<vpPoseScale::YardstickView> yv;
+  vpImagePoint a1, b1;
+  const bool in_first = findPoint(cal[0], ys.id_a, a1) && findPoint(cal[0], ys.id_b, b1);
+  for (unsigned int i = 1; i < N && in_first; ++i) {
+    const vpTwoViewEstimator::Result &r = res.pairs[i - 1];
+    vpPoseScale::YardstickView v;
+    if (r.status != vpTwoViewEstimator::OK || !findPoint(cal[i], ys.id_a, v.a2) || !findPoint(cal[i], ys.id_b, v.b2))
+      continue;
+    v.c2Mc1 = r.c2Mc1;
+    v.ratio = res.ratios[i - 1];
+    v.a1 = a1;
+    v.b1 = b1;
+    yv.push_back(v);
+  }
+  if (res.fx > 0) {
+    res.scale = vpPoseScale::yardstick(yv, ys.length, res.fx, c.twoview.u0, c.twoview.v0, c.twoview.mu);
+  }
+  if (res.scale.status != vpPoseScale::OK) {
+    res.status = vpRobotSelfCalibration::SCALE_FAILED;
+    res.message = yv.empty() ? "the yardstick is not seen in both images of any pair with a pose measurement "
+                               "(it must be seen in the first view and at least one other)"
+                             : "yardstick: " + res.scale.message;
+    return false;
+  }
+
+  for (unsigned int i = 1; i < N; ++i) {
+    const vpTwoViewEstimator::Result &r = res.pairs[i - 1];
+    if (r.status != vpTwoViewEstimator::OK)
+      continue;
+    Rigid M = rigidFromVisp(r.c2Mc1);
+    const double norm = res.ratios[i - 1] * res.scale.scale;
+    M.t = M.t.normalized() * norm;
+    res.measurements.push_back(poseMeasurement(cal[i].q, cal[0].q, toVisp(M), norm, c.options));
+  }
+  if (res.measurements.empty()) {
+    res.status = vpRobotSelfCalibration::TWO_VIEW_FAILED;
+    res.message = "no pair gave a pose measurement";
+    return false;
+  }
+  return true;
+}
+} // namespace
+
+void runPaper(const Context &c, Result &res)
+{
+  auto ts = std::chrono::steady_clock::now();
+  if (!measurePoses(c, res))
+    return;
+  res.stage_seconds.push_back({"two-view poses", seconds(ts)});
+  ts = std::chrono::steady_clock::now();
+
+  if (!scalePoses(c, res))
+    return;
+  res.stage_seconds.push_back({"scale", seconds(ts)});
+  ts = std::chrono::steady_clock::now();
+
+  // Identification from the nominal model (the paper's step 3, on metric measurements: see the class).
+  c.report("identification", 0, 1);
+  res.identification = vpKinematicIdentification::identify(c.nominal, res.measurements, c.options.identification);
+  res.calibrated = res.identification.chain;
+  res.stage_seconds.push_back({"identification", seconds(ts)});
+  if (res.identification.status != vpKinematicIdentification::OK) {
+    res.status = vpRobotSelfCalibration::IDENTIFICATION_FAILED;
+    res.message = res.identification.message;
+    return;
+  }
+  res.identifiability = res.identification.identifiability;
+  res.parameter_sd = res.identification.sd;
+  res.status = vpRobotSelfCalibration::OK;
+  std::ostringstream os;
+  os << "ok: " << res.measurements.size() << " pose measurements, " << res.identification.identifiability.identified.size()
+     << " parameters identified";
+  res.message = os.str();
+}
+} // namespace vpSelfCalibPipeline

@@ -1,0 +1,253 @@
+/*
+ * ViSP SelfCalib: the steps the self-calibration pipelines share (data check, view split,
+ * multi-view reconstruction, kinematic bundle adjustment, result check, verification).
+ */
+#include "vpSelfCalibPipelines.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "../core/vpSelfCalibMath.h"
+#include "../core/vpSelfCalibRandom.h"
+
+using namespace vpSelfCalib;
+
+namespace vpSelfCalibPipeline
+{
+namespace
+{
+using Finding = vpSelfCalibDataCheck::Finding;
+
+// Data left unused: observations rejected as wrong matches, or on points the reconstruction could
+// not place. Many of them mean a poor front end.
+void findOutliers(const Context &c, Result &res)
+{
+  const unsigned int total = countObservations(c.calibration);
+  const unsigned int kept = res.bundle.num_observations;
+  if (c.options.method != vpRobotSelfCalibration::PAPER && kept > 0 && total > kept &&
+      total - kept > c.options.outlier_warning * total) {
+    std::ostringstream os;
+    os << total - kept << " of " << total << " observations of the calibration poses ("
+       << static_cast<int>(std::lround(100.0 * (total - kept) / total))
+       << "%) were not used: rejected as wrong matches, or on points the reconstruction could not place; check the "
+          "correspondences (ratio test, geometric verification, the dot detection) and that every pose's joints "
+          "belong to its image";
+    res.findings.push_back(Finding{vpSelfCalibDataCheck::WARNING, "outliers", os.str()});
+  }
+}
+
+// A yardstick in the data that the bundle adjustment could not use.
+void findYardstickUnused(const Context &c, Result &res)
+{
+  const bool unseen = std::any_of(res.findings.begin(), res.findings.end(),
+                                  [](const Finding &f) { return f.code == "yardstick-unseen"; });
+  if (res.status == vpRobotSelfCalibration::OK && c.options.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT &&
+      c.dataset.yardstick.isSet() && !unseen && res.bundle.scale_source == vpKinematicBundleAdjustment::SCALE_NOMINAL)
+    res.findings.push_back(Finding{vpSelfCalibDataCheck::WARNING, "yardstick-unused",
+                                   "the yardstick is in the data but its points were rejected (wrong matches, or "
+                                   "not placed by the reconstruction): the scale is the nominal model's; check the "
+                                   "yardstick's observations"});
+}
+
+// Parameters that poses spread over the joint ranges identify but these poses do not.
+void findIdentifiabilityLost(const Context &c, Result &res)
+{
+  const vpKinematicChain &nominal = c.nominal;
+  vpSelfCalib::Random rng(0x5e1fca1b, 1);
+  std::vector<vpKinematicIdentification::Measurement> rich;
+  vpColVector q0(nominal.getNumJoints());
+  for (unsigned int k = 0; k <= 4 * nominal.getNumJoints() + 6; ++k) {
+    vpColVector q(nominal.getNumJoints());
+    for (unsigned int j = 0; j < q.size(); ++j)
+      q[j] = rng.uniform(nominal.getJoints()[j].min, nominal.getJoints()[j].max);
+    if (k == 0) {
+      q0 = q;
+      continue;
+    }
+    vpKinematicIdentification::Measurement m;
+    m.q = q;
+    m.q_ref = q0;
+    m.M = nominal.get_fMc(q).inverse() * nominal.get_fMc(q0);
+    rich.push_back(m);
+  }
+  vpKinematicIdentification::Options io = c.options.identification;
+  for (const std::string &f : c.bundle.fixed)
+    io.fixed.push_back(f);
+  const auto best = vpKinematicIdentification::analyse(nominal, rich, io);
+  std::vector<std::string> lost;
+  for (unsigned int i : best.identified)
+    if (std::find(res.identifiability.identified.begin(), res.identifiability.identified.end(), i) ==
+        res.identifiability.identified.end())
+      lost.push_back(nominal.getParameterNames()[i]);
+  if (res.identifiability.identified.size() < best.identified.size()) {
+    std::ostringstream os;
+    os << "these " << c.num_calibration << " poses identify " << res.identifiability.identified.size()
+       << " parameters, poses spread over the joint ranges " << best.identified.size() << " (not identified here:";
+    for (size_t k = 0; k < lost.size() && k < 6; ++k)
+      os << " " << lost[k];
+    os << (lost.size() > 6 ? " ...)" : ")") << ": add poses that move every joint, with rotations of 10 deg or more";
+    res.findings.push_back(Finding{vpSelfCalibDataCheck::WARNING, "identifiability-lost", os.str()});
+  }
+}
+} // namespace
+
+Context::Context(const vpKinematicChain &nominal_, const vpSelfCalibDataset &dataset_,
+                 const vpRobotSelfCalibration::Options &options_, unsigned int num_calibration_,
+                 const vpRobotSelfCalibration::Progress &progress_)
+  : nominal(nominal_), dataset(dataset_), options(options_), progress(progress_), num_calibration(num_calibration_),
+    mode(vpRobotSelfCalibration::resolveFocalMode(options_, dataset_)),
+    calibration(dataset_.views.begin(), dataset_.views.begin() + num_calibration_),
+    verification(dataset_.views.begin() + num_calibration_, dataset_.views.end()),
+    twoview(vpRobotSelfCalibration::twoViewOptions(options_, dataset_)),
+    multiview(vpRobotSelfCalibration::multiViewOptions(options_, dataset_)),
+    bundle(vpRobotSelfCalibration::bundleOptions(options_, dataset_)),
+    data_check(vpRobotSelfCalibration::dataCheckOptions(options_))
+{
+}
+
+void Context::report(const std::string &stage, unsigned int done, unsigned int total) const
+{
+  if (progress)
+    progress(stage, done, total);
+}
+
+double seconds(const std::chrono::steady_clock::time_point &since)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+unsigned int countObservations(const std::vector<View> &views)
+{
+  unsigned int total = 0;
+  for (const auto &v : views)
+    total += static_cast<unsigned int>(v.points.size());
+  return total;
+}
+
+vpKinematicIdentification::Measurement poseMeasurement(const vpColVector &q, const vpColVector &q_ref,
+                                                       const vpHomogeneousMatrix &M, double translation_norm,
+                                                       const vpRobotSelfCalibration::Options &options)
+{
+  vpKinematicIdentification::Measurement m;
+  m.q = q;
+  m.q_ref = q_ref;
+  m.M = M;
+  m.sd_rotation = options.pose_sd_rotation;
+  m.sd_position = std::max(1e-6, translation_norm * options.pose_sd_direction);
+  return m;
+}
+
+bool checkData(const Context &c, Result &res)
+{
+  res.findings = vpSelfCalibDataCheck::check(c.nominal, c.dataset, c.num_calibration,
+                                             c.options.method == vpRobotSelfCalibration::HAND_EYE, c.data_check);
+  if (!vpSelfCalibDataCheck::degenerate(res.findings))
+    return true;
+  res.status = vpRobotSelfCalibration::DEGENERATE_DATA;
+  for (const auto &f : res.findings)
+    if (f.severity == vpSelfCalibDataCheck::DEGENERATE)
+      res.message += (res.message.empty() ? "" : "; ") + f.message;
+  return false;
+}
+
+bool multiView(const Context &c, Result &res)
+{
+  c.report("multi-view reconstruction", 0, 1);
+  res.multiview = vpMultiViewReconstruction::reconstruct(c.calibration, c.dataset.yardstick, c.multiview);
+  res.pairs = res.multiview.pairs;
+  res.stage_seconds.push_back({"two-view poses", res.multiview.seconds_twoview});
+  res.stage_seconds.push_back({"multi-view bundle adjustment", res.multiview.seconds_bundle});
+  if (res.multiview.status != vpMultiViewReconstruction::OK) {
+    res.status = vpRobotSelfCalibration::TWO_VIEW_FAILED;
+    res.message = std::string("multi-view reconstruction: ") + res.multiview.message;
+    return false;
+  }
+  const size_t num_views = c.calibration.size();
+  const unsigned int posed =
+      static_cast<unsigned int>(std::count(res.multiview.posed.begin(), res.multiview.posed.end(), true));
+  const unsigned int needed = std::max<unsigned int>(
+      3, static_cast<unsigned int>(std::ceil(c.options.min_posed_fraction * static_cast<double>(num_views))));
+  if (posed < needed) {
+    res.status = vpRobotSelfCalibration::TWO_VIEW_FAILED;
+    res.message = "multi-view reconstruction: only " + std::to_string(posed) + " of " + std::to_string(num_views) +
+                  " calibration views could be placed (" + std::to_string(needed) +
+                  " needed): too many wrong matches, or too little overlap between the views";
+    return false;
+  }
+  res.fx = res.multiview.fx;
+  res.fx_sd = res.multiview.fx_sd;
+  return true;
+}
+
+bool bundle(const Context &c, const vpKinematicChain &start, const vpHomogeneousMatrix &fMc0_, double s,
+            const std::vector<View> &views, const vpKinematicBundleAdjustment::Options &bo, const std::string &label,
+            Result &res)
+{
+  c.report(label, 0, 1);
+  const Rigid fMc0 = rigidFromVisp(fMc0_);
+  std::map<int, vpColVector> points;
+  for (const auto &e : res.multiview.points) {
+    const Eigen::Vector3d x = fMc0 * (s * vec3(e.second));
+    vpColVector v(3);
+    for (unsigned int a = 0; a < 3; ++a)
+      v[a] = x(a);
+    points[e.first] = v;
+  }
+  const vpSelfCalibDataset &ds = c.dataset;
+  vpCameraParameters cam0 = ds.cam;
+  cam0.initPersProjWithoutDistortion(res.multiview.fx, res.multiview.fx * ds.cam.get_py() / ds.cam.get_px(),
+                                     ds.cam.get_u0(), ds.cam.get_v0());
+  res.bundle = vpKinematicBundleAdjustment::adjust(start, cam0, views, ds.yardstick, points, bo);
+  res.stage_seconds.push_back({label, res.bundle.seconds_solve});
+  res.stage_seconds.push_back({"covariance", res.bundle.seconds_covariance});
+  res.calibrated = res.bundle.chain;
+  res.camera = res.bundle.camera;
+  res.identifiability = res.bundle.identifiability;
+  res.parameter_sd = res.bundle.sd;
+  if (res.bundle.status != vpKinematicBundleAdjustment::OK) {
+    res.status = vpRobotSelfCalibration::IDENTIFICATION_FAILED;
+    res.message = label + ": " + res.bundle.message;
+    return false;
+  }
+  const unsigned int total = countObservations(views);
+  const double max_outlier_fraction = c.options.max_outlier_fraction;
+  if (total > res.bundle.num_observations && total - res.bundle.num_observations > max_outlier_fraction * total) {
+    std::ostringstream os;
+    os << label << ": " << total - res.bundle.num_observations << " of " << total
+       << " observations were not used (rejected as wrong matches, or on points the reconstruction could not "
+          "place), more than "
+       << std::lround(100 * max_outlier_fraction) << "%: a model resting on the rest is not trusted";
+    res.status = vpRobotSelfCalibration::IDENTIFICATION_FAILED;
+    res.message = os.str();
+    return false;
+  }
+  res.fx = res.camera.get_px();
+  res.fx_sd = res.bundle.fx_sd;
+  res.status = vpRobotSelfCalibration::OK;
+  res.message = "multi-view " + res.multiview.message + "; " + label + " " + res.bundle.message;
+  return true;
+}
+
+void checkResult(const Context &c, Result &res)
+{
+  findOutliers(c, res);
+  findYardstickUnused(c, res);
+  if (res.status != vpRobotSelfCalibration::OK || c.options.method == vpRobotSelfCalibration::HAND_EYE)
+    return;
+  findIdentifiabilityLost(c, res);
+}
+
+void verify(const Context &c, Result &res)
+{
+  if (c.verification.size() < 2)
+    return;
+  c.report("verification", 0, 1);
+  const auto tv = std::chrono::steady_clock::now();
+  res.before = vpCalibrationVerifier::verify(c.nominal, c.dataset.cam, c.verification, c.dataset.yardstick);
+  res.after = vpCalibrationVerifier::verify(res.calibrated, res.camera, c.verification, c.dataset.yardstick);
+  res.verified = true;
+  res.stage_seconds.push_back({"verification", seconds(tv)});
+}
+} // namespace vpSelfCalibPipeline

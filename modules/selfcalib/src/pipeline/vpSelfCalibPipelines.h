@@ -1,0 +1,83 @@
+/*
+ * ViSP SelfCalib: private interface of the pipelines behind vpRobotSelfCalibration (not installed).
+ * vpRobotSelfCalibration::run checks the inputs, builds a Context and dispatches to one pipeline per
+ * method (vpSelfCalibPaperPipeline.cpp, vpSelfCalibBundlePipeline.cpp, vpSelfCalibHandEyePipeline.cpp);
+ * the steps they share are in vpSelfCalibPipelineSteps.cpp.
+ */
+#ifndef VP_SELFCALIB_PIPELINES_H
+#define VP_SELFCALIB_PIPELINES_H
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include <visp3/selfcalib/vpRobotSelfCalibration.h>
+
+namespace vpSelfCalibPipeline
+{
+using Result = vpRobotSelfCalibration::Result;
+using View = vpSelfCalibDataset::View;
+
+/*!
+  What a run works on: its inputs, the focal mode resolved, the views split (the first
+  num_calibration for calibration, the rest for verification) and the options of every step, built
+  once from the caller's Options by vpRobotSelfCalibration's builders. The pipelines read the steps'
+  options from here, never from options.twoview, .multiview, .bundle or .data_check.
+*/
+struct Context {
+  Context(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
+          const vpRobotSelfCalibration::Options &options, unsigned int num_calibration,
+          const vpRobotSelfCalibration::Progress &progress);
+
+  const vpKinematicChain &nominal;
+  const vpSelfCalibDataset &dataset;
+  const vpRobotSelfCalibration::Options &options;
+  const vpRobotSelfCalibration::Progress &progress;
+  const unsigned int num_calibration;
+  const vpRobotSelfCalibration::FocalMode mode;
+  const std::vector<View> calibration, verification;
+  const vpTwoViewEstimator::Options twoview;
+  const vpMultiViewReconstruction::Options multiview;
+  const vpKinematicBundleAdjustment::Options bundle;
+  const vpSelfCalibDataCheck::Options data_check;
+
+  //! Reports progress when the caller gave a callback.
+  void report(const std::string &stage, unsigned int done, unsigned int total) const;
+};
+
+// The pipelines, one per method: each fills result (status, message, model, statistics).
+void runPaper(const Context &context, Result &result);
+void runBundle(const Context &context, Result &result);
+void runHandEye(const Context &context, Result &result);
+
+// Steps shared by the pipelines.
+
+//! Wall time since a point (s).
+double seconds(const std::chrono::steady_clock::time_point &since);
+//! Observations (image points) of views.
+unsigned int countObservations(const std::vector<View> &views);
+//! A pose measurement c_iMc_ref with its weights: position sd from the length of its translation.
+vpKinematicIdentification::Measurement poseMeasurement(const vpColVector &q, const vpColVector &q_ref,
+                                                       const vpHomogeneousMatrix &M, double translation_norm,
+                                                       const vpRobotSelfCalibration::Options &options);
+//! The data check before calibrating: findings into the result; false (DEGENERATE_DATA) when the
+//! data cannot determine the calibration.
+bool checkData(const Context &context, Result &result);
+//! The multi-view reconstruction of the calibration views; false (TWO_VIEW_FAILED) when it fails or
+//! places too few views.
+bool multiView(const Context &context, Result &result);
+/*!
+  The kinematic bundle adjustment from a start model, the multi-view points moved to f by fMc0 (the
+  start's pose of view 0) and scaled by s; fills the result. False (IDENTIFICATION_FAILED) when it
+  fails or leaves too many observations unused.
+*/
+bool bundle(const Context &context, const vpKinematicChain &start, const vpHomogeneousMatrix &fMc0, double s,
+            const std::vector<View> &views, const vpKinematicBundleAdjustment::Options &bundle_options,
+            const std::string &label, Result &result);
+//! Findings after a run: many outliers, an unused yardstick, parameters a richer trajectory would identify.
+void checkResult(const Context &context, Result &result);
+//! Step 5: the yardstick 3-D error on the verification views, nominal and calibrated (2 views or more).
+void verify(const Context &context, Result &result);
+} // namespace vpSelfCalibPipeline
+
+#endif
