@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "../core/vpSelfCalibMath.h"
-#include "../core/vpSelfCalibRandom.h"
+#include "../core/vpSelfCalibCamera.h"
 
 using namespace vpSelfCalib;
 
@@ -55,27 +55,12 @@ void findYardstickUnused(const Context &c, Result &res)
 void findIdentifiabilityLost(const Context &c, Result &res)
 {
   const vpKinematicChain &nominal = c.nominal;
-  vpSelfCalib::Random rng(0x5e1fca1b, 1);
-  std::vector<vpKinematicIdentification::Measurement> rich;
-  vpColVector q0(nominal.getNumJoints());
-  for (unsigned int k = 0; k <= 4 * nominal.getNumJoints() + 6; ++k) {
-    vpColVector q(nominal.getNumJoints());
-    for (unsigned int j = 0; j < q.size(); ++j)
-      q[j] = rng.uniform(nominal.getJoints()[j].min, nominal.getJoints()[j].max);
-    if (k == 0) {
-      q0 = q;
-      continue;
-    }
-    vpKinematicIdentification::Measurement m;
-    m.q = q;
-    m.q_ref = q0;
-    m.M = nominal.get_fMc(q).inverse() * nominal.get_fMc(q0);
-    rich.push_back(m);
-  }
+  const std::vector<vpColVector> rich =
+      vpKinematicIdentification::randomConfigurations(nominal, 4 * nominal.getNumJoints() + 7, 0x5e1fca1b, 1);
   vpKinematicIdentification::Options io = c.options.identification;
   for (const std::string &f : c.bundle.fixed)
     io.fixed.push_back(f);
-  const auto best = vpKinematicIdentification::analyse(nominal, rich, io);
+  const auto best = vpKinematicIdentification::analyseConfigurations(nominal, rich, io);
   std::vector<std::string> lost;
   for (unsigned int i : best.identified)
     if (std::find(res.identifiability.identified.begin(), res.identifiability.identified.end(), i) ==
@@ -152,10 +137,31 @@ bool checkData(const Context &c, Result &res)
   return false;
 }
 
+/*
+  The views with their pixels moved through the inverse of the camera's distortion (pinhole pixels
+  of the same camera), for the steps that model a pinhole camera (the multi-view reconstruction);
+  the views themselves when the camera has no distortion.
+*/
+std::vector<View> undistorted(const std::vector<View> &views, const vpCameraParameters &cam)
+{
+  const CameraModel camera = CameraModel::fromVisp(cam);
+  if (camera.distortion() == Distortion::NONE)
+    return views;
+  const CameraModel pinhole = camera.withoutDistortion();
+  std::vector<View> out = views;
+  for (View &v : out)
+    for (auto &o : v.points) {
+      const Eigen::Vector2d uv = pinhole.pixel(camera.unproject(Eigen::Vector2d(o.ip.get_u(), o.ip.get_v())));
+      o.ip = vpImagePoint(uv(1), uv(0));
+    }
+  return out;
+}
+
 bool multiView(const Context &c, Result &res)
 {
   c.report("multi-view reconstruction", 0, 1);
-  res.multiview = vpMultiViewReconstruction::reconstruct(c.calibration, c.dataset.yardstick, c.multiview);
+  res.multiview = vpMultiViewReconstruction::reconstruct(undistorted(c.calibration, c.dataset.cam),
+                                                         c.dataset.yardstick, c.multiview);
   res.pairs = res.multiview.pairs;
   res.stage_seconds.push_back({"two-view poses", res.multiview.seconds_twoview});
   res.stage_seconds.push_back({"multi-view bundle adjustment", res.multiview.seconds_bundle});
@@ -196,9 +202,10 @@ bool bundle(const Context &c, const vpKinematicChain &start, const vpHomogeneous
     points[e.first] = v;
   }
   const vpSelfCalibDataset &ds = c.dataset;
-  vpCameraParameters cam0 = ds.cam;
-  cam0.initPersProjWithoutDistortion(res.multiview.fx, res.multiview.fx * ds.cam.get_py() / ds.cam.get_px(),
-                                     ds.cam.get_u0(), ds.cam.get_v0());
+  // The dataset's camera (its distortion included) with the multi-view focal length.
+  CameraModel start_camera = CameraModel::fromVisp(ds.cam);
+  start_camera.intrinsics()[0] = res.multiview.fx;
+  const vpCameraParameters cam0 = start_camera.toVisp();
   res.bundle = vpKinematicBundleAdjustment::adjust(start, cam0, views, ds.yardstick, points, bo);
   res.stage_seconds.push_back({label, res.bundle.seconds_solve});
   res.stage_seconds.push_back({"covariance", res.bundle.seconds_covariance});
