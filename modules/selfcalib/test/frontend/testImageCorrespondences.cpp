@@ -7,7 +7,7 @@
 #include <visp3/selfcalib/vpSelfCalibImageCorrespondences.h>
 #include <visp3/selfcalib/vpSelfCalibRenderer.h>
 
-#include "testCommon.h"
+#include "../testCommon.h"
 
 // Rendered images, one of them blank: its view is left out, the others get the front end's points
 // and the yardstick its ends; the method is the one asked for, bundle adjustment by default.
