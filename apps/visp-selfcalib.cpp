@@ -183,9 +183,11 @@ void addSimulate(CLI::App &app, SimulateArgs &a)
   c->add_option("--focal", a.focal, "known (default: px, py in the file) or shared (f to be self-calibrated)")
       ->type_name("MODE")
       ->check(CLI::IsMember(focalNames({vpRobotSelfCalibration::FOCAL_KNOWN, vpRobotSelfCalibration::FOCAL_SHARED})));
-  c->add_flag("--controller-poses", a.controller, "the true end-effector poses fMe instead of joints (hand-eye datasets)");
-  c->add_flag("--images", a.images, "render the images (OUT's directory/images/) and write no points: calibrate\n"
-                                    "then runs the image front end");
+  c->add_flag("--controller-poses", a.controller,
+              "the true end-effector poses fMe instead of joints (hand-eye datasets)");
+  c->add_flag("--images", a.images,
+              "render the images (OUT's directory/images/) and write no points: calibrate\n"
+              "then runs the image front end");
   c->add_option("--target", a.target,
                 "textured (default: photographs on two planes, natural features) or dots (the\n"
                 "paper's experiment: dot grids 4x5 and 4x9 on the two planes; needs --images;\n"
@@ -302,24 +304,29 @@ std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinemat
   out << YAML::Key << "method" << YAML::Value << vpRobotSelfCalibration::methodName(r.method);
   out << YAML::Key << "status" << YAML::Value << vpRobotSelfCalibration::statusName(r.status);
   out << YAML::Key << "message" << YAML::Value << YAML::DoubleQuoted << r.message;
-  out << YAML::Key << "findings" << YAML::Comment("what the data check found, and what to do") << YAML::Value
-      << YAML::BeginSeq;
+  const char *findings_comment = "what the data check found, and what to do";
+  out << YAML::Key << "findings";
+  if (r.findings.empty())
+    out << YAML::Value << YAML::Flow << YAML::BeginSeq << YAML::EndSeq << YAML::Comment(findings_comment);
+  else
+    out << YAML::Comment(findings_comment) << YAML::Value << YAML::BeginSeq;
   for (const auto &f : r.findings)
     out << YAML::Flow << YAML::BeginMap << YAML::Key << "code" << YAML::Value << f.code << YAML::Key << "severity"
         << YAML::Value << (f.severity == vpSelfCalibDataCheck::DEGENERATE ? "degenerate" : "warning") << YAML::Key
         << "message" << YAML::Value << YAML::DoubleQuoted << f.message << YAML::EndMap;
-  out << YAML::EndSeq;
+  if (!r.findings.empty())
+    out << YAML::EndSeq;
   out << YAML::Key << "camera" << YAML::Value << YAML::Flow << YAML::BeginMap;
-  out << YAML::Key << "px" << YAML::Value << r.camera.get_px() << YAML::Key << "py" << YAML::Value
-      << r.camera.get_py() << YAML::Key << "u0" << YAML::Value << r.camera.get_u0() << YAML::Key << "v0"
-      << YAML::Value << r.camera.get_v0() << YAML::Key << "px_sd" << YAML::Value << r.fx_sd;
+  out << YAML::Key << "px" << YAML::Value << r.camera.get_px() << YAML::Key << "py" << YAML::Value << r.camera.get_py()
+      << YAML::Key << "u0" << YAML::Value << r.camera.get_u0() << YAML::Key << "v0" << YAML::Value << r.camera.get_v0()
+      << YAML::Key << "px_sd" << YAML::Value << r.fx_sd;
   out << YAML::EndMap;
   if (r.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT) {
     out << YAML::Key << "bundle_adjustment" << YAML::Value << YAML::Flow << YAML::BeginMap;
     out << YAML::Key << "observations" << YAML::Value << r.bundle.num_observations << YAML::Key << "dropped"
         << YAML::Value << r.bundle.num_outliers << YAML::Key << "rms_px" << YAML::Value << r.bundle.rms << YAML::Key
-        << "sigma0" << YAML::Value << r.bundle.sigma0 << YAML::Key << "scale_from" << YAML::Value
-        << YAML::DoubleQuoted << vpKinematicBundleAdjustment::scaleSourceName(r.bundle.scale_source);
+        << "sigma0" << YAML::Value << r.bundle.sigma0 << YAML::Key << "scale_from" << YAML::Value << YAML::DoubleQuoted
+        << vpKinematicBundleAdjustment::scaleSourceName(r.bundle.scale_source);
     out << YAML::EndMap;
   }
   const std::vector<std::string> names = nominal.getParameterNames();
@@ -358,7 +365,8 @@ bool parseDotGrid(const std::string &item, vpFeatureFrontEnd::DotGrid &g)
 {
   const size_t x = item.find('x');
   const std::string digits = "0123456789";
-  if (x == std::string::npos || x == 0 || x + 1 == item.size() || item.substr(0, x).find_first_not_of(digits) != std::string::npos ||
+  if (x == std::string::npos || x == 0 || x + 1 == item.size() ||
+      item.substr(0, x).find_first_not_of(digits) != std::string::npos ||
       item.substr(x + 1).find_first_not_of(digits) != std::string::npos || item.size() > 12)
     return false;
   g.cols = static_cast<unsigned int>(std::stoul(item.substr(0, x)));
@@ -386,8 +394,9 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
       ->check(selfcalibCli::wholeNumber(3));
   c->add_option("--focal", a.focal, "auto (default: known when the dataset gives px, py), known, shared, per-pair")
       ->type_name("MODE")
-      ->check(CLI::IsMember(focalNames({vpRobotSelfCalibration::FOCAL_AUTO, vpRobotSelfCalibration::FOCAL_KNOWN,
-                                        vpRobotSelfCalibration::FOCAL_SHARED, vpRobotSelfCalibration::FOCAL_PER_PAIR})));
+      ->check(
+          CLI::IsMember(focalNames({vpRobotSelfCalibration::FOCAL_AUTO, vpRobotSelfCalibration::FOCAL_KNOWN,
+                                    vpRobotSelfCalibration::FOCAL_SHARED, vpRobotSelfCalibration::FOCAL_PER_PAIR})));
   c->add_option("--pixel-sd", a.pixel_sd, "image noise sd used as weight (default 0.2)")
       ->type_name("PX")
       ->check(selfcalibCli::number(0, true));
@@ -502,9 +511,8 @@ int calibrate(const CalibrateArgs &a)
   std::cout << "\nwrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
   std::cerr << "... report\n";
   const std::string report_dir = (fs::path(out) / "report").string();
-  const vpSelfCalibReport::Result rep = vpSelfCalibReport::write(report_dir, nominal, ds, po, r,
-                                                                 cr.front_end_ran ? &cr.front_end : nullptr,
-                                                                 vpSelfCalibReport::Options());
+  const vpSelfCalibReport::Result rep = vpSelfCalibReport::write(
+      report_dir, nominal, ds, po, r, cr.front_end_ran ? &cr.front_end : nullptr, vpSelfCalibReport::Options());
   std::cout << "report: " << report_dir << "/report.md (" << rep.message << ")\n";
   return 0;
 }
@@ -672,9 +680,10 @@ int run(int argc, char **argv)
                    "that are not zero.");
   info_cmd->add_option("MODEL", info_args.model, kModelHelp)->type_name("NAME|FILE")->required();
   CLI::App *predict_cmd = app.add_subcommand("predict", "fMc for each joint vector (one per line, rad)");
-  predict_cmd->footer("Reads one joint vector per line (rad, separated by spaces or commas; '#' starts a comment) from\n"
-                      "JOINTS_FILE or standard input and prints the camera pose fMc as 'tx ty tz tux tuy tuz' (m, rad)\n"
-                      "per line.");
+  predict_cmd->footer(
+      "Reads one joint vector per line (rad, separated by spaces or commas; '#' starts a comment) from\n"
+      "JOINTS_FILE or standard input and prints the camera pose fMc as 'tx ty tz tux tuy tuz' (m, rad)\n"
+      "per line.");
   predict_cmd->add_option("MODEL", predict_args.model, kModelHelp)->type_name("NAME|FILE")->required();
   predict_cmd->add_option("JOINTS_FILE", predict_args.second, "joint vectors (default: standard input)")
       ->type_name("FILE");

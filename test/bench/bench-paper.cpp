@@ -77,13 +77,14 @@ int main(int argc, char **argv)
         ->type_name("A,B")
         ->delimiter(',')
         ->check(CLI::IsMember(vpKinematicChain::presetNames()));
-    app.add_option("--focal", focals, "focal modes: shared (self-calibrated, default), known, per-pair (the\n"
-                                      "paper; degenerate on this scenario) (default shared,known)")
+    app.add_option("--focal", focals,
+                   "focal modes: shared (self-calibrated, default), known, per-pair (the\n"
+                   "paper; degenerate on this scenario) (default shared,known)")
         ->type_name("A,B")
         ->delimiter(',')
-        ->check(CLI::IsMember(bench::focalModeNames({vpRobotSelfCalibration::FOCAL_SHARED,
-                                                     vpRobotSelfCalibration::FOCAL_KNOWN,
-                                                     vpRobotSelfCalibration::FOCAL_PER_PAIR})));
+        ->check(CLI::IsMember(
+            bench::focalModeNames({vpRobotSelfCalibration::FOCAL_SHARED, vpRobotSelfCalibration::FOCAL_KNOWN,
+                                   vpRobotSelfCalibration::FOCAL_PER_PAIR})));
     app.add_option("--csv", csv_path, "one row per robot, noise, focal mode, seed and experiment")->type_name("FILE");
     const int parsed = selfcalibCli::parse(app, argc, argv);
     if (parsed >= 0)

@@ -36,8 +36,6 @@ namespace
 {
 const unsigned int kPoses = 25, kCalibration = 15;
 
-
-
 struct Row {
   bench::Stats pos, rot, f, ratio, held_pos, held_rot;
   unsigned int failed = 0;
@@ -66,9 +64,9 @@ int main(int argc, char **argv)
         ->check(CLI::IsMember(vpKinematicChain::presetNames()));
     app.add_option("--focal", focal, "shared (default), known or per-pair")
         ->type_name("MODE")
-        ->check(CLI::IsMember(bench::focalModeNames({vpRobotSelfCalibration::FOCAL_SHARED,
-                                                     vpRobotSelfCalibration::FOCAL_KNOWN,
-                                                     vpRobotSelfCalibration::FOCAL_PER_PAIR})));
+        ->check(CLI::IsMember(
+            bench::focalModeNames({vpRobotSelfCalibration::FOCAL_SHARED, vpRobotSelfCalibration::FOCAL_KNOWN,
+                                   vpRobotSelfCalibration::FOCAL_PER_PAIR})));
     app.add_option("--algorithm", algorithm, "lbfgs (default), mma, slsqp, bobyqa")
         ->type_name("NAME")
         ->check(CLI::IsMember({"lbfgs", "mma", "slsqp", "bobyqa"}));

@@ -65,27 +65,31 @@ int parseCommandLine(int argc, char **argv, Args &a)
   app.add_option("--seed", a.opt.seed, "seed of the scenario (default 1)")
       ->type_name("N")
       ->check(selfcalibCli::wholeNumber());
-  app.add_option("--poses", a.poses, "number of configurations, at least 2 (default 25: 15 calibration + 10\n"
-                                     "verification)")
+  app.add_option("--poses", a.poses,
+                 "number of configurations, at least 2 (default 25: 15 calibration + 10\n"
+                 "verification)")
       ->type_name("N")
       ->check(selfcalibCli::wholeNumber(2));
   app.add_option("--noise", a.opt.pixel_noise_sd, "image noise sd in pixels (default 0.2, level I)")
       ->type_name("PX")
       ->check(selfcalibCli::number(0));
-  app.add_option("--method", a.method, "bundle (default: multi-view reconstruction + kinematic bundle adjustment)\n"
-                                       "or paper (the paper's two-view measurements, eq. 21 scale, identification)")
+  app.add_option("--method", a.method,
+                 "bundle (default: multi-view reconstruction + kinematic bundle adjustment)\n"
+                 "or paper (the paper's two-view measurements, eq. 21 scale, identification)")
       ->type_name("M")
       ->check(CLI::IsMember({vpRobotSelfCalibration::methodName(vpRobotSelfCalibration::BUNDLE_ADJUSTMENT),
                              vpRobotSelfCalibration::methodName(vpRobotSelfCalibration::PAPER)}));
-  app.add_option("--focal", a.focal, "known (default), shared (f self-calibrated, one for all views) or\n"
-                                     "per-pair (the paper: f self-calibrated with each pair; bundle: as shared)")
+  app.add_option("--focal", a.focal,
+                 "known (default), shared (f self-calibrated, one for all views) or\n"
+                 "per-pair (the paper: f self-calibrated with each pair; bundle: as shared)")
       ->type_name("MODE")
       ->check(CLI::IsMember({vpRobotSelfCalibration::focalModeName(vpRobotSelfCalibration::FOCAL_KNOWN),
                              vpRobotSelfCalibration::focalModeName(vpRobotSelfCalibration::FOCAL_SHARED),
                              vpRobotSelfCalibration::focalModeName(vpRobotSelfCalibration::FOCAL_PER_PAIR)}));
-  app.add_option("--plan", a.plan, "auto (default: observability with bundle, paper with paper), paper (the\n"
-                                   "paper's optimal trajectory, eqs. 22-39, planned from random feasible poses),\n"
-                                   "observability (O1-optimal choice from a pool of 60) or none (random poses)")
+  app.add_option("--plan", a.plan,
+                 "auto (default: observability with bundle, paper with paper), paper (the\n"
+                 "paper's optimal trajectory, eqs. 22-39, planned from random feasible poses),\n"
+                 "observability (O1-optimal choice from a pool of 60) or none (random poses)")
       ->type_name("MODE")
       ->check(CLI::IsMember({"auto", "paper", "observability", "none"}));
   app.add_option("--acquisition", a.acquisition,
@@ -254,12 +258,14 @@ int main(int argc, char **argv)
       data.yardstick.length = renderer.getYardstickLength();
       if (acquisition == "dots")
         std::cout << "== Acquisition: " << images.size() << " rendered images (dot grids on two planes, blur, noise); "
-                  << "front end (vpDot2 dots, OpenCV circle-grid order): " << cr.grids_found << " of " << fe.grid_seen.size() * images.size()
-                  << " grids found, yardstick dots in " << cr.yardstick_images << " images, " << std::setprecision(1) << fe.seconds << " s\n";
+                  << "front end (vpDot2 dots, OpenCV circle-grid order): " << cr.grids_found << " of "
+                  << fe.grid_seen.size() * images.size() << " grids found, yardstick dots in " << cr.yardstick_images
+                  << " images, " << std::setprecision(1) << fe.seconds << " s\n";
       else
         std::cout << "== Acquisition: " << images.size() << " rendered images (textured planes, blur, noise); "
-                  << "front end (SIFT, ratio + mutual + RANSAC, tracks): " << fe.num_tracks << " tracks, yardstick dots in "
-                  << cr.yardstick_images << " images, " << std::setprecision(1) << fe.seconds << " s\n";
+                  << "front end (SIFT, ratio + mutual + RANSAC, tracks): " << fe.num_tracks
+                  << " tracks, yardstick dots in " << cr.yardstick_images << " images, " << std::setprecision(1)
+                  << fe.seconds << " s\n";
       // A view where the front end found nothing (the grids and the yardstick missed) was left out.
       for (auto d = cr.dropped.rbegin(); d != cr.dropped.rend(); ++d) {
         std::cout << "   pose " << d->index + 1 << ": nothing found in its image, left out\n";

@@ -10,8 +10,8 @@ void vpSelfCalibFileWriter::write(const std::string &filename, const std::string
   vpSelfCalib::writeFileAtomically(filename, content, what);
 }
 
-void vpSelfCalibFileWriter::writeWith(const std::string &filename,
-                                      const std::function<bool(const std::string &)> &fill, const std::string &what)
+void vpSelfCalibFileWriter::writeWith(const std::string &filename, const std::function<bool(const std::string &)> &fill,
+                                      const std::string &what)
 {
   vpSelfCalib::writeFileAtomicallyWith(filename, fill, what);
 }
