@@ -12,119 +12,50 @@
  *   visp-selfcalib verify    MODEL DATASET         the paper's 3-D yardstick error of a model
  *   visp-selfcalib export    MODEL (--urdf OUT | --dh OUT | --mdh OUT)
  *                                                  URDF joint origins, or a corrected (modified) DH table
- * MODEL is a preset name (puma560, viper850) or a robot-model YAML file.
- * Exit codes: 0 success, 1 bad input (message on stderr), 2 bad usage, 3 the calibration failed
- * (its status and message on stderr). Outputs are written atomically and never over an input.
+ * MODEL is a preset name (puma560, viper850) or a robot-model YAML file. The command lines are
+ * CLI11's: 'visp-selfcalib COMMAND --help' lists a command's options.
+ * Exit codes: 0 success, 1 bad input (message on stderr), 2 bad usage (unknown option, missing or
+ * wrong value), 3 the calibration failed (its status and message on stderr). Outputs are written
+ * atomically and never over an input.
  */
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
 #include <string>
 #include <thread>
-
-#include <cstdlib>
-#include <opencv2/core.hpp>
-#include <limits.h>
-#include <sys/stat.h>
 #include <vector>
+
+#include <opencv2/core.hpp>
+#include <yaml-cpp/yaml.h>
 
 #include <visp3/core/vpPoseVector.h>
 #include <visp3/core/vpXmlParserCamera.h>
-#include <visp3/selfcalib/vpCalibrationVerifier.h>
 #include <visp3/io/vpImageIo.h>
+#include <visp3/selfcalib/vpCalibrationVerifier.h>
 #include <visp3/selfcalib/vpFeatureFrontEnd.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpMeasurementPlanner.h>
-#include <visp3/selfcalib/vpSelfCalibRenderer.h>
-#include <visp3/selfcalib/vpSelfCalibReport.h>
 #include <visp3/selfcalib/vpModelExport.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibFileWriter.h>
+#include <visp3/selfcalib/vpSelfCalibImageCorrespondences.h>
+#include <visp3/selfcalib/vpSelfCalibRenderer.h>
+#include <visp3/selfcalib/vpSelfCalibReport.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
+
+#include "selfcalibCli.h"
+
+namespace fs = std::filesystem;
 
 namespace
 {
-struct Command {
-  const char *name;
-  const char *synopsis; //!< after "visp-selfcalib NAME "
-  const char *help;     //!< what it does, its options
-};
-
-const Command kCommands[] = {
-    {"info", "MODEL", "Prints the robot model: convention, joints, number of error-model parameters, the corrections\n"
-                      "that are not zero.\n"},
-    {"predict", "MODEL [JOINTS_FILE]",
-     "Reads one joint vector per line (rad, separated by spaces or commas; '#' starts a comment) from\n"
-     "JOINTS_FILE or standard input and prints the camera pose fMc as 'tx ty tz tux tuy tuz' (m, rad) per line.\n"},
-    {"plan", "OUT.txt [--robot NAME] [--seed N] [--poses N] [--held-out N] [--method observability|paper] [--force]",
-     "Writes calibration poses planned on the reference scenario's nominal model, then random held-out\n"
-     "poses, one joint vector per line.\n"
-     "  --robot NAME      viper850 (default) or puma560\n"
-     "  --seed N          scenario seed (default 1)\n"
-     "  --poses N         calibration poses (default 15)\n"
-     "  --held-out N      held-out poses after them (default 10)\n"
-     "  --method M        observability (default): O1-optimal choice from a pool; paper: the paper's\n"
-     "                    optimal trajectory (eqs. 22-39)\n"
-     "  --force           replace an existing OUT.txt\n"},
-    {"simulate",
-     "OUT.yaml [--robot NAME] [--seed N] [--poses N | --joints FILE] [--noise PX] [--focal known|shared]\n"
-     "                           [--controller-poses] [--images [--target textured|dots]] [--force]",
-     "Writes a dataset of the reference scenario (simulated robot with seeded errors, scene, yardstick).\n"
-     "  --poses N         random feasible poses (default 25); --joints FILE: the poses of a plan\n"
-     "  --noise PX        image noise sd (default 0.2)\n"
-     "  --focal M         known (default: px, py in the file) or shared (f to be self-calibrated)\n"
-     "  --controller-poses  the true end-effector poses fMe instead of joints (hand-eye datasets)\n"
-     "  --images          render the images (OUT's directory/images/) and write no points: calibrate\n"
-     "                    then runs the image front end\n"
-     "  --target T        textured (default: photographs on two planes, natural features) or dots (the\n"
-     "                    paper's experiment: dot grids 4x5 and 4x9 on the two planes; calibrate with\n"
-     "                    --dot-grids 4x5,4x9 --no-features)\n"
-     "  --force           replace an existing OUT.yaml\n"},
-    {"calibrate",
-     "DATASET --out DIR [--method bundle|paper|hand-eye] [--calibration N] [--focal auto|known|shared|per-pair]\n"
-     "                           [--pixel-sd PX] [--threads N] [--dot-grids CxR[,CxR...]] [--no-features]",
-     "Self-calibrates on the first N views and verifies on the others. Writes DIR/model.yaml,\n"
-     "DIR/model.urdf, DIR/camera.xml, DIR/results.yaml and DIR/report/ (report.md, gnuplot figures),\n"
-     "each atomically, never over an input. The data check's findings are printed as warnings.\n"
-     "  --method M        bundle (default; hand-eye when the poses have fMe and no joints): multi-view\n"
-     "                    reconstruction + kinematic bundle adjustment; paper: the paper's procedure;\n"
-     "                    hand-eye: kinematics trusted, eMc, f and points estimated\n"
-     "  --calibration N   calibration views (default 15, or all but 2 when fewer)\n"
-     "  --focal M         auto (default: known when the dataset gives px, py), known, shared, per-pair\n"
-     "  --pixel-sd PX     image noise sd used as weight (default 0.2)\n"
-     "  --threads N       threads of the image front end (default: all cores); the results do not depend on it\n"
-     "  --dot-grids LIST  dot targets for the front end: asymmetric circle grids, C columns x R rows (R odd),\n"
-     "                    grid g numbered from 1000000 + 1000 g; their dots must differ in size\n"
-     "  --no-features     no natural features (dot targets only)\n"
-     "Exit codes: 0 calibrated, 1 bad input, 2 bad usage, 3 failed or degenerate data (message on stderr).\n"},
-    {"verify", "MODEL DATASET", "Prints the paper's 3-D yardstick error of MODEL on the dataset's views.\n"},
-    {"export", "MODEL (--urdf OUT.urdf | --dh OUT.yaml | --mdh OUT.yaml)",
-     "Writes the model as URDF joint origins (exact), or as a DH / modified-DH robot-model file without\n"
-     "corrections when one reproduces it (exit 3 when none does; a warning when it is ill-conditioned).\n"},
-};
-
-int usage(std::ostream &os, int code)
-{
-  os << "Usage:\n";
-  for (const Command &c : kCommands)
-    os << "  visp-selfcalib " << c.name << std::string(10 - std::string(c.name).size(), ' ') << c.synopsis << "\n";
-  os << "MODEL: a preset (puma560, viper850) or a robot-model YAML file. DATASET: a dataset YAML file (README).\n"
-     << "'visp-selfcalib COMMAND --help' describes a command and its options.\n";
-  return code;
-}
-
-//! The help of one command; the global usage for an unknown one.
-int commandHelp(const std::string &name)
-{
-  for (const Command &c : kCommands)
-    if (name == c.name) {
-      std::cout << "Usage: visp-selfcalib " << c.name << " " << c.synopsis << "\n\n" << c.help;
-      return 0;
-    }
-  return usage(std::cout, 0);
-}
+const char *const kProgram = "visp-selfcalib";
+const char *const kModelHelp = "a preset (puma560, viper850) or a robot-model YAML file";
 
 int info(const vpKinematicChain &c)
 {
@@ -194,122 +125,110 @@ int predict(const vpKinematicChain &c, std::istream &in, const std::string &sour
 //! Canonical path of an existing file or directory, or "" when it does not exist.
 std::string canonical(const std::string &p)
 {
-  char buf[PATH_MAX];
-  return realpath(p.c_str(), buf) ? std::string(buf) : std::string();
+  std::error_code ec;
+  const fs::path c = fs::canonical(p, ec);
+  return ec ? std::string() : c.string();
 }
 
-//! Text to a temporary file, then renamed into place; false (with a message) when that fails.
-bool writeAtomically(const std::string &file, const std::string &text)
+//! Creates a directory unless it exists; false when that fails.
+bool makeDirectory(const fs::path &dir)
 {
-  const std::string tmp = file + ".tmp";
-  std::ofstream os(tmp);
-  os << text;
-  os.close();
-  if (!os || std::rename(tmp.c_str(), file.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    std::cerr << "error: cannot write '" << file << "'\n";
-    return false;
-  }
-  return true;
+  std::error_code ec;
+  return fs::is_directory(dir, ec) || fs::create_directory(dir, ec);
 }
 
-struct BadUsage : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-double numberArg(const std::vector<std::string> &a, size_t &i)
+//! The names of focal modes, as the command lines spell them.
+std::vector<std::string> focalNames(std::initializer_list<vpRobotSelfCalibration::FocalMode> modes)
 {
-  if (i + 1 >= a.size())
-    throw BadUsage(a[i] + " needs a value");
-  const std::string &v = a[++i];
-  size_t used = 0;
-  double x = 0;
-  try {
-    x = std::stod(v, &used);
-  } catch (const std::exception &) {
-    used = 0;
-  }
-  if (used == 0 || used != v.size() || !std::isfinite(x))
-    throw BadUsage(a[i - 1] + ": '" + v + "' is not a number");
-  return x;
+  std::vector<std::string> names;
+  for (vpRobotSelfCalibration::FocalMode m : modes)
+    names.push_back(vpRobotSelfCalibration::focalModeName(m));
+  return names;
 }
 
-std::string textArg(const std::vector<std::string> &a, size_t &i)
+//! --robot NAME: a preset.
+CLI::Option *addRobotOption(CLI::App &app, std::string &robot)
 {
-  if (i + 1 >= a.size())
-    throw BadUsage(a[i] + " needs a value");
-  return a[++i];
+  return app.add_option("--robot", robot, "the robot: viper850 (default) or puma560")
+      ->type_name("NAME")
+      ->check(CLI::IsMember(vpKinematicChain::presetNames()));
 }
 
-int simulate(const std::vector<std::string> &a)
-{
-  std::string out, robot = "viper850", focal = "known";
+// ---------------------------------------------------------------------------------------------
+// simulate
+
+struct SimulateArgs {
+  std::string out, robot = "viper850", focal = "known", target = "textured", joints_file;
   vpSelfCalibSimulator::Options so;
   unsigned int poses = 25;
   bool force = false, controller = false, images = false;
-  std::string target = "textured";
-  std::string joints_file;
-  for (size_t i = 0; i < a.size(); ++i) {
-    if (a[i] == "--joints")
-      joints_file = textArg(a, i);
-    else if (a[i] == "--controller-poses")
-      controller = true;
-    else if (a[i] == "--images")
-      images = true;
-    else if (a[i] == "--target")
-      target = textArg(a, i);
-    else if (a[i] == "--robot")
-      robot = textArg(a, i);
-    else if (a[i] == "--seed")
-      so.seed = static_cast<uint64_t>(numberArg(a, i));
-    else if (a[i] == "--poses")
-      poses = static_cast<unsigned int>(numberArg(a, i));
-    else if (a[i] == "--noise")
-      so.pixel_noise_sd = numberArg(a, i);
-    else if (a[i] == "--focal")
-      focal = textArg(a, i);
-    else if (a[i] == "--force")
-      force = true;
-    else if (!a[i].empty() && a[i][0] == '-')
-      throw BadUsage("simulate: unknown option '" + a[i] + "'");
-    else if (out.empty())
-      out = a[i];
-    else
-      throw BadUsage("simulate: one output file");
-  }
-  if (out.empty())
-    throw BadUsage("simulate: the output file is missing");
-  if (target != "textured" && target != "dots")
-    throw BadUsage("simulate: --target is textured or dots");
-  if (target == "dots" && !images)
-    throw BadUsage("simulate: --target dots renders images: add --images");
-  if (focal != "known" && focal != "shared")
-    throw BadUsage("simulate: --focal is known or shared");
-  if (poses < 3)
-    throw BadUsage("simulate: --poses must be at least 3");
-  if (!force && !canonical(out).empty()) {
+};
+
+void addSimulate(CLI::App &app, SimulateArgs &a)
+{
+  CLI::App *c = app.add_subcommand("simulate", "a dataset of the reference scenario (observations or images)");
+  c->footer("Writes a dataset of the reference scenario (simulated robot with seeded errors, scene, yardstick).");
+  c->add_option("OUT.yaml", a.out, "the dataset file to write")->type_name("FILE")->required();
+  addRobotOption(*c, a.robot);
+  c->add_option("--seed", a.so.seed, "scenario seed (default 1)")->type_name("N")->check(selfcalibCli::wholeNumber());
+  CLI::Option *poses = c->add_option("--poses", a.poses, "random feasible poses, at least 3 (default 25)")
+                           ->type_name("N")
+                           ->check(selfcalibCli::wholeNumber(3));
+  c->add_option("--joints", a.joints_file, "the poses of a plan (visp-selfcalib plan) instead of random ones")
+      ->type_name("FILE")
+      ->excludes(poses);
+  c->add_option("--noise", a.so.pixel_noise_sd, "image noise sd (default 0.2)")
+      ->type_name("PX")
+      ->check(selfcalibCli::number(0));
+  c->add_option("--focal", a.focal, "known (default: px, py in the file) or shared (f to be self-calibrated)")
+      ->type_name("MODE")
+      ->check(CLI::IsMember(focalNames({vpRobotSelfCalibration::FOCAL_KNOWN, vpRobotSelfCalibration::FOCAL_SHARED})));
+  c->add_flag("--controller-poses", a.controller,
+              "the true end-effector poses fMe instead of joints (hand-eye datasets)");
+  c->add_flag("--images", a.images,
+              "render the images (OUT's directory/images/) and write no points: calibrate\n"
+              "then runs the image front end");
+  c->add_option("--target", a.target,
+                "textured (default: photographs on two planes, natural features) or dots (the\n"
+                "paper's experiment: dot grids 4x5 and 4x9 on the two planes; needs --images;\n"
+                "calibrate with --dot-grids 4x5,4x9 --no-features)")
+      ->type_name("T")
+      ->check(CLI::IsMember({"textured", "dots"}));
+  c->add_flag("--force", a.force, "replace an existing OUT.yaml");
+  c->final_callback([&a] {
+    if (a.target == "dots" && !a.images)
+      throw CLI::ValidationError("--target", "dots renders images: add --images");
+  });
+}
+
+int simulate(const SimulateArgs &a)
+{
+  const std::string &out = a.out;
+  const vpSelfCalibSimulator::Options &so = a.so;
+  unsigned int poses = a.poses;
+  if (!a.force && !canonical(out).empty()) {
     std::cerr << "error: '" << out << "' exists; use --force to replace it\n";
     return 1;
   }
-  const vpSelfCalibSimulator sim(vpKinematicChain::preset(robot), so);
+  const vpSelfCalibSimulator sim(vpKinematicChain::preset(a.robot), so);
   std::vector<vpColVector> configurations;
-  if (!joints_file.empty()) {
+  if (!a.joints_file.empty()) {
     // The given configurations (a plan), each checked for joint limits and visibility.
-    std::ifstream in(joints_file);
+    std::ifstream in(a.joints_file);
     if (!in) {
-      std::cerr << "error: cannot open joints file '" << joints_file << "'\n";
+      std::cerr << "error: cannot open joints file '" << a.joints_file << "'\n";
       return 1;
     }
-    if (!readJoints(in, joints_file, sim.getNominalChain().getNumJoints(), configurations))
+    if (!readJoints(in, a.joints_file, sim.getNominalChain().getNumJoints(), configurations))
       return 1;
     for (size_t k = 0; k < configurations.size(); ++k)
       if (!sim.getNominalChain().isInJointLimits(configurations[k]) || !sim.isVisible(configurations[k])) {
-        std::cerr << "error: " << joints_file << ": configuration " << k + 1
+        std::cerr << "error: " << a.joints_file << ": configuration " << k + 1
                   << " is outside the joint limits or does not see the whole scene\n";
         return 1;
       }
     if (configurations.size() < 3) {
-      std::cerr << "error: " << joints_file << ": at least 3 configurations are needed\n";
+      std::cerr << "error: " << a.joints_file << ": at least 3 configurations are needed\n";
       return 1;
     }
     poses = static_cast<unsigned int>(configurations.size());
@@ -320,40 +239,40 @@ int simulate(const std::vector<std::string> &a)
     std::cerr << "\n";
   }
   vpSelfCalibDataset ds = sim.makeDataset(configurations);
-  ds.robot = robot;
+  ds.robot = a.robot;
   std::vector<vpColVector> qs;
   for (const auto &v : ds.views)
     qs.push_back(v.q);
-  if (controller)
+  if (a.controller)
     // What a controller reports: the (true) end-effector pose, no joints.
     for (auto &v : ds.views) {
       v.has_fMe = true;
       v.fMe = sim.getTrueChain().get_fMe(v.q);
       v.q = vpColVector();
     }
-  if (focal == "shared") {
+  if (a.focal == "shared") {
     ds.focal_known = false;
     ds.cam.initPersProjWithoutDistortion(0.93 * so.px, 0.93 * so.py, so.u0, so.v0);
   }
-  if (images) {
+  if (a.images) {
     // Rendered acquisition: images beside the dataset, no points (the front end finds them), the
     // yardstick's length only (its dots are found in the images).
-    const size_t slash = out.find_last_of('/');
-    const std::string dir = slash == std::string::npos ? "." : out.substr(0, slash);
-    const std::string img_dir = dir + "/images";
-    if (canonical(img_dir).empty() && mkdir(img_dir.c_str(), 0777) != 0) {
-      std::cerr << "error: cannot create '" << img_dir << "'\n";
+    const fs::path parent = fs::path(out).parent_path();
+    const fs::path img_dir = (parent.empty() ? fs::path(".") : parent) / "images";
+    if (!makeDirectory(img_dir)) {
+      std::cerr << "error: cannot create '" << img_dir.string() << "'\n";
       return 1;
     }
     vpSelfCalibRenderer::Options ro;
     ro.seed = so.seed;
-    ro.scene = target == "dots" ? vpSelfCalibRenderer::DOTS : vpSelfCalibRenderer::TEXTURED;
+    ro.scene = a.target == "dots" ? vpSelfCalibRenderer::DOTS : vpSelfCalibRenderer::TEXTURED;
     const vpSelfCalibRenderer renderer(sim, ro);
     for (size_t k = 0; k < ds.views.size(); ++k) {
       std::ostringstream name;
-      name << img_dir << "/" << std::setw(4) << std::setfill('0') << k + 1 << ".png";
-      vpImageIo::write(renderer.render(qs[k], static_cast<unsigned int>(k)), name.str());
-      ds.views[k].image = name.str();
+      name << std::setw(4) << std::setfill('0') << k + 1 << ".png";
+      const std::string file = (img_dir / name.str()).string();
+      vpImageIo::write(renderer.render(qs[k], static_cast<unsigned int>(k)), file);
+      ds.views[k].image = file;
       ds.views[k].points.clear();
       std::cerr << "rendered " << k + 1 << "/" << ds.views.size() << "\r" << std::flush;
     }
@@ -362,168 +281,197 @@ int simulate(const std::vector<std::string> &a)
     ds.yardstick.id_a = ds.yardstick.id_b = -1;
   }
   ds.saveYaml(out);
-  if (images)
-    std::cout << "wrote " << out << ": " << poses << " poses of " << robot << ", rendered images in the images/ "
+  if (a.images)
+    std::cout << "wrote " << out << ": " << poses << " poses of " << a.robot << ", rendered images in the images/ "
               << "directory beside it\n";
   else
-    std::cout << "wrote " << out << ": " << poses << " poses of " << robot << ", " << sim.getScenePoints().size()
+    std::cout << "wrote " << out << ": " << poses << " poses of " << a.robot << ", " << sim.getScenePoints().size()
               << " scene points, noise " << so.pixel_noise_sd << " px\n";
   return 0;
 }
 
-//! A YAML double-quoted scalar.
-std::string quoted(const std::string &text)
-{
-  std::string q = "\"";
-  for (char c : text) {
-    if (c == '"' || c == '\\')
-      q += '\\';
-    q += c;
-  }
-  return q + "\"";
-}
+// ---------------------------------------------------------------------------------------------
+// calibrate
 
+//! results.yaml: what the run found, without wall times (the same dataset gives the same file).
 std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinematicChain &nominal,
                         const std::string &dataset)
 {
-  std::ostringstream os;
-  os << std::setprecision(17);
-  os << "dataset: " << dataset << "\nmethod: " << vpRobotSelfCalibration::methodName(r.method) << "\nstatus: "
-     << vpRobotSelfCalibration::statusName(r.status) << "\nmessage: " << quoted(r.message) << "\n";
-  os << "findings:" << (r.findings.empty() ? " []" : "") << "  # what the data check found, and what to do\n";
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::BeginMap;
+  out << YAML::Key << "dataset" << YAML::Value << dataset;
+  out << YAML::Key << "method" << YAML::Value << vpRobotSelfCalibration::methodName(r.method);
+  out << YAML::Key << "status" << YAML::Value << vpRobotSelfCalibration::statusName(r.status);
+  out << YAML::Key << "message" << YAML::Value << YAML::DoubleQuoted << r.message;
+  const char *findings_comment = "what the data check found, and what to do";
+  out << YAML::Key << "findings";
+  if (r.findings.empty())
+    out << YAML::Value << YAML::Flow << YAML::BeginSeq << YAML::EndSeq << YAML::Comment(findings_comment);
+  else
+    out << YAML::Comment(findings_comment) << YAML::Value << YAML::BeginSeq;
   for (const auto &f : r.findings)
-    os << "  - {code: " << f.code << ", severity: " << (f.severity == vpSelfCalibDataCheck::DEGENERATE ? "degenerate" : "warning")
-       << ", message: " << quoted(f.message) << "}\n";
-  os << "camera: {px: " << r.camera.get_px() << ", py: " << r.camera.get_py() << ", u0: " << r.camera.get_u0()
-     << ", v0: " << r.camera.get_v0() << ", px_sd: " << r.fx_sd << "}\n";
-  if (r.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT)
-    os << "bundle_adjustment: {observations: " << r.bundle.num_observations << ", dropped: " << r.bundle.num_outliers
-       << ", rms_px: " << r.bundle.rms << ", sigma0: " << r.bundle.sigma0 << ", scale_from: \""
-       << vpKinematicBundleAdjustment::scaleSourceName(r.bundle.scale_source) << "\"}\n";
+    out << YAML::Flow << YAML::BeginMap << YAML::Key << "code" << YAML::Value << f.code << YAML::Key << "severity"
+        << YAML::Value << (f.severity == vpSelfCalibDataCheck::DEGENERATE ? "degenerate" : "warning") << YAML::Key
+        << "message" << YAML::Value << YAML::DoubleQuoted << f.message << YAML::EndMap;
+  if (!r.findings.empty())
+    out << YAML::EndSeq;
+  out << YAML::Key << "camera" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  out << YAML::Key << "px" << YAML::Value << r.camera.get_px() << YAML::Key << "py" << YAML::Value << r.camera.get_py()
+      << YAML::Key << "u0" << YAML::Value << r.camera.get_u0() << YAML::Key << "v0" << YAML::Value << r.camera.get_v0()
+      << YAML::Key << "px_sd" << YAML::Value << r.fx_sd;
+  out << YAML::EndMap;
+  if (r.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT) {
+    out << YAML::Key << "bundle_adjustment" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    out << YAML::Key << "observations" << YAML::Value << r.bundle.num_observations << YAML::Key << "dropped"
+        << YAML::Value << r.bundle.num_outliers << YAML::Key << "rms_px" << YAML::Value << r.bundle.rms << YAML::Key
+        << "sigma0" << YAML::Value << r.bundle.sigma0 << YAML::Key << "scale_from" << YAML::Value << YAML::DoubleQuoted
+        << vpKinematicBundleAdjustment::scaleSourceName(r.bundle.scale_source);
+    out << YAML::EndMap;
+  }
   const std::vector<std::string> names = nominal.getParameterNames();
-  os << "estimated:  # per parameter: value and sd (m or rad)\n";
+  out << YAML::Key << "estimated" << YAML::Comment("per parameter: value and sd (m or rad)") << YAML::Value
+      << YAML::BeginMap;
   for (unsigned int k : r.identifiability.identified)
-    os << "  " << names[k] << ": [" << r.calibrated.getParameters()[k] << ", "
-       << (k < r.parameter_sd.size() ? r.parameter_sd[k] : 0.0) << "]\n";
-  os << "not_estimated:\n";
+    out << YAML::Key << names[k] << YAML::Value << YAML::Flow << YAML::BeginSeq << r.calibrated.getParameters()[k]
+        << (k < r.parameter_sd.size() ? r.parameter_sd[k] : 0.0) << YAML::EndSeq;
+  out << YAML::EndMap;
+  out << YAML::Key << "not_estimated" << YAML::Value << YAML::BeginMap;
   for (const auto &u : r.identifiability.unidentifiable)
-    os << "  " << u.name << ": " << quoted(u.reason) << "\n";
-  if (r.verified)
-    os << "verification:  # the paper's 3-D yardstick error on the held-out views (m)\n"
-       << "  yardstick_error_nominal: " << r.before.yardstick_error << "\n  yardstick_error_calibrated: "
-       << r.after.yardstick_error << "\n";
-  // No wall times here: the same dataset gives the same file, bit for bit (they are in the report).
-  return os.str();
+    out << YAML::Key << u.name << YAML::Value << YAML::DoubleQuoted << u.reason;
+  out << YAML::EndMap;
+  if (r.verified) {
+    out << YAML::Key << "verification" << YAML::Comment("the paper's 3-D yardstick error on the held-out views (m)")
+        << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "yardstick_error_nominal" << YAML::Value << r.before.yardstick_error;
+    out << YAML::Key << "yardstick_error_calibrated" << YAML::Value << r.after.yardstick_error;
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
 }
 
-int calibrate(const std::vector<std::string> &a)
-{
+struct CalibrateArgs {
   std::string dataset, out, method, focal = "auto";
   unsigned int calibration = 0;
   double pixel_sd = 0.2;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  vpFeatureFrontEnd::Options fo;
-  for (size_t i = 0; i < a.size(); ++i) {
-    if (a[i] == "--threads")
-      threads = static_cast<int>(numberArg(a, i));
-    else if (a[i] == "--no-features")
-      fo.features = false;
-    else if (a[i] == "--dot-grids") {
-      // C x R, comma-separated; grid g numbered from 1000000 + 1000 g (as simulate --target dots).
-      std::istringstream list(textArg(a, i));
-      std::string item;
-      while (std::getline(list, item, ',')) {
-        vpFeatureFrontEnd::DotGrid g;
-        char x = 0;
-        std::istringstream is(item);
-        if (!(is >> g.cols >> x >> g.rows) || x != 'x' || !is.eof())
-          throw BadUsage("calibrate: --dot-grids takes COLSxROWS[,COLSxROWS...], got '" + item + "'");
-        g.first_id = vpSelfCalibRenderer::kFirstDotId + 1000 * static_cast<int>(fo.dot_grids.size());
-        fo.dot_grids.push_back(g);
-      }
-    } else if (a[i] == "--out")
-      out = textArg(a, i);
-    else if (a[i] == "--method")
-      method = textArg(a, i);
-    else if (a[i] == "--focal")
-      focal = textArg(a, i);
-    else if (a[i] == "--calibration")
-      calibration = static_cast<unsigned int>(numberArg(a, i));
-    else if (a[i] == "--pixel-sd")
-      pixel_sd = numberArg(a, i);
-    else if (!a[i].empty() && a[i][0] == '-')
-      throw BadUsage("calibrate: unknown option '" + a[i] + "'");
-    else if (dataset.empty())
-      dataset = a[i];
-    else
-      throw BadUsage("calibrate: one dataset file");
-  }
-  if (dataset.empty() || out.empty())
-    throw BadUsage("calibrate: a dataset and --out DIR are needed");
-  vpRobotSelfCalibration::Options po;
-  if (!method.empty())
-    po.method = vpRobotSelfCalibration::methodFromName(method);
-  if (focal == "auto")
-    po.focal_mode = vpRobotSelfCalibration::FOCAL_AUTO;
-  else if (focal == "known")
-    po.focal_mode = vpRobotSelfCalibration::FOCAL_KNOWN;
-  else if (focal == "shared")
-    po.focal_mode = vpRobotSelfCalibration::FOCAL_SHARED;
-  else if (focal == "per-pair")
-    po.focal_mode = vpRobotSelfCalibration::FOCAL_PER_PAIR;
-  else
-    throw BadUsage("calibrate: --focal is auto, known, shared or per-pair");
-  po.pixel_sd = pixel_sd;
+  std::vector<std::string> dot_grids;
+  bool no_features = false;
+};
 
-  if (threads < 1)
-    throw BadUsage("calibrate: --threads must be at least 1");
+//! "CxR": C columns, R rows of an asymmetric circle grid; false when it is not that.
+bool parseDotGrid(const std::string &item, vpFeatureFrontEnd::DotGrid &g)
+{
+  const size_t x = item.find('x');
+  const std::string digits = "0123456789";
+  if (x == std::string::npos || x == 0 || x + 1 == item.size() ||
+      item.substr(0, x).find_first_not_of(digits) != std::string::npos ||
+      item.substr(x + 1).find_first_not_of(digits) != std::string::npos || item.size() > 12)
+    return false;
+  g.cols = static_cast<unsigned int>(std::stoul(item.substr(0, x)));
+  g.rows = static_cast<unsigned int>(std::stoul(item.substr(x + 1)));
+  return g.cols > 0 && g.rows > 0;
+}
+
+void addCalibrate(CLI::App &app, CalibrateArgs &a)
+{
+  CLI::App *c = app.add_subcommand("calibrate", "calibrated model, camera and results in DIR");
+  c->add_option("DATASET", a.dataset, "the dataset file (README: Data formats)")->type_name("FILE")->required();
+  c->add_option("--out", a.out, "the output directory (created when missing)")->type_name("DIR")->required();
+  std::vector<std::string> methods;
+  for (vpRobotSelfCalibration::Method m :
+       {vpRobotSelfCalibration::BUNDLE_ADJUSTMENT, vpRobotSelfCalibration::PAPER, vpRobotSelfCalibration::HAND_EYE})
+    methods.push_back(vpRobotSelfCalibration::methodName(m));
+  c->add_option("--method", a.method,
+                "bundle (default; hand-eye when the poses have fMe and no joints): multi-view\n"
+                "reconstruction + kinematic bundle adjustment; paper: the paper's procedure;\n"
+                "hand-eye: kinematics trusted, eMc, f and points estimated")
+      ->type_name("M")
+      ->check(CLI::IsMember(methods));
+  c->add_option("--calibration", a.calibration, "calibration views, at least 3 (default 15, or all but 2 when fewer)")
+      ->type_name("N")
+      ->check(selfcalibCli::wholeNumber(3));
+  c->add_option("--focal", a.focal, "auto (default: known when the dataset gives px, py), known, shared, per-pair")
+      ->type_name("MODE")
+      ->check(
+          CLI::IsMember(focalNames({vpRobotSelfCalibration::FOCAL_AUTO, vpRobotSelfCalibration::FOCAL_KNOWN,
+                                    vpRobotSelfCalibration::FOCAL_SHARED, vpRobotSelfCalibration::FOCAL_PER_PAIR})));
+  c->add_option("--pixel-sd", a.pixel_sd, "image noise sd used as weight (default 0.2)")
+      ->type_name("PX")
+      ->check(selfcalibCli::number(0, true));
+  c->add_option("--threads", a.threads,
+                "threads of the image front end (default: all cores); the results do not depend on it")
+      ->type_name("N")
+      ->check(selfcalibCli::wholeNumber(1));
+  c->add_option("--dot-grids", a.dot_grids,
+                "dot targets for the front end: asymmetric circle grids, C columns x R rows (R odd),\n"
+                "grid g numbered from 1000000 + 1000 g; their dots must differ in size")
+      ->type_name("CxR[,CxR...]")
+      ->delimiter(',')
+      ->check(CLI::Validator(
+          [](std::string &item) -> std::string {
+            vpFeatureFrontEnd::DotGrid g;
+            return parseDotGrid(item, g) ? std::string() : "expected COLSxROWS[,COLSxROWS...], got '" + item + "'";
+          },
+          std::string()));
+  c->add_flag("--no-features", a.no_features, "no natural features (dot targets only)");
+  c->footer("Self-calibrates on the first N views and verifies on the others. Writes DIR/model.yaml,\n"
+            "DIR/model.urdf, DIR/camera.xml, DIR/results.yaml and DIR/report/ (report.md, gnuplot figures),\n"
+            "each atomically, never over an input. The data check's findings are printed as warnings.\n"
+            "Exit codes: 0 calibrated, 1 bad input, 2 bad usage, 3 failed or degenerate data (message on stderr).");
+}
+
+int calibrate(const CalibrateArgs &a)
+{
+  const std::string &dataset = a.dataset, &out = a.out;
+  vpSelfCalibImageCorrespondences::Options co;
+  co.front_end.features = !a.no_features;
+  // C x R; grid g numbered from 1000000 + 1000 g (as simulate --target dots).
+  for (const std::string &item : a.dot_grids) {
+    vpFeatureFrontEnd::DotGrid g;
+    parseDotGrid(item, g);
+    g.first_id = vpSelfCalibRenderer::kFirstDotId + 1000 * static_cast<int>(co.front_end.dot_grids.size());
+    co.front_end.dot_grids.push_back(g);
+  }
+  if (!a.method.empty())
+    co.method = vpRobotSelfCalibration::methodFromName(a.method);
+  vpRobotSelfCalibration::Options po;
+  po.focal_mode = vpRobotSelfCalibration::focalModeFromName(a.focal);
+  po.pixel_sd = a.pixel_sd;
+
   // The image front end runs on `threads` OpenCV threads: its results do not depend on them (test
   // app-deterministic). Everything after it runs on one thread, OpenMP included (OpenCV's
   // setNumThreads sets OpenMP's count, which CHOLMOD/SPQR in the covariance use, and their sums
   // change with it); Ceres's multi-threaded Schur elimination also sums in a scheduling-dependent
   // order. The result files must be bit-reproducible.
-  cv::setNumThreads(threads);
+  cv::setNumThreads(a.threads);
   vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
-  bool need_front_end = false;
-  for (const auto &v : ds.views)
-    need_front_end = need_front_end || (v.points.empty() && !v.image.empty());
-  vpFeatureFrontEnd::Result fe;
-  if (need_front_end) {
-    std::cerr << "... image front end (" << ds.views.size() << " images)\n";
-    fe = vpFeatureFrontEnd::fillDataset(ds, fo);
-    unsigned int seen = 0;
-    for (bool b : fe.yardstick_seen)
-      seen += b;
-    unsigned int grids = 0;
-    for (const auto &g : fe.grid_seen)
-      for (bool b : g)
-        grids += b;
-    if (!fo.dot_grids.empty())
-      std::cerr << "... dot grids found " << grids << " times in " << ds.views.size() << " images\n";
-    std::cerr << "... " << fe.num_tracks << " tracks, yardstick in " << seen << " images, " << std::setprecision(2)
-              << fe.seconds << " s\n";
-    // A view where the front end found nothing cannot be used: left out, said.
-    for (size_t k = ds.views.size(); k-- > 0;)
-      if (ds.views[k].points.empty()) {
-        std::cerr << "warning: view " << k << " (" << ds.views[k].image << "): no correspondence found; left out\n";
-        ds.views.erase(ds.views.begin() + static_cast<long>(k));
-      }
+  const size_t num_images = ds.views.size();
+  if (vpSelfCalibImageCorrespondences::needsFrontEnd(ds))
+    std::cerr << "... image front end (" << num_images << " images)\n";
+  const vpSelfCalibImageCorrespondences::Result cr = vpSelfCalibImageCorrespondences::fromDatasetImages(ds, co);
+  if (cr.front_end_ran) {
+    if (!co.front_end.dot_grids.empty())
+      std::cerr << "... dot grids found " << cr.grids_found << " times in " << num_images << " images\n";
+    std::cerr << "... " << cr.front_end.num_tracks << " tracks, yardstick in " << cr.yardstick_images << " images, "
+              << std::setprecision(2) << cr.front_end.seconds << " s\n";
+    for (auto d = cr.dropped.rbegin(); d != cr.dropped.rend(); ++d)
+      std::cerr << "warning: view " << d->index << " (" << d->image << "): no correspondence found; left out\n";
   }
   cv::setNumThreads(1);
-  if (method.empty())
-    for (const auto &v : ds.views)
-      if (v.q.size() == 0 && v.has_fMe)
-        po.method = vpRobotSelfCalibration::HAND_EYE;
+  po.method = cr.method;
   const unsigned int m = static_cast<unsigned int>(ds.views.size());
-  po.num_calibration_poses = calibration ? calibration : (m >= 17 ? 15 : std::max(3u, m > 2 ? m - 2 : m));
+  po.num_calibration_poses = a.calibration ? a.calibration : (m >= 17 ? 15 : std::max(3u, m > 2 ? m - 2 : m));
 
   // Outputs: never over an input (the dataset or the robot model file).
-  if (canonical(out).empty() && mkdir(out.c_str(), 0777) != 0) {
+  if (!makeDirectory(out)) {
     std::cerr << "error: cannot create the output directory '" << out << "'\n";
     return 1;
   }
-  const std::string files[4] = {out + "/model.yaml", out + "/camera.xml", out + "/results.yaml", out + "/model.urdf"};
+  const std::string files[4] = {(fs::path(out) / "model.yaml").string(), (fs::path(out) / "camera.xml").string(),
+                                (fs::path(out) / "results.yaml").string(), (fs::path(out) / "model.urdf").string()};
   for (const std::string &f : files) {
     const std::string c = canonical(f);
     if (!c.empty() && (c == canonical(dataset) || c == canonical(ds.robot))) {
@@ -545,20 +493,15 @@ int calibrate(const std::vector<std::string> &a)
   model.setName(nominal.getName() + "-calibrated");
   model.saveYaml(files[0]);
   vpModelExport::saveURDF(model, files[3]);
-  {
-    // vpXmlParserCamera has no atomic write: it writes a temporary file that is renamed here.
-    const std::string tmp = files[1] + ".tmp";
-    std::remove(tmp.c_str());
-    vpXmlParserCamera xml;
-    if (xml.save(r.camera, tmp, "Camera", ds.width, ds.height, "self-calibrated by visp-selfcalib") !=
-            vpXmlParserCamera::SEQUENCE_OK ||
-        std::rename(tmp.c_str(), files[1].c_str()) != 0) {
-      std::cerr << "error: cannot write '" << files[1] << "'\n";
-      return 1;
-    }
-  }
-  if (!writeAtomically(files[2], resultsYaml(r, nominal, dataset)))
-    return 1;
+  vpSelfCalibFileWriter::writeWith(
+      files[1],
+      [&](const std::string &tmp) {
+        vpXmlParserCamera xml;
+        return xml.save(r.camera, tmp, "Camera", ds.width, ds.height, "self-calibrated by visp-selfcalib") ==
+               vpXmlParserCamera::SEQUENCE_OK;
+      },
+      "camera XML");
+  vpSelfCalibFileWriter::write(files[2], resultsYaml(r, nominal, dataset), "results");
   std::cout << "calibrated " << r.identifiability.identified.size() << " parameters on " << po.num_calibration_poses
             << " views (" << vpRobotSelfCalibration::methodName(r.method) << "), f_x " << std::setprecision(6)
             << r.camera.get_px() << " px";
@@ -567,10 +510,10 @@ int calibrate(const std::vector<std::string> &a)
               << 1e3 * r.before.yardstick_error << " mm (nominal) -> " << 1e3 * r.after.yardstick_error << " mm";
   std::cout << "\nwrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
   std::cerr << "... report\n";
-  const vpSelfCalibReport::Result rep = vpSelfCalibReport::write(out + "/report", nominal, ds, po, r,
-                                                                 need_front_end ? &fe : nullptr,
-                                                                 vpSelfCalibReport::Options());
-  std::cout << "report: " << out << "/report/report.md (" << rep.message << ")\n";
+  const std::string report_dir = (fs::path(out) / "report").string();
+  const vpSelfCalibReport::Result rep = vpSelfCalibReport::write(
+      report_dir, nominal, ds, po, r, cr.front_end_ran ? &cr.front_end : nullptr, vpSelfCalibReport::Options());
+  std::cout << "report: " << report_dir << "/report.md (" << rep.message << ")\n";
   return 0;
 }
 
@@ -591,39 +534,44 @@ int verify(const std::string &model_name, const std::string &dataset)
             << "), 3-D error " << 1e3 * v.yardstick_error << " mm, " << v.points.size() << " points triangulated\n";
   return 0;
 }
-int plan(const std::vector<std::string> &a)
-{
+// ---------------------------------------------------------------------------------------------
+// plan
+
+struct PlanArgs {
   std::string out, robot = "viper850", method = "observability";
   vpSelfCalibSimulator::Options so;
   unsigned int poses = 15, held_out = 10;
   bool force = false;
-  for (size_t i = 0; i < a.size(); ++i) {
-    if (a[i] == "--robot")
-      robot = textArg(a, i);
-    else if (a[i] == "--seed")
-      so.seed = static_cast<uint64_t>(numberArg(a, i));
-    else if (a[i] == "--poses")
-      poses = static_cast<unsigned int>(numberArg(a, i));
-    else if (a[i] == "--held-out")
-      held_out = static_cast<unsigned int>(numberArg(a, i));
-    else if (a[i] == "--method")
-      method = textArg(a, i);
-    else if (a[i] == "--force")
-      force = true;
-    else if (!a[i].empty() && a[i][0] == '-')
-      throw BadUsage("plan: unknown option '" + a[i] + "'");
-    else if (out.empty())
-      out = a[i];
-    else
-      throw BadUsage("plan: one output file");
-  }
-  if (out.empty())
-    throw BadUsage("plan: the output file is missing");
-  if (method != "paper" && method != "observability")
-    throw BadUsage("plan: --method is paper or observability");
-  if (poses < 6)
-    throw BadUsage("plan: --poses must be at least 6");
-  if (!force && !canonical(out).empty()) {
+};
+
+void addPlan(CLI::App &app, PlanArgs &a)
+{
+  CLI::App *c = app.add_subcommand("plan", "planned calibration poses of the reference scenario");
+  c->footer("Writes calibration poses planned on the reference scenario's nominal model, then random held-out\n"
+            "poses, one joint vector per line.");
+  c->add_option("OUT.txt", a.out, "the file to write")->type_name("FILE")->required();
+  addRobotOption(*c, a.robot);
+  c->add_option("--seed", a.so.seed, "scenario seed (default 1)")->type_name("N")->check(selfcalibCli::wholeNumber());
+  c->add_option("--poses", a.poses, "calibration poses, at least 6 (default 15)")
+      ->type_name("N")
+      ->check(selfcalibCli::wholeNumber(6));
+  c->add_option("--held-out", a.held_out, "held-out poses after them (default 10)")
+      ->type_name("N")
+      ->check(selfcalibCli::wholeNumber());
+  c->add_option("--method", a.method,
+                "observability (default): O1-optimal choice from a pool; paper: the paper's\n"
+                "optimal trajectory (eqs. 22-39)")
+      ->type_name("M")
+      ->check(CLI::IsMember({"observability", "paper"}));
+  c->add_flag("--force", a.force, "replace an existing OUT.txt");
+}
+
+int plan(const PlanArgs &a)
+{
+  const std::string &out = a.out, &robot = a.robot, &method = a.method;
+  const vpSelfCalibSimulator::Options &so = a.so;
+  const unsigned int poses = a.poses, held_out = a.held_out;
+  if (!a.force && !canonical(out).empty()) {
     std::cerr << "error: '" << out << "' exists; use --force to replace it\n";
     return 1;
   }
@@ -658,8 +606,7 @@ int plan(const std::vector<std::string> &a)
     for (unsigned int i = 0; i < c.size(); ++i)
       os << c[i] << (i + 1 < c.size() ? " " : "\n");
   }
-  if (!writeAtomically(out, os.str()))
-    return 1;
+  vpSelfCalibFileWriter::write(out, os.str(), "plan");
   std::cout << "wrote " << out << ": " << poses << " planned + " << held_out << " held-out configurations; "
             << std::setprecision(3) << "cond(J) " << pr.before.condition << " -> " << pr.after.condition << ", O1 "
             << pr.observability_before.O1 << " -> " << pr.observability_after.O1 << ", " << std::setprecision(2)
@@ -667,36 +614,42 @@ int plan(const std::vector<std::string> &a)
   return 0;
 }
 
-int exportModel(const std::vector<std::string> &a)
+// ---------------------------------------------------------------------------------------------
+// export
+
+struct ExportArgs {
+  std::string model, urdf, dh, mdh;
+};
+
+void addExport(CLI::App &app, ExportArgs &a)
 {
-  std::string model_name, kind, out;
-  for (size_t i = 0; i < a.size(); ++i) {
-    if (a[i] == "--urdf" || a[i] == "--dh" || a[i] == "--mdh") {
-      if (!kind.empty())
-        throw BadUsage("export: one of --urdf, --dh, --mdh");
-      kind = a[i];
-      out = textArg(a, i);
-    } else if (!a[i].empty() && a[i][0] == '-')
-      throw BadUsage("export: unknown option '" + a[i] + "'");
-    else if (model_name.empty())
-      model_name = a[i];
-    else
-      throw BadUsage("export: one model");
-  }
-  if (model_name.empty() || kind.empty())
-    throw BadUsage("export: MODEL and one of --urdf, --dh, --mdh");
+  CLI::App *c = app.add_subcommand("export", "URDF joint origins, or a corrected (modified) DH table");
+  c->footer("Writes the model as URDF joint origins (exact), or as a DH / modified-DH robot-model file without\n"
+            "corrections when one reproduces it (exit 3 when none does; a warning when it is ill-conditioned).");
+  c->add_option("MODEL", a.model, kModelHelp)->type_name("NAME|FILE")->required();
+  CLI::Option_group *g = c->add_option_group("output", "the file to write");
+  g->add_option("--urdf", a.urdf, "URDF joint origins")->type_name("OUT.urdf");
+  g->add_option("--dh", a.dh, "a DH robot-model file")->type_name("OUT.yaml");
+  g->add_option("--mdh", a.mdh, "a modified-DH robot-model file")->type_name("OUT.yaml");
+  g->require_option(1);
+}
+
+int exportModel(const ExportArgs &a)
+{
+  const std::string &model_name = a.model;
+  const std::string &out = !a.urdf.empty() ? a.urdf : (!a.dh.empty() ? a.dh : a.mdh);
   const vpKinematicChain model = vpKinematicChain::fromPresetOrFile(model_name);
   if (!canonical(out).empty() && canonical(out) == canonical(model_name)) {
     std::cerr << "error: '" << out << "' is the input model\n";
     return 1;
   }
-  if (kind == "--urdf") {
+  if (!a.urdf.empty()) {
     vpModelExport::saveURDF(model, out);
     std::cout << "wrote " << out << "\n";
     return 0;
   }
   const vpModelExport::DHFit fit =
-      vpModelExport::fitDH(model, kind == "--dh" ? vpKinematicChain::DH : vpKinematicChain::MDH);
+      vpModelExport::fitDH(model, !a.dh.empty() ? vpKinematicChain::DH : vpKinematicChain::MDH);
   std::cerr << fit.message << "\n";
   if (!fit.representable)
     return 3;
@@ -704,50 +657,99 @@ int exportModel(const std::vector<std::string> &a)
   std::cout << "wrote " << out << (fit.well_conditioned ? "" : " (ill-conditioned, see above)") << "\n";
   return 0;
 }
+
+// ---------------------------------------------------------------------------------------------
+// info, predict, verify
+
+struct ModelArgs {
+  std::string model, second; //!< predict: the joints file; verify: the dataset
+};
+
+int run(int argc, char **argv)
+{
+  CLI::App app("Self-calibration of a camera-equipped robot arm (ViSP SelfCalib): plan the poses, simulate a\n"
+               "dataset, calibrate, verify, predict camera poses and export the calibrated model.",
+               kProgram);
+  app.require_subcommand(1);
+  app.footer("MODEL: a preset (puma560, viper850) or a robot-model YAML file. DATASET: a dataset YAML file (README).\n"
+             "'visp-selfcalib COMMAND --help' describes a command and its options.\n"
+             "Exit codes: 0 success, 1 bad input (message on stderr), 2 bad usage, 3 the calibration failed.");
+  ModelArgs info_args, predict_args, verify_args;
+  CLI::App *info_cmd = app.add_subcommand("info", "robot model summary and error-model parameters");
+  info_cmd->footer("Prints the robot model: convention, joints, number of error-model parameters, the corrections\n"
+                   "that are not zero.");
+  info_cmd->add_option("MODEL", info_args.model, kModelHelp)->type_name("NAME|FILE")->required();
+  CLI::App *predict_cmd = app.add_subcommand("predict", "fMc for each joint vector (one per line, rad)");
+  predict_cmd->footer(
+      "Reads one joint vector per line (rad, separated by spaces or commas; '#' starts a comment) from\n"
+      "JOINTS_FILE or standard input and prints the camera pose fMc as 'tx ty tz tux tuy tuz' (m, rad)\n"
+      "per line.");
+  predict_cmd->add_option("MODEL", predict_args.model, kModelHelp)->type_name("NAME|FILE")->required();
+  predict_cmd->add_option("JOINTS_FILE", predict_args.second, "joint vectors (default: standard input)")
+      ->type_name("FILE");
+  PlanArgs plan_args;
+  addPlan(app, plan_args);
+  SimulateArgs simulate_args;
+  addSimulate(app, simulate_args);
+  CalibrateArgs calibrate_args;
+  addCalibrate(app, calibrate_args);
+  CLI::App *verify_cmd = app.add_subcommand("verify", "the paper's 3-D yardstick error of a model");
+  verify_cmd->footer("Prints the paper's 3-D yardstick error of MODEL on the dataset's views.");
+  verify_cmd->add_option("MODEL", verify_args.model, kModelHelp)->type_name("NAME|FILE")->required();
+  verify_cmd->add_option("DATASET", verify_args.second, "a dataset YAML file")->type_name("FILE")->required();
+  ExportArgs export_args;
+  addExport(app, export_args);
+
+  if (argc == 2 && std::string(argv[1]) == "help") {
+    std::cout << app.help();
+    return 0;
+  }
+  if (argc >= 2 && argv[1][0] != '-') {
+    // CLI11 would only say that a command is required.
+    std::string names;
+    bool known = false;
+    for (const CLI::App *sub : app.get_subcommands({})) {
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+      known = known || sub->get_name() == argv[1];
+    }
+    if (!known) {
+      std::cerr << "error: unknown command '" << argv[1] << "' (" << names << ")\n'" << kProgram
+                << " --help' lists the commands.\n";
+      return selfcalibCli::kUsageError;
+    }
+  }
+  const int parsed = selfcalibCli::parse(app, argc, argv);
+  if (parsed >= 0)
+    return parsed;
+  if (app.got_subcommand("simulate"))
+    return simulate(simulate_args);
+  if (app.got_subcommand("calibrate"))
+    return calibrate(calibrate_args);
+  if (app.got_subcommand("export"))
+    return exportModel(export_args);
+  if (app.got_subcommand("plan"))
+    return plan(plan_args);
+  if (app.got_subcommand("verify"))
+    return verify(verify_args.model, verify_args.second);
+  if (app.got_subcommand("info"))
+    return info(vpKinematicChain::fromPresetOrFile(info_args.model));
+  const vpKinematicChain chain = vpKinematicChain::fromPresetOrFile(predict_args.model);
+  if (!predict_args.second.empty()) {
+    std::ifstream in(predict_args.second);
+    if (!in) {
+      std::cerr << "error: cannot open joints file '" << predict_args.second << "'\n";
+      return 1;
+    }
+    return predict(chain, in, predict_args.second);
+  }
+  return predict(chain, std::cin, "<stdin>");
+}
 } // namespace
 
 int main(int argc, char **argv)
 {
-  if (argc < 2)
-    return usage(std::cerr, 2);
-  const std::string cmd = argv[1];
-  if (cmd == "-h" || cmd == "--help" || cmd == "help")
-    return usage(std::cout, 0);
-  const std::vector<std::string> rest(argv + 2, argv + argc);
-  for (const std::string &a : rest)
-    if (a == "--help" || a == "-h")
-      return commandHelp(cmd);
   try {
-    if (cmd == "simulate")
-      return simulate(rest);
-    if (cmd == "calibrate")
-      return calibrate(rest);
-    if (cmd == "export")
-      return exportModel(rest);
-    if (cmd == "plan")
-      return plan(rest);
-    if (cmd == "verify") {
-      if (rest.size() != 2)
-        throw BadUsage("verify: MODEL DATASET");
-      return verify(rest[0], rest[1]);
-    }
-    if ((cmd != "info" && cmd != "predict") || rest.empty() || (cmd == "info" && rest.size() != 1) || rest.size() > 2)
-      return usage(std::cerr, 2);
-    const vpKinematicChain chain = vpKinematicChain::fromPresetOrFile(rest[0]);
-    if (cmd == "info")
-      return info(chain);
-    if (rest.size() == 2) {
-      std::ifstream in(rest[1]);
-      if (!in) {
-        std::cerr << "error: cannot open joints file '" << rest[1] << "'\n";
-        return 1;
-      }
-      return predict(chain, in, rest[1]);
-    }
-    return predict(chain, std::cin, "<stdin>");
-  } catch (const BadUsage &e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return usage(std::cerr, 2);
+    return run(argc, argv);
   } catch (const vpException &e) {
     std::cerr << "error: " << e.getStringMessage() << "\n";
     return 1;

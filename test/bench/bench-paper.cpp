@@ -26,6 +26,7 @@
 
 #include "benchCommon.h"
 #include "benchPaper.h"
+#include "selfcalibCli.h"
 
 namespace
 {
@@ -46,18 +47,6 @@ std::string noiseName(double noise)
   return os.str();
 }
 
-void usage(const char *argv0)
-{
-  std::cout << "Usage: " << argv0 << " [options]\n"
-            << "  --seeds N          seeds 1..N (default 10)\n"
-            << "  --noise A,B,...    pixel noise levels (default 0,0.2,0.5: noise-free, the paper's I and II)\n"
-            << "  --robots A,B       puma560, viper850 (default both)\n"
-            << "  --focal A,B        focal modes: shared (self-calibrated, default), known, per-pair (the\n"
-            << "                     paper; degenerate on this scenario) (default shared,known)\n"
-            << "  --csv FILE         one row per robot, noise, focal mode, seed and experiment\n"
-            << "  -h, --help         this help\n";
-}
-
 struct Cell {
   bench::Stats pos, rot, f, ratio, seconds;
   unsigned int failed = 0;
@@ -76,41 +65,33 @@ int main(int argc, char **argv)
     std::vector<double> noises = {0, 0.2, 0.5};
     std::vector<std::string> robots = {"puma560", "viper850"}, focals = {"shared", "known"};
     std::string csv_path;
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      if (a == "--seeds")
-        seeds = static_cast<unsigned int>(bench::number(i, argc, argv));
-      else if (a == "--noise")
-        noises = bench::numberList(i, argc, argv);
-      else if (a == "--robots")
-        robots = bench::stringList(i, argc, argv);
-      else if (a == "--focal")
-        focals = bench::stringList(i, argc, argv);
-      else if (a == "--csv" && i + 1 < argc)
-        csv_path = argv[++i];
-      else if (a == "-h" || a == "--help") {
-        usage(argv[0]);
-        return EXIT_SUCCESS;
-      } else {
-        std::cerr << "Unknown or incomplete option '" << a << "'\n";
-        usage(argv[0]);
-        return EXIT_FAILURE;
-      }
-    }
-    if (seeds < 1) {
-      std::cerr << "--seeds must be >= 1\n";
-      return EXIT_FAILURE;
-    }
-    for (double n : noises)
-      if (n < 0) {
-        std::cerr << "--noise levels must be >= 0\n";
-        return EXIT_FAILURE;
-      }
+    CLI::App app("bench-paper: the paper's simulation study (Section 4.2) with its method on the reference scenario,\n"
+                 "random (\"initial\") trajectories: Table 2, Figure 6 and the wall time.",
+                 "bench-paper");
+    app.add_option("--seeds", seeds, "seeds 1..N (default 10)")->type_name("N")->check(selfcalibCli::wholeNumber(1));
+    app.add_option("--noise", noises, "pixel noise levels (default 0,0.2,0.5: noise-free, the paper's I and II)")
+        ->type_name("A,B")
+        ->delimiter(',')
+        ->check(selfcalibCli::number(0));
+    app.add_option("--robots", robots, "puma560, viper850 (default both)")
+        ->type_name("A,B")
+        ->delimiter(',')
+        ->check(CLI::IsMember(vpKinematicChain::presetNames()));
+    app.add_option("--focal", focals,
+                   "focal modes: shared (self-calibrated, default), known, per-pair (the\n"
+                   "paper; degenerate on this scenario) (default shared,known)")
+        ->type_name("A,B")
+        ->delimiter(',')
+        ->check(CLI::IsMember(
+            bench::focalModeNames({vpRobotSelfCalibration::FOCAL_SHARED, vpRobotSelfCalibration::FOCAL_KNOWN,
+                                   vpRobotSelfCalibration::FOCAL_PER_PAIR})));
+    app.add_option("--csv", csv_path, "one row per robot, noise, focal mode, seed and experiment")->type_name("FILE");
+    const int parsed = selfcalibCli::parse(app, argc, argv);
+    if (parsed >= 0)
+      return parsed;
     std::vector<vpRobotSelfCalibration::FocalMode> modes;
     for (const std::string &f : focals)
-      modes.push_back(bench::focalMode(f));
-    for (const std::string &r : robots)
-      vpKinematicChain::preset(r); // throws on an unknown name before any work
+      modes.push_back(vpRobotSelfCalibration::focalModeFromName(f));
 
     bench::Csv csv(csv_path, "robot,noise_px,focal,seed,experiment,n_calibration,index,position_m,orientation_rad,"
                              "f_error_px,ratio_error,yardstick_error_m,distance_rms_m,seconds");

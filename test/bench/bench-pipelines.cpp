@@ -41,6 +41,7 @@
 
 #include "benchCommon.h"
 #include "benchPaper.h"
+#include "selfcalibCli.h"
 
 namespace
 {
@@ -104,49 +105,46 @@ int main(int argc, char **argv)
     std::vector<std::string> robots = {"puma560", "viper850"};
     std::vector<double> noises = {0.2, 0.5};
     std::string focal = "shared", csv_path, scale = "yes";
-    bool planned = true;
-    std::vector<double> large = {100, 1000};
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      if (a == "--seeds")
-        seeds = static_cast<unsigned int>(bench::number(i, argc, argv));
-      else if (a == "--draws")
-        draws = static_cast<unsigned int>(bench::number(i, argc, argv));
-      else if (a == "--robots")
-        robots = bench::stringList(i, argc, argv);
-      else if (a == "--noise")
-        noises = bench::numberList(i, argc, argv);
-      else if (a == "--focal" && i + 1 < argc)
-        focal = argv[++i];
-      else if (a == "--no-planned")
-        planned = false;
-      else if (a == "--scale" && i + 1 < argc)
-        scale = argv[++i];
-      else if (a == "--large")
-        large = bench::numberList(i, argc, argv);
-      else if (a == "--csv" && i + 1 < argc)
-        csv_path = argv[++i];
-      else if (a == "-h" || a == "--help") {
-        std::cout << "bench-pipelines [--seeds N] [--draws K] [--robots a,b] [--noise 0.2,0.5] [--focal shared|known] "
-                     "[--no-planned] [--scale yes|no] [--large POSES,POINTS] [--csv FILE]\n";
-        return EXIT_SUCCESS;
-      } else
-        throw std::invalid_argument("unknown option '" + a + "' (see --help)");
-    }
-    if (seeds < 1)
-      throw std::invalid_argument("--seeds must be >= 1");
-    if (focal != "shared" && focal != "known")
-      throw std::invalid_argument("--focal must be shared or known");
-    if (scale != "yes" && scale != "no")
-      throw std::invalid_argument("--scale must be yes or no");
-    if (large.size() != 2 || large[0] < 3 || large[1] < 8)
-      throw std::invalid_argument("--large needs POSES >= 3 and POINTS >= 8");
-    for (double n : noises)
-      if (!(n > 0))
-        throw std::invalid_argument("--noise levels must be > 0 (the bound needs noise)");
-    for (const std::string &r : robots)
-      vpKinematicChain::preset(r);
-    const vpRobotSelfCalibration::FocalMode mode = bench::focalMode(focal);
+    bool no_planned = false;
+    std::vector<unsigned int> large = {100, 1000};
+    CLI::App app("bench-pipelines: the default pipeline against the paper's pipeline, the nominal model and the\n"
+                 "Cramer-Rao bound, on the same data; then the default pipeline's wall time at scale.",
+                 "bench-pipelines");
+    app.add_option("--seeds", seeds, "seeds 1..N (default 10)")->type_name("N")->check(selfcalibCli::wholeNumber(1));
+    app.add_option("--draws", draws, "extra noise draws of each seed's geometry for the default (default 5)")
+        ->type_name("K")
+        ->check(selfcalibCli::wholeNumber());
+    app.add_option("--robots", robots, "puma560, viper850 (default both)")
+        ->type_name("A,B")
+        ->delimiter(',')
+        ->check(CLI::IsMember(vpKinematicChain::presetNames()));
+    app.add_option("--noise", noises, "pixel noise levels, above 0: the bound needs noise (default 0.2,0.5)")
+        ->type_name("A,B")
+        ->delimiter(',')
+        ->check(selfcalibCli::number(0, true));
+    app.add_option("--focal", focal, "shared (default) or known")
+        ->type_name("MODE")
+        ->check(CLI::IsMember(
+            bench::focalModeNames({vpRobotSelfCalibration::FOCAL_SHARED, vpRobotSelfCalibration::FOCAL_KNOWN})));
+    app.add_flag("--no-planned", no_planned, "leave out the paper's pipeline on planned trajectories");
+    app.add_option("--scale", scale, "yes (default) or no: the wall-time runs at scale")
+        ->type_name("S")
+        ->check(CLI::IsMember({"yes", "no"}));
+    app.add_option("--large", large, "the larger scale run, POSES >= 3 and POINTS >= 8 (default 100,1000)")
+        ->type_name("POSES,POINTS")
+        ->delimiter(',')
+        ->expected(2)
+        ->check(selfcalibCli::wholeNumber());
+    app.final_callback([&large] {
+      if (large.size() != 2 || large[0] < 3 || large[1] < 8)
+        throw CLI::ValidationError("--large", "needs POSES >= 3 and POINTS >= 8");
+    });
+    app.add_option("--csv", csv_path, "one row per robot, seed, noise and method")->type_name("FILE");
+    const int parsed = selfcalibCli::parse(app, argc, argv);
+    if (parsed >= 0)
+      return parsed;
+    const vpRobotSelfCalibration::FocalMode mode = vpRobotSelfCalibration::focalModeFromName(focal);
+    const bool planned = !no_planned;
 
     bench::Csv csv(csv_path, "robot,seed,noise_px,method,status,position_mean_m,orientation_mean_rad,yardstick_m,"
                              "distance_rms_m,f_error_px");
@@ -315,7 +313,7 @@ int main(int argc, char **argv)
     if (scale == "yes") {
       std::cout << "\nScale: the default pipeline, all poses calibrating, focal " << focal
                 << ", noise 0.2 px, 2 solver threads, wall time (s)\n";
-      const unsigned int sizes[2][2] = {{25, 80}, {static_cast<unsigned int>(large[0]), static_cast<unsigned int>(large[1])}};
+      const unsigned int sizes[2][2] = {{25, 80}, {large[0], large[1]}};
       for (const auto &sz : sizes) {
         const vpSelfCalibSimulator sim = makeSim(robots[0], 1, 0.2, sz[1]);
         const auto tg = std::chrono::steady_clock::now();

@@ -30,28 +30,11 @@
 
 #include "benchCommon.h"
 #include "benchPaper.h"
+#include "selfcalibCli.h"
 
 namespace
 {
 const unsigned int kPoses = 25, kCalibration = 15;
-
-
-
-void usage(const char *argv0)
-{
-  std::cout << "Usage: " << argv0 << " [options]\n"
-            << "  --seeds N             seeds 1..N (default 10)\n"
-            << "  --noise A,B,...       pixel noise levels (default 0,0.2,0.5)\n"
-            << "  --robots A,B          puma560, viper850 (default both)\n"
-            << "  --focal MODE          shared (default), known or per-pair\n"
-            << "  --algorithm NAME      lbfgs (default), mma, slsqp, bobyqa\n"
-            << "  --ratio-cost NAME     consecutive (default, the intent of eq. 39) or spread\n"
-            << "  --lambda L            weight of cond(J) (default 1e-7, the paper's)\n"
-            << "  --start S             initial trajectory: random (default, bench-paper's) or smooth (a loop)\n"
-            << "  --csv FILE            one row per robot, seed, noise, trajectory and pose measurement\n"
-            << "  --trajectory-csv FILE camera positions and |t_i| of both trajectories (Figures 3-5)\n"
-            << "  -h, --help            this help\n";
-}
 
 struct Row {
   bench::Stats pos, rot, f, ratio, held_pos, held_rot;
@@ -67,58 +50,47 @@ int main(int argc, char **argv)
     std::vector<std::string> robots = {"puma560", "viper850"};
     std::string focal = "shared", csv_path, traj_path, start = "random";
     vpMeasurementPlanner::TrajectoryOptions po;
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      if (a == "--seeds")
-        seeds = static_cast<unsigned int>(bench::number(i, argc, argv));
-      else if (a == "--noise")
-        noises = bench::numberList(i, argc, argv);
-      else if (a == "--robots")
-        robots = bench::stringList(i, argc, argv);
-      else if (a == "--focal" && i + 1 < argc)
-        focal = argv[++i];
-      else if (a == "--algorithm" && i + 1 < argc)
-        po.algorithm = vpMeasurementPlanner::algorithmFromName(argv[++i]);
-      else if (a == "--ratio-cost" && i + 1 < argc) {
-        const std::string c = argv[++i];
-        if (c != "consecutive" && c != "spread")
-          throw std::invalid_argument("--ratio-cost: consecutive or spread");
-        po.ratio_cost = c == "spread" ? vpMeasurementPlanner::RATIO_SPREAD : vpMeasurementPlanner::RATIO_CONSECUTIVE;
-      } else if (a == "--lambda")
-        po.lambda = bench::number(i, argc, argv);
-      else if (a == "--csv" && i + 1 < argc)
-        csv_path = argv[++i];
-      else if (a == "--trajectory-csv" && i + 1 < argc)
-        traj_path = argv[++i];
-      else if (a == "--start" && i + 1 < argc) {
-        start = argv[++i];
-        if (start != "random" && start != "smooth") {
-          std::cerr << "--start is random or smooth\n";
-          return EXIT_FAILURE;
-        }
-      }
-      else if (a == "-h" || a == "--help") {
-        usage(argv[0]);
-        return EXIT_SUCCESS;
-      } else {
-        std::cerr << "Unknown or incomplete option '" << a << "'\n";
-        usage(argv[0]);
-        return EXIT_FAILURE;
-      }
-    }
-    if (seeds < 1) {
-      std::cerr << "--seeds must be >= 1\n";
-      return EXIT_FAILURE;
-    }
-    for (double n : noises)
-      if (n < 0) {
-        std::cerr << "--noise levels must be >= 0\n";
-        return EXIT_FAILURE;
-      }
-    const vpRobotSelfCalibration::FocalMode mode = bench::focalMode(focal);
+    std::string algorithm = "lbfgs", ratio_cost = "consecutive";
+    CLI::App app("bench-planner: the paper's optimal measurement trajectory (Section 3.3) against the initial one.",
+                 "bench-planner");
+    app.add_option("--seeds", seeds, "seeds 1..N (default 10)")->type_name("N")->check(selfcalibCli::wholeNumber(1));
+    app.add_option("--noise", noises, "pixel noise levels (default 0,0.2,0.5)")
+        ->type_name("A,B")
+        ->delimiter(',')
+        ->check(selfcalibCli::number(0));
+    app.add_option("--robots", robots, "puma560, viper850 (default both)")
+        ->type_name("A,B")
+        ->delimiter(',')
+        ->check(CLI::IsMember(vpKinematicChain::presetNames()));
+    app.add_option("--focal", focal, "shared (default), known or per-pair")
+        ->type_name("MODE")
+        ->check(CLI::IsMember(
+            bench::focalModeNames({vpRobotSelfCalibration::FOCAL_SHARED, vpRobotSelfCalibration::FOCAL_KNOWN,
+                                   vpRobotSelfCalibration::FOCAL_PER_PAIR})));
+    app.add_option("--algorithm", algorithm, "lbfgs (default), mma, slsqp, bobyqa")
+        ->type_name("NAME")
+        ->check(CLI::IsMember({"lbfgs", "mma", "slsqp", "bobyqa"}));
+    app.add_option("--ratio-cost", ratio_cost, "consecutive (default, the intent of eq. 39) or spread")
+        ->type_name("NAME")
+        ->check(CLI::IsMember({"consecutive", "spread"}));
+    app.add_option("--lambda", po.lambda, "weight of cond(J), at least 0 (default 1e-7, the paper's)")
+        ->type_name("L")
+        ->check(selfcalibCli::number(0));
+    app.add_option("--start", start, "initial trajectory: random (default, bench-paper's) or smooth (a loop)")
+        ->type_name("S")
+        ->check(CLI::IsMember({"random", "smooth"}));
+    app.add_option("--csv", csv_path, "one row per robot, seed, noise, trajectory and pose measurement")
+        ->type_name("FILE");
+    app.add_option("--trajectory-csv", traj_path, "camera positions and |t_i| of both trajectories (Figures 3-5)")
+        ->type_name("FILE");
+    const int parsed = selfcalibCli::parse(app, argc, argv);
+    if (parsed >= 0)
+      return parsed;
+    po.algorithm = vpMeasurementPlanner::algorithmFromName(algorithm);
+    po.ratio_cost =
+        ratio_cost == "spread" ? vpMeasurementPlanner::RATIO_SPREAD : vpMeasurementPlanner::RATIO_CONSECUTIVE;
+    const vpRobotSelfCalibration::FocalMode mode = vpRobotSelfCalibration::focalModeFromName(focal);
     po.check();
-    for (const std::string &r : robots)
-      vpKinematicChain::preset(r);
 
     bench::Csv csv(csv_path, "robot,seed,noise_px,trajectory,pair,position_error_m,orientation_error_rad");
     bench::Csv traj(traj_path, "robot,seed,trajectory,pose,x,y,z,norm_t");

@@ -38,6 +38,7 @@
 #include <visp3/selfcalib/vpTwoViewEstimator.h>
 
 #include "benchCommon.h"
+#include "selfcalibCli.h"
 
 namespace
 {
@@ -168,17 +169,6 @@ struct MethodStats {
   double rot_ss = 0; // sum of squared rotation errors, for the RMS against the bound
 };
 
-void usage(const char *argv0)
-{
-  std::cout << "Usage: " << argv0 << " [options]\n"
-            << "  --seeds N        seeds 1..N (default 10)\n"
-            << "  --noise A,B      pixel noise levels (default 0.2,0.5)\n"
-            << "  --robot NAME     viper850 (default) or puma560\n"
-            << "  --poses N        poses of the scenario (default 25: pairs (1, i), i = 2..N)\n"
-            << "  --fx-guess PX    initial focal length for (a) and (b) when the closed form fails (default 1400)\n"
-            << "  --csv FILE       one row per noise, seed, method and pair\n"
-            << "  -h, --help       this help\n";
-}
 } // namespace
 
 int main(int argc, char **argv)
@@ -188,33 +178,27 @@ int main(int argc, char **argv)
     std::vector<double> noises = {0.2, 0.5};
     std::string robot = "viper850", csv_path;
     double fx_guess = 1400;
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      if (a == "--seeds")
-        seeds = static_cast<unsigned int>(bench::number(i, argc, argv));
-      else if (a == "--poses")
-        poses = static_cast<unsigned int>(bench::number(i, argc, argv));
-      else if (a == "--noise")
-        noises = bench::numberList(i, argc, argv);
-      else if (a == "--robot" && i + 1 < argc)
-        robot = argv[++i];
-      else if (a == "--fx-guess")
-        fx_guess = bench::number(i, argc, argv);
-      else if (a == "--csv" && i + 1 < argc)
-        csv_path = argv[++i];
-      else if (a == "-h" || a == "--help") {
-        usage(argv[0]);
-        return EXIT_SUCCESS;
-      } else {
-        std::cerr << "Unknown or incomplete option '" << a << "'\n";
-        usage(argv[0]);
-        return EXIT_FAILURE;
-      }
-    }
-    if (seeds < 1 || poses < 3 || !(fx_guess > 0)) {
-      std::cerr << "--seeds must be >= 1, --poses >= 3 and --fx-guess > 0\n";
-      return EXIT_FAILURE;
-    }
+    CLI::App app("bench-twoview: the two-view pose measurement (paper Section 3.1) on the reference scenario.",
+                 "bench-twoview");
+    app.add_option("--seeds", seeds, "seeds 1..N (default 10)")->type_name("N")->check(selfcalibCli::wholeNumber(1));
+    app.add_option("--noise", noises, "pixel noise levels (default 0.2,0.5)")
+        ->type_name("A,B")
+        ->delimiter(',')
+        ->check(selfcalibCli::number(0));
+    app.add_option("--robot", robot, "viper850 (default) or puma560")
+        ->type_name("NAME")
+        ->check(CLI::IsMember(vpKinematicChain::presetNames()));
+    app.add_option("--poses", poses, "poses of the scenario, at least 3 (default 25: pairs (1, i), i = 2..N)")
+        ->type_name("N")
+        ->check(selfcalibCli::wholeNumber(3));
+    app.add_option("--fx-guess", fx_guess,
+                   "initial focal length for (a) and (b) when the closed form fails (default 1400)")
+        ->type_name("PX")
+        ->check(selfcalibCli::number(0, true));
+    app.add_option("--csv", csv_path, "one row per noise, seed, method and pair")->type_name("FILE");
+    const int parsed = selfcalibCli::parse(app, argc, argv);
+    if (parsed >= 0)
+      return parsed;
     bench::Csv csv(csv_path, "noise_px,seed,method,pair,status,rotation_error_rad,direction_error_rad,f_error_px,time_ms");
     const char *names[4] = {"(a) refined, f per pair", "(b) refined, f shared", "(c) refined, f known",
                             "(d) OpenCV 5-point, f known"};

@@ -1,5 +1,6 @@
 /*
- * Shared pieces of the benchmark programs: command-line numbers, mean and SD, CSV output.
+ * Shared pieces of the benchmark programs: mean and SD, CSV output (their command lines are CLI11's,
+ * with the checks of apps/cli/selfcalibCli.h).
  * Benchmarks are programs, not tests: they print tables whose figures go into the README.
  */
 #ifndef VP_SELFCALIB_BENCH_COMMON_H
@@ -15,54 +16,6 @@
 
 namespace bench
 {
-//! The value after option argv[i] as a number; throws with a clear message otherwise.
-inline double number(int &i, int argc, char **argv)
-{
-  if (i + 1 >= argc)
-    throw std::invalid_argument(std::string(argv[i]) + " needs a value");
-  char *end = nullptr;
-  const double v = std::strtod(argv[++i], &end);
-  if (!end || *end != '\0' || !std::isfinite(v))
-    throw std::invalid_argument(std::string(argv[i - 1]) + ": '" + argv[i] + "' is not a number");
-  return v;
-}
-
-//! Comma-separated numbers ("0.2,0.5").
-inline std::vector<double> numberList(int &i, int argc, char **argv)
-{
-  if (i + 1 >= argc)
-    throw std::invalid_argument(std::string(argv[i]) + " needs a value");
-  std::vector<double> out;
-  std::stringstream ss(argv[++i]);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    char *end = nullptr;
-    const double v = std::strtod(item.c_str(), &end);
-    if (item.empty() || !end || *end != '\0' || !std::isfinite(v))
-      throw std::invalid_argument(std::string(argv[i - 1]) + ": '" + item + "' is not a number");
-    out.push_back(v);
-  }
-  if (out.empty())
-    throw std::invalid_argument(std::string(argv[i - 1]) + " needs at least one number");
-  return out;
-}
-
-//! Comma-separated names ("puma560,viper850").
-inline std::vector<std::string> stringList(int &i, int argc, char **argv)
-{
-  if (i + 1 >= argc)
-    throw std::invalid_argument(std::string(argv[i]) + " needs a value");
-  std::vector<std::string> out;
-  std::stringstream ss(argv[++i]);
-  std::string item;
-  while (std::getline(ss, item, ','))
-    if (!item.empty())
-      out.push_back(item);
-  if (out.empty())
-    throw std::invalid_argument(std::string(argv[i - 1]) + " needs at least one name");
-  return out;
-}
-
 //! Running mean and sample standard deviation.
 struct Stats {
   std::vector<double> v;

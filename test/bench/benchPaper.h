@@ -18,16 +18,13 @@
 
 namespace bench
 {
-//! "known", "shared" or "per-pair" to the pipeline's focal mode; throws otherwise.
-inline vpRobotSelfCalibration::FocalMode focalMode(const std::string &name)
+//! The names of focal modes (vpRobotSelfCalibration::focalModeName), for a command line's choices.
+inline std::vector<std::string> focalModeNames(std::initializer_list<vpRobotSelfCalibration::FocalMode> modes)
 {
-  if (name == "known")
-    return vpRobotSelfCalibration::FOCAL_KNOWN;
-  if (name == "shared")
-    return vpRobotSelfCalibration::FOCAL_SHARED;
-  if (name == "per-pair")
-    return vpRobotSelfCalibration::FOCAL_PER_PAIR;
-  throw std::invalid_argument("focal mode '" + name + "': use known, shared or per-pair");
+  std::vector<std::string> names;
+  for (vpRobotSelfCalibration::FocalMode m : modes)
+    names.push_back(vpRobotSelfCalibration::focalModeName(m));
+  return names;
 }
 
 //! The dataset the pipeline gets: a self-calibrated f starts from a 7% low guess (a lens data sheet).

@@ -17,6 +17,7 @@
                                 [--report DIR] [-c] [-d] [-h]
 
   -c and -d are ViSP's tutorial flags (no click, no display); this program never opens a display.
+  The command line is CLI11's: --help lists every option; a wrong option or value exits with code 2.
 */
 #include <algorithm>
 #include <chrono>
@@ -26,6 +27,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <visp3/core/vpMath.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
@@ -35,107 +37,88 @@
 #include <visp3/selfcalib/vpMeasurementPlanner.h>
 #include <visp3/selfcalib/vpFeatureFrontEnd.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibImageCorrespondences.h>
 #include <visp3/selfcalib/vpSelfCalibRenderer.h>
 #include <visp3/selfcalib/vpSelfCalibReport.h>
 
+#include "selfcalibCli.h"
+
 namespace
 {
-void usage(const char *argv0)
-{
-  std::cout << "Usage: " << argv0 << " [options]\n"
-            << "  --robot NAME   viper850 (through ViSP's simulator, default) or puma560\n"
-            << "  --seed N       seed of the scenario (default 1)\n"
-            << "  --poses N      number of configurations (default 25: 15 calibration + 10 verification)\n"
-            << "  --noise PX     image noise sd in pixels (default 0.2, level I)\n"
-            << "  --method M     bundle (default: multi-view reconstruction + kinematic bundle adjustment)\n"
-            << "                 or paper (the paper's two-view measurements, eq. 21 scale, identification)\n"
-            << "  --focal MODE   known (default), shared (f self-calibrated, one for all views) or\n"
-            << "                 per-pair (the paper: f self-calibrated with each pair; bundle: as shared)\n"
-            << "  --plan MODE    auto (default: observability with bundle, paper with paper), paper (the\n"
-            << "                 paper's optimal trajectory, eqs. 22-39, planned from random feasible poses),\n"
-            << "                 observability (O1-optimal choice from a pool of 60) or none (random poses)\n"
-            << "  --acquisition M images (default: rendered images, SIFT tracks and the yardstick's dots),\n"
-            << "                 dots (the paper's experiment: rendered dot grids on two planes, matched by\n"
-            << "                 their place in the grid) or points (the simulator's exact correspondences\n"
-            << "                 with --noise pixel noise)\n"
-            << "  --report DIR   where the report goes (default selfcalib-report; 'none': no report)\n"
-            << "  -c, -d         accepted for ViSP's tutorial convention; nothing is displayed\n"
-            << "  -h, --help     this help\n";
-}
+struct Args {
+  std::string robot_name = "viper850";
+  vpSelfCalibSimulator::Options opt;
+  unsigned int poses = 25;
+  std::string focal = "known", plan = "auto", method = "bundle", acquisition = "images", report = "selfcalib-report";
+};
 
-double number(int &i, int argc, char **argv)
+//! The command line; returns -1 to go on, else the exit code (0 after --help, 2 on a usage error).
+int parseCommandLine(int argc, char **argv, Args &a)
 {
-  if (i + 1 >= argc)
-    throw vpSelfCalibException(vpSelfCalibException::badValue, std::string(argv[i]) + " needs a value");
-  char *end = nullptr;
-  const double v = std::strtod(argv[++i], &end);
-  if (!end || *end != '\0')
-    throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               std::string(argv[i - 1]) + ": '" + argv[i] + "' is not a number");
-  return v;
+  CLI::App app("Main job of ViSP SelfCalib: the reference scenario on ViSP's simulated Viper850, planned poses,\n"
+               "rendered images through the front end, self-calibration on the first 15 poses, verification on\n"
+               "the others, report.",
+               "tutorial-selfcalib-viper850");
+  app.add_option("--robot", a.robot_name, "viper850 (through ViSP's simulator, default) or puma560")
+      ->type_name("NAME")
+      ->check(CLI::IsMember(vpKinematicChain::presetNames()));
+  app.add_option("--seed", a.opt.seed, "seed of the scenario (default 1)")
+      ->type_name("N")
+      ->check(selfcalibCli::wholeNumber());
+  app.add_option("--poses", a.poses,
+                 "number of configurations, at least 2 (default 25: 15 calibration + 10\n"
+                 "verification)")
+      ->type_name("N")
+      ->check(selfcalibCli::wholeNumber(2));
+  app.add_option("--noise", a.opt.pixel_noise_sd, "image noise sd in pixels (default 0.2, level I)")
+      ->type_name("PX")
+      ->check(selfcalibCli::number(0));
+  app.add_option("--method", a.method,
+                 "bundle (default: multi-view reconstruction + kinematic bundle adjustment)\n"
+                 "or paper (the paper's two-view measurements, eq. 21 scale, identification)")
+      ->type_name("M")
+      ->check(CLI::IsMember({vpRobotSelfCalibration::methodName(vpRobotSelfCalibration::BUNDLE_ADJUSTMENT),
+                             vpRobotSelfCalibration::methodName(vpRobotSelfCalibration::PAPER)}));
+  app.add_option("--focal", a.focal,
+                 "known (default), shared (f self-calibrated, one for all views) or\n"
+                 "per-pair (the paper: f self-calibrated with each pair; bundle: as shared)")
+      ->type_name("MODE")
+      ->check(CLI::IsMember({vpRobotSelfCalibration::focalModeName(vpRobotSelfCalibration::FOCAL_KNOWN),
+                             vpRobotSelfCalibration::focalModeName(vpRobotSelfCalibration::FOCAL_SHARED),
+                             vpRobotSelfCalibration::focalModeName(vpRobotSelfCalibration::FOCAL_PER_PAIR)}));
+  app.add_option("--plan", a.plan,
+                 "auto (default: observability with bundle, paper with paper), paper (the\n"
+                 "paper's optimal trajectory, eqs. 22-39, planned from random feasible poses),\n"
+                 "observability (O1-optimal choice from a pool of 60) or none (random poses)")
+      ->type_name("MODE")
+      ->check(CLI::IsMember({"auto", "paper", "observability", "none"}));
+  app.add_option("--acquisition", a.acquisition,
+                 "images (default: rendered images, SIFT tracks and the yardstick's dots),\n"
+                 "dots (the paper's experiment: rendered dot grids on two planes, matched by\n"
+                 "their place in the grid) or points (the simulator's exact correspondences\n"
+                 "with --noise pixel noise)")
+      ->type_name("M")
+      ->check(CLI::IsMember({"images", "dots", "points"}));
+  app.add_option("--report", a.report, "where the report goes (default selfcalib-report; 'none': no report)")
+      ->type_name("DIR");
+  app.add_flag("-c", "accepted for ViSP's tutorial convention (no click); nothing is displayed");
+  app.add_flag("-d", "accepted for ViSP's tutorial convention (no display); nothing is displayed");
+  return selfcalibCli::parse(app, argc, argv);
 }
 } // namespace
 
 int main(int argc, char **argv)
 {
   try {
-    std::string robot_name = "viper850";
-    vpSelfCalibSimulator::Options opt;
-    unsigned int poses = 25;
-    std::string focal = "known", plan = "auto", method = "bundle", acquisition = "images", report = "selfcalib-report";
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      if (a == "--robot" && i + 1 < argc)
-        robot_name = argv[++i];
-      else if (a == "--seed")
-        opt.seed = static_cast<uint64_t>(number(i, argc, argv));
-      else if (a == "--poses")
-        poses = static_cast<unsigned int>(number(i, argc, argv));
-      else if (a == "--noise")
-        opt.pixel_noise_sd = number(i, argc, argv);
-      else if (a == "--focal" && i + 1 < argc) {
-        focal = argv[++i];
-        if (focal != "known" && focal != "shared" && focal != "per-pair") {
-          std::cerr << "--focal must be known, shared or per-pair\n";
-          return EXIT_FAILURE;
-        }
-      }
-      else if (a == "--acquisition" && i + 1 < argc) {
-        acquisition = argv[++i];
-        if (acquisition != "images" && acquisition != "dots" && acquisition != "points") {
-          std::cerr << "--acquisition must be images, dots or points\n";
-          return EXIT_FAILURE;
-        }
-      } else if (a == "--report" && i + 1 < argc)
-        report = argv[++i];
-      else if (a == "--method" && i + 1 < argc) {
-        method = argv[++i];
-        if (method != "bundle" && method != "paper") {
-          std::cerr << "--method must be bundle or paper\n";
-          return EXIT_FAILURE;
-        }
-      } else if (a == "--plan" && i + 1 < argc) {
-        plan = argv[++i];
-        if (plan != "auto" && plan != "paper" && plan != "observability" && plan != "none") {
-          std::cerr << "--plan must be auto, paper, observability or none\n";
-          return EXIT_FAILURE;
-        }
-      }
-      else if (a == "-c" || a == "-d")
-        continue;
-      else if (a == "-h" || a == "--help") {
-        usage(argv[0]);
-        return EXIT_SUCCESS;
-      } else {
-        std::cerr << "Unknown option '" << a << "'\n";
-        usage(argv[0]);
-        return EXIT_FAILURE;
-      }
-    }
-    if (poses < 2) {
-      std::cerr << "--poses must be at least 2\n";
-      return EXIT_FAILURE;
-    }
+    Args args;
+    const int parsed = parseCommandLine(argc, argv, args);
+    if (parsed >= 0)
+      return parsed;
+    const std::string &robot_name = args.robot_name, &focal = args.focal, &method = args.method,
+                      &acquisition = args.acquisition, &report = args.report;
+    const vpSelfCalibSimulator::Options &opt = args.opt;
+    const unsigned int poses = args.poses;
+    std::string plan = args.plan;
 
     // The robot interface. For the Viper850 it is ViSP's simulator, headless and moved instantly;
     // its nominal model takes the simulator's joint limits and camera mounting.
@@ -251,8 +234,12 @@ int main(int argc, char **argv)
 
     // Rendered acquisition: the images the camera takes at the acquired joints, through the true
     // robot; the image front end finds the correspondences and the yardstick's dots in them.
+    // The front end fills the observations and the yardstick's ends, the views where it found nothing
+    // are left out, the method is set: as visp-selfcalib calibrate does with a dataset's images.
     vpSelfCalibDataset data = ds;
-    vpFeatureFrontEnd::Result fe;
+    vpSelfCalibImageCorrespondences::Options co;
+    co.method = vpRobotSelfCalibration::methodFromName(method);
+    vpSelfCalibImageCorrespondences::Result cr;
     if (acquisition != "points") {
       vpSelfCalibRenderer::Options ro;
       ro.seed = opt.seed;
@@ -262,53 +249,42 @@ int main(int argc, char **argv)
       for (size_t k = 0; k < ds.views.size(); ++k)
         images.push_back(renderer.render(ds.views[k].q, static_cast<unsigned int>(k)));
       std::cerr << "   ... image front end on " << images.size() << " images\n";
-      vpFeatureFrontEnd::Options fo;
       if (acquisition == "dots") { // the paper's experiment: dot grids only
-        fo.features = false;
-        fo.dot_grids = vpFeatureFrontEnd::dotGrids(renderer);
+        co.front_end.features = false;
+        co.front_end.dot_grids = vpFeatureFrontEnd::dotGrids(renderer);
       }
-      fe = vpFeatureFrontEnd::process(images, fo);
-      unsigned int seen = 0;
-      for (size_t k = 0; k < ds.views.size(); ++k) {
-        data.views[k].points = fe.observations[k];
-        seen += fe.yardstick_seen[k];
-      }
+      cr = vpSelfCalibImageCorrespondences::fromImages(data, images, co);
+      const vpFeatureFrontEnd::Result &fe = cr.front_end;
       data.yardstick.length = renderer.getYardstickLength();
-      data.yardstick.id_a = fe.yardstick_a;
-      data.yardstick.id_b = fe.yardstick_b;
-      if (acquisition == "dots") {
-        unsigned int grids = 0;
-        for (const auto &g : fe.grid_seen)
-          for (bool b : g)
-            grids += b;
+      if (acquisition == "dots")
         std::cout << "== Acquisition: " << images.size() << " rendered images (dot grids on two planes, blur, noise); "
-                  << "front end (vpDot2 dots, OpenCV circle-grid order): " << grids << " of " << fe.grid_seen.size() * images.size()
-                  << " grids found, yardstick dots in " << seen << " images, " << std::setprecision(1) << fe.seconds << " s\n";
-      } else
+                  << "front end (vpDot2 dots, OpenCV circle-grid order): " << cr.grids_found << " of "
+                  << fe.grid_seen.size() * images.size() << " grids found, yardstick dots in " << cr.yardstick_images
+                  << " images, " << std::setprecision(1) << fe.seconds << " s\n";
+      else
         std::cout << "== Acquisition: " << images.size() << " rendered images (textured planes, blur, noise); "
-                  << "front end (SIFT, ratio + mutual + RANSAC, tracks): " << fe.num_tracks << " tracks, yardstick dots in "
-                  << seen << " images, " << std::setprecision(1) << fe.seconds << " s\n";
-      // A view where the front end found nothing (the grids and the yardstick missed) is left out.
-      for (size_t k = data.views.size(); k-- > 0;)
-        if (data.views[k].points.empty()) {
-          std::cout << "   pose " << k + 1 << ": nothing found in its image, left out\n";
-          data.views.erase(data.views.begin() + static_cast<long>(k));
-          ds.views.erase(ds.views.begin() + static_cast<long>(k));
-        }
-    } else
+                  << "front end (SIFT, ratio + mutual + RANSAC, tracks): " << fe.num_tracks
+                  << " tracks, yardstick dots in " << cr.yardstick_images << " images, " << std::setprecision(1)
+                  << fe.seconds << " s\n";
+      // A view where the front end found nothing (the grids and the yardstick missed) was left out.
+      for (auto d = cr.dropped.rbegin(); d != cr.dropped.rend(); ++d) {
+        std::cout << "   pose " << d->index + 1 << ": nothing found in its image, left out\n";
+        ds.views.erase(ds.views.begin() + static_cast<long>(d->index));
+      }
+    } else {
+      cr = vpSelfCalibImageCorrespondences::fromDatasetImages(data, co); // the simulator's points: no front end
       std::cout << "== Acquisition: the simulator's exact correspondences with " << opt.pixel_noise_sd << " px noise\n";
+    }
 
     // Self-calibration on the first 15 views; the rest verify.
     data.focal_known = focal != "shared" && focal != "per-pair";
     if (!data.focal_known) // start from a rough guess, as a user with a lens data sheet would
       data.cam.initPersProjWithoutDistortion(0.93 * opt.px, 0.93 * opt.py, opt.u0, opt.v0);
     vpRobotSelfCalibration::Options po;
-    po.method = vpRobotSelfCalibration::methodFromName(method);
+    po.method = cr.method;
     po.pixel_sd = std::max(0.05, opt.pixel_noise_sd);
     po.num_calibration_poses = std::min<unsigned int>(15, poses);
-    po.focal_mode = focal == "per-pair" ? vpRobotSelfCalibration::FOCAL_PER_PAIR
-                                        : (data.focal_known ? vpRobotSelfCalibration::FOCAL_KNOWN
-                                                            : vpRobotSelfCalibration::FOCAL_SHARED);
+    po.focal_mode = vpRobotSelfCalibration::focalModeFromName(focal);
     if (po.method == vpRobotSelfCalibration::PAPER)
       std::cout << "== Self-calibration, the paper's procedure (Section 4.1): pairs (1, i) of the first "
                 << po.num_calibration_poses << " poses, focal length " << focal << "\n";
@@ -387,7 +363,7 @@ int main(int argc, char **argv)
     std::cout << "== Pipeline time " << std::setprecision(2) << r.seconds << " s\n";
     if (report != "none") {
       const vpSelfCalibReport::Result rep = vpSelfCalibReport::write(
-          report, nominal, data, po, r, acquisition != "points" ? &fe : nullptr, vpSelfCalibReport::Options());
+          report, nominal, data, po, r, cr.front_end_ran ? &cr.front_end : nullptr, vpSelfCalibReport::Options());
       std::cout << "== Report: " << report << "/report.md (" << rep.message << ")\n";
     }
     return EXIT_SUCCESS;

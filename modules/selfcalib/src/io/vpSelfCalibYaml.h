@@ -5,8 +5,6 @@
 #define VP_SELFCALIB_YAML_H
 
 #include <cmath>
-#include <cstdio>
-#include <fstream>
 #include <set>
 #include <sstream>
 #include <string>
@@ -14,6 +12,8 @@
 #include <visp3/core/vpPoseVector.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <yaml-cpp/yaml.h>
+
+#include "../core/vpSelfCalibFiles.h" // writeFileAtomically, for the writers of these files
 
 namespace vpSelfCalib
 {
@@ -185,29 +185,6 @@ template <typename F> auto parseYaml(const std::string &what, const std::string 
   }
 }
 
-//! Writes to a temporary file beside the target and renames it: a failed write never leaves half a file.
-inline void writeFileAtomically(const std::string &filename, const std::string &content, const std::string &what)
-{
-  const std::string tmp = filename + ".tmp";
-  {
-    std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
-    if (!os)
-      throw vpSelfCalibException(vpSelfCalibException::ioError,
-                                 what + " '" + filename + "': cannot open '" + tmp + "' for writing");
-    os << content;
-    os.flush();
-    if (!os) {
-      os.close();
-      std::remove(tmp.c_str());
-      throw vpSelfCalibException(vpSelfCalibException::ioError, what + " '" + filename + "': write failed");
-    }
-  }
-  if (std::rename(tmp.c_str(), filename.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw vpSelfCalibException(vpSelfCalibException::ioError,
-                               what + " '" + filename + "': cannot rename the temporary file into place");
-  }
-}
 } // namespace vpSelfCalib
 
 #endif

@@ -88,6 +88,10 @@ public:
   static const char *methodName(Method m);
   //! "bundle", "paper" or "hand-eye"; throws vpSelfCalibException otherwise.
   static Method methodFromName(const std::string &name);
+  //! "auto", "per-pair", "shared" or "known".
+  static const char *focalModeName(FocalMode m);
+  //! "auto", "per-pair", "shared" or "known"; throws vpSelfCalibException otherwise.
+  static FocalMode focalModeFromName(const std::string &name);
 
   struct Options {
     Method method = BUNDLE_ADJUSTMENT;

@@ -1,0 +1,88 @@
+/*
+ * ViSP SelfCalib: what the command lines of the tool, the tutorial and the benchmarks share on top
+ * of CLI11 (not installed): option value checks with clear messages, and one way to end on --help
+ * (exit 0) or a usage error (exit 2).
+ */
+#ifndef SELFCALIB_CLI_H
+#define SELFCALIB_CLI_H
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace selfcalibCli
+{
+//! The exit code of a usage error (unknown option, missing or wrong value), in every program.
+constexpr int kUsageError = 2;
+
+/*!
+  A whole number in decimal digits, at least `min`. CLI11 alone reads integers with strtoull in
+  base 0: "010" would be 8, "0x10" 16, and "-1" a huge unsigned 64-bit number.
+*/
+inline CLI::Validator wholeNumber(unsigned long long min = 0)
+{
+  return CLI::Validator(
+      [min](std::string &value) -> std::string {
+        const std::string expected = "expected a whole number" +
+                                     (min > 0 ? " of at least " + std::to_string(min) : std::string()) + ", got '" +
+                                     value + "'";
+        if (value.empty() || value.find_first_not_of("0123456789") != std::string::npos)
+          return expected;
+        errno = 0;
+        const unsigned long long v = std::strtoull(value.c_str(), nullptr, 10);
+        if (errno == ERANGE || v < min)
+          return expected;
+        return std::string();
+      },
+      std::string());
+}
+
+//! A finite number, at least `min` (or above it when `strict`).
+inline CLI::Validator number(double min = -std::numeric_limits<double>::infinity(), bool strict = false)
+{
+  return CLI::Validator(
+      [min, strict](std::string &value) -> std::string {
+        std::ostringstream expected;
+        expected << "expected a number";
+        if (std::isfinite(min))
+          expected << (strict ? " above " : " of at least ") << min;
+        expected << ", got '" << value << "'";
+        char *end = nullptr;
+        const double v = std::strtod(value.c_str(), &end);
+        if (value.empty() || end != value.c_str() + value.size() || !std::isfinite(v) || v < min ||
+            (strict && v == min))
+          return expected.str();
+        return std::string();
+      },
+      std::string());
+}
+
+/*!
+  Parses the command line. Returns -1 when the program is to go on; otherwise its exit code: 0
+  after printing the help (--help), kUsageError after printing a usage error on stderr.
+*/
+inline int parse(CLI::App &app, int argc, char **argv)
+{
+  try {
+    app.parse(argc, argv);
+    return -1;
+  } catch (const CLI::Success &e) { // --help
+    return app.exit(e);
+  } catch (const CLI::ParseError &e) {
+    std::string help = app.get_name() + " --help";
+    for (const CLI::App *sub : app.get_subcommands())
+      help = app.get_name() + " " + sub->get_name() + " --help";
+    std::cerr << "error: " << e.what() << "\n'" << help << "' lists the options.\n";
+    return kUsageError;
+  }
+}
+
+} // namespace selfcalibCli
+
+#endif
