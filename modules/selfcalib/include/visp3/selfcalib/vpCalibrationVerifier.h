@@ -1,8 +1,15 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpCalibrationVerifier.h
+  \brief The paper's verification (Section 4.1, step 5) and held-out pose errors.
+*/
 #ifndef VP_CALIBRATION_VERIFIER_H
 #define VP_CALIBRATION_VERIFIER_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <map>
 #include <string>
@@ -16,6 +23,7 @@
 
 /*!
   \class vpCalibrationVerifier
+  \ingroup group_selfcalib_pipeline
   \brief The paper's verification (Section 4.1, step 5) and held-out pose errors.
 
   - 3-D error: every scene point seen in at least two verification views is triangulated in the
@@ -28,7 +36,7 @@
   - Held-out pose errors: the model's relative pose c_0 M c_i between the first verification view
     and each other one, against the true one, in position (m) and rotation (rad).
 */
-class vpCalibrationVerifier
+class VISP_SELFCALIB_EXPORT vpCalibrationVerifier
 {
 public:
   struct Result {

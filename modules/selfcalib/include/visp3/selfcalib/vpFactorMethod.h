@@ -1,8 +1,16 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpFactorMethod.h
+  \brief The factor method (paper Theorem 1, Hartley 1992): relative pose of two views from the
+  fundamental matrix and the intrinsics.
+*/
 #ifndef VP_FACTOR_METHOD_H
 #define VP_FACTOR_METHOD_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <vector>
 
@@ -12,6 +20,7 @@
 
 /*!
   \class vpFactorMethod
+  \ingroup group_selfcalib_twoview
   \brief The factor method (paper Theorem 1, Hartley 1992): relative pose of two views from the
   fundamental matrix and the intrinsics.
 
@@ -24,7 +33,7 @@
   Pose convention of the paper (eq. 9): P1 = A [I 0], P2 = A [R t], so (R, t) is c2Mc1: X2 = R X1 + t.
   t has unit norm (the scale is not observable from two images).
 */
-class vpFactorMethod
+class VISP_SELFCALIB_EXPORT vpFactorMethod
 {
 public:
   struct Result {

@@ -1,8 +1,15 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpFeatureFrontEnd.h
+  \brief Correspondences across views from images of a natural scene, and the yardstick's dots.
+*/
 #ifndef VP_FEATURE_FRONT_END_H
 #define VP_FEATURE_FRONT_END_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <string>
 #include <vector>
@@ -13,6 +20,7 @@
 
 /*!
   \class vpFeatureFrontEnd
+  \ingroup group_selfcalib_frontend
   \brief Correspondences across views from images of a natural scene, and the yardstick's dots.
 
   1. Features: OpenCV SIFT (default) or ORB, at most max_features per image.
@@ -43,7 +51,7 @@
   Statistics for the report: features per image, verified matches per pair, the track-length
   histogram, where the yardstick was found.
 */
-class vpFeatureFrontEnd
+class VISP_SELFCALIB_EXPORT vpFeatureFrontEnd
 {
 public:
   enum Detector { SIFT, ORB };

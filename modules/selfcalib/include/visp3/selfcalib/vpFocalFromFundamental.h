@@ -1,8 +1,17 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpFocalFromFundamental.h
+  \brief Focal length f_x of one camera from the fundamental matrix of two of its images, with the
+  principal point (u0, v0) and the aspect ratio mu = f_y / f_x known (paper Section 3.1, after
+  Hartley 1992).
+*/
 #ifndef VP_FOCAL_FROM_FUNDAMENTAL_H
 #define VP_FOCAL_FROM_FUNDAMENTAL_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <string>
 
@@ -10,6 +19,7 @@
 
 /*!
   \class vpFocalFromFundamental
+  \ingroup group_selfcalib_twoview
   \brief Focal length f_x of one camera from the fundamental matrix of two of its images, with the
   principal point (u0, v0) and the aspect ratio mu = f_y / f_x known (paper Section 3.1, after
   Hartley 1992).
@@ -27,7 +37,7 @@
   which the two optical axes meet (the principal points are corresponding points, m2^T F m1 = 0 at
   the principal points, and both equations vanish: UNOBSERVABLE).
 */
-class vpFocalFromFundamental
+class VISP_SELFCALIB_EXPORT vpFocalFromFundamental
 {
 public:
   enum Status { OK, NEGATIVE, UNOBSERVABLE };

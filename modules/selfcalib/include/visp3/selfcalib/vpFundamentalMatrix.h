@@ -1,8 +1,15 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpFundamentalMatrix.h
+  \brief Fundamental matrix between two images of pixel correspondences (paper eq.
+*/
 #ifndef VP_FUNDAMENTAL_MATRIX_H
 #define VP_FUNDAMENTAL_MATRIX_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <cstdint>
 #include <string>
@@ -13,6 +20,7 @@
 
 /*!
   \class vpFundamentalMatrix
+  \ingroup group_selfcalib_twoview
   \brief Fundamental matrix between two images of pixel correspondences (paper eq. 3: m2^T F m1 = 0,
   m1 in image 1, m2 in image 2, homogeneous pixels).
 
@@ -24,7 +32,7 @@
   - estimate(): the 8-point inside RANSAC (seeded sampler, adaptive iteration count), then a
     re-estimate on all inliers.
 */
-class vpFundamentalMatrix
+class VISP_SELFCALIB_EXPORT vpFundamentalMatrix
 {
 public:
   struct Options {

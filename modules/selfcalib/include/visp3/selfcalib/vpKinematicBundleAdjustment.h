@@ -1,8 +1,16 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpKinematicBundleAdjustment.h
+  \brief Kinematic bundle adjustment (beyond the paper): the robot's kinematic parameters, the camera
+  intrinsics and the scene points estimated jointly from every image observation.
+*/
 #ifndef VP_KINEMATIC_BUNDLE_ADJUSTMENT_H
 #define VP_KINEMATIC_BUNDLE_ADJUSTMENT_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <map>
 #include <string>
@@ -18,6 +26,7 @@
 
 /*!
   \class vpKinematicBundleAdjustment
+  \ingroup group_selfcalib_identification
   \brief Kinematic bundle adjustment (beyond the paper): the robot's kinematic parameters, the
   camera intrinsics and the scene points estimated jointly from every image observation.
 
@@ -54,7 +63,7 @@
   and intrinsics, the points marginalized (Ceres Covariance, sparse QR). At the true state and with
   the true noise sd, information() gives the Cramér-Rao bound of the same problem.
 */
-class vpKinematicBundleAdjustment
+class VISP_SELFCALIB_EXPORT vpKinematicBundleAdjustment
 {
 public:
   //! Intrinsics that can be estimated (bitwise or).

@@ -1,8 +1,16 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpKinematicChain.h
+  \brief Serial revolute arm with a wrist camera: nominal model, complete and parametrically continuous
+  error model, forward kinematics and identification Jacobian.
+*/
 #ifndef VP_KINEMATIC_CHAIN_H
 #define VP_KINEMATIC_CHAIN_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <string>
 #include <vector>
@@ -14,6 +22,7 @@
 
 /*!
   \class vpKinematicChain
+  \ingroup group_selfcalib_kinematics
   \brief Serial revolute arm with a wrist camera: nominal model, complete and parametrically
   continuous error model, forward kinematics and identification Jacobian.
 
@@ -54,7 +63,7 @@
   dphi in f such that fRc(p + dp) = exp([dphi]x) fRc(p). It is analytic and exact at any parameter
   value, not only at zero.
 */
-class vpKinematicChain
+class VISP_SELFCALIB_EXPORT vpKinematicChain
 {
 public:
   enum Convention { DH, MDH };

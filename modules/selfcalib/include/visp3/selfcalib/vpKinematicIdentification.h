@@ -1,8 +1,15 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpKinematicIdentification.h
+  \brief Pose-based kinematic identification (paper Section 2.3, eq.
+*/
 #ifndef VP_KINEMATIC_IDENTIFICATION_H
 #define VP_KINEMATIC_IDENTIFICATION_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <cstdint>
 #include <string>
@@ -16,6 +23,7 @@
 
 /*!
   \class vpKinematicIdentification
+  \ingroup group_selfcalib_identification
   \brief Pose-based kinematic identification (paper Section 2.3, eq. 6): the corrections of a
   vpKinematicChain from measured camera poses, by Levenberg-Marquardt (Ceres), residuals weighted by
   their expected noise, started at the chain given (normally the nominal model).
@@ -43,7 +51,7 @@
   standard deviations are those implied by the given measurement noise; sigma0 = sqrt(2 cost / dof)
   tells whether that noise was right (about 1 when it was).
 */
-class vpKinematicIdentification
+class VISP_SELFCALIB_EXPORT vpKinematicIdentification
 {
 public:
   struct Measurement {

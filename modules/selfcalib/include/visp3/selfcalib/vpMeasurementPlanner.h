@@ -1,8 +1,15 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpMeasurementPlanner.h
+  \brief Choice of the measurement configurations (paper Section 3.3, eqs.
+*/
 #ifndef VP_MEASUREMENT_PLANNER_H
 #define VP_MEASUREMENT_PLANNER_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <cstdint>
 #include <functional>
@@ -16,6 +23,7 @@
 
 /*!
   \class vpMeasurementPlanner
+  \ingroup group_selfcalib_planning
   \brief Choice of the measurement configurations (paper Section 3.3, eqs. 22-39), on the nominal
   model and a rough scene (points in the reference frame f, the camera, the image size).
 
@@ -53,7 +61,7 @@
 
   Library code: no printing; caller mistakes throw vpSelfCalibException; failures are statuses.
 */
-class vpMeasurementPlanner
+class VISP_SELFCALIB_EXPORT vpMeasurementPlanner
 {
 public:
   //! What the camera must see. points: rough positions in f (3-vectors or homogeneous 4-vectors).

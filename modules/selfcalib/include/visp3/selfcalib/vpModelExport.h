@@ -1,8 +1,16 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpModelExport.h
+  \brief A calibrated model in the forms a controller loads (the robot-model YAML itself is
+  vpKinematicChain::saveYaml()):.
+*/
 #ifndef VP_MODEL_EXPORT_H
 #define VP_MODEL_EXPORT_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <cstdint>
 #include <string>
@@ -11,6 +19,7 @@
 
 /*!
   \class vpModelExport
+  \ingroup group_selfcalib_io
   \brief A calibrated model in the forms a controller loads (the robot-model YAML itself is
   vpKinematicChain::saveYaml()):
 
@@ -28,7 +37,7 @@
     limits), a fixed flange joint and a fixed camera joint (camera_optical_frame, ViSP's camera
     frame: z forward, x right, y down).
 */
-class vpModelExport
+class VISP_SELFCALIB_EXPORT vpModelExport
 {
 public:
   struct DHOptions {

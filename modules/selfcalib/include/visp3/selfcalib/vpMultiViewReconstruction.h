@@ -1,8 +1,16 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpMultiViewReconstruction.h
+  \brief Scale-consistent camera poses of all views and the scene points, with one focal length (beyond
+  the paper: the paper scales each two-view pose separately with the nominal model, eq.
+*/
 #ifndef VP_MULTI_VIEW_RECONSTRUCTION_H
 #define VP_MULTI_VIEW_RECONSTRUCTION_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <map>
 #include <string>
@@ -15,6 +23,7 @@
 
 /*!
   \class vpMultiViewReconstruction
+  \ingroup group_selfcalib_scale
   \brief Scale-consistent camera poses of all views and the scene points, with one focal length
   (beyond the paper: the paper scales each two-view pose separately with the nominal model, eq. 21).
 
@@ -47,7 +56,7 @@
   Image points are pixels (vpImagePoint: i = v, j = u), the camera model is the pinhole of
   vpTwoViewEstimator (u = u0 + fx x, v = v0 + mu fx y).
 */
-class vpMultiViewReconstruction
+class VISP_SELFCALIB_EXPORT vpMultiViewReconstruction
 {
 public:
   enum Loss { LOSS_NONE, LOSS_HUBER, LOSS_CAUCHY };

@@ -1,8 +1,15 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpObservabilityIndices.h
+  \brief Observability of a set of measurement configurations, from the singular values sigma_1 >= .
+*/
 #ifndef VP_OBSERVABILITY_INDICES_H
 #define VP_OBSERVABILITY_INDICES_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <vector>
 
@@ -10,6 +17,7 @@
 
 /*!
   \class vpObservabilityIndices
+  \ingroup group_selfcalib_identification
   \brief Observability of a set of measurement configurations, from the singular values
   sigma_1 >= ... >= sigma_L > 0 of the identification Jacobian J (L identified parameters, m
   measurement configurations), in the convention of Sun and Hollerbach (ICRA 2008):
@@ -26,7 +34,7 @@
   (dimensionless), columns the identified parameters in SI units (m, rad); so sigma is in 1/m or
   1/rad, and the indices of two plans are comparable only with the same noise model and units.
 */
-struct vpObservabilityIndices {
+struct VISP_SELFCALIB_EXPORT vpObservabilityIndices {
   double O1 = 0, O2 = 0, O3 = 0, O4 = 0, O5 = 0;
   double condition_number = 0; //!< sigma_1 / sigma_L (eq. 7); infinite when sigma_L = 0
 

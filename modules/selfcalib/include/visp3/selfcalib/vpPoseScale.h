@@ -1,8 +1,15 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpPoseScale.h
+  \brief The scale of two-view pose measurements (paper Section 3.2).
+*/
 #ifndef VP_POSE_SCALE_H
 #define VP_POSE_SCALE_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <string>
 #include <vector>
@@ -14,6 +21,7 @@
 
 /*!
   \class vpPoseScale
+  \ingroup group_selfcalib_scale
   \brief The scale of two-view pose measurements (paper Section 3.2).
 
   Two images give c_iMc_1 = [R_i | t_i] with |t_i| = 1: the true translation is k_i t_i with an
@@ -26,7 +34,7 @@
   Indexing: configurations q[0] (the reference, the paper's first pose) and q[1..m-1]; ratio i is
   |T_i| / |T_1| with T_i the translation of c_iMc_0, so ratio 1 = 1.
 */
-class vpPoseScale
+class VISP_SELFCALIB_EXPORT vpPoseScale
 {
 public:
   /*!

@@ -1,8 +1,15 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpRefinedFactorMethod.h
+  \brief The paper's refined nonlinear factor method (eqs.
+*/
 #ifndef VP_REFINED_FACTOR_METHOD_H
 #define VP_REFINED_FACTOR_METHOD_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <string>
 #include <vector>
@@ -12,6 +19,7 @@
 
 /*!
   \class vpRefinedFactorMethod
+  \ingroup group_selfcalib_twoview
   \brief The paper's refined nonlinear factor method (eqs. 12-13): the symmetric epipolar distance
 
       sum_i d(m2_i, Q m1_i)^2 + d(m1_i, Q^T m2_i)^2,   Q = A^-T [t]x R A^-1,
@@ -29,7 +37,7 @@
   Deviation from the paper: the paper's A (eq. 8) has no principal point (image coordinates centred
   beforehand); here A = [[f_x, 0, u0], [0, mu f_x, v0], [0, 0, 1]] takes pixels directly.
 */
-class vpRefinedFactorMethod
+class VISP_SELFCALIB_EXPORT vpRefinedFactorMethod
 {
 public:
   enum FocalMode { PER_PAIR, KNOWN, SHARED };

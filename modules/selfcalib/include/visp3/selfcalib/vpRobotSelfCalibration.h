@@ -1,8 +1,16 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpRobotSelfCalibration.h
+  \brief Self-calibration of a camera-equipped arm from a dataset, by one of three methods run on the
+  same data (one pipeline each behind run()).
+*/
 #ifndef VP_ROBOT_SELF_CALIBRATION_H
 #define VP_ROBOT_SELF_CALIBRATION_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <functional>
 #include <string>
@@ -21,6 +29,7 @@
 
 /*!
   \class vpRobotSelfCalibration
+  \ingroup group_selfcalib_pipeline
   \brief Self-calibration of a camera-equipped arm from a dataset, by one of three methods run on the
   same data (one pipeline each behind run()).
 
@@ -70,7 +79,7 @@
   caller mistake and throws vpSelfCalibException naming the setting to change instead, rather than
   being silently ignored.
 */
-class vpRobotSelfCalibration
+class VISP_SELFCALIB_EXPORT vpRobotSelfCalibration
 {
 public:
   enum FocalMode {

@@ -1,8 +1,16 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpSelfCalibDataCheck.h
+  \brief What is wrong with a calibration dataset before it is calibrated, in words that say what to do
+  (layer pipeline; vpRobotSelfCalibration runs it first).
+*/
 #ifndef VP_SELFCALIB_DATA_CHECK_H
 #define VP_SELFCALIB_DATA_CHECK_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <string>
 #include <vector>
@@ -12,6 +20,7 @@
 
 /*!
   \class vpSelfCalibDataCheck
+  \ingroup group_selfcalib_pipeline
   \brief What is wrong with a calibration dataset before it is calibrated, in words that say what
   to do (layer pipeline; vpRobotSelfCalibration runs it first).
 
@@ -28,7 +37,7 @@
     parallel axes (hand-eye translation along them unobservable), a yardstick seen in fewer than two
     views, points outside the image.
 */
-class vpSelfCalibDataCheck
+class VISP_SELFCALIB_EXPORT vpSelfCalibDataCheck
 {
 public:
   enum Severity {

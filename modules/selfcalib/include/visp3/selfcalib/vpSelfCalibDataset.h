@@ -1,8 +1,17 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpSelfCalibDataset.h
+  \brief What a self-calibration run consumes: the camera, the robot model name, one view per measurement
+  configuration (joint readings and/or controller pose fMe, image points with ids) and the
+  yardstick.
+*/
 #ifndef VP_SELFCALIB_DATASET_H
 #define VP_SELFCALIB_DATASET_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <string>
 #include <vector>
@@ -14,6 +23,7 @@
 
 /*!
   \class vpSelfCalibDataset
+  \ingroup group_selfcalib_core
   \brief What a self-calibration run consumes: the camera, the robot model name, one view per
   measurement configuration (joint readings and/or controller pose fMe, image points with ids) and
   the yardstick.
@@ -35,7 +45,7 @@
   yardstick: {length: 0.1, ends: [80, 81]}   # optional; without ends: dots found in the images
   \endcode
 */
-struct vpSelfCalibDataset {
+struct VISP_SELFCALIB_EXPORT vpSelfCalibDataset {
   //! One image point of a scene point.
   struct Observation {
     int id = -1;

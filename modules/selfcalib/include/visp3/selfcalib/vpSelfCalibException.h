@@ -1,8 +1,16 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpSelfCalibException.h
+  \brief Error raised by ViSP SelfCalib for caller mistakes: bad arguments, malformed or inconsistent
+  files, calls in the wrong order.
+*/
 #ifndef VP_SELFCALIB_EXCEPTION_H
 #define VP_SELFCALIB_EXCEPTION_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <string>
 
@@ -10,13 +18,14 @@
 
 /*!
   \class vpSelfCalibException
+  \ingroup group_selfcalib_core
   \brief Error raised by ViSP SelfCalib for caller mistakes: bad arguments, malformed or
   inconsistent files, calls in the wrong order.
 
   Numerical failures (degenerate motion, rank loss, no convergence) are never thrown: they are
   reported as a status in the Result struct of the estimator concerned.
 */
-class vpSelfCalibException : public vpException
+class VISP_SELFCALIB_EXPORT vpSelfCalibException : public vpException
 {
 public:
   enum errorCodeEnum {

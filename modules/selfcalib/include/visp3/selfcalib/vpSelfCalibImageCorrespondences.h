@@ -1,8 +1,17 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpSelfCalibImageCorrespondences.h
+  \brief What comes between acquiring images and calibrating: the image front end (vpFeatureFrontEnd)
+  fills the dataset's observations and the yardstick's ends, the views where it found nothing are
+  left out (they cannot be used), and the calibration method is chosen.
+*/
 #ifndef VP_SELFCALIB_IMAGE_CORRESPONDENCES_H
 #define VP_SELFCALIB_IMAGE_CORRESPONDENCES_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <optional>
 #include <string>
@@ -15,6 +24,7 @@
 
 /*!
   \class vpSelfCalibImageCorrespondences
+  \ingroup group_selfcalib_frontend
   \brief What comes between acquiring images and calibrating: the image front end
   (vpFeatureFrontEnd) fills the dataset's observations and the yardstick's ends, the views where
   it found nothing are left out (they cannot be used), and the calibration method is chosen.
@@ -23,7 +33,7 @@
   images in memory are prepared the same way. Nothing is printed: the result says what happened
   (front-end statistics, the views left out) for the caller to report.
 */
-class vpSelfCalibImageCorrespondences
+class VISP_SELFCALIB_EXPORT vpSelfCalibImageCorrespondences
 {
 public:
   struct Options {

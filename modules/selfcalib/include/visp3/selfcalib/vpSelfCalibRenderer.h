@@ -1,8 +1,20 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpSelfCalibRenderer.h
+  \brief Rendered images of the reference scenario, seen through the simulator's true robot, for the
+  image front end: a non-planar textured scene (two planes meeting at a ridge through the scene
+  centre, tilted +-30 degrees towards the home viewpoint, 0.11 x 0.16 m each, textured with ViSP's
+  Klimt and Solvay images from visp-images-data) and a yardstick: two dark dots on white square
+  patches of 3 cm (a: dot radius 4 mm, b: 6 mm) lying on the first plane, the simulator's
+  yardstick length apart.
+*/
 #ifndef VP_SELFCALIB_RENDERER_H
 #define VP_SELFCALIB_RENDERER_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <map>
 #include <string>
@@ -15,6 +27,7 @@
 
 /*!
   \class vpSelfCalibRenderer
+  \ingroup group_selfcalib_simulation
   \brief Rendered images of the reference scenario, seen through the simulator's true robot, for
   the image front end: a non-planar textured scene (two planes meeting at a ridge through the
   scene centre, tilted +-30 degrees towards the home viewpoint, 0.11 x 0.16 m each, textured with
@@ -29,7 +42,7 @@
   on the second, 1 cm steps (see vpFeatureFrontEnd::DotGrid). getDotGrids() describes them and
   getDotCentres() gives their centres in f.
 */
-class vpSelfCalibRenderer
+class VISP_SELFCALIB_EXPORT vpSelfCalibRenderer
 {
 public:
   enum Scene {

@@ -1,8 +1,16 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpSelfCalibReport.h
+  \brief The report of a calibration run: a folder with report.md and PNG figures drawn by gnuplot
+  (Debian package gnuplot-nox) from data files kept beside them (plots.gp redraws them).
+*/
 #ifndef VP_SELFCALIB_REPORT_H
 #define VP_SELFCALIB_REPORT_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <string>
 #include <vector>
@@ -12,6 +20,7 @@
 
 /*!
   \class vpSelfCalibReport
+  \ingroup group_selfcalib_io
   \brief The report of a calibration run: a folder with report.md and PNG figures drawn by gnuplot
   (Debian package gnuplot-nox) from data files kept beside them (plots.gp redraws them).
 
@@ -26,7 +35,7 @@
   the number of calibration poses, recalibrated for each, the paper's Figure 6).
   Without gnuplot the data files and report.md are still written and the result says so.
 */
-class vpSelfCalibReport
+class VISP_SELFCALIB_EXPORT vpSelfCalibReport
 {
 public:
   struct Options {

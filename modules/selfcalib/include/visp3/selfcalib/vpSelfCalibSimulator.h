@@ -1,8 +1,19 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpSelfCalibSimulator.h
+  \brief The reference simulation scenario (README, "Reference scenario"): a "true" robot (nominal plus
+  seeded 6-D errors on every joint placement, the base and eMc), a pinhole camera, a cloud of
+  scene points in a box in front of the robot, a yardstick (two extra scene points at a known
+  distance), pixel noise, and a generator of joint configurations from which every scene point is
+  seen.
+*/
 #ifndef VP_SELFCALIB_SIMULATOR_H
 #define VP_SELFCALIB_SIMULATOR_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <cstdint>
 #include <functional>
@@ -19,6 +30,7 @@
 
 /*!
   \class vpSelfCalibSimulator
+  \ingroup group_selfcalib_simulation
   \brief The reference simulation scenario (README, "Reference scenario"): a "true" robot (nominal
   plus seeded 6-D errors on every joint placement, the base and eMc), a pinhole camera, a cloud of
   scene points in a box in front of the robot, a yardstick (two extra scene points at a known
@@ -31,7 +43,7 @@
 
   Scene ids: 0 .. num_points-1 for the box points, num_points and num_points+1 for the yardstick ends.
 */
-class vpSelfCalibSimulator
+class VISP_SELFCALIB_EXPORT vpSelfCalibSimulator
 {
 public:
   struct Options {

@@ -1,14 +1,23 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpSelfCalibSimulatorViper850.h
+  \brief ViSP's simulated Viper850, headless and moved instantly: the robot interface acquisition code
+  talks to (through vpRobot) in the simulated scenario.
+*/
 #ifndef VP_SELFCALIB_SIMULATOR_VIPER850_H
 #define VP_SELFCALIB_SIMULATOR_VIPER850_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <visp3/robot/vpSimulatorViper850.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
 
 /*!
   \class vpSelfCalibSimulatorViper850
+  \ingroup group_selfcalib_simulation
   \brief ViSP's simulated Viper850, headless and moved instantly: the robot interface acquisition
   code talks to (through vpRobot) in the simulated scenario.
 
@@ -19,7 +28,7 @@
 
   ViSP 3.5 limits: construct at most one instance at a time (two alive at once crash at exit).
 */
-class vpSelfCalibSimulatorViper850 : public vpSimulatorViper850
+class VISP_SELFCALIB_EXPORT vpSelfCalibSimulatorViper850 : public vpSimulatorViper850
 {
 public:
   vpSelfCalibSimulatorViper850();

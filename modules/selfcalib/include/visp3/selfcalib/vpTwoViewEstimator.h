@@ -1,8 +1,17 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpTwoViewEstimator.h
+  \brief The paper's pose measurement (Section 3.1) on pixel correspondences between two images of one
+  camera: fundamental matrix (normalized 8-point in RANSAC), focal length from F, factor method,
+  refined nonlinear factor method.
+*/
 #ifndef VP_TWO_VIEW_ESTIMATOR_H
 #define VP_TWO_VIEW_ESTIMATOR_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <string>
 #include <vector>
@@ -15,6 +24,7 @@
 
 /*!
   \class vpTwoViewEstimator
+  \ingroup group_selfcalib_twoview
   \brief The paper's pose measurement (Section 3.1) on pixel correspondences between two images of
   one camera: fundamental matrix (normalized 8-point in RANSAC), focal length from F, factor method,
   refined nonlinear factor method.
@@ -29,7 +39,7 @@
     solver (findEssentialMat + recoverPose, valid for planes) refined with the known f; with the focal
     length unknown no pose is returned (f is not observable from two views of a plane).
 */
-class vpTwoViewEstimator
+class VISP_SELFCALIB_EXPORT vpTwoViewEstimator
 {
 public:
   enum Status { OK, TOO_FEW_POINTS, PURE_ROTATION, PLANAR, FOCAL_UNOBSERVABLE, NO_CONVERGENCE };
