@@ -265,7 +265,7 @@ int main(int argc, char **argv)
       vpFeatureFrontEnd::Options fo;
       if (acquisition == "dots") { // the paper's experiment: dot grids only
         fo.features = false;
-        fo.dot_grids = vpFeatureFrontEnd::dotGrids(renderer);
+        fo.dot_grids = renderer.getDotGrids();
       }
       fe = vpFeatureFrontEnd::process(images, fo);
       unsigned int seen = 0;

@@ -107,7 +107,7 @@ private:
 // The dots of `group` in grid g's order (OpenCV's asymmetric-grid order): empty when the group is
 // not that grid.
 std::vector<Dot> orderGrid(const cv::Mat &img, const std::vector<Dot> &dots, const std::vector<size_t> &group,
-                           const vpFeatureFrontEnd::DotGrid &g, std::vector<size_t> &members)
+                           const vpDotGrid &g, std::vector<size_t> &members)
 {
   members.clear();
   std::vector<cv::KeyPoint> kp;
@@ -118,7 +118,7 @@ std::vector<Dot> orderGrid(const cv::Mat &img, const std::vector<Dot> &dots, con
   const cv::Size size(static_cast<int>(g.cols), static_cast<int>(g.rows));
   if (!(cv::findCirclesGrid(img, size, centres, cv::CALIB_CB_ASYMMETRIC_GRID, given) ||
         cv::findCirclesGrid(img, size, centres, cv::CALIB_CB_ASYMMETRIC_GRID | cv::CALIB_CB_CLUSTERING, given)) ||
-      centres.size() != g.cols * g.rows)
+      centres.size() != g.size())
     return {};
   std::vector<Dot> ordered;
   for (const cv::Point2f &c : centres) {
@@ -135,10 +135,10 @@ std::vector<Dot> orderGrid(const cv::Mat &img, const std::vector<Dot> &dots, con
   // reversed), and the ids must mean the same dot in every view. Of the four relabellings, keep
   // those that fit the grid's layout (dot k at ((2 j + i % 2), i), a homography within 1 px), then
   // the one a camera sees from the front: first row and first column counterclockwise (y down).
-  const unsigned int n = g.cols * g.rows;
+  const unsigned int n = g.size();
   std::vector<cv::Point2f> layout;
   for (unsigned int k = 0; k < n; ++k)
-    layout.emplace_back(static_cast<float>(2 * (k % g.cols) + (k / g.cols) % 2), static_cast<float>(k / g.cols));
+    layout.emplace_back(static_cast<float>(g.x(k)), static_cast<float>(g.y(k)));
   std::vector<Dot> best;
   double best_error = 1.0;
   for (int variant = 0; variant < 4; ++variant) {
@@ -199,10 +199,10 @@ void vpFeatureFrontEnd::Options::check() const
                                  "vpFeatureFrontEnd: a dot grid needs 2 or more columns, 3 or more rows and a "
                                  "non-negative first id");
     for (const DotGrid &h : dot_grids)
-      if (&h != &g && g.first_id <= h.first_id && h.first_id < g.first_id + static_cast<int>(g.cols * g.rows))
+      if (&h != &g && g.first_id <= h.first_id && h.first_id < g.first_id + static_cast<int>(g.size()))
         throw vpSelfCalibException(vpSelfCalibException::badValue,
                                    "vpFeatureFrontEnd: the dot grids' id ranges overlap");
-    if (!sizes.insert(g.cols * g.rows).second)
+    if (!sizes.insert(g.size()).second)
       throw vpSelfCalibException(vpSelfCalibException::badValue,
                                  "vpFeatureFrontEnd: the dot grids must have different numbers of dots (a group of "
                                  "dots is recognised by its size)");
@@ -353,7 +353,7 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<u
       };
       for (size_t g = 0; g < opt.dot_grids.size(); ++g) {
         const DotGrid &grid = opt.dot_grids[g];
-        const size_t count = grid.cols * grid.rows;
+        const size_t count = grid.size();
         std::vector<std::pair<double, size_t>> runs; // (smaller end jump, first index)
         for (size_t first = 0; first + count <= by_size.size(); ++first)
           runs.push_back({std::min(jump(first), jump(first + count)), first});
@@ -442,17 +442,4 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::fillDataset(vpSelfCalibDataset &ds,
   ds.yardstick.id_a = r.yardstick_a;
   ds.yardstick.id_b = r.yardstick_b;
   return r;
-}
-
-std::vector<vpFeatureFrontEnd::DotGrid> vpFeatureFrontEnd::dotGrids(const vpSelfCalibRenderer &renderer)
-{
-  std::vector<DotGrid> out;
-  for (const vpSelfCalibRenderer::Grid &g : renderer.getDotGrids()) {
-    DotGrid d;
-    d.cols = g.cols;
-    d.rows = g.rows;
-    d.first_id = g.first_id;
-    out.push_back(d);
-  }
-  return out;
 }
