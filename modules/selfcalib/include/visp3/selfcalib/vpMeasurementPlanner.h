@@ -13,6 +13,7 @@
 #include <visp3/core/vpColVector.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpObservabilityIndices.h>
+#include <visp3/selfcalib/vpPlannerScene.h>
 
 /*!
   \class vpMeasurementPlanner
@@ -56,14 +57,8 @@
 class vpMeasurementPlanner
 {
 public:
-  //! What the camera must see. points: rough positions in f (3-vectors or homogeneous 4-vectors).
-  struct Scene {
-    std::vector<vpColVector> points;
-    vpCameraParameters cam;
-    unsigned int width = 0, height = 0;
-    double margin = 10;      //!< px kept free at the image border (acceptance)
-    double min_depth = 0.05; //!< m, minimal depth of a point in the camera frame
-  };
+  //! What the camera must see (see vpPlannerScene).
+  using Scene = vpPlannerScene;
 
   enum RatioCost {
     RATIO_CONSECUTIVE, //!< sum_i |g_i - g_{i-1}|^2 (the intent of eq. 39)
