@@ -184,6 +184,18 @@ public:
 private:
   double evaluate(const std::vector<vpColVector> &q, const TrajectoryOptions &o, CostTerms *terms,
                   std::vector<double> *gradient) const;
+  // The steps of evaluate(): the pair blocks of q (with their derivatives when grad is set),
+  // then each cost term, added to ct and, when gradient is given, to the gradient.
+  struct PairBlocks;
+  PairBlocks pairBlocks(const std::vector<vpColVector> &q, bool grad) const;
+  void ratioTerm(const PairBlocks &blocks, const TrajectoryOptions &o, CostTerms &ct,
+                 std::vector<double> *gradient) const;
+  void conditionTerm(const PairBlocks &blocks, const TrajectoryOptions &o, CostTerms &ct,
+                     std::vector<double> *gradient) const;
+  void visibilityTerm(const std::vector<vpColVector> &q, const PairBlocks &blocks, const TrajectoryOptions &o,
+                      CostTerms &ct, std::vector<double> *gradient) const;
+  void distinctTerm(const std::vector<vpColVector> &q, const TrajectoryOptions &o, CostTerms &ct,
+                    std::vector<double> *gradient) const;
   void checkConfigurations(const std::vector<vpColVector> &q, const char *where, bool limits) const;
 
   vpKinematicChain m_chain;
