@@ -567,8 +567,9 @@ int calibrate(const std::vector<std::string> &a)
               << 1e3 * r.before.yardstick_error << " mm (nominal) -> " << 1e3 * r.after.yardstick_error << " mm";
   std::cout << "\nwrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
   std::cerr << "... report\n";
+  const vpSelfCalibPoseStudy::Result study = vpSelfCalibPoseStudy::run(nominal, ds, po); // Figure 6
   const vpSelfCalibReport::Result rep = vpSelfCalibReport::write(out + "/report", nominal, ds, po, r,
-                                                                 need_front_end ? &fe : nullptr,
+                                                                 need_front_end ? &fe : nullptr, &study,
                                                                  vpSelfCalibReport::Options());
   std::cout << "report: " << out << "/report/report.md (" << rep.message << ")\n";
   return 0;

@@ -386,8 +386,9 @@ int main(int argc, char **argv)
     }
     std::cout << "== Pipeline time " << std::setprecision(2) << r.seconds << " s\n";
     if (report != "none") {
+      const vpSelfCalibPoseStudy::Result study = vpSelfCalibPoseStudy::run(nominal, data, po); // Figure 6
       const vpSelfCalibReport::Result rep = vpSelfCalibReport::write(
-          report, nominal, data, po, r, acquisition != "points" ? &fe : nullptr, vpSelfCalibReport::Options());
+          report, nominal, data, po, r, acquisition != "points" ? &fe : nullptr, &study, vpSelfCalibReport::Options());
       std::cout << "== Report: " << report << "/report.md (" << rep.message << ")\n";
     }
     return EXIT_SUCCESS;
