@@ -431,7 +431,7 @@ int calibrate(const CalibrateArgs &a)
   for (const std::string &item : a.dot_grids) {
     vpFeatureFrontEnd::DotGrid g;
     parseDotGrid(item, g);
-    g.first_id = vpSelfCalibRenderer::kFirstDotId + 1000 * static_cast<int>(co.front_end.dot_grids.size());
+    g.first_id = vpDotGrid::kDefaultFirstId + 1000 * static_cast<int>(co.front_end.dot_grids.size());
     co.front_end.dot_grids.push_back(g);
   }
   if (!a.method.empty())
@@ -511,8 +511,9 @@ int calibrate(const CalibrateArgs &a)
   std::cout << "\nwrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
   std::cerr << "... report\n";
   const std::string report_dir = (fs::path(out) / "report").string();
+  const vpSelfCalibPoseStudy::Result study = vpSelfCalibPoseStudy::run(nominal, ds, po); // Figure 6
   const vpSelfCalibReport::Result rep = vpSelfCalibReport::write(
-      report_dir, nominal, ds, po, r, cr.front_end_ran ? &cr.front_end : nullptr, vpSelfCalibReport::Options());
+      report_dir, nominal, ds, po, r, cr.front_end_ran ? &cr.front_end : nullptr, &study, vpSelfCalibReport::Options());
   std::cout << "report: " << report_dir << "/report.md (" << rep.message << ")\n";
   return 0;
 }

@@ -251,7 +251,7 @@ int main(int argc, char **argv)
       std::cerr << "   ... image front end on " << images.size() << " images\n";
       if (acquisition == "dots") { // the paper's experiment: dot grids only
         co.front_end.features = false;
-        co.front_end.dot_grids = vpFeatureFrontEnd::dotGrids(renderer);
+        co.front_end.dot_grids = renderer.getDotGrids();
       }
       cr = vpSelfCalibImageCorrespondences::fromImages(data, images, co);
       const vpFeatureFrontEnd::Result &fe = cr.front_end;
@@ -362,8 +362,9 @@ int main(int argc, char **argv)
     }
     std::cout << "== Pipeline time " << std::setprecision(2) << r.seconds << " s\n";
     if (report != "none") {
+      const vpSelfCalibPoseStudy::Result study = vpSelfCalibPoseStudy::run(nominal, data, po); // Figure 6
       const vpSelfCalibReport::Result rep = vpSelfCalibReport::write(
-          report, nominal, data, po, r, cr.front_end_ran ? &cr.front_end : nullptr, vpSelfCalibReport::Options());
+          report, nominal, data, po, r, cr.front_end_ran ? &cr.front_end : nullptr, &study, vpSelfCalibReport::Options());
       std::cout << "== Report: " << report << "/report.md (" << rep.message << ")\n";
     }
     return EXIT_SUCCESS;

@@ -107,7 +107,7 @@ private:
 // The dots of `group` in grid g's order (OpenCV's asymmetric-grid order): empty when the group is
 // not that grid.
 std::vector<Dot> orderGrid(const cv::Mat &img, const std::vector<Dot> &dots, const std::vector<size_t> &group,
-                           const vpFeatureFrontEnd::DotGrid &g, std::vector<size_t> &members)
+                           const vpDotGrid &g, std::vector<size_t> &members)
 {
   members.clear();
   std::vector<cv::KeyPoint> kp;
@@ -118,7 +118,7 @@ std::vector<Dot> orderGrid(const cv::Mat &img, const std::vector<Dot> &dots, con
   const cv::Size size(static_cast<int>(g.cols), static_cast<int>(g.rows));
   if (!(cv::findCirclesGrid(img, size, centres, cv::CALIB_CB_ASYMMETRIC_GRID, given) ||
         cv::findCirclesGrid(img, size, centres, cv::CALIB_CB_ASYMMETRIC_GRID | cv::CALIB_CB_CLUSTERING, given)) ||
-      centres.size() != g.cols * g.rows)
+      centres.size() != g.size())
     return {};
   std::vector<Dot> ordered;
   for (const cv::Point2f &c : centres) {
@@ -135,10 +135,10 @@ std::vector<Dot> orderGrid(const cv::Mat &img, const std::vector<Dot> &dots, con
   // reversed), and the ids must mean the same dot in every view. Of the four relabellings, keep
   // those that fit the grid's layout (dot k at ((2 j + i % 2), i), a homography within 1 px), then
   // the one a camera sees from the front: first row and first column counterclockwise (y down).
-  const unsigned int n = g.cols * g.rows;
+  const unsigned int n = g.size();
   std::vector<cv::Point2f> layout;
   for (unsigned int k = 0; k < n; ++k)
-    layout.emplace_back(static_cast<float>(2 * (k % g.cols) + (k / g.cols) % 2), static_cast<float>(k / g.cols));
+    layout.emplace_back(static_cast<float>(g.x(k)), static_cast<float>(g.y(k)));
   std::vector<Dot> best;
   double best_error = 1.0;
   for (int variant = 0; variant < 4; ++variant) {
@@ -199,21 +199,23 @@ void vpFeatureFrontEnd::Options::check() const
                                  "vpFeatureFrontEnd: a dot grid needs 2 or more columns, 3 or more rows and a "
                                  "non-negative first id");
     for (const DotGrid &h : dot_grids)
-      if (&h != &g && g.first_id <= h.first_id && h.first_id < g.first_id + static_cast<int>(g.cols * g.rows))
+      if (&h != &g && g.first_id <= h.first_id && h.first_id < g.first_id + static_cast<int>(g.size()))
         throw vpSelfCalibException(vpSelfCalibException::badValue,
                                    "vpFeatureFrontEnd: the dot grids' id ranges overlap");
-    if (!sizes.insert(g.cols * g.rows).second)
+    if (!sizes.insert(g.size()).second)
       throw vpSelfCalibException(vpSelfCalibException::badValue,
                                  "vpFeatureFrontEnd: the dot grids must have different numbers of dots (a group of "
                                  "dots is recognised by its size)");
   }
 }
 
-vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<unsigned char>> &images,
-                                                     const Options &opt)
+namespace
 {
-  opt.check();
-  const auto t0 = std::chrono::steady_clock::now();
+// The steps of vpFeatureFrontEnd::process(), in order.
+using FrontEnd = vpFeatureFrontEnd;
+
+void checkImages(const std::vector<vpImage<unsigned char>> &images)
+{
   const size_t m = images.size();
   if (m < 2)
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpFeatureFrontEnd: at least 2 images are needed");
@@ -226,27 +228,40 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<u
                                      std::to_string(images[k].getHeight()) + ", image 0 is " +
                                      std::to_string(images[0].getWidth()) + " x " +
                                      std::to_string(images[0].getHeight()));
-  Result res;
+}
+
+// The keypoints and descriptors of every image; the keypoints of image k are numbered from offset[k]
+// in the union-find of the tracks.
+struct Features {
+  std::vector<std::vector<cv::KeyPoint>> kp;
+  std::vector<cv::Mat> desc;
+  std::vector<size_t> offset;
+};
+
+// Step 1: detection (none when opt.features is off); res.features gets the count per image.
+Features detectFeatures(const std::vector<cv::Mat> &mats, const FrontEnd::Options &opt, FrontEnd::Result &res)
+{
+  const size_t m = mats.size();
   cv::Ptr<cv::Feature2D> det;
-  if (opt.detector == SIFT)
+  if (opt.detector == FrontEnd::SIFT)
     det = cv::SIFT::create(static_cast<int>(opt.max_features));
   else
     det = cv::ORB::create(static_cast<int>(opt.max_features));
-  std::vector<std::vector<cv::KeyPoint>> kp(m);
-  std::vector<cv::Mat> desc(m), mats(m);
-  std::vector<size_t> offset(m + 1, 0);
+  Features f;
+  f.kp.resize(m);
+  f.desc.resize(m);
+  f.offset.assign(m + 1, 0);
   for (size_t k = 0; k < m; ++k) {
-    mats[k] = toMat(images[k]);
     if (!opt.features) {
       res.features.push_back(0);
-      offset[k + 1] = offset[k];
+      f.offset[k + 1] = f.offset[k];
       continue;
     }
     // Detection runs in parallel inside OpenCV and returns the keypoints in an order that depends
     // on the thread count: sorted here (position, then scale), so that tracks, ids and every sum
     // downstream are the same whatever the threads.
-    det->detect(mats[k], kp[k]);
-    std::sort(kp[k].begin(), kp[k].end(), [](const cv::KeyPoint &a, const cv::KeyPoint &b) {
+    det->detect(mats[k], f.kp[k]);
+    std::sort(f.kp[k].begin(), f.kp[k].end(), [](const cv::KeyPoint &a, const cv::KeyPoint &b) {
       if (a.pt.y != b.pt.y)
         return a.pt.y < b.pt.y;
       if (a.pt.x != b.pt.x)
@@ -257,21 +272,28 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<u
         return a.angle < b.angle;
       return a.octave < b.octave;
     });
-    det->compute(mats[k], kp[k], desc[k]);
-    res.features.push_back(static_cast<unsigned int>(kp[k].size()));
-    offset[k + 1] = offset[k] + kp[k].size();
+    det->compute(mats[k], f.kp[k], f.desc[k]);
+    res.features.push_back(static_cast<unsigned int>(f.kp[k].size()));
+    f.offset[k + 1] = f.offset[k] + f.kp[k].size();
   }
-  cv::BFMatcher matcher(opt.detector == SIFT ? cv::NORM_L2 : cv::NORM_HAMMING);
-  UnionFind uf(offset[m]);
+  return f;
+}
+
+// Step 2: matching of every pair, ratio test, mutual best match, RANSAC fundamental matrix; the
+// verified matches join their keypoints in uf and are counted in res.matches.
+void matchPairs(const Features &f, const FrontEnd::Options &opt, UnionFind &uf, FrontEnd::Result &res)
+{
+  const size_t m = f.kp.size();
+  cv::BFMatcher matcher(opt.detector == FrontEnd::SIFT ? cv::NORM_L2 : cv::NORM_HAMMING);
   res.matches.assign(m, std::vector<unsigned int>(m, 0));
   for (size_t i = 0; i < m; ++i)
     for (size_t j = i + 1; j < m; ++j) {
-      if (desc[i].empty() || desc[j].empty() || kp[i].size() < 8 || kp[j].size() < 8)
+      if (f.desc[i].empty() || f.desc[j].empty() || f.kp[i].size() < 8 || f.kp[j].size() < 8)
         continue;
       std::vector<std::vector<cv::DMatch>> ij, ji;
-      matcher.knnMatch(desc[i], desc[j], ij, 2);
+      matcher.knnMatch(f.desc[i], f.desc[j], ij, 2);
       if (opt.mutual)
-        matcher.knnMatch(desc[j], desc[i], ji, 2);
+        matcher.knnMatch(f.desc[j], f.desc[i], ji, 2);
       std::vector<cv::Point2f> a, b;
       std::vector<std::pair<int, int>> pairs;
       for (const auto &mm : ij) {
@@ -280,8 +302,8 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<u
         if (opt.mutual && (ji[mm[0].trainIdx].empty() || ji[mm[0].trainIdx][0].trainIdx != mm[0].queryIdx))
           continue;
         pairs.push_back({mm[0].queryIdx, mm[0].trainIdx});
-        a.push_back(kp[i][mm[0].queryIdx].pt);
-        b.push_back(kp[j][mm[0].trainIdx].pt);
+        a.push_back(f.kp[i][mm[0].queryIdx].pt);
+        b.push_back(f.kp[j][mm[0].trainIdx].pt);
       }
       if (pairs.size() < opt.min_matches)
         continue;
@@ -297,14 +319,19 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<u
       res.matches[i][j] = n;
       for (size_t k = 0; k < pairs.size(); ++k)
         if (inl[k])
-          uf.join(offset[i] + pairs[k].first, offset[j] + pairs[k].second);
+          uf.join(f.offset[i] + pairs[k].first, f.offset[j] + pairs[k].second);
     }
+}
 
-  // Tracks: components with two or more images and at most one feature per image.
+// Step 3: tracks, the components of uf with two or more images and at most one feature per image,
+// numbered 0, 1, ... into res.observations.
+void buildTracks(const Features &f, UnionFind &uf, FrontEnd::Result &res)
+{
+  const size_t m = f.kp.size();
   std::map<size_t, std::vector<std::pair<size_t, size_t>>> comp; // root -> (image, keypoint)
   for (size_t k = 0; k < m; ++k)
-    for (size_t f = 0; f < kp[k].size(); ++f)
-      comp[uf.find(offset[k] + f)].push_back({k, f});
+    for (size_t i = 0; i < f.kp[k].size(); ++i)
+      comp[uf.find(f.offset[k] + i)].push_back({k, i});
   res.observations.assign(m, {});
   for (const auto &c : comp) {
     if (c.second.size() < 2)
@@ -324,13 +351,108 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<u
     for (const auto &e : c.second) {
       vpSelfCalibDataset::Observation o;
       o.id = id;
-      o.ip = vpImagePoint(kp[e.first][e.second].pt.y, kp[e.first][e.second].pt.x);
+      o.ip = vpImagePoint(f.kp[e.first][e.second].pt.y, f.kp[e.first][e.second].pt.x);
       res.observations[e.first].push_back(o);
     }
   }
+}
 
-  // Dot grids: every dot of a recognised grid gets the grid's id for its place; the dots left
-  // over are candidates for the yardstick.
+// Step 4, one image: every dot of a recognised grid gets the grid's id for its place (into
+// observations, grid_seen[g] set); returns the dots left over, candidates for the yardstick.
+// The grids' dots differ in size: a grid is a run of the dots sorted by size, as long as the grid,
+// with a jump in size at both ends; the runs with the largest jumps are tried first.
+std::vector<Dot> findGrids(const vpImage<unsigned char> &I, const cv::Mat &img, const FrontEnd::Options &opt,
+                           std::vector<vpSelfCalibDataset::Observation> &observations,
+                           std::vector<std::vector<bool>> &grid_seen, size_t k)
+{
+  const std::vector<Dot> dots = findDots(I, img, opt);
+  std::vector<bool> used(dots.size(), false);
+  std::vector<size_t> by_size(dots.size());
+  std::iota(by_size.begin(), by_size.end(), 0);
+  std::stable_sort(by_size.begin(), by_size.end(), [&](size_t x, size_t y) { return dots[x].major < dots[y].major; });
+  auto jump = [&](size_t n) { // size ratio between sorted dots n - 1 and n (large at the ends)
+    return n == 0 || n >= by_size.size() ? 1e9 : dots[by_size[n]].major / std::max(1e-3f, dots[by_size[n - 1]].major);
+  };
+  for (size_t g = 0; g < opt.dot_grids.size(); ++g) {
+    const vpDotGrid &grid = opt.dot_grids[g];
+    const size_t count = grid.size();
+    std::vector<std::pair<double, size_t>> runs; // (smaller end jump, first index)
+    for (size_t first = 0; first + count <= by_size.size(); ++first)
+      runs.push_back({std::min(jump(first), jump(first + count)), first});
+    std::stable_sort(runs.begin(), runs.end(), [](const std::pair<double, size_t> &x, const std::pair<double, size_t> &y) {
+      return x.first > y.first;
+    });
+    for (size_t r = 0; r < runs.size() && r < 3 && runs[r].first > 1.1; ++r) {
+      std::vector<size_t> group(by_size.begin() + runs[r].second, by_size.begin() + runs[r].second + count);
+      if (std::any_of(group.begin(), group.end(), [&](size_t i) { return used[i]; }))
+        continue;
+      std::vector<size_t> members;
+      const std::vector<Dot> ordered = orderGrid(img, dots, group, grid, members);
+      if (ordered.empty())
+        continue;
+      for (size_t i = 0; i < ordered.size(); ++i)
+        observations.push_back(
+            {grid.first_id + static_cast<int>(i), vpImagePoint(ordered[i].centre.y, ordered[i].centre.x)});
+      for (size_t i : members)
+        used[i] = true;
+      grid_seen[g][k] = true;
+      break;
+    }
+  }
+  std::vector<Dot> loose;
+  for (size_t i = 0; i < dots.size(); ++i)
+    if (!used[i])
+      loose.push_back(dots[i]);
+  return loose;
+}
+
+// Step 5: the yardstick, two loose dots in an image, the smaller is end a; ids after the tracks'
+// when seen in two images or more.
+void findYardstick(const std::vector<std::vector<Dot>> &loose, FrontEnd::Result &res)
+{
+  const size_t m = loose.size();
+  unsigned int seen = 0;
+  std::vector<std::pair<Dot, Dot>> ends(m);
+  for (size_t k = 0; k < m; ++k) {
+    std::vector<Dot> dots = loose[k];
+    if (dots.size() != 2)
+      continue;
+    if (dots[0].radius > dots[1].radius)
+      std::swap(dots[0], dots[1]);
+    if (dots[1].radius < 1.2f * dots[0].radius)
+      continue;
+    ends[k] = {dots[0], dots[1]};
+    res.yardstick_seen[k] = true;
+    ++seen;
+  }
+  if (seen < 2)
+    return;
+  res.yardstick_a = static_cast<int>(res.num_tracks);
+  res.yardstick_b = static_cast<int>(res.num_tracks + 1);
+  for (size_t k = 0; k < m; ++k)
+    if (res.yardstick_seen[k]) {
+      res.observations[k].push_back({res.yardstick_a, vpImagePoint(ends[k].first.centre.y, ends[k].first.centre.x)});
+      res.observations[k].push_back({res.yardstick_b, vpImagePoint(ends[k].second.centre.y, ends[k].second.centre.x)});
+    }
+}
+} // namespace
+
+vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<unsigned char>> &images,
+                                                     const Options &opt)
+{
+  opt.check();
+  const auto t0 = std::chrono::steady_clock::now();
+  checkImages(images);
+  const size_t m = images.size();
+  std::vector<cv::Mat> mats(m);
+  for (size_t k = 0; k < m; ++k)
+    mats[k] = toMat(images[k]);
+  Result res;
+  const Features features = detectFeatures(mats, opt, res);
+  UnionFind uf(features.offset[m]);
+  matchPairs(features, opt, uf, res);
+  buildTracks(features, uf, res);
+
   for (const DotGrid &g : opt.dot_grids)
     if (g.first_id < static_cast<int>(res.num_tracks) + 2)
       throw vpSelfCalibException(vpSelfCalibException::badValue,
@@ -340,76 +462,12 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<u
   res.grid_seen.assign(opt.dot_grids.size(), std::vector<bool>(m, false));
   std::vector<std::vector<Dot>> loose(m);
   if (opt.yardstick || !opt.dot_grids.empty())
-    for (size_t k = 0; k < m; ++k) {
-      const std::vector<Dot> dots = findDots(images[k], mats[k], opt);
-      std::vector<bool> used(dots.size(), false);
-      // The grids' dots differ in size: a grid is a run of the dots sorted by size, as long as the
-      // grid, with a jump in size at both ends; the runs with the largest jumps are tried first.
-      std::vector<size_t> by_size(dots.size());
-      std::iota(by_size.begin(), by_size.end(), 0);
-      std::stable_sort(by_size.begin(), by_size.end(), [&](size_t x, size_t y) { return dots[x].major < dots[y].major; });
-      auto jump = [&](size_t n) { // size ratio between sorted dots n - 1 and n (large at the ends)
-        return n == 0 || n >= by_size.size() ? 1e9 : dots[by_size[n]].major / std::max(1e-3f, dots[by_size[n - 1]].major);
-      };
-      for (size_t g = 0; g < opt.dot_grids.size(); ++g) {
-        const DotGrid &grid = opt.dot_grids[g];
-        const size_t count = grid.cols * grid.rows;
-        std::vector<std::pair<double, size_t>> runs; // (smaller end jump, first index)
-        for (size_t first = 0; first + count <= by_size.size(); ++first)
-          runs.push_back({std::min(jump(first), jump(first + count)), first});
-        std::stable_sort(runs.begin(), runs.end(), [](const std::pair<double, size_t> &x, const std::pair<double, size_t> &y) {
-          return x.first > y.first;
-        });
-        for (size_t r = 0; r < runs.size() && r < 3 && runs[r].first > 1.1; ++r) {
-          std::vector<size_t> group(by_size.begin() + runs[r].second, by_size.begin() + runs[r].second + count);
-          if (std::any_of(group.begin(), group.end(), [&](size_t i) { return used[i]; }))
-            continue;
-          std::vector<size_t> members;
-          const std::vector<Dot> ordered = orderGrid(mats[k], dots, group, grid, members);
-          if (ordered.empty())
-            continue;
-          for (size_t i = 0; i < ordered.size(); ++i)
-            res.observations[k].push_back(
-                {grid.first_id + static_cast<int>(i), vpImagePoint(ordered[i].centre.y, ordered[i].centre.x)});
-          for (size_t i : members)
-            used[i] = true;
-          res.grid_seen[g][k] = true;
-          break;
-        }
-      }
-      for (size_t i = 0; i < dots.size(); ++i)
-        if (!used[i])
-          loose[k].push_back(dots[i]);
-    }
+    for (size_t k = 0; k < m; ++k)
+      loose[k] = findGrids(images[k], mats[k], opt, res.observations[k], res.grid_seen, k);
 
-  // The yardstick: two dots, the smaller is end a.
   res.yardstick_seen.assign(m, false);
-  if (opt.yardstick) {
-    unsigned int seen = 0;
-    std::vector<std::pair<Dot, Dot>> ends(m);
-    for (size_t k = 0; k < m; ++k) {
-      std::vector<Dot> dots = loose[k];
-      if (dots.size() != 2)
-        continue;
-      if (dots[0].radius > dots[1].radius)
-        std::swap(dots[0], dots[1]);
-      if (dots[1].radius < 1.2f * dots[0].radius)
-        continue;
-      ends[k] = {dots[0], dots[1]};
-      res.yardstick_seen[k] = true;
-      ++seen;
-    }
-    if (seen >= 2) {
-      res.yardstick_a = static_cast<int>(res.num_tracks);
-      res.yardstick_b = static_cast<int>(res.num_tracks + 1);
-      for (size_t k = 0; k < m; ++k)
-        if (res.yardstick_seen[k]) {
-          res.observations[k].push_back({res.yardstick_a, vpImagePoint(ends[k].first.centre.y, ends[k].first.centre.x)});
-          res.observations[k].push_back(
-              {res.yardstick_b, vpImagePoint(ends[k].second.centre.y, ends[k].second.centre.x)});
-        }
-    }
-  }
+  if (opt.yardstick)
+    findYardstick(loose, res);
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
 }
@@ -442,17 +500,4 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::fillDataset(vpSelfCalibDataset &ds,
   ds.yardstick.id_a = r.yardstick_a;
   ds.yardstick.id_b = r.yardstick_b;
   return r;
-}
-
-std::vector<vpFeatureFrontEnd::DotGrid> vpFeatureFrontEnd::dotGrids(const vpSelfCalibRenderer &renderer)
-{
-  std::vector<DotGrid> out;
-  for (const vpSelfCalibRenderer::Grid &g : renderer.getDotGrids()) {
-    DotGrid d;
-    d.cols = g.cols;
-    d.rows = g.rows;
-    d.first_id = g.first_id;
-    out.push_back(d);
-  }
-  return out;
 }

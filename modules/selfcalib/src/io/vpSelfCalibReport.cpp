@@ -106,7 +106,8 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
                                                    const vpSelfCalibDataset &ds,
                                                    const vpRobotSelfCalibration::Options &po,
                                                    const vpRobotSelfCalibration::Result &r,
-                                                   const vpFeatureFrontEnd::Result *fe, const Options &ro)
+                                                   const vpFeatureFrontEnd::Result *fe,
+                                                   const vpSelfCalibPoseStudy::Result *study, const Options &ro)
 {
   struct stat st;
   if (stat(dir.c_str(), &st) != 0 && mkdir(dir.c_str(), 0777) != 0)
@@ -155,23 +156,9 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
     verif << k + 1 << " " << ver_rms.back() << "\n";
   }
   curve << std::setprecision(6) << "# calibration poses, yardstick 3-D error (mm): calibrated, nominal\n";
-  std::vector<std::pair<unsigned int, double>> curve_points;
-  if (ro.errors_vs_poses && ok && ver.size() >= 2 && ds.yardstick.isSet()) {
-    const double nominal_error = vpCalibrationVerifier::verify(nominal, ds.cam, ver, ds.yardstick).yardstick_error;
-    for (unsigned int n = std::min(6u, N); n <= N; ++n) {
-      std::vector<vpSelfCalibDataset::View> views(cal.begin(), cal.begin() + n);
-      views.insert(views.end(), ver.begin(), ver.end());
-      vpSelfCalibDataset sub = ds;
-      sub.views = views;
-      vpRobotSelfCalibration::Options o = po;
-      o.num_calibration_poses = n;
-      const auto rn = vpRobotSelfCalibration::run(nominal, sub, o);
-      if (rn.status == vpRobotSelfCalibration::OK && rn.verified) {
-        curve << n << " " << 1e3 * rn.after.yardstick_error << " " << 1e3 * nominal_error << "\n";
-        curve_points.push_back({n, rn.after.yardstick_error});
-      }
-    }
-  }
+  if (study)
+    for (const vpSelfCalibPoseStudy::Point &p : study->points)
+      curve << p.poses << " " << 1e3 * p.yardstick_error << " " << 1e3 * study->nominal_error << "\n";
   writeText(dir + "/trajectory.dat", traj.str(), res.files);
   writeText(dir + "/position_norms.dat", norms.str(), res.files);
   writeText(dir + "/residuals.dat", resid.str(), res.files);

@@ -327,27 +327,42 @@ vpObservabilityIndices vpMeasurementPlanner::observability(const std::vector<vpC
 }
 
 /*
-  The whole cost and, if gradient is given, its gradient. See the class description; the notation
-  follows it: pair i = 1..m-1, block (t_i, Dt_i, Dr_i), g_i = t_i^T Dt_i / |t_i|^2.
+  The pair blocks of a trajectory (pair i = 1..m-1: block (t_i, Dt_i, Dr_i) of (q_0, q_i)) and, for
+  the gradient, their derivatives with respect to the joints.
 */
-double vpMeasurementPlanner::evaluate(const std::vector<vpColVector> &q, const TrajectoryOptions &o, CostTerms *terms,
-                                      std::vector<double> *gradient) const
+struct vpMeasurementPlanner::PairBlocks {
+  std::vector<PoseKin> P;
+  std::vector<Block> F;                    // F[i], i >= 1
+  std::vector<std::vector<Block>> dF, dF0; // see pairBlocks()
+
+  // Adds sum over pairs of <W_i, dX_i/dx> for a per-pair function X of the blocks, to the gradient:
+  // `directional` is the derivative of X_i along a derivative of block i.
+  void chain(size_t i, std::vector<double> &gradient, const std::function<double(const Block &)> &directional) const
+  {
+    const size_t n = dF[i].size();
+    for (unsigned int j = 0; j < n; ++j) {
+      gradient[i * n + j] += directional(dF[i][j]);
+      gradient[j] += directional(dF0[i][j]);
+    }
+  }
+};
+
+vpMeasurementPlanner::PairBlocks vpMeasurementPlanner::pairBlocks(const std::vector<vpColVector> &q, bool grad) const
 {
   const size_t m = q.size(), n = m_chain.getNumJoints();
-  const Eigen::Index K = static_cast<Eigen::Index>(m_identified.size());
-  const bool grad = gradient != nullptr;
-  if (grad)
-    gradient->assign(n * m, 0.0);
-  CostTerms ct;
-
-  std::vector<PoseKin> P(m);
+  PairBlocks B;
+  std::vector<PoseKin> &P = B.P;
+  std::vector<Block> &F = B.F;
+  std::vector<std::vector<Block>> &dF = B.dF, &dF0 = B.dF0;
+  P.resize(m);
   for (size_t k = 0; k < m; ++k)
     P[k] = poseKin(m_chain, m_identified, q[k]);
-  std::vector<Block> F(m); // F[i], i >= 1
+  F.resize(m);
   for (size_t i = 1; i < m; ++i)
     F[i] = pairBlock(P[i], P[0]);
   // dF[i][j]: derivative of block i w.r.t. joint j of q_i; dF0[i][j]: w.r.t. joint j of q_0.
-  std::vector<std::vector<Block>> dF(m), dF0(m);
+  dF.resize(m);
+  dF0.resize(m);
   if (grad && m >= 2) {
     std::vector<PoseKin> P0p(n), P0m(n);
     for (unsigned int j = 0; j < n; ++j) {
@@ -365,14 +380,16 @@ double vpMeasurementPlanner::evaluate(const std::vector<vpColVector> &q, const T
       }
     }
   }
-  // Adds sum over pairs of <W_i, dX_i/dx> for a per-pair function X of the blocks, to the gradient.
-  auto chain = [&](size_t i, const std::function<double(const Block &)> &directional) {
-    for (unsigned int j = 0; j < n; ++j) {
-      (*gradient)[i * n + j] += directional(dF[i][j]);
-      (*gradient)[j] += directional(dF0[i][j]);
-    }
-  };
+  return B;
+}
 
+void vpMeasurementPlanner::ratioTerm(const PairBlocks &B, const TrajectoryOptions &o, CostTerms &ct,
+                                     std::vector<double> *gradient) const
+{
+  const size_t m = B.F.size();
+  const Eigen::Index K = static_cast<Eigen::Index>(m_identified.size());
+  const bool grad = gradient != nullptr;
+  const std::vector<Block> &F = B.F;
   // Ratio term.
   if (m >= 3) {
     std::vector<Eigen::RowVectorXd> g(m);
@@ -401,14 +418,22 @@ double vpMeasurementPlanner::evaluate(const std::vector<vpColVector> &q, const T
       for (size_t i = 1; i < m; ++i) {
         const Block &b = F[i];
         const double s = b.t.squaredNorm();
-        chain(i, [&](const Block &d) {
+        B.chain(i, *gradient, [&](const Block &d) {
           const Eigen::RowVectorXd dg = (d.t.transpose() * b.Dt + b.t.transpose() * d.Dt) / s -
                                         g[i] * (2 * b.t.dot(d.t) / s);
           return G[i].dot(dg);
         });
       }
   }
+}
 
+void vpMeasurementPlanner::conditionTerm(const PairBlocks &B, const TrajectoryOptions &o, CostTerms &ct,
+                                         std::vector<double> *gradient) const
+{
+  const size_t m = B.F.size();
+  const Eigen::Index K = static_cast<Eigen::Index>(m_identified.size());
+  const bool grad = gradient != nullptr;
+  const std::vector<Block> &F = B.F;
   // cond(J) of the weighted relative-pose Jacobian.
   if (m >= 2) {
     const Eigen::Index rows = static_cast<Eigen::Index>(6 * (m - 1));
@@ -428,7 +453,7 @@ double vpMeasurementPlanner::evaluate(const std::vector<vpColVector> &q, const T
             const Eigen::VectorXd u1 = svd.matrixU().col(0).segment(6 * (i - 1), 6);
             const Eigen::VectorXd uK = svd.matrixU().col(K - 1).segment(6 * (i - 1), 6);
             const Eigen::VectorXd v1 = svd.matrixV().col(0), vK = svd.matrixV().col(K - 1);
-            chain(i, [&](const Block &d) {
+            B.chain(i, *gradient, [&](const Block &d) {
               Eigen::MatrixXd dJ(6, K);
               dJ.topRows(3) = (d.Dt - b.Dt * (b.t.dot(d.t) / (tn * tn))) / (o.direction_sd * tn);
               dJ.bottomRows(3) = d.Dr / o.rotation_sd;
@@ -441,7 +466,15 @@ double vpMeasurementPlanner::evaluate(const std::vector<vpColVector> &q, const T
     } else
       ct.condition = std::numeric_limits<double>::infinity();
   }
+}
 
+void vpMeasurementPlanner::visibilityTerm(const std::vector<vpColVector> &q, const PairBlocks &B,
+                                          const TrajectoryOptions &o, CostTerms &ct,
+                                          std::vector<double> *gradient) const
+{
+  const size_t m = q.size(), n = m_chain.getNumJoints();
+  const bool grad = gradient != nullptr;
+  const std::vector<PoseKin> &P = B.P;
   // Visibility: squared hinges in px on the image bounds (with the planning margin) and on depth.
   const vpCameraParameters &cam = m_scene.cam;
   const double lo = m_scene.margin + o.planning_margin;
@@ -485,7 +518,13 @@ double vpMeasurementPlanner::evaluate(const std::vector<vpColVector> &q, const T
       }
     }
   }
+}
 
+void vpMeasurementPlanner::distinctTerm(const std::vector<vpColVector> &q, const TrajectoryOptions &o, CostTerms &ct,
+                                        std::vector<double> *gradient) const
+{
+  const size_t m = q.size(), n = m_chain.getNumJoints();
+  const bool grad = gradient != nullptr;
   // Distinct configurations.
   for (size_t k = 0; k < m; ++k)
     for (size_t l = k + 1; l < m; ++l) {
@@ -503,6 +542,25 @@ double vpMeasurementPlanner::evaluate(const std::vector<vpColVector> &q, const T
           (*gradient)[l * n + j] -= gj;
         }
     }
+}
+
+/*
+  The whole cost and, if gradient is given, its gradient. See the class description; the notation
+  follows it: pair i = 1..m-1, block (t_i, Dt_i, Dr_i), g_i = t_i^T Dt_i / |t_i|^2.
+*/
+double vpMeasurementPlanner::evaluate(const std::vector<vpColVector> &q, const TrajectoryOptions &o, CostTerms *terms,
+                                      std::vector<double> *gradient) const
+{
+  const size_t m = q.size(), n = m_chain.getNumJoints();
+  const bool grad = gradient != nullptr;
+  if (grad)
+    gradient->assign(n * m, 0.0);
+  CostTerms ct;
+  const PairBlocks B = pairBlocks(q, grad);
+  ratioTerm(B, o, ct, gradient);
+  conditionTerm(B, o, ct, gradient);
+  visibilityTerm(q, B, o, ct, gradient);
+  distinctTerm(q, o, ct, gradient);
 
   const double cond = std::isfinite(ct.condition) ? ct.condition : kSingularCondition;
   ct.total = ct.ratio + o.lambda * cond + ct.visibility + ct.distinct;

@@ -40,24 +40,22 @@ vpImage<unsigned char> dotTexture(double radius_fraction)
     }
   return I;
 }
-// The layout of an asymmetric circle grid (OpenCV's): dot k = (row i, column j), k = i * cols + j,
-// at (x, y) = ((2 j + i % 2) step, i step).
-Eigen::Vector2d gridDot(unsigned int cols, unsigned int k, double step)
+// Dot k of the grid in the target's plane (m): its place in the asymmetric layout times the step.
+Eigen::Vector2d gridDot(const vpDotGrid &g, unsigned int k, double step)
 {
-  const unsigned int i = k / cols, j = k % cols;
-  return Eigen::Vector2d((2.0 * j + i % 2) * step, i * step);
+  return Eigen::Vector2d(g.x(k) * step, g.y(k) * step);
 }
 
 // A face of width x height (m) seen with u along the columns and v along the rows, white, with the
 // grid's dots centred at (u0 + x, v0 + y).
-vpImage<unsigned char> gridTexture(double width, double height, unsigned int cols, unsigned int rows, double step,
-                                   double u0, double v0, double r, bool mirror_u)
+vpImage<unsigned char> gridTexture(double width, double height, const vpDotGrid &g, double step, double u0, double v0,
+                                   double r, bool mirror_u)
 {
   const double px_per_m = 4000;
   const unsigned int W = static_cast<unsigned int>(width * px_per_m), H = static_cast<unsigned int>(height * px_per_m);
   vpImage<unsigned char> I(H, W, 235);
-  for (unsigned int k = 0; k < cols * rows; ++k) {
-    const Eigen::Vector2d c = gridDot(cols, k, step) + Eigen::Vector2d(u0, v0);
+  for (unsigned int k = 0; k < g.size(); ++k) {
+    const Eigen::Vector2d c = gridDot(g, k, step) + Eigen::Vector2d(u0, v0);
     for (unsigned int i = 0; i < H; ++i) {
       const double v = (i + 0.5) / px_per_m;
       if (std::fabs(v - c.y()) > r)
@@ -111,15 +109,18 @@ vpSelfCalibRenderer::vpSelfCalibRenderer(const vpSelfCalibSimulator &sim, const 
       const Eigen::Vector3d top = c - 0.5 * height * e2, c0 = side == 0 ? top + width * u : top,
                             c1 = side == 0 ? top : top + width * u, c3 = c0 + height * e2;
       const bool back = !((c1 - c0).cross(c3 - c0).dot(H.t - c0) < 0);
-      const Grid g{4, grid_rows[side], kFirstDotId + 1000 * side};
+      vpDotGrid g;
+      g.cols = 4;
+      g.rows = grid_rows[side];
+      g.first_id = kFirstDotId + 1000 * side;
       const double v0 = 0.5 * (height - (g.rows - 1) * step);
-      q.texture = gridTexture(width, height, g.cols, g.rows, step, grid_u0, v0, dot_radius[side], (side == 0) != back);
+      q.texture = gridTexture(width, height, g, step, grid_u0, v0, dot_radius[side], (side == 0) != back);
       // Ids as vpFeatureFrontEnd numbers them: the first row and the first column turn
       // counterclockwise in the image (seen from the home viewpoint), else the rows are numbered
       // from the other end.
       std::vector<Eigen::Vector3d> X;
-      for (unsigned int k = 0; k < g.cols * g.rows; ++k) {
-        const Eigen::Vector2d p = gridDot(g.cols, k, step);
+      for (unsigned int k = 0; k < g.size(); ++k) {
+        const Eigen::Vector2d p = gridDot(g, k, step);
         X.push_back(c + (grid_u0 + p.x()) * u + (v0 + p.y() - 0.5 * height) * e2);
       }
       const Rigid cMf = H.inverse();
@@ -129,7 +130,7 @@ vpSelfCalibRenderer::vpSelfCalibRenderer(const vpSelfCalibSimulator &sim, const 
       };
       const Eigen::Vector2d a = image(g.cols - 1) - image(0), b = image((g.rows - 1) * g.cols) - image(0);
       const bool reversed = a.x() * b.y() - a.y() * b.x() < 0;
-      for (unsigned int k = 0; k < g.cols * g.rows; ++k) {
+      for (unsigned int k = 0; k < g.size(); ++k) {
         const unsigned int i = k / g.cols, j = k % g.cols, label = (reversed ? g.rows - 1 - i : i) * g.cols + j;
         m_dot_centres[g.first_id + static_cast<int>(label)] = toCol(X[k]);
       }

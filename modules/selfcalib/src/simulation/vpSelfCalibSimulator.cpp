@@ -352,9 +352,9 @@ vpSelfCalibDataset vpSelfCalibSimulator::acquire(vpRobot &robot, const std::vect
   return ds;
 }
 
-vpMeasurementPlanner::Scene vpSelfCalibSimulator::getPlannerScene() const
+vpPlannerScene vpSelfCalibSimulator::getPlannerScene() const
 {
-  vpMeasurementPlanner::Scene scene;
+  vpPlannerScene scene;
   scene.points = m_points;
   scene.cam = getCamera();
   scene.width = m_opt.width;

@@ -138,7 +138,7 @@ TEST(FrontEnd, DotTargetEndToEnd)
     images.push_back(renderer.render(q[k], k));
   vpFeatureFrontEnd::Options fo;
   fo.features = false;
-  fo.dot_grids = vpFeatureFrontEnd::dotGrids(renderer);
+  fo.dot_grids = renderer.getDotGrids();
   const vpFeatureFrontEnd::Result fe = vpFeatureFrontEnd::process(images, fo);
   EXPECT_EQ(fe.num_tracks, 0u);
   ASSERT_EQ(fe.grid_seen.size(), 2u);
@@ -201,4 +201,34 @@ TEST(FrontEnd, BadInput)
   vpSelfCalibSimulator::Options so;
   const vpSelfCalibSimulator sim(vpKinematicChain::preset("viper850"), so);
   EXPECT_THROW(vpSelfCalibRenderer(sim, ro), vpSelfCalibException);
+}
+
+// The dot grid description: OpenCV's asymmetric layout, odd rows shifted by half a step; the
+// renderer's DOTS scene describes its two grids with it, as the front end looks for them.
+TEST(FrontEnd, DotGridLayout)
+{
+  vpDotGrid g;
+  g.cols = 4;
+  g.rows = 3;
+  EXPECT_EQ(g.size(), 12u);
+  const unsigned int x[12] = {0, 2, 4, 6, 1, 3, 5, 7, 0, 2, 4, 6}, y[12] = {0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2};
+  for (unsigned int k = 0; k < 12; ++k) {
+    EXPECT_EQ(g.x(k), x[k]) << k;
+    EXPECT_EQ(g.y(k), y[k]) << k;
+  }
+  vpSelfCalibSimulator::Options so;
+  const vpSelfCalibSimulator sim(vpKinematicChain::preset("viper850"), so);
+  vpSelfCalibRenderer::Options ro;
+  EXPECT_TRUE(vpSelfCalibRenderer(sim, ro).getDotGrids().empty());
+  ro.scene = vpSelfCalibRenderer::DOTS;
+  const vpSelfCalibRenderer renderer(sim, ro);
+  ASSERT_EQ(renderer.getDotGrids().size(), 2u);
+  vpFeatureFrontEnd::Options fo;
+  fo.features = false;
+  fo.dot_grids = renderer.getDotGrids();
+  EXPECT_NO_THROW(fo.check());
+  EXPECT_EQ(renderer.getDotCentres().size(), fo.dot_grids[0].size() + fo.dot_grids[1].size());
+  for (const vpDotGrid &d : fo.dot_grids)
+    for (unsigned int k = 0; k < d.size(); ++k)
+      EXPECT_EQ(renderer.getDotCentres().count(d.first_id + static_cast<int>(k)), 1u);
 }

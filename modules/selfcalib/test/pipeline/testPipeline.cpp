@@ -284,7 +284,8 @@ TEST(Report, WithoutGnuplotTheDataAndTheTextAreStillWritten)
   ASSERT_NE(mkdtemp(dir), nullptr);
   vpSelfCalibReport::Options ro;
   ro.gnuplot = "/nonexistent/gnuplot";
-  const auto rep = vpSelfCalibReport::write(dir, sim.getNominalChain(), ds, o, r, nullptr, ro);
+  const vpSelfCalibPoseStudy::Result study = vpSelfCalibPoseStudy::run(sim.getNominalChain(), ds, o);
+  const auto rep = vpSelfCalibReport::write(dir, sim.getNominalChain(), ds, o, r, nullptr, &study, ro);
   EXPECT_FALSE(rep.figures);
   EXPECT_NE(rep.message.find("gnuplot-nox"), std::string::npos);
   std::ifstream md(std::string(dir) + "/report.md");
@@ -297,6 +298,7 @@ TEST(Report, WithoutGnuplotTheDataAndTheTextAreStillWritten)
   while (std::getline(curve, line))
     rows += !line.empty() && line[0] != '#';
   EXPECT_EQ(rows, 4u); // 6, 7, 8 and 9 calibration poses
-  EXPECT_THROW(vpSelfCalibReport::write("/nonexistent/dir/report", sim.getNominalChain(), ds, o, r, nullptr, ro),
-               vpSelfCalibException);
+  EXPECT_THROW(
+      vpSelfCalibReport::write("/nonexistent/dir/report", sim.getNominalChain(), ds, o, r, nullptr, &study, ro),
+      vpSelfCalibException);
 }

@@ -15,8 +15,8 @@
 #include <vector>
 
 #include <visp3/core/vpImage.h>
+#include <visp3/selfcalib/vpDotGrid.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
-#include <visp3/selfcalib/vpSelfCalibRenderer.h>
 
 /*!
   \class vpFeatureFrontEnd
@@ -59,12 +59,9 @@ public:
   //! "sift" or "orb"; throws vpSelfCalibException otherwise.
   static Detector detectorFromName(const std::string &name);
 
-  //! An asymmetric circle grid (OpenCV's layout: `rows` rows of `cols` dots, odd rows shifted by
-  //! half a step).
-  struct DotGrid {
-    unsigned int cols = 4, rows = 5;
-    int first_id = 1000000; //!< id of dot 0; dot k has first_id + k
-  };
+  //! An asymmetric circle grid to find (OpenCV's layout, see vpDotGrid): the caller describes it,
+  //! from the target it printed or, in simulation, from vpSelfCalibRenderer::getDotGrids().
+  using DotGrid = vpDotGrid;
 
   struct Options {
     bool features = true;            //!< natural features (steps 1-3)
@@ -105,9 +102,6 @@ public:
     another size, or when a view has no image.
   */
   static Result fillDataset(vpSelfCalibDataset &dataset, const Options &options);
-
-  //! The dot grids of a renderer's DOTS scene, as the front end looks for them.
-  static std::vector<DotGrid> dotGrids(const vpSelfCalibRenderer &renderer);
 };
 
 #endif

@@ -20,6 +20,7 @@
 #include <visp3/core/vpColVector.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpObservabilityIndices.h>
+#include <visp3/selfcalib/vpPlannerScene.h>
 
 /*!
   \class vpMeasurementPlanner
@@ -64,14 +65,8 @@
 class VISP_SELFCALIB_EXPORT vpMeasurementPlanner
 {
 public:
-  //! What the camera must see. points: rough positions in f (3-vectors or homogeneous 4-vectors).
-  struct Scene {
-    std::vector<vpColVector> points;
-    vpCameraParameters cam;
-    unsigned int width = 0, height = 0;
-    double margin = 10;      //!< px kept free at the image border (acceptance)
-    double min_depth = 0.05; //!< m, minimal depth of a point in the camera frame
-  };
+  //! What the camera must see (see vpPlannerScene).
+  using Scene = vpPlannerScene;
 
   enum RatioCost {
     RATIO_CONSECUTIVE, //!< sum_i |g_i - g_{i-1}|^2 (the intent of eq. 39)
@@ -197,6 +192,18 @@ public:
 private:
   double evaluate(const std::vector<vpColVector> &q, const TrajectoryOptions &o, CostTerms *terms,
                   std::vector<double> *gradient) const;
+  // The steps of evaluate(): the pair blocks of q (with their derivatives when grad is set),
+  // then each cost term, added to ct and, when gradient is given, to the gradient.
+  struct PairBlocks;
+  PairBlocks pairBlocks(const std::vector<vpColVector> &q, bool grad) const;
+  void ratioTerm(const PairBlocks &blocks, const TrajectoryOptions &o, CostTerms &ct,
+                 std::vector<double> *gradient) const;
+  void conditionTerm(const PairBlocks &blocks, const TrajectoryOptions &o, CostTerms &ct,
+                     std::vector<double> *gradient) const;
+  void visibilityTerm(const std::vector<vpColVector> &q, const PairBlocks &blocks, const TrajectoryOptions &o,
+                      CostTerms &ct, std::vector<double> *gradient) const;
+  void distinctTerm(const std::vector<vpColVector> &q, const TrajectoryOptions &o, CostTerms &ct,
+                    std::vector<double> *gradient) const;
   void checkConfigurations(const std::vector<vpColVector> &q, const char *where, bool limits) const;
 
   vpKinematicChain m_chain;

@@ -22,6 +22,7 @@
 
 #include <visp3/core/vpColVector.h>
 #include <visp3/core/vpImage.h>
+#include <visp3/selfcalib/vpDotGrid.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
@@ -39,8 +40,8 @@
   Scene DOTS (the paper's experiment: a dot pattern on a non-planar object): the same two planes
   carry white faces with asymmetric circle grids of dark dots instead of the photographs: 4 x 5
   dots of radius 2.2 mm on the first plane (between the yardstick's patches), 4 x 9 of radius 3.2 mm
-  on the second, 1 cm steps (see vpFeatureFrontEnd::DotGrid). getDotGrids() describes them and
-  getDotCentres() gives their centres in f.
+  on the second, 1 cm steps. getDotGrids() describes them as the image front end looks for them
+  (vpFeatureFrontEnd::Options::dot_grids) and getDotCentres() gives their centres in f.
 */
 class VISP_SELFCALIB_EXPORT vpSelfCalibRenderer
 {
@@ -73,15 +74,13 @@ public:
   //! Radius of the dots of ends a and b (m).
   static constexpr double kDotRadiusA = 0.004, kDotRadiusB = 0.006;
 
-  //! Scene DOTS: the grids (columns, rows, first point id) and every dot's centre in f, by id.
-  struct Grid {
-    unsigned int cols = 0, rows = 0;
-    int first_id = 0;
-  };
-  const std::vector<Grid> &getDotGrids() const { return m_grids; }
+  //! Scene DOTS: the grids (columns, rows, first point id; empty for TEXTURED) and every dot's
+  //! centre in f, by id.
+  const std::vector<vpDotGrid> &getDotGrids() const { return m_grids; }
   const std::map<int, vpColVector> &getDotCentres() const { return m_dot_centres; }
-  //! First id of the dot grids' points (far above the feature tracks' ids).
-  static constexpr int kFirstDotId = 1000000;
+  //! First id of the dot grids' points (far above the feature tracks' ids); grid g starts at
+  //! kFirstDotId + 1000 g.
+  static constexpr int kFirstDotId = vpDotGrid::kDefaultFirstId;
 
 private:
   struct Quad {
@@ -92,7 +91,7 @@ private:
   Options m_opt;
   std::vector<Quad> m_quads;
   vpColVector m_end_a, m_end_b;
-  std::vector<Grid> m_grids;
+  std::vector<vpDotGrid> m_grids;
   std::map<int, vpColVector> m_dot_centres;
 };
 

@@ -17,6 +17,7 @@
 
 #include <visp3/selfcalib/vpFeatureFrontEnd.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibPoseStudy.h>
 
 /*!
   \class vpSelfCalibReport
@@ -32,15 +33,17 @@
   position_norms.png (|t_i| of c_i M c_1, the paper's Figures 4-5), residuals.png (histogram of
   the reprojection residuals on the calibration views), verification.png (reprojection RMS of
   each held-out view), errors_vs_poses.png (3-D yardstick error on the held-out views against
-  the number of calibration poses, recalibrated for each, the paper's Figure 6).
+  the number of calibration poses, the paper's Figure 6, from a vpSelfCalibPoseStudy result; its
+  data file is empty without one).
   Without gnuplot the data files and report.md are still written and the result says so.
+
+  Writing a report presents results and computes nothing long: it never runs a calibration.
 */
 class VISP_SELFCALIB_EXPORT vpSelfCalibReport
 {
 public:
   struct Options {
     std::string gnuplot = "gnuplot"; //!< the program; empty: no figures
-    bool errors_vs_poses = true;     //!< recalibrate for 6 .. N poses (Figure 6)
   };
   struct Result {
     bool figures = false; //!< the PNG files were drawn
@@ -49,12 +52,14 @@ public:
   };
   /*!
     Writes the report of `result` (run with `options` on `dataset`) into `directory` (created if
-    missing). front_end may be null. Throws vpSelfCalibException when the directory cannot be
-    written; a missing or failing gnuplot is reported in the result.
+    missing). front_end and errors_vs_poses (vpSelfCalibPoseStudy::run() on the same dataset and
+    options) may be null. Throws vpSelfCalibException when the directory cannot be written; a
+    missing or failing gnuplot is reported in the result.
   */
   static Result write(const std::string &directory, const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
                       const vpRobotSelfCalibration::Options &options, const vpRobotSelfCalibration::Result &result,
-                      const vpFeatureFrontEnd::Result *front_end, const Options &report_options);
+                      const vpFeatureFrontEnd::Result *front_end, const vpSelfCalibPoseStudy::Result *errors_vs_poses,
+                      const Options &report_options);
 };
 
 #endif

@@ -25,7 +25,7 @@
 #include <visp3/core/vpColVector.h>
 #include <visp3/robot/vpRobot.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
-#include <visp3/selfcalib/vpMeasurementPlanner.h>
+#include <visp3/selfcalib/vpPlannerScene.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
 
 /*!
@@ -94,7 +94,7 @@ public:
   vpColVector getSceneCentre() const { return m_centre; }
   vpSelfCalibDataset::Yardstick getYardstick() const;
   //! The planner's view of the scene: its points, the camera, the image size and margin.
-  vpMeasurementPlanner::Scene getPlannerScene() const;
+  vpPlannerScene getPlannerScene() const;
   //! The scene points by id (the ground truth vpCalibrationVerifier::verify() takes).
   std::map<int, vpColVector> getScenePointsById() const;
   //! The true camera poses fMc of the views (the ground truth of the held-out pose errors).

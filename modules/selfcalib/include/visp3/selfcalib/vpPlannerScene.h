@@ -1,0 +1,29 @@
+/*
+ * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ */
+#ifndef VP_PLANNER_SCENE_H
+#define VP_PLANNER_SCENE_H
+
+#include <vector>
+
+#include <visp3/core/vpCameraParameters.h>
+#include <visp3/core/vpColVector.h>
+
+/*!
+  \class vpPlannerScene
+  \brief What the camera must see at every planned configuration (vpMeasurementPlanner's input):
+  rough scene points in the reference frame f, the camera, the image size and the margins. A plain
+  description: whoever knows the scene (a user, or vpSelfCalibSimulator::getPlannerScene()) fills
+  it without depending on the planner; vpMeasurementPlanner checks it.
+*/
+class vpPlannerScene
+{
+public:
+  std::vector<vpColVector> points; //!< in f: 3-vectors or homogeneous 4-vectors
+  vpCameraParameters cam;          //!< pinhole (u0, v0, px, py)
+  unsigned int width = 0, height = 0; //!< image size (px)
+  double margin = 10;      //!< px kept free at the image border (acceptance)
+  double min_depth = 0.05; //!< m, minimal depth of a point in the camera frame
+};
+
+#endif

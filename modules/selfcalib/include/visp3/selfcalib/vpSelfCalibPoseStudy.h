@@ -1,0 +1,78 @@
+/*
+ * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ */
+#ifndef VP_SELFCALIB_POSE_STUDY_H
+#define VP_SELFCALIB_POSE_STUDY_H
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibDataset.h>
+
+/*!
+  \class vpSelfCalibPoseStudy
+  \brief The paper's Figure 6: the 3-D yardstick error on the held-out views against the number of
+  calibration poses.
+
+  With N = min(options.num_calibration_poses, number of views) and the held-out views those after
+  the first N (as vpRobotSelfCalibration uses them), the calibration is run again on the first n
+  views for n = min(min_poses, N) .. N, each time verified on the same held-out views; the
+  calibrated model's yardstick error (vpCalibrationVerifier, the paper's 3-D error) is kept for
+  every n whose run is OK and verified. The nominal model's error on the same views is the
+  reference line. The last point (n = N) is the run vpRobotSelfCalibration::run() makes with the
+  same options.
+
+  It runs the calibration once per n: the figure of a report (vpSelfCalibReport::write() takes the
+  result), computed apart from the report so that writing a report never calibrates.
+*/
+class vpSelfCalibPoseStudy
+{
+public:
+  struct Options {
+    unsigned int min_poses = 6; //!< fewest calibration poses of the curve (the paper's Figure 6 starts at 6)
+    //! Throws vpSelfCalibException when min_poses < 3 (a calibration needs 3 views).
+    void check() const;
+  };
+
+  enum Status {
+    OK,
+    NO_HELD_OUT_VIEWS, //!< fewer than 2 views after the calibration views: nothing to verify on
+    NO_YARDSTICK       //!< the dataset has no yardstick: no 3-D error to measure
+  };
+  static const char *statusName(Status s);
+
+  //! One point of the curve.
+  struct Point {
+    unsigned int poses = 0;      //!< n, calibration poses
+    double yardstick_error = 0;  //!< m, calibrated on the first n views, on the held-out views
+  };
+
+  struct Result {
+    Status status = NO_HELD_OUT_VIEWS;
+    std::string message;
+    double nominal_error = 0;  //!< m, the nominal model's yardstick error on the held-out views
+    std::vector<Point> points; //!< n increasing; a failed or unverified run leaves no point
+    unsigned int runs = 0;     //!< calibrations run
+    double seconds = 0;
+  };
+
+  //! Progress: calibrations done, total.
+  using Progress = std::function<void(unsigned int, unsigned int)>;
+
+  /*!
+    The study on `dataset` with the calibration `options`. Throws vpSelfCalibException on bad
+    study options and, through vpRobotSelfCalibration::run(), on caller mistakes in the dataset
+    (fewer than 3 calibration views...). Runs nothing when the status is not OK.
+  */
+  static Result run(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
+                    const vpRobotSelfCalibration::Options &options, const Options &study_options,
+                    const Progress &progress = Progress());
+  //! The study with the default study options.
+  static Result run(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
+                    const vpRobotSelfCalibration::Options &options);
+};
+
+#endif

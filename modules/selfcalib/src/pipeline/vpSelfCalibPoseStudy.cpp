@@ -1,0 +1,83 @@
+/*
+ * ViSP SelfCalib: errors against the number of calibration poses (the paper's Figure 6).
+ */
+#include <visp3/selfcalib/vpCalibrationVerifier.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibPoseStudy.h>
+
+#include <algorithm>
+#include <chrono>
+
+void vpSelfCalibPoseStudy::Options::check() const
+{
+  if (min_poses < 3)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpSelfCalibPoseStudy: min_poses must be at least 3 (a calibration needs 3 views), "
+                               "got " + std::to_string(min_poses));
+}
+
+const char *vpSelfCalibPoseStudy::statusName(Status s)
+{
+  switch (s) {
+  case OK:
+    return "ok";
+  case NO_HELD_OUT_VIEWS:
+    return "no held-out views";
+  case NO_YARDSTICK:
+    return "no yardstick";
+  }
+  return "unknown";
+}
+
+vpSelfCalibPoseStudy::Result vpSelfCalibPoseStudy::run(const vpKinematicChain &nominal,
+                                                       const vpSelfCalibDataset &dataset,
+                                                       const vpRobotSelfCalibration::Options &options)
+{
+  return run(nominal, dataset, options, Options());
+}
+
+vpSelfCalibPoseStudy::Result vpSelfCalibPoseStudy::run(const vpKinematicChain &nominal,
+                                                       const vpSelfCalibDataset &ds,
+                                                       const vpRobotSelfCalibration::Options &po,
+                                                       const Options &so, const Progress &progress)
+{
+  const auto t0 = std::chrono::steady_clock::now();
+  so.check();
+  Result res;
+  const unsigned int N = std::min<unsigned int>(po.num_calibration_poses, static_cast<unsigned int>(ds.views.size()));
+  const std::vector<vpSelfCalibDataset::View> cal(ds.views.begin(), ds.views.begin() + N),
+      ver(ds.views.begin() + N, ds.views.end());
+  if (ver.size() < 2) {
+    res.status = NO_HELD_OUT_VIEWS;
+    res.message = std::to_string(ver.size()) + " held-out view(s), the views after the first " + std::to_string(N) +
+                  ": 2 are needed to verify on";
+  } else if (!ds.yardstick.isSet()) {
+    res.status = NO_YARDSTICK;
+    res.message = "the dataset has no yardstick: no 3-D error to measure";
+  } else {
+    res.status = OK;
+    res.nominal_error = vpCalibrationVerifier::verify(nominal, ds.cam, ver, ds.yardstick).yardstick_error;
+    const unsigned int first = std::min(so.min_poses, N), total = N - first + 1;
+    for (unsigned int n = first; n <= N; ++n) {
+      if (progress)
+        progress(res.runs, total);
+      std::vector<vpSelfCalibDataset::View> views(cal.begin(), cal.begin() + n);
+      views.insert(views.end(), ver.begin(), ver.end());
+      vpSelfCalibDataset sub = ds;
+      sub.views = views;
+      vpRobotSelfCalibration::Options o = po;
+      o.num_calibration_poses = n;
+      const auto rn = vpRobotSelfCalibration::run(nominal, sub, o);
+      ++res.runs;
+      if (rn.status == vpRobotSelfCalibration::OK && rn.verified)
+        res.points.push_back({n, rn.after.yardstick_error});
+    }
+    if (progress)
+      progress(res.runs, total);
+    res.message = std::to_string(res.points.size()) + " of " + std::to_string(res.runs) +
+                  " calibrations (" + std::to_string(first) + " to " + std::to_string(N) +
+                  " poses) verified on " + std::to_string(ver.size()) + " held-out views";
+  }
+  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}

@@ -1,0 +1,72 @@
+/*
+ * Tests of vpSelfCalibPoseStudy: errors against the number of calibration poses (Figure 6).
+ */
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <visp3/selfcalib/vpCalibrationVerifier.h>
+#include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibPoseStudy.h>
+#include <visp3/selfcalib/vpSelfCalibSimulator.h>
+
+#include "../testCommon.h"
+
+using namespace selfcalib_test;
+
+// 12 views, 9 calibrating: one point per number of poses from min_poses to 9, the last one the
+// very run vpRobotSelfCalibration makes with the same options (bit for bit), the reference line the
+// nominal model's error on the held-out views; progress goes from 0 to the number of runs.
+TEST(PoseStudy, OnePointPerNumberOfPosesTheLastIsTheCalibration)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 14, 0.2);
+  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
+  vpRobotSelfCalibration::Options o;
+  o.num_calibration_poses = 9;
+  vpSelfCalibPoseStudy::Options so;
+  so.min_poses = 8;
+  std::vector<std::pair<unsigned int, unsigned int>> calls;
+  const vpSelfCalibPoseStudy::Result s = vpSelfCalibPoseStudy::run(
+      sim.getNominalChain(), ds, o, so, [&](unsigned int done, unsigned int total) { calls.push_back({done, total}); });
+  ASSERT_EQ(s.status, vpSelfCalibPoseStudy::OK) << s.message;
+  EXPECT_EQ(s.runs, 2u);
+  ASSERT_EQ(s.points.size(), 2u) << s.message;
+  EXPECT_EQ(s.points[0].poses, 8u);
+  EXPECT_EQ(s.points[1].poses, 9u);
+  for (const auto &p : s.points)
+    EXPECT_TRUE(std::isfinite(p.yardstick_error) && p.yardstick_error >= 0);
+  const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
+  ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
+  ASSERT_TRUE(r.verified);
+  EXPECT_EQ(s.points[1].yardstick_error, r.after.yardstick_error);
+  EXPECT_EQ(s.nominal_error, r.before.yardstick_error);
+  EXPECT_GT(s.nominal_error, s.points[1].yardstick_error);
+  const std::vector<std::pair<unsigned int, unsigned int>> expected = {{0, 2}, {1, 2}, {2, 2}};
+  EXPECT_EQ(calls, expected);
+}
+
+// Nothing to verify on (fewer than 2 held-out views) or no yardstick: a status, no calibration run.
+// Study options that cannot make a calibration throw.
+TEST(PoseStudy, NotApplicableAndBadOptions)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 15, 0.2);
+  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(10));
+  vpRobotSelfCalibration::Options o;
+  o.num_calibration_poses = 9;
+  auto s = vpSelfCalibPoseStudy::run(sim.getNominalChain(), ds, o);
+  EXPECT_EQ(s.status, vpSelfCalibPoseStudy::NO_HELD_OUT_VIEWS);
+  EXPECT_EQ(s.runs, 0u);
+  EXPECT_TRUE(s.points.empty());
+  EXPECT_NE(s.message.find("held-out"), std::string::npos) << s.message;
+  vpSelfCalibDataset no_yardstick = ds;
+  no_yardstick.yardstick = vpSelfCalibDataset::Yardstick();
+  o.num_calibration_poses = 7;
+  s = vpSelfCalibPoseStudy::run(sim.getNominalChain(), no_yardstick, o);
+  EXPECT_EQ(s.status, vpSelfCalibPoseStudy::NO_YARDSTICK);
+  EXPECT_EQ(s.runs, 0u);
+  EXPECT_STREQ(vpSelfCalibPoseStudy::statusName(s.status), "no yardstick");
+  vpSelfCalibPoseStudy::Options bad;
+  bad.min_poses = 2;
+  EXPECT_THROW(vpSelfCalibPoseStudy::run(sim.getNominalChain(), ds, o, bad), vpSelfCalibException);
+}
