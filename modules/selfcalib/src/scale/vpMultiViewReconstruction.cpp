@@ -16,6 +16,7 @@
 #include <ceres/rotation.h>
 #include <opencv2/calib3d.hpp>
 
+#include "../core/vpSelfCalibCamera.h"
 #include "../core/vpSelfCalibCeres.h"
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibGeometry.h"
@@ -39,7 +40,8 @@ double median(std::vector<double> v)
 
 /*
   Reprojection error of point X (frame of view 0) in view k, divided by the noise sd:
-    Xc = R(q) X + t,  u = u0 + f Xc_x / Xc_z,  v = v0 + mu f Xc_y / Xc_z.
+    Xc = R(q) X + t,  r = (projectPoint(NONE, (f, mu, u0, v0), Xc) - (u, v)) / sd,
+  the core camera model without distortion: u = u0 + f Xc_x / Xc_z, v = v0 + mu f Xc_y / Xc_z.
   q is an Eigen quaternion (x, y, z, w). View 0 uses the identity (no pose blocks).
 */
 struct Reprojection {
@@ -49,8 +51,11 @@ struct Reprojection {
   }
   template <typename T> bool project(const T *Xc, const T *f, T *r) const
   {
-    r[0] = (T(u0_) + f[0] * Xc[0] / Xc[2] - T(u_)) * T(w_);
-    r[1] = (T(v0_) + T(mu_) * f[0] * Xc[1] / Xc[2] - T(v_)) * T(w_);
+    const T in[4] = {f[0], T(mu_), T(u0_), T(v0_)};
+    T uv[2];
+    projectPoint(Distortion::NONE, in, Xc, uv);
+    r[0] = (uv[0] - T(u_)) * T(w_);
+    r[1] = (uv[1] - T(v_)) * T(w_);
     return true;
   }
   double u_, v_, u0_, v0_, mu_, w_;
@@ -122,6 +127,15 @@ struct State {
   ceres::EigenQuaternionManifold quaternion;
   ceres::SphereManifold<3> sphere;
 };
+
+//! The camera of the reconstruction at focal length f: (f, mu, u0, v0), no distortion.
+CameraModel pinhole(const State &s, double f)
+{
+  const double in[4] = {f, s.mu, s.u0, s.v0};
+  return CameraModel(Distortion::NONE, in);
+}
+
+Eigen::Vector2d pixel(const vpImagePoint &ip) { return Eigen::Vector2d(ip.get_u(), ip.get_v()); }
 
 //! The Reprojection residual (weight 1 / sd) of observation o against point X with the current poses and f.
 Eigen::Vector2d residual(const State &s, const Observation &o, const Eigen::Vector3d &X, double sd)
@@ -228,6 +242,7 @@ bool triangulatePairs(State &s)
 {
   const Options &opt = s.opt;
   Result &res = s.res;
+  const CameraModel camera = pinhole(s, res.fx);
   s.tri.resize(s.m);
   unsigned int ref = 0;
   double best_depth = std::numeric_limits<double>::infinity();
@@ -244,13 +259,12 @@ bool triangulatePairs(State &s)
                   : (r.F.getRows() != 3 ||
                      vpFundamentalMatrix::sampsonDistance(r.F, p0[j], pk[j]) > opt.twoview.ransac.inlier_threshold))
         continue;
-      const double x0[2] = {(p0[j].get_u() - s.u0) / res.fx, (p0[j].get_v() - s.v0) / (s.mu * res.fx)};
-      const double xk[2] = {(pk[j].get_u() - s.u0) / res.fx, (pk[j].get_v() - s.v0) / (s.mu * res.fx)};
+      const Eigen::Vector2d x0 = camera.unproject(pixel(p0[j])), xk = camera.unproject(pixel(pk[j]));
       double z0 = 0, zk = 0;
-      vpFactorMethod::triangulateDepths(r.c2Mc1, x0, xk, z0, zk);
+      vpFactorMethod::triangulateDepths(r.c2Mc1, x0.data(), xk.data(), z0, zk);
       if (!(z0 > 0 && zk > 0) || !std::isfinite(z0))
         continue;
-      s.tri[k][s.ids[k][j]] = z0 * Eigen::Vector3d(x0[0], x0[1], 1);
+      s.tri[k][s.ids[k][j]] = z0 * Eigen::Vector3d(x0(0), x0(1), 1);
       depths.push_back(z0);
     }
     if (depths.size() < opt.min_points) {
@@ -336,10 +350,7 @@ void initializePointsNotSeenFromView0(State &s)
       for (const auto &e : s.byId[k])
         if (!s.Xinit.count(e.first))
           seen_in[e.first].push_back(k);
-  auto normalized = [&](const vpImagePoint &ip, double x[2]) {
-    x[0] = (ip.get_u() - s.u0) / res.fx;
-    x[1] = (ip.get_v() - s.v0) / (s.mu * res.fx);
-  };
+  const CameraModel camera = pinhole(s, res.fx);
   for (const auto &e : seen_in) {
     const std::vector<unsigned int> &vk = e.second;
     if (vk.size() < 3)
@@ -351,21 +362,21 @@ void initializePointsNotSeenFromView0(State &s)
     for (size_t a = 0; a < n; ++a)
       for (size_t b = a + 1; b < n; ++b) {
         const Rigid A = rigidFromVisp(res.cMc0[vk[a]]), B = rigidFromVisp(res.cMc0[vk[b]]);
-        double xa[2], xb[2], za = 0, zb = 0;
-        normalized(s.byId[vk[a]].at(e.first), xa);
-        normalized(s.byId[vk[b]].at(e.first), xb);
-        vpFactorMethod::triangulateDepths(toVisp(B * A.inverse()), xa, xb, za, zb);
+        const Eigen::Vector2d xa = camera.unproject(pixel(s.byId[vk[a]].at(e.first)));
+        const Eigen::Vector2d xb = camera.unproject(pixel(s.byId[vk[b]].at(e.first)));
+        double za = 0, zb = 0;
+        vpFactorMethod::triangulateDepths(toVisp(B * A.inverse()), xa.data(), xb.data(), za, zb);
         if (!(za > 0 && zb > 0) || !std::isfinite(za))
           continue;
-        const Eigen::Vector3d Xc0 = A.inverse() * (za * Eigen::Vector3d(xa[0], xa[1], 1));
+        const Eigen::Vector3d Xc0 = A.inverse() * (za * Eigen::Vector3d(xa(0), xa(1), 1));
         unsigned int count = 0;
         double err = 0;
         for (unsigned int k : vk) {
-          const Eigen::Vector3d c = rigidFromVisp(res.cMc0[k]) * Xc0;
           const vpImagePoint &ip = s.byId[k].at(e.first);
-          const double d = c(2) > 0 ? std::hypot(s.u0 + res.fx * c(0) / c(2) - ip.get_u(),
-                                                 s.v0 + s.mu * res.fx * c(1) / c(2) - ip.get_v())
-                                    : std::numeric_limits<double>::infinity();
+          Eigen::Vector2d uv;
+          const double d = camera.project(rigidFromVisp(res.cMc0[k]) * Xc0, uv, nullptr, nullptr)
+                               ? std::hypot(uv(0) - ip.get_u(), uv(1) - ip.get_v())
+                               : std::numeric_limits<double>::infinity();
           if (d < tol) {
             ++count;
             err += d;
