@@ -619,12 +619,20 @@ vpMultiViewReconstruction::Status robustSolve(State &s)
 }
 
 /*
-  Points left out of the bundle adjustment: midpoint of their rays from the posed views, the views
-  whose reprojection error exceeds the outlier threshold left out (twice), kept with two views.
+  Points left out of the bundle adjustment: the midpoint of their rays from the posed views
+  (triangulateMidpoint), in three rounds; after each, the views whose whitened error against the
+  midpoint exceeds max(outlier_threshold, 20 / (round + 1)) are left out of the next. A point is
+  kept when two views or more remain, with its observations within the outlier threshold as
+  inliers; it is left out when its rays are (nearly) parallel or meet behind one of the cameras.
 */
 void triangulateLeftOutPoints(State &s)
 {
   const Options &opt = s.opt;
+  const CameraModel camera = pinhole(s, s.f);
+  std::vector<Rigid> c0Mc(s.m);
+  for (unsigned int k = 0; k < s.m; ++k)
+    if (s.res.posed[k])
+      c0Mc[k] = viewPose(s, k).inverse();
   for (int id : s.later) {
     std::vector<Observation> po;
     for (unsigned int k = 0; k < s.m; ++k) {
@@ -633,32 +641,18 @@ void triangulateLeftOutPoints(State &s)
         po.push_back({k, id, it->second.get_u(), it->second.get_v()});
     }
     std::vector<bool> use(po.size(), true);
-    Eigen::Vector3d x = (*s.X)[id];
-    for (int round = 0; round < 3; ++round) {
-      Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-      Eigen::Vector3d b = Eigen::Vector3d::Zero();
-      unsigned int n = 0;
-      for (size_t i = 0; i < po.size(); ++i) {
-        if (!use[i])
-          continue;
-        const Eigen::Quaterniond Q(s.quat[po[i].view](3), s.quat[po[i].view](0), s.quat[po[i].view](1),
-                                   s.quat[po[i].view](2));
-        const Eigen::Matrix3d Rt = Q.normalized().toRotationMatrix().transpose();
-        const Eigen::Vector3d o = -Rt * s.trans[po[i].view];
-        const Eigen::Vector3d d =
-            (Rt * Eigen::Vector3d((po[i].u - s.u0) / s.f, (po[i].v - s.v0) / (s.mu * s.f), 1)).normalized();
-        const Eigen::Matrix3d Pd = Eigen::Matrix3d::Identity() - d * d.transpose();
-        A += Pd;
-        b += Pd * o;
-        ++n;
-      }
-      if (n < 2)
-        break;
-      x = A.ldlt().solve(b);
+    Eigen::Vector3d x;
+    bool triangulated = true;
+    for (int round = 0; round < 3 && triangulated; ++round) {
+      std::vector<Ray> rays;
       for (size_t i = 0; i < po.size(); ++i)
+        if (use[i])
+          rays.push_back(rayThrough(c0Mc[po[i].view], camera, Eigen::Vector2d(po[i].u, po[i].v)));
+      triangulated = triangulateMidpoint(rays, x);
+      for (size_t i = 0; i < po.size() && triangulated; ++i)
         use[i] = whitened(s, po[i], x) <= std::max(opt.outlier_threshold, 20.0 / (round + 1));
     }
-    if (std::count(use.begin(), use.end(), true) < 2 || !x.allFinite())
+    if (!triangulated || std::count(use.begin(), use.end(), true) < 2)
       continue;
     (*s.X)[id] = x;
     for (size_t i = 0; i < po.size(); ++i) {
