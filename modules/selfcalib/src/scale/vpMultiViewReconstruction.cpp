@@ -560,18 +560,30 @@ void trimOutliers(State &s)
   dropPoorlyObservedPoints(s.obs, s.inlier);
 }
 
-//! Standard deviation of f (px) from the covariance of the final solve; infinite when it is singular.
+/*
+  Standard deviation (px) of f after the final solve: the square root of f's entry of (J^T J)^-1,
+  J the Jacobian of the whitened residuals over the poses (tangent coordinates), f and the points,
+  with the points marginalized (core marginalCovariance: their Schur complement, the same digits
+  from run to run). Infinite when the information is singular.
+*/
 double focalSd(ceres::Problem &problem, State &s)
 {
-  ceres::Covariance::Options co = covarianceOptions();
-  co.algorithm_type = ceres::SPARSE_QR;
-  co.num_threads = static_cast<int>(s.opt.num_threads);
-  ceres::Covariance cov(co);
-  std::vector<std::pair<const double *, const double *>> blocks = {{&s.f, &s.f}};
-  double c = 0;
-  if (cov.Compute(blocks, &problem) && cov.GetCovarianceBlock(&s.f, &s.f, &c))
-    return std::sqrt(c);
-  return std::numeric_limits<double>::infinity();
+  std::vector<double *> kept, eliminated;
+  for (unsigned int k = 1; k < s.m; ++k)
+    if (problem.HasParameterBlock(s.quat[k].data())) {
+      kept.push_back(s.quat[k].data());
+      kept.push_back(s.trans[k].data());
+    }
+  kept.push_back(&s.f);
+  for (const auto &e : s.X->index()) {
+    double *Xp = (*s.X)[e.first].data();
+    if (problem.HasParameterBlock(Xp))
+      eliminated.push_back(Xp);
+  }
+  Eigen::MatrixXd cov;
+  if (!marginalCovariance(problem, kept, eliminated, cov))
+    return std::numeric_limits<double>::infinity();
+  return std::sqrt(cov(cov.rows() - 1, cov.cols() - 1));
 }
 
 /*
