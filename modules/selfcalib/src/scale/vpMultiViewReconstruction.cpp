@@ -123,8 +123,8 @@ struct State {
   std::vector<Eigen::Vector4d> quat;
   std::vector<Eigen::Vector3d> trans;
   double f = 0;
-  ceres::Solver::Summary summary;
-  ceres::EigenQuaternionManifold quaternion;
+  ceres::Solver::Summary summary;                  //!< of the last solve
+  ceres::EigenQuaternionManifold quaternion;       //!< the manifolds of every solve (problems do not own them)
   ceres::SphereManifold<3> sphere;
 };
 
@@ -135,6 +135,7 @@ CameraModel pinhole(const State &s, double f)
   return CameraModel(Distortion::NONE, in);
 }
 
+//! (u, v) of an image point.
 Eigen::Vector2d pixel(const vpImagePoint &ip) { return Eigen::Vector2d(ip.get_u(), ip.get_v()); }
 
 //! The Reprojection residual (weight 1 / sd) of observation o against point X with the current poses and f.
