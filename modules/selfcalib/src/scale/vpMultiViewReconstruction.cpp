@@ -83,6 +83,63 @@ struct Observation {
   double u, v;
 };
 
+} // namespace
+
+const char *vpMultiViewReconstruction::lossName(Loss loss)
+{
+  switch (loss) {
+  case LOSS_NONE:
+    return "none";
+  case LOSS_HUBER:
+    return "huber";
+  case LOSS_CAUCHY:
+    return "cauchy";
+  }
+  return "unknown";
+}
+
+vpMultiViewReconstruction::Loss vpMultiViewReconstruction::lossFromName(const std::string &name)
+{
+  for (Loss l : {LOSS_NONE, LOSS_HUBER, LOSS_CAUCHY})
+    if (name == lossName(l))
+      return l;
+  throw vpSelfCalibException(vpSelfCalibException::badValue,
+                             "robust loss '" + name + "': use none, huber or cauchy");
+}
+
+const char *vpMultiViewReconstruction::statusName(Status s)
+{
+  switch (s) {
+  case OK:
+    return "ok";
+  case TOO_FEW_VIEWS:
+    return "too few views with a pose";
+  case TWO_VIEW_FAILED:
+    return "two-view poses failed";
+  case NO_CONVERGENCE:
+    return "bundle adjustment did not converge";
+  }
+  return "unknown";
+}
+
+void vpMultiViewReconstruction::Options::check() const
+{
+  if (!(pixel_sd > 0) || !(loss_scale > 0) || !(init_tolerance > 0) || !(outlier_threshold >= 0) || !std::isfinite(outlier_threshold))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpMultiViewReconstruction: pixel_sd, loss_scale and init_tolerance must be positive, "
+                               "outlier_threshold non-negative");
+  if (min_points < 5 || max_iterations == 0 || num_threads == 0 || (max_pair_points > 0 && max_pair_points < 8))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpMultiViewReconstruction: min_points must be at least 5, max_pair_points 0 or at least "
+                               "8, max_iterations and num_threads at least 1");
+  if (!(twoview.fx > 0) || !(twoview.mu > 0))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpMultiViewReconstruction: twoview.fx and twoview.mu must be positive");
+  twoview.check();
+}
+
+namespace
+{
 using Options = vpMultiViewReconstruction::Options;
 using Result = vpMultiViewReconstruction::Result;
 
@@ -740,59 +797,6 @@ void scaleAndExport(State &s, const std::set<int> &kept)
                 std::to_string(res.rms) + " px" + (res.metric ? ", metric" : ", unit reference baseline");
 }
 } // namespace
-
-const char *vpMultiViewReconstruction::lossName(Loss loss)
-{
-  switch (loss) {
-  case LOSS_NONE:
-    return "none";
-  case LOSS_HUBER:
-    return "huber";
-  case LOSS_CAUCHY:
-    return "cauchy";
-  }
-  return "unknown";
-}
-
-vpMultiViewReconstruction::Loss vpMultiViewReconstruction::lossFromName(const std::string &name)
-{
-  for (Loss l : {LOSS_NONE, LOSS_HUBER, LOSS_CAUCHY})
-    if (name == lossName(l))
-      return l;
-  throw vpSelfCalibException(vpSelfCalibException::badValue,
-                             "robust loss '" + name + "': use none, huber or cauchy");
-}
-
-const char *vpMultiViewReconstruction::statusName(Status s)
-{
-  switch (s) {
-  case OK:
-    return "ok";
-  case TOO_FEW_VIEWS:
-    return "too few views with a pose";
-  case TWO_VIEW_FAILED:
-    return "two-view poses failed";
-  case NO_CONVERGENCE:
-    return "bundle adjustment did not converge";
-  }
-  return "unknown";
-}
-
-void vpMultiViewReconstruction::Options::check() const
-{
-  if (!(pixel_sd > 0) || !(loss_scale > 0) || !(init_tolerance > 0) || !(outlier_threshold >= 0) || !std::isfinite(outlier_threshold))
-    throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpMultiViewReconstruction: pixel_sd, loss_scale and init_tolerance must be positive, "
-                               "outlier_threshold non-negative");
-  if (min_points < 5 || max_iterations == 0 || num_threads == 0 || (max_pair_points > 0 && max_pair_points < 8))
-    throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpMultiViewReconstruction: min_points must be at least 5, max_pair_points 0 or at least "
-                               "8, max_iterations and num_threads at least 1");
-  if (!(twoview.fx > 0) || !(twoview.mu > 0))
-    throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpMultiViewReconstruction: twoview.fx and twoview.mu must be positive");
-  twoview.check();
-}
 
 vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const std::vector<vpSelfCalibDataset::View> &views,
                                                                          const vpSelfCalibDataset::Yardstick &yardstick,
