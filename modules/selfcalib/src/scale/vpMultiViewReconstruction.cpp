@@ -16,6 +16,7 @@
 #include <ceres/rotation.h>
 #include <opencv2/calib3d.hpp>
 
+#include "../core/vpSelfCalibCamera.h"
 #include "../core/vpSelfCalibCeres.h"
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibGeometry.h"
@@ -39,7 +40,8 @@ double median(std::vector<double> v)
 
 /*
   Reprojection error of point X (frame of view 0) in view k, divided by the noise sd:
-    Xc = R(q) X + t,  u = u0 + f Xc_x / Xc_z,  v = v0 + mu f Xc_y / Xc_z.
+    Xc = R(q) X + t,  r = (projectPoint(NONE, (f, mu, u0, v0), Xc) - (u, v)) / sd,
+  the core camera model without distortion: u = u0 + f Xc_x / Xc_z, v = v0 + mu f Xc_y / Xc_z.
   q is an Eigen quaternion (x, y, z, w). View 0 uses the identity (no pose blocks).
 */
 struct Reprojection {
@@ -49,8 +51,11 @@ struct Reprojection {
   }
   template <typename T> bool project(const T *Xc, const T *f, T *r) const
   {
-    r[0] = (T(u0_) + f[0] * Xc[0] / Xc[2] - T(u_)) * T(w_);
-    r[1] = (T(v0_) + T(mu_) * f[0] * Xc[1] / Xc[2] - T(v_)) * T(w_);
+    const T in[4] = {f[0], T(mu_), T(u0_), T(v0_)};
+    T uv[2];
+    projectPoint(Distortion::NONE, in, Xc, uv);
+    r[0] = (uv[0] - T(u_)) * T(w_);
+    r[1] = (uv[1] - T(v_)) * T(w_);
     return true;
   }
   double u_, v_, u0_, v0_, mu_, w_;
@@ -133,60 +138,138 @@ void vpMultiViewReconstruction::Options::check() const
   twoview.check();
 }
 
-vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const std::vector<vpSelfCalibDataset::View> &views,
-                                                                         const vpSelfCalibDataset::Yardstick &yardstick,
-                                                                         const Options &opt)
+namespace
 {
-  opt.check();
-  const QuietCeres quiet;
-  const auto t0 = std::chrono::steady_clock::now();
-  const unsigned int m = static_cast<unsigned int>(views.size());
-  if (m < 2)
+using Options = vpMultiViewReconstruction::Options;
+using Result = vpMultiViewReconstruction::Result;
+
+/*
+  What the stages of reconstruct() share. The observations of the bundle adjustment (obs, with
+  their inlier flags) are collected once; the points left out of it are appended at the end.
+*/
+struct State {
+  State(const std::vector<vpSelfCalibDataset::View> &views_, const vpSelfCalibDataset::Yardstick &yardstick_,
+        const Options &opt_)
+    : views(views_), yardstick(yardstick_), opt(opt_), m(static_cast<unsigned int>(views_.size())),
+      u0(opt_.twoview.u0), v0(opt_.twoview.v0), mu(opt_.twoview.mu), t0(std::chrono::steady_clock::now())
+  {
+  }
+  const std::vector<vpSelfCalibDataset::View> &views;
+  const vpSelfCalibDataset::Yardstick &yardstick;
+  const Options &opt;
+  const unsigned int m;
+  const double u0, v0, mu;
+  const std::chrono::steady_clock::time_point t0;
+  Result res;
+
+  std::vector<std::map<int, vpImagePoint>> byId; //!< per view: id -> pixel
+  // Pairs (0, k) at index k - 1: common ids (at index k), their pixels in views 0 and k, and the
+  // position of each in the two-view subset (or -1).
+  std::vector<std::vector<int>> ids;
+  std::vector<std::vector<vpImagePoint>> p0, pk;
+  std::vector<std::vector<int>> sub;
+  std::vector<std::map<int, Eigen::Vector3d>> tri; //!< per view k: unit-baseline triangulations, frame 0
+  std::vector<double> scale;                       //!< per view k: scale of its pair relative to the reference
+  std::map<int, Eigen::Vector3d> Xinit;            //!< initial points, frame 0
+
+  // The bundle adjustment: points, the ids left out of it, observations, poses and f.
+  std::unique_ptr<PointStore> X;
+  std::set<int> later;
+  std::vector<Observation> obs;
+  std::vector<bool> inlier;
+  std::vector<Eigen::Vector4d> quat;
+  std::vector<Eigen::Vector3d> trans;
+  double f = 0;
+  ceres::Solver::Summary summary;                  //!< of the last solve
+  ceres::EigenQuaternionManifold quaternion;       //!< the manifolds of every solve (problems do not own them)
+  ceres::SphereManifold<3> sphere;
+};
+
+//! The camera of the reconstruction at focal length f: (f, mu, u0, v0), no distortion.
+CameraModel pinhole(const State &s, double f)
+{
+  const double in[4] = {f, s.mu, s.u0, s.v0};
+  return CameraModel(Distortion::NONE, in);
+}
+
+//! (u, v) of an image point.
+Eigen::Vector2d pixel(const vpImagePoint &ip) { return Eigen::Vector2d(ip.get_u(), ip.get_v()); }
+
+//! The Reprojection residual (weight 1 / sd) of observation o against point X with the current poses and f.
+Eigen::Vector2d residual(const State &s, const Observation &o, const Eigen::Vector3d &X, double sd)
+{
+  Eigen::Vector2d r;
+  if (o.view == 0)
+    ReprojectionReference(o.u, o.v, s.u0, s.v0, s.mu, sd).project(X.data(), &s.f, r.data());
+  else
+    ReprojectionPosed(o.u, o.v, s.u0, s.v0, s.mu, sd)(s.quat[o.view].data(), s.trans[o.view].data(), X.data(), &s.f,
+                                                      r.data());
+  return r;
+}
+
+//! Whitened reprojection error (in noise sd) of observation o against point X.
+double whitened(const State &s, const Observation &o, const Eigen::Vector3d &X)
+{
+  const Eigen::Vector2d r = residual(s, o, X, s.opt.pixel_sd);
+  return std::hypot(r(0), r(1));
+}
+
+//! Whitened error of bundle observation n against its current point.
+double whitened(State &s, size_t n) { return whitened(s, s.obs[n], (*s.X)[s.obs[n].id]); }
+
+//! Input checks and the observations by id, per view.
+void collectObservations(State &s)
+{
+  if (s.m < 2)
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpMultiViewReconstruction: at least 2 views are needed");
-  std::vector<std::map<int, vpImagePoint>> byId(m);
-  for (unsigned int k = 0; k < m; ++k)
-    for (const auto &o : views[k].points) {
+  s.byId.resize(s.m);
+  for (unsigned int k = 0; k < s.m; ++k)
+    for (const auto &o : s.views[k].points) {
       if (!std::isfinite(o.ip.get_u()) || !std::isfinite(o.ip.get_v()))
         throw vpSelfCalibException(vpSelfCalibException::badValue, "vpMultiViewReconstruction: view " +
                                                                        std::to_string(k) + " has a non-finite pixel");
-      if (!byId[k].emplace(o.id, o.ip).second)
+      if (!s.byId[k].emplace(o.id, o.ip).second)
         throw vpSelfCalibException(vpSelfCalibException::badValue, "vpMultiViewReconstruction: view " +
                                                                        std::to_string(k) + " has point id " +
                                                                        std::to_string(o.id) + " twice");
     }
+  s.res.cMc0.assign(s.m, vpHomogeneousMatrix());
+  s.res.posed.assign(s.m, false);
+  s.res.posed[0] = true;
+}
 
-  const double u0 = opt.twoview.u0, v0 = opt.twoview.v0, mu = opt.twoview.mu;
-  Result res;
-  res.cMc0.assign(m, vpHomogeneousMatrix());
-  res.posed.assign(m, false);
-  res.posed[0] = true;
-
-  // 1. Two-view poses of the pairs (0, k).
-  std::vector<std::vector<int>> ids(m);
-  std::vector<std::vector<vpImagePoint>> p0(m - 1), pk(m - 1);
+//! 1. Two-view poses of the pairs (0, k).
+void twoViewPoses(State &s)
+{
+  const unsigned int m = s.m;
+  const Options &opt = s.opt;
+  Result &res = s.res;
+  s.ids.resize(m);
+  s.p0.resize(m - 1);
+  s.pk.resize(m - 1);
   for (unsigned int k = 1; k < m; ++k)
-    for (const auto &e : byId[0]) {
-      auto it = byId[k].find(e.first);
-      if (it != byId[k].end()) {
-        ids[k].push_back(e.first);
-        p0[k - 1].push_back(e.second);
-        pk[k - 1].push_back(it->second);
+    for (const auto &e : s.byId[0]) {
+      auto it = s.byId[k].find(e.first);
+      if (it != s.byId[k].end()) {
+        s.ids[k].push_back(e.first);
+        s.p0[k - 1].push_back(e.second);
+        s.pk[k - 1].push_back(it->second);
       }
     }
   // The two-view estimates on at most max_pair_points correspondences per pair, evenly spread over
   // the list (the bundle adjustment below uses them all); sub[k - 1][j] is the position of
   // correspondence j in the subset, or -1.
   std::vector<std::vector<vpImagePoint>> s0(m - 1), sk(m - 1);
-  std::vector<std::vector<int>> sub(m - 1);
+  s.sub.resize(m - 1);
   for (unsigned int k = 1; k < m; ++k) {
-    const size_t n = p0[k - 1].size();
+    const size_t n = s.p0[k - 1].size();
     const size_t keep = opt.max_pair_points > 0 ? std::min<size_t>(n, opt.max_pair_points) : n;
-    sub[k - 1].assign(n, -1);
+    s.sub[k - 1].assign(n, -1);
     for (size_t i = 0; i < keep; ++i) {
       const size_t j = i * n / keep;
-      sub[k - 1][j] = static_cast<int>(s0[k - 1].size());
-      s0[k - 1].push_back(p0[k - 1][j]);
-      sk[k - 1].push_back(pk[k - 1][j]);
+      s.sub[k - 1][j] = static_cast<int>(s0[k - 1].size());
+      s0[k - 1].push_back(s.p0[k - 1][j]);
+      sk[k - 1].push_back(s.pk[k - 1][j]);
     }
   }
   vpTwoViewEstimator::Options to = opt.twoview;
@@ -206,35 +289,44 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
       for (unsigned int k = 1; k < m; ++k)
         res.pairs[k - 1] = vpTwoViewEstimator::estimate(s0[k - 1], sk[k - 1], to);
   }
-  res.seconds_twoview = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  res.seconds_twoview = std::chrono::duration<double>(std::chrono::steady_clock::now() - s.t0).count();
+}
 
-  // 2. Unit-baseline triangulations in the frame of view 0, reference pair, scale chaining.
-  std::vector<std::map<int, Eigen::Vector3d>> tri(m);
+/*
+  2. Unit-baseline triangulations of the inliers of each pair in the frame of view 0, and the
+  reference pair (smallest median depth). False (status TWO_VIEW_FAILED) when no pair is usable.
+*/
+bool triangulatePairs(State &s)
+{
+  const Options &opt = s.opt;
+  Result &res = s.res;
+  const CameraModel camera = pinhole(s, res.fx);
+  s.tri.resize(s.m);
   unsigned int ref = 0;
   double best_depth = std::numeric_limits<double>::infinity();
-  for (unsigned int k = 1; k < m; ++k) {
+  for (unsigned int k = 1; k < s.m; ++k) {
     const vpTwoViewEstimator::Result &r = res.pairs[k - 1];
     if (r.status != vpTwoViewEstimator::OK)
       continue;
+    const std::vector<vpImagePoint> &p0 = s.p0[k - 1], &pk = s.pk[k - 1];
     std::vector<double> depths;
-    for (size_t j = 0; j < ids[k].size(); ++j) {
+    for (size_t j = 0; j < s.ids[k].size(); ++j) {
       // Inlier of the pair: by its RANSAC when in the subset, else by the Sampson distance to its F.
-      const int si = sub[k - 1][j];
+      const int si = s.sub[k - 1][j];
       if (si >= 0 ? (!r.inliers.empty() && !r.inliers[si])
-                  : (r.F.getRows() != 3 || vpFundamentalMatrix::sampsonDistance(r.F, p0[k - 1][j], pk[k - 1][j]) >
-                                               opt.twoview.ransac.inlier_threshold))
+                  : (r.F.getRows() != 3 ||
+                     vpFundamentalMatrix::sampsonDistance(r.F, p0[j], pk[j]) > opt.twoview.ransac.inlier_threshold))
         continue;
-      const double x0[2] = {(p0[k - 1][j].get_u() - u0) / res.fx, (p0[k - 1][j].get_v() - v0) / (mu * res.fx)};
-      const double xk[2] = {(pk[k - 1][j].get_u() - u0) / res.fx, (pk[k - 1][j].get_v() - v0) / (mu * res.fx)};
+      const Eigen::Vector2d x0 = camera.unproject(pixel(p0[j])), xk = camera.unproject(pixel(pk[j]));
       double z0 = 0, zk = 0;
-      vpFactorMethod::triangulateDepths(r.c2Mc1, x0, xk, z0, zk);
+      vpFactorMethod::triangulateDepths(r.c2Mc1, x0.data(), xk.data(), z0, zk);
       if (!(z0 > 0 && zk > 0) || !std::isfinite(z0))
         continue;
-      tri[k][ids[k][j]] = z0 * Eigen::Vector3d(x0[0], x0[1], 1);
+      s.tri[k][s.ids[k][j]] = z0 * Eigen::Vector3d(x0(0), x0(1), 1);
       depths.push_back(z0);
     }
     if (depths.size() < opt.min_points) {
-      tri[k].clear();
+      s.tri[k].clear();
       continue;
     }
     const double d = median(depths);
@@ -245,409 +337,487 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
   }
   if (ref == 0) {
     size_t most = 0;
-    for (unsigned int k = 1; k < m; ++k)
-      most = std::max(most, p0[k - 1].size());
-    res.status = TWO_VIEW_FAILED;
+    for (unsigned int k = 1; k < s.m; ++k)
+      most = std::max(most, s.p0[k - 1].size());
+    res.status = vpMultiViewReconstruction::TWO_VIEW_FAILED;
     res.message = most < 8 ? "the views share too few points with view 0 (at most " + std::to_string(most) +
                                  "): every view needs 8 or more points also seen in view 0"
                            : "no pair (0, k) gave a pose with enough triangulated points (at most " +
                                  std::to_string(most) + " common points; see the pairs' statuses)";
-    return res;
+    return false;
   }
   res.reference_view = ref;
-  std::vector<double> scale(m, 0);
-  for (unsigned int k = 1; k < m; ++k) {
+  return true;
+}
+
+/*
+  Scale chaining: the scale of each pair relative to the reference (median ratio of the distances
+  of the points both triangulated), its pose, and the initial points (coordinate-wise median of
+  the scaled triangulations).
+*/
+void chainScales(State &s)
+{
+  Result &res = s.res;
+  const unsigned int ref = res.reference_view;
+  s.scale.assign(s.m, 0);
+  for (unsigned int k = 1; k < s.m; ++k) {
     std::vector<double> ratios;
-    for (const auto &e : tri[k]) {
-      auto it = tri[ref].find(e.first);
-      if (it != tri[ref].end())
+    for (const auto &e : s.tri[k]) {
+      auto it = s.tri[ref].find(e.first);
+      if (it != s.tri[ref].end())
         ratios.push_back(it->second.norm() / e.second.norm());
     }
-    if (ratios.size() < opt.min_points)
+    if (ratios.size() < s.opt.min_points)
       continue;
-    scale[k] = median(ratios);
+    s.scale[k] = median(ratios);
     Rigid M = rigidFromVisp(res.pairs[k - 1].c2Mc1);
-    M.t = M.t.normalized() * (k == ref ? 1.0 : scale[k]);
+    M.t = M.t.normalized() * (k == ref ? 1.0 : s.scale[k]);
     res.cMc0[k] = toVisp(M);
     res.posed[k] = true;
   }
-  unsigned int num_posed = 0;
-  for (bool p : res.posed)
-    num_posed += p;
-
-  std::map<int, Eigen::Vector3d> Xinit;
-  {
-    std::map<int, std::vector<Eigen::Vector3d>> cand;
-    for (unsigned int k = 1; k < m; ++k)
-      if (res.posed[k])
-        for (const auto &e : tri[k])
-          cand[e.first].push_back(scale[k] * e.second);
-    for (const auto &c : cand) {
-      Eigen::Vector3d x;
-      for (int a = 0; a < 3; ++a) {
-        std::vector<double> v;
-        for (const auto &p : c.second)
-          v.push_back(p(a));
-        x(a) = median(v);
-      }
-      Xinit[c.first] = x;
+  std::map<int, std::vector<Eigen::Vector3d>> cand;
+  for (unsigned int k = 1; k < s.m; ++k)
+    if (res.posed[k])
+      for (const auto &e : s.tri[k])
+        cand[e.first].push_back(s.scale[k] * e.second);
+  for (const auto &c : cand) {
+    Eigen::Vector3d x;
+    for (int a = 0; a < 3; ++a) {
+      std::vector<double> v;
+      for (const auto &p : c.second)
+        v.push_back(p(a));
+      x(a) = median(v);
     }
+    s.Xinit[c.first] = x;
   }
+}
 
-  // Points without a triangulation from view 0 (not seen there, or a wrong match there): the pair
-  // of posed views whose triangulation most other views agree with (within init_tolerance px).
-  {
-    const double tol = std::max(opt.init_tolerance, opt.outlier_threshold * opt.pixel_sd);
-    std::map<int, std::vector<unsigned int>> seen_in;
-    for (unsigned int k = 1; k < m; ++k)
-      if (res.posed[k])
-        for (const auto &e : byId[k])
-          if (!Xinit.count(e.first))
-            seen_in[e.first].push_back(k);
-    auto normalized = [&](const vpImagePoint &ip, double x[2]) {
-      x[0] = (ip.get_u() - u0) / res.fx;
-      x[1] = (ip.get_v() - v0) / (mu * res.fx);
-    };
-    for (const auto &e : seen_in) {
-      const std::vector<unsigned int> &vk = e.second;
-      if (vk.size() < 3)
-        continue;
-      const size_t n = std::min<size_t>(vk.size(), 12);
-      unsigned int best = 0;
-      double best_err = 0;
-      Eigen::Vector3d best_X;
-      for (size_t a = 0; a < n; ++a)
-        for (size_t b = a + 1; b < n; ++b) {
-          const Rigid A = rigidFromVisp(res.cMc0[vk[a]]), B = rigidFromVisp(res.cMc0[vk[b]]);
-          double xa[2], xb[2], za = 0, zb = 0;
-          normalized(byId[vk[a]].at(e.first), xa);
-          normalized(byId[vk[b]].at(e.first), xb);
-          vpFactorMethod::triangulateDepths(toVisp(B * A.inverse()), xa, xb, za, zb);
-          if (!(za > 0 && zb > 0) || !std::isfinite(za))
-            continue;
-          const Eigen::Vector3d Xc0 = A.inverse() * (za * Eigen::Vector3d(xa[0], xa[1], 1));
-          unsigned int count = 0;
-          double err = 0;
-          for (unsigned int k : vk) {
-            const Eigen::Vector3d c = rigidFromVisp(res.cMc0[k]) * Xc0;
-            const vpImagePoint &ip = byId[k].at(e.first);
-            const double d = c(2) > 0 ? std::hypot(u0 + res.fx * c(0) / c(2) - ip.get_u(),
-                                                   v0 + mu * res.fx * c(1) / c(2) - ip.get_v())
-                                      : std::numeric_limits<double>::infinity();
-            if (d < tol) {
-              ++count;
-              err += d;
-            }
-          }
-          if (count > best || (count == best && err < best_err)) {
-            best = count;
-            best_err = err;
-            best_X = Xc0;
+/*
+  Points without a triangulation from view 0 (not seen there, or a wrong match there): the pair of
+  posed views whose triangulation most other views agree with (within init_tolerance px), when at
+  least three agree.
+*/
+void initializePointsNotSeenFromView0(State &s)
+{
+  const Options &opt = s.opt;
+  const Result &res = s.res;
+  const double tol = std::max(opt.init_tolerance, opt.outlier_threshold * opt.pixel_sd);
+  std::map<int, std::vector<unsigned int>> seen_in;
+  for (unsigned int k = 1; k < s.m; ++k)
+    if (res.posed[k])
+      for (const auto &e : s.byId[k])
+        if (!s.Xinit.count(e.first))
+          seen_in[e.first].push_back(k);
+  const CameraModel camera = pinhole(s, res.fx);
+  for (const auto &e : seen_in) {
+    const std::vector<unsigned int> &vk = e.second;
+    if (vk.size() < 3)
+      continue;
+    const size_t n = std::min<size_t>(vk.size(), 12);
+    unsigned int best = 0;
+    double best_err = 0;
+    Eigen::Vector3d best_X;
+    for (size_t a = 0; a < n; ++a)
+      for (size_t b = a + 1; b < n; ++b) {
+        const Rigid A = rigidFromVisp(res.cMc0[vk[a]]), B = rigidFromVisp(res.cMc0[vk[b]]);
+        const Eigen::Vector2d xa = camera.unproject(pixel(s.byId[vk[a]].at(e.first)));
+        const Eigen::Vector2d xb = camera.unproject(pixel(s.byId[vk[b]].at(e.first)));
+        double za = 0, zb = 0;
+        vpFactorMethod::triangulateDepths(toVisp(B * A.inverse()), xa.data(), xb.data(), za, zb);
+        if (!(za > 0 && zb > 0) || !std::isfinite(za))
+          continue;
+        const Eigen::Vector3d Xc0 = A.inverse() * (za * Eigen::Vector3d(xa(0), xa(1), 1));
+        unsigned int count = 0;
+        double err = 0;
+        for (unsigned int k : vk) {
+          const vpImagePoint &ip = s.byId[k].at(e.first);
+          Eigen::Vector2d uv;
+          const double d = camera.project(rigidFromVisp(res.cMc0[k]) * Xc0, uv, nullptr, nullptr)
+                               ? std::hypot(uv(0) - ip.get_u(), uv(1) - ip.get_v())
+                               : std::numeric_limits<double>::infinity();
+          if (d < tol) {
+            ++count;
+            err += d;
           }
         }
-      if (best >= 3)
-        Xinit[e.first] = best_X;
-    }
+        if (count > best || (count == best && err < best_err)) {
+          best = count;
+          best_err = err;
+          best_X = Xc0;
+        }
+      }
+    if (best >= 3)
+      s.Xinit[e.first] = best_X;
   }
+}
 
-  // 3. Bundle adjustment, on at most max_bundle_points points (evenly spread over the ids, the
-  // yardstick ends always in); the others are triangulated afterwards with the adjusted poses.
-  PointStore X(Xinit);
-  std::set<int> bundled, later;
-  {
-    const size_t n = X.size();
-    const size_t keep = opt.max_bundle_points > 0 ? std::min<size_t>(n, opt.max_bundle_points) : n;
-    std::vector<int> all;
-    for (const auto &e : X.index())
-      all.push_back(e.first);
-    for (size_t i = 0; i < keep; ++i)
-      bundled.insert(all[i * n / keep]);
-    for (int id : {yardstick.id_a, yardstick.id_b})
-      if (X.count(id))
-        bundled.insert(id);
-    for (int id : all)
-      if (!bundled.count(id))
-        later.insert(id);
-  }
-  std::vector<Observation> obs;
-  for (unsigned int k = 0; k < m; ++k)
-    for (const auto &e : byId[k])
+/*
+  3. The bundle adjustment's start: at most max_bundle_points points (evenly spread over the ids,
+  the yardstick ends always in; the others, `later`, are triangulated afterwards with the adjusted
+  poses), their observations (inliers: those of posed views), the poses as quaternions and f.
+*/
+void setUpBundle(State &s)
+{
+  s.X = std::make_unique<PointStore>(s.Xinit);
+  const size_t n = s.X->size();
+  const size_t keep = s.opt.max_bundle_points > 0 ? std::min<size_t>(n, s.opt.max_bundle_points) : n;
+  std::vector<int> all;
+  for (const auto &e : s.X->index())
+    all.push_back(e.first);
+  std::set<int> bundled;
+  for (size_t i = 0; i < keep; ++i)
+    bundled.insert(all[i * n / keep]);
+  for (int id : {s.yardstick.id_a, s.yardstick.id_b})
+    if (s.X->count(id))
+      bundled.insert(id);
+  for (int id : all)
+    if (!bundled.count(id))
+      s.later.insert(id);
+  for (unsigned int k = 0; k < s.m; ++k)
+    for (const auto &e : s.byId[k])
       if (bundled.count(e.first))
-        obs.push_back({k, e.first, e.second.get_u(), e.second.get_v()});
-  std::vector<Eigen::Vector4d> quat(m);
-  std::vector<Eigen::Vector3d> trans(m);
-  for (unsigned int k = 0; k < m; ++k) {
-    const Rigid M = rigidFromVisp(res.cMc0[k]);
+        s.obs.push_back({k, e.first, e.second.get_u(), e.second.get_v()});
+  s.quat.resize(s.m);
+  s.trans.resize(s.m);
+  for (unsigned int k = 0; k < s.m; ++k) {
+    const Rigid M = rigidFromVisp(s.res.cMc0[k]);
     const Eigen::Quaterniond q(M.R);
-    quat[k] = Eigen::Vector4d(q.x(), q.y(), q.z(), q.w());
-    trans[k] = M.t;
+    s.quat[k] = Eigen::Vector4d(q.x(), q.y(), q.z(), q.w());
+    s.trans[k] = M.t;
   }
-  double f = res.fx;
-  std::vector<bool> inlier(obs.size());
-  for (size_t n = 0; n < obs.size(); ++n)
-    inlier[n] = res.posed[obs[n].view];
-  const auto tb = std::chrono::steady_clock::now();
-  ceres::Solver::Summary summary;
-  auto whitened = [&](size_t n) {
-    const Observation &o = obs[n];
-    double r[2];
+  s.f = s.res.fx;
+  s.inlier.resize(s.obs.size());
+  for (size_t i = 0; i < s.obs.size(); ++i)
+    s.inlier[i] = s.res.posed[s.obs[i].view];
+}
+
+//! Pose c_kMc_0 of a view from its quaternion and translation.
+Rigid viewPose(const State &s, unsigned int k)
+{
+  Rigid M;
+  M.R = Eigen::Quaterniond(s.quat[k](3), s.quat[k](0), s.quat[k](1), s.quat[k](2)).normalized().toRotationMatrix();
+  M.t = s.trans[k];
+  return M;
+}
+
+/*
+  One solve of the bundle adjustment on the inlier observations, with the robust loss of the given
+  scale (0: plain least squares). The problem is returned for the covariance; nullptr when no
+  observation is left.
+*/
+std::unique_ptr<ceres::Problem> solveBundle(State &s, double loss_scale)
+{
+  const Options &opt = s.opt;
+  const bool robust = loss_scale > 0;
+  ceres::Problem::Options po;
+  po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  auto problem = std::make_unique<ceres::Problem>(po);
+  auto order = std::make_shared<ceres::ParameterBlockOrdering>();
+  for (size_t n = 0; n < s.obs.size(); ++n) {
+    if (!s.inlier[n])
+      continue;
+    const Observation &o = s.obs[n];
+    double *Xp = (*s.X)[o.id].data();
+    ceres::LossFunction *loss = robust ? makeLoss(static_cast<RobustLoss>(opt.loss), loss_scale) : nullptr;
     if (o.view == 0)
-      ReprojectionReference(o.u, o.v, u0, v0, mu, opt.pixel_sd).project(X[o.id].data(), &f, r);
+      problem->AddResidualBlock(new ceres::AutoDiffCostFunction<ReprojectionReference, 2, 3, 1>(
+                                    new ReprojectionReference(o.u, o.v, s.u0, s.v0, s.mu, opt.pixel_sd)),
+                                loss, Xp, &s.f);
     else
-      ReprojectionPosed(o.u, o.v, u0, v0, mu, opt.pixel_sd)(quat[o.view].data(), trans[o.view].data(), X[o.id].data(),
-                                                            &f, r);
-    return std::hypot(r[0], r[1]);
-  };
+      problem->AddResidualBlock(new ceres::AutoDiffCostFunction<ReprojectionPosed, 2, 4, 3, 3, 1>(
+                                    new ReprojectionPosed(o.u, o.v, s.u0, s.v0, s.mu, opt.pixel_sd)),
+                                loss, s.quat[o.view].data(), s.trans[o.view].data(), Xp, &s.f);
+    order->AddElementToGroup(Xp, 0);
+  }
+  for (unsigned int k = 1; k < s.m; ++k)
+    if (s.res.posed[k] && problem->HasParameterBlock(s.quat[k].data())) {
+      problem->SetManifold(s.quat[k].data(), &s.quaternion);
+      if (k == s.res.reference_view)
+        problem->SetManifold(s.trans[k].data(), &s.sphere);
+      // One group per block, in view order: within a group Ceres orders blocks by address, which
+      // changes from run to run for separately allocated blocks (and so would the last digits).
+      order->AddElementToGroup(s.quat[k].data(), static_cast<int>(2 * k - 1));
+      order->AddElementToGroup(s.trans[k].data(), static_cast<int>(2 * k));
+    }
+  if (!problem->HasParameterBlock(&s.f))
+    return nullptr;
+  order->AddElementToGroup(&s.f, static_cast<int>(2 * s.m));
+  if (opt.focal_known)
+    problem->SetParameterBlockConstant(&s.f);
+  ceres::Solver::Options so =
+      solverOptions(opt.max_iterations, opt.tight, s.m > 60 ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR);
+  so.linear_solver_ordering = order;
+  so.num_threads = static_cast<int>(opt.num_threads);
+  vpSelfCalib::solve(so, problem.get(), &s.summary);
+  return problem;
+}
+
+/*
+  Resection of the views the robust solve could not explain (a wrong two-view pose, or no pose):
+  a view with fewer than half of its observations (or min_points) within the outlier threshold
+  gets the pose OpenCV's PnP RANSAC finds from the current points, when that explains more of
+  them; a view that still explains too few is left out (posed = false). Not the reference view,
+  whose baseline is the unit. True when a pose changed or a view was left out.
+*/
+bool resectUnexplainedViews(State &s)
+{
+  const Options &opt = s.opt;
+  bool changed = false;
+  const double thr = std::max(4.0, opt.outlier_threshold * opt.pixel_sd);
+  for (unsigned int k = 1; k < s.m; ++k) {
+    if (k == s.res.reference_view)
+      continue;
+    std::vector<size_t> idx;
+    unsigned int good = 0;
+    for (size_t n = 0; n < s.obs.size(); ++n)
+      if (s.obs[n].view == k) {
+        idx.push_back(n);
+        good += s.res.posed[k] && whitened(s, n) * opt.pixel_sd <= thr;
+      }
+    const unsigned int needed = std::max<unsigned int>(opt.min_points, static_cast<unsigned int>(idx.size() / 2));
+    if (s.res.posed[k] && good >= needed)
+      continue;
+    std::vector<cv::Point3d> P3;
+    std::vector<cv::Point2d> P2;
+    for (size_t n : idx) {
+      const Eigen::Vector3d &x = (*s.X)[s.obs[n].id];
+      P3.emplace_back(x(0), x(1), x(2));
+      P2.emplace_back(s.obs[n].u, s.obs[n].v);
+    }
+    cv::Mat rvec, tvec;
+    std::vector<int> pnp_inliers;
+    const cv::Matx33d K(s.f, 0, s.u0, 0, s.mu * s.f, s.v0, 0, 0, 1);
+    const bool ok = P3.size() >= 6 && cv::solvePnPRansac(P3, P2, K, cv::noArray(), rvec, tvec, false, 200, thr, 0.999,
+                                                         pnp_inliers, cv::SOLVEPNP_EPNP);
+    const bool was_posed = s.res.posed[k];
+    if (ok && pnp_inliers.size() >= needed && pnp_inliers.size() > good) {
+      const Eigen::Vector3d r(rvec.at<double>(0), rvec.at<double>(1), rvec.at<double>(2));
+      const Eigen::Quaterniond qk(expSO3(r));
+      s.quat[k] = Eigen::Vector4d(qk.x(), qk.y(), qk.z(), qk.w());
+      s.trans[k] = Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+      s.res.posed[k] = true;
+      changed = true;
+    } else if (good < needed) {
+      s.res.posed[k] = false;
+      changed = changed || was_posed;
+    }
+    for (size_t n : idx)
+      s.inlier[n] = s.res.posed[k];
+  }
+  return changed;
+}
+
+/*
+  Outliers: whitened error above the threshold, tested on every observation so that one wrongly
+  dropped in the robust pass can come back; then the points left with fewer than two observations.
+*/
+void trimOutliers(State &s)
+{
+  for (size_t n = 0; n < s.obs.size(); ++n)
+    s.inlier[n] = s.res.posed[s.obs[n].view] && whitened(s, n) <= s.opt.outlier_threshold;
+  dropPoorlyObservedPoints(s.obs, s.inlier);
+}
+
+/*
+  Standard deviation (px) of f after the final solve: the square root of f's entry of (J^T J)^-1,
+  J the Jacobian of the whitened residuals over the poses (tangent coordinates), f and the points,
+  with the points marginalized (core marginalCovariance: their Schur complement, the same digits
+  from run to run). Infinite when the information is singular.
+*/
+double focalSd(ceres::Problem &problem, State &s)
+{
+  std::vector<double *> kept, eliminated;
+  for (unsigned int k = 1; k < s.m; ++k)
+    if (problem.HasParameterBlock(s.quat[k].data())) {
+      kept.push_back(s.quat[k].data());
+      kept.push_back(s.trans[k].data());
+    }
+  kept.push_back(&s.f);
+  for (const auto &e : s.X->index()) {
+    double *Xp = (*s.X)[e.first].data();
+    if (problem.HasParameterBlock(Xp))
+      eliminated.push_back(Xp);
+  }
+  Eigen::MatrixXd cov;
+  if (!marginalCovariance(problem, kept, eliminated, cov))
+    return std::numeric_limits<double>::infinity();
+  return std::sqrt(cov(cov.rows() - 1, cov.cols() - 1));
+}
+
+/*
+  The robust solve schedule (robustSchedule): after the first robust solve, once, the views it
+  could not explain are resected and, when that changed a view, that solve is run again; the
+  outliers are trimmed after the solve the schedule says; the last solve (plain least squares)
+  gives f's standard deviation. Status OK, TOO_FEW_VIEWS (no observation left) or NO_CONVERGENCE.
+*/
+vpMultiViewReconstruction::Status robustSolve(State &s)
+{
+  const Options &opt = s.opt;
+  Result &res = s.res;
+  const auto tb = std::chrono::steady_clock::now();
   std::vector<double> start_errors;
-  for (size_t n = 0; n < obs.size(); ++n)
-    if (inlier[n])
-      start_errors.push_back(whitened(n));
-  /*
-    Resection of the views the robust solve could not explain (a wrong two-view pose, or no pose):
-    a view with fewer than half of its observations (or min_points) within the outlier threshold
-    gets the pose OpenCV's PnP RANSAC finds from the current points, when that explains more of
-    them; a view that still explains too few is left out (posed = false). Not the reference view,
-    whose baseline is the unit.
-  */
-  auto resection = [&]() {
-    bool changed = false;
-    const double thr = std::max(4.0, opt.outlier_threshold * opt.pixel_sd);
-    for (unsigned int k = 1; k < m; ++k) {
-      if (k == ref)
-        continue;
-      std::vector<size_t> idx;
-      unsigned int good = 0;
-      for (size_t n = 0; n < obs.size(); ++n)
-        if (obs[n].view == k) {
-          idx.push_back(n);
-          good += res.posed[k] && whitened(n) * opt.pixel_sd <= thr;
-        }
-      const unsigned int needed = std::max<unsigned int>(opt.min_points, static_cast<unsigned int>(idx.size() / 2));
-      if (res.posed[k] && good >= needed)
-        continue;
-      std::vector<cv::Point3d> P3;
-      std::vector<cv::Point2d> P2;
-      for (size_t n : idx) {
-        const Eigen::Vector3d &x = X[obs[n].id];
-        P3.emplace_back(x(0), x(1), x(2));
-        P2.emplace_back(obs[n].u, obs[n].v);
-      }
-      cv::Mat rvec, tvec;
-      std::vector<int> pnp_inliers;
-      const cv::Matx33d K(f, 0, u0, 0, mu * f, v0, 0, 0, 1);
-      const bool ok = P3.size() >= 6 && cv::solvePnPRansac(P3, P2, K, cv::noArray(), rvec, tvec, false, 200, thr, 0.999,
-                                                           pnp_inliers, cv::SOLVEPNP_EPNP);
-      const bool was_posed = res.posed[k];
-      if (ok && pnp_inliers.size() >= needed && pnp_inliers.size() > good) {
-        const Eigen::Vector3d r(rvec.at<double>(0), rvec.at<double>(1), rvec.at<double>(2));
-        const Eigen::Quaterniond qk(expSO3(r));
-        quat[k] = Eigen::Vector4d(qk.x(), qk.y(), qk.z(), qk.w());
-        trans[k] = Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
-        res.posed[k] = true;
-        changed = true;
-      } else if (good < needed) {
-        res.posed[k] = false;
-        changed = changed || was_posed;
-      }
-      for (size_t n : idx)
-        inlier[n] = res.posed[k];
-    }
-    return changed;
-  };
-  bool resected = false;
-  const RobustSchedule schedule = robustSchedule(opt.loss != LOSS_NONE, opt.loss_scale, opt.outlier_threshold, start_errors);
-  for (int stage = 0; stage < static_cast<int>(schedule.scales.size()); ++stage) {
+  for (size_t n = 0; n < s.obs.size(); ++n)
+    if (s.inlier[n])
+      start_errors.push_back(whitened(s, n));
+  const RobustSchedule schedule =
+      robustSchedule(opt.loss != vpMultiViewReconstruction::LOSS_NONE, opt.loss_scale, opt.outlier_threshold,
+                     start_errors);
+  const size_t last = schedule.scales.size() - 1;
+  for (size_t stage = 0; stage <= last; ++stage) {
     const double loss_scale = schedule.scales[stage];
-    const bool robust = loss_scale > 0;
-    ceres::Problem::Options po;
-    po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    ceres::Problem problem(po);
-    ceres::EigenQuaternionManifold quaternion;
-    ceres::SphereManifold<3> sphere;
-    auto order = std::make_shared<ceres::ParameterBlockOrdering>();
-    for (size_t n = 0; n < obs.size(); ++n) {
-      if (!inlier[n])
-        continue;
-      const Observation &o = obs[n];
-      double *Xp = X[o.id].data();
-      ceres::LossFunction *loss = robust ? makeLoss(static_cast<RobustLoss>(opt.loss), loss_scale) : nullptr;
-      if (o.view == 0)
-        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ReprojectionReference, 2, 3, 1>(
-                                     new ReprojectionReference(o.u, o.v, u0, v0, mu, opt.pixel_sd)),
-                                 loss, Xp, &f);
-      else
-        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ReprojectionPosed, 2, 4, 3, 3, 1>(
-                                     new ReprojectionPosed(o.u, o.v, u0, v0, mu, opt.pixel_sd)),
-                                 loss, quat[o.view].data(), trans[o.view].data(), Xp, &f);
-      order->AddElementToGroup(Xp, 0);
-    }
-    for (unsigned int k = 1; k < m; ++k)
-      if (res.posed[k] && problem.HasParameterBlock(quat[k].data())) {
-        problem.SetManifold(quat[k].data(), &quaternion);
-        if (k == ref)
-          problem.SetManifold(trans[k].data(), &sphere);
-        // One group per block, in view order: within a group Ceres orders blocks by address, which
-        // changes from run to run for separately allocated blocks (and so would the last digits).
-        order->AddElementToGroup(quat[k].data(), static_cast<int>(2 * k - 1));
-        order->AddElementToGroup(trans[k].data(), static_cast<int>(2 * k));
-      }
-    if (!problem.HasParameterBlock(&f)) {
-      res.status = TOO_FEW_VIEWS;
+    std::unique_ptr<ceres::Problem> problem = solveBundle(s, loss_scale);
+    if (problem && s.summary.IsSolutionUsable() && stage == 0 && loss_scale > 0 && resectUnexplainedViews(s))
+      problem = solveBundle(s, loss_scale);
+    if (!problem) {
       res.message = "no observation left";
-      return res;
+      return vpMultiViewReconstruction::TOO_FEW_VIEWS;
     }
-    order->AddElementToGroup(&f, static_cast<int>(2 * m));
-    if (opt.focal_known)
-      problem.SetParameterBlockConstant(&f);
-    ceres::Solver::Options so = solverOptions(opt.max_iterations, opt.tight,
-                                              m > 60 ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR);
-    so.linear_solver_ordering = order;
-    so.num_threads = static_cast<int>(opt.num_threads);
-    vpSelfCalib::solve(so, &problem, &summary);
-    if (!summary.IsSolutionUsable())
+    if (!s.summary.IsSolutionUsable())
       break;
-    if (stage == 0 && robust && !resected) {
-      resected = true;
-      if (resection()) {
-        stage = -1; // the robust solve again, with the resected views
-        continue;
-      }
-    }
-    // Outliers: whitened error above the threshold, tested on every observation so that one
-    // wrongly dropped in the robust pass can come back.
-    if (stage == schedule.trim_after) {
-      for (size_t n = 0; n < obs.size(); ++n)
-        inlier[n] = res.posed[obs[n].view] && whitened(n) <= opt.outlier_threshold;
-      dropPoorlyObservedPoints(obs, inlier);
-    }
-    if (stage + 1 == static_cast<int>(schedule.scales.size()) && !opt.focal_known) {
-      ceres::Covariance::Options co = covarianceOptions();
-      co.algorithm_type = ceres::SPARSE_QR;
-      co.num_threads = static_cast<int>(opt.num_threads);
-      ceres::Covariance cov(co);
-      std::vector<std::pair<const double *, const double *>> blocks = {{&f, &f}};
-      double c = 0;
-      if (cov.Compute(blocks, &problem) && cov.GetCovarianceBlock(&f, &f, &c))
-        res.fx_sd = std::sqrt(c);
-      else
-        res.fx_sd = std::numeric_limits<double>::infinity();
-    }
+    if (static_cast<int>(stage) == schedule.trim_after)
+      trimOutliers(s);
+    if (stage == last && !opt.focal_known)
+      res.fx_sd = focalSd(*problem, s);
   }
   res.seconds_bundle = std::chrono::duration<double>(std::chrono::steady_clock::now() - tb).count();
-  if (!summary.IsSolutionUsable()) {
-    res.status = NO_CONVERGENCE;
-    res.message = summary.BriefReport();
-    return res;
+  if (!s.summary.IsSolutionUsable()) {
+    res.message = s.summary.BriefReport();
+    return vpMultiViewReconstruction::NO_CONVERGENCE;
   }
-  res.fx = f;
+  res.fx = s.f;
+  return vpMultiViewReconstruction::OK;
+}
 
-  // Points left out of the bundle adjustment: midpoint of their rays from the posed views, the views
-  // whose reprojection error exceeds the outlier threshold left out (twice), kept with two views.
-  for (int id : later) {
+/*
+  Points left out of the bundle adjustment: the midpoint of their rays from the posed views
+  (triangulateMidpoint), in three rounds; after each, the views whose whitened error against the
+  midpoint exceeds max(outlier_threshold, 20 / (round + 1)) are left out of the next. A point is
+  kept when two views or more remain, with its observations within the outlier threshold as
+  inliers; it is left out when its rays are (nearly) parallel or meet behind one of the cameras.
+*/
+void triangulateLeftOutPoints(State &s)
+{
+  const Options &opt = s.opt;
+  const CameraModel camera = pinhole(s, s.f);
+  std::vector<Rigid> c0Mc(s.m);
+  for (unsigned int k = 0; k < s.m; ++k)
+    if (s.res.posed[k])
+      c0Mc[k] = viewPose(s, k).inverse();
+  for (int id : s.later) {
     std::vector<Observation> po;
-    for (unsigned int k = 0; k < m; ++k) {
-      auto it = byId[k].find(id);
-      if (res.posed[k] && it != byId[k].end())
+    for (unsigned int k = 0; k < s.m; ++k) {
+      auto it = s.byId[k].find(id);
+      if (s.res.posed[k] && it != s.byId[k].end())
         po.push_back({k, id, it->second.get_u(), it->second.get_v()});
     }
     std::vector<bool> use(po.size(), true);
-    Eigen::Vector3d x = X[id];
-    for (int round = 0; round < 3; ++round) {
-      Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-      Eigen::Vector3d b = Eigen::Vector3d::Zero();
-      unsigned int n = 0;
-      for (size_t i = 0; i < po.size(); ++i) {
-        if (!use[i])
-          continue;
-        const Eigen::Quaterniond Q(quat[po[i].view](3), quat[po[i].view](0), quat[po[i].view](1), quat[po[i].view](2));
-        const Eigen::Matrix3d Rt = Q.normalized().toRotationMatrix().transpose();
-        const Eigen::Vector3d o = -Rt * trans[po[i].view];
-        const Eigen::Vector3d d =
-            (Rt * Eigen::Vector3d((po[i].u - u0) / f, (po[i].v - v0) / (mu * f), 1)).normalized();
-        const Eigen::Matrix3d Pd = Eigen::Matrix3d::Identity() - d * d.transpose();
-        A += Pd;
-        b += Pd * o;
-        ++n;
-      }
-      if (n < 2)
-        break;
-      x = A.ldlt().solve(b);
-      for (size_t i = 0; i < po.size(); ++i) {
-        X[id] = x;
-        obs.push_back(po[i]);
-        use[i] = whitened(obs.size() - 1) <= std::max(opt.outlier_threshold, 20.0 / (round + 1));
-        obs.pop_back();
-      }
+    Eigen::Vector3d x;
+    bool triangulated = true;
+    for (int round = 0; round < 3 && triangulated; ++round) {
+      std::vector<Ray> rays;
+      for (size_t i = 0; i < po.size(); ++i)
+        if (use[i])
+          rays.push_back(rayThrough(c0Mc[po[i].view], camera, Eigen::Vector2d(po[i].u, po[i].v)));
+      triangulated = triangulateMidpoint(rays, x);
+      for (size_t i = 0; i < po.size() && triangulated; ++i)
+        use[i] = whitened(s, po[i], x) <= std::max(opt.outlier_threshold, 20.0 / (round + 1));
     }
-    unsigned int n = 0;
-    for (bool u : use)
-      n += u;
-    if (n < 2 || !x.allFinite())
+    if (!triangulated || std::count(use.begin(), use.end(), true) < 2)
       continue;
-    X[id] = x;
+    (*s.X)[id] = x;
     for (size_t i = 0; i < po.size(); ++i) {
-      obs.push_back(po[i]);
-      inlier.push_back(use[i] && whitened(obs.size() - 1) <= opt.outlier_threshold);
+      s.obs.push_back(po[i]);
+      s.inlier.push_back(use[i] && whitened(s, po[i], x) <= opt.outlier_threshold);
     }
   }
+}
 
-  // Statistics over the kept observations; points without any kept observation are dropped.
-  res.inliers.resize(m);
-  for (unsigned int k = 0; k < m; ++k)
-    res.inliers[k].assign(views[k].points.size(), false);
-  std::vector<std::map<int, size_t>> index(m);
-  for (unsigned int k = 0; k < m; ++k)
-    for (size_t j = 0; j < views[k].points.size(); ++j)
-      index[k][views[k].points[j].id] = j;
+/*
+  Statistics over the kept observations (inlier flags per input point, counts, RMS in px) and the
+  ids of the points with at least one kept observation (the others are dropped).
+*/
+std::set<int> statistics(State &s)
+{
+  Result &res = s.res;
+  res.inliers.resize(s.m);
+  for (unsigned int k = 0; k < s.m; ++k)
+    res.inliers[k].assign(s.views[k].points.size(), false);
+  std::vector<std::map<int, size_t>> index(s.m);
+  for (unsigned int k = 0; k < s.m; ++k)
+    for (size_t j = 0; j < s.views[k].points.size(); ++j)
+      index[k][s.views[k].points[j].id] = j;
   std::set<int> kept;
   double sum = 0;
-  for (size_t n = 0; n < obs.size(); ++n) {
-    if (!inlier[n]) {
+  for (size_t n = 0; n < s.obs.size(); ++n) {
+    if (!s.inlier[n]) {
       ++res.num_outliers;
       continue;
     }
-    const Observation &o = obs[n];
-    double r[2];
-    if (o.view == 0)
-      ReprojectionReference(o.u, o.v, u0, v0, mu, 1.0).project(X[o.id].data(), &f, r);
-    else
-      ReprojectionPosed(o.u, o.v, u0, v0, mu, 1.0)(quat[o.view].data(), trans[o.view].data(), X[o.id].data(), &f, r);
-    sum += r[0] * r[0] + r[1] * r[1];
+    const Observation &o = s.obs[n];
+    const Eigen::Vector2d r = residual(s, o, (*s.X)[o.id], 1.0);
+    sum += r(0) * r(0) + r(1) * r(1);
     ++res.num_observations;
     res.inliers[o.view][index[o.view][o.id]] = true;
     kept.insert(o.id);
   }
   res.rms = res.num_observations ? std::sqrt(sum / (2.0 * res.num_observations)) : 0;
+  return kept;
+}
 
-  // 4. Scale by the yardstick when both ends are there.
-  double s = 1;
+//! 4. Scale by the yardstick when both ends are kept; the poses and kept points of the result.
+void scaleAndExport(State &s, const std::set<int> &kept)
+{
+  Result &res = s.res;
+  const vpSelfCalibDataset::Yardstick &yardstick = s.yardstick;
+  double scale = 1;
   if (yardstick.isSet() && kept.count(yardstick.id_a) && kept.count(yardstick.id_b)) {
-    res.yardstick_unit_length = (X[yardstick.id_a] - X[yardstick.id_b]).norm();
+    res.yardstick_unit_length = ((*s.X)[yardstick.id_a] - (*s.X)[yardstick.id_b]).norm();
     if (res.yardstick_unit_length > 0) {
-      s = yardstick.length / res.yardstick_unit_length;
+      scale = yardstick.length / res.yardstick_unit_length;
       res.metric = true;
     }
   }
-  for (unsigned int k = 1; k < m; ++k)
+  for (unsigned int k = 1; k < s.m; ++k)
     if (res.posed[k]) {
-      Rigid M;
-      M.R = Eigen::Quaterniond(quat[k](3), quat[k](0), quat[k](1), quat[k](2)).normalized().toRotationMatrix();
-      M.t = s * trans[k];
+      Rigid M = viewPose(s, k);
+      M.t = scale * s.trans[k];
       res.cMc0[k] = toVisp(M);
     }
   for (int id : kept) {
-    const Eigen::Vector3d x = s * X[id];
+    const Eigen::Vector3d x = scale * (*s.X)[id];
     vpColVector v(3);
     for (unsigned int a = 0; a < 3; ++a)
       v[a] = x(a);
     res.points[id] = v;
   }
-  num_posed = 0;
-  for (bool p : res.posed)
-    num_posed += p;
-  res.status = OK;
-  res.message = "ok: " + std::to_string(num_posed) + " of " + std::to_string(m) + " views, " +
+  const unsigned int num_posed = static_cast<unsigned int>(std::count(res.posed.begin(), res.posed.end(), true));
+  res.status = vpMultiViewReconstruction::OK;
+  res.message = "ok: " + std::to_string(num_posed) + " of " + std::to_string(s.m) + " views, " +
                 std::to_string(res.points.size()) + " points, " + std::to_string(res.num_outliers) + " outliers, rms " +
                 std::to_string(res.rms) + " px" + (res.metric ? ", metric" : ", unit reference baseline");
-  return res;
+}
+} // namespace
+
+vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const std::vector<vpSelfCalibDataset::View> &views,
+                                                                         const vpSelfCalibDataset::Yardstick &yardstick,
+                                                                         const Options &opt)
+{
+  opt.check();
+  const QuietCeres quiet;
+  State s(views, yardstick, opt);
+  collectObservations(s);
+  twoViewPoses(s);
+  if (!triangulatePairs(s))
+    return std::move(s.res);
+  chainScales(s);
+  initializePointsNotSeenFromView0(s);
+  setUpBundle(s);
+  const Status status = robustSolve(s);
+  if (status != OK) {
+    s.res.status = status;
+    return std::move(s.res);
+  }
+  triangulateLeftOutPoints(s);
+  scaleAndExport(s, statistics(s));
+  return std::move(s.res);
 }

@@ -165,3 +165,48 @@ TEST(MultiViewReconstruction, BadInputThrowsAndUselessDataGivesAStatus)
   EXPECT_EQ(r.status, vpMultiViewReconstruction::TWO_VIEW_FAILED);
   EXPECT_FALSE(r.message.empty());
 }
+
+// Noise-free images, most points left out of the bundle adjustment: they are triangulated from the
+// adjusted poses (midpoint of their rays) as exactly as the bundled ones are recovered.
+TEST(MultiViewReconstruction, PointsLeftOutOfTheBundleAreTriangulatedExactly)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 24, 0.0);
+  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(8));
+  vpMultiViewReconstruction::Options o = options(sim, true);
+  o.tight = true;
+  o.max_bundle_points = 12;
+  const vpMultiViewReconstruction::Result r = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, o);
+  ASSERT_EQ(r.status, vpMultiViewReconstruction::OK) << r.message;
+  EXPECT_TRUE(r.metric);
+  EXPECT_EQ(r.num_outliers, 0u);
+  const std::vector<vpHomogeneousMatrix> T = sim.getTrueCameraPoses(ds.views);
+  const Rigid c0Mf = rigidFromVisp(T[0]).inverse();
+  const std::map<int, vpColVector> truth = sim.getScenePointsById();
+  ASSERT_EQ(r.points.size(), truth.size());
+  for (const auto &e : truth) {
+    ASSERT_TRUE(r.points.count(e.first));
+    EXPECT_LT((vec3(r.points.at(e.first)) - c0Mf * vec3(e.second)).norm(), 1e-9) << e.first;
+  }
+}
+
+// f's standard deviation (the points marginalized) is positive, covers the error, and is the same
+// to the last digit from run to run; 0 when f is known.
+TEST(MultiViewReconstruction, FocalStandardDeviationIsReproducible)
+{
+  for (uint64_t seed : {41, 42, 43}) {
+    const vpSelfCalibSimulator sim = makeSim("viper850", seed, 0.2);
+    const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
+    const vpMultiViewReconstruction::Options o = options(sim, false);
+    const auto a = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, o);
+    const auto b = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, o);
+    ASSERT_EQ(a.status, vpMultiViewReconstruction::OK) << a.message;
+    EXPECT_GT(a.fx_sd, 0.0) << seed;
+    EXPECT_TRUE(std::isfinite(a.fx_sd)) << seed;
+    EXPECT_LT(std::fabs(a.fx - sim.getCamera().get_px()), 4 * a.fx_sd) << seed << ": f " << a.fx << " sd " << a.fx_sd;
+    EXPECT_EQ(a.fx_sd, b.fx_sd) << seed;
+    EXPECT_EQ(a.fx, b.fx) << seed;
+    const auto k = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, options(sim, true));
+    ASSERT_EQ(k.status, vpMultiViewReconstruction::OK) << k.message;
+    EXPECT_EQ(k.fx_sd, 0.0);
+  }
+}

@@ -48,7 +48,8 @@
      again with plain least squares. On large problems the adjustment uses at most
      max_bundle_points points (evenly spread, the yardstick's ends always in): the result starts
      the kinematic bundle adjustment, which uses them all; the others are triangulated from the
-     adjusted poses (midpoint of the rays, views beyond the outlier threshold left out).
+     adjusted poses (midpoint of the rays, views beyond the outlier threshold left out; a point
+     whose rays meet behind a camera is dropped).
   4. Scale: when both yardstick ends are reconstructed, everything is scaled so that their distance
      is the yardstick's length (metric = true); otherwise the unit of length stays the reference
      baseline.
@@ -93,7 +94,9 @@ public:
     unsigned int reference_view = 0;        //!< the view whose pair with view 0 sets the unit before scaling
     bool metric = false;                    //!< scaled by the yardstick: lengths in m
     double yardstick_unit_length = 0;       //!< the yardstick's length in the reference unit (before scaling)
-    double fx = 0, fx_sd = 0;               //!< px; fx_sd from the covariance (0 when f is known)
+    //! px; fx_sd from the covariance of the final solve, the points marginalized (0 when f is known,
+    //! infinite when the information is singular).
+    double fx = 0, fx_sd = 0;
     //! Per view, per input point (same order as View::points): used in the final solve. False for
     //! wrong matches, for points that could not be initialized or kept two observations.
     std::vector<std::vector<bool>> inliers;
