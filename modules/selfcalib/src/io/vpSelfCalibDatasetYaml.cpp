@@ -11,11 +11,10 @@
 #include <set>
 #include <sstream>
 
-#include <visp3/core/vpMeterPixelConversion.h>
-#include <visp3/core/vpPixelMeterConversion.h>
 #include <visp3/core/vpXmlParserCamera.h>
 #include <yaml-cpp/yaml.h>
 
+#include "../core/vpSelfCalibCamera.h"
 #include "vpSelfCalibYaml.h"
 
 using namespace vpSelfCalib;
@@ -121,6 +120,8 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
   vpCameraParameters distorted;
   bool has_distortion = false;
   parseCamera(r, root, base_dir, ds, distorted, has_distortion);
+  const vpSelfCalib::CameraModel camera = vpSelfCalib::CameraModel::fromVisp(distorted),
+                                 pinhole = camera.withoutDistortion();
 
   const std::string robot = r.text(root["robot"], "robot");
   const std::vector<std::string> presets = vpKinematicChain::presetNames();
@@ -176,10 +177,10 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
           r.fail(pk, "point id " + std::to_string(o.id) + " appears twice in this pose");
         const double u = r.number(pts[i][1], pk + "[1]"), vv = r.number(pts[i][2], pk + "[2]");
         if (has_distortion) {
-          // Undistorted pixel: ViSP's inverse model (k_du) to normalized coordinates, then the pinhole.
-          double x = 0, y = 0;
-          vpPixelMeterConversion::convertPoint(distorted, u, vv, x, y);
-          o.ip = vpImagePoint(ds.cam.get_v0() + ds.cam.get_py() * y, ds.cam.get_u0() + ds.cam.get_px() * x);
+          // Undistorted pixel: the camera model's exact inverse of k_ud (ViSP's separately fitted
+          // k_du, a first-order inverse, is not used), then the pinhole.
+          const Eigen::Vector2d uv = pinhole.pixel(camera.unproject(Eigen::Vector2d(u, vv)));
+          o.ip = vpImagePoint(uv(1), uv(0));
         } else
           o.ip = vpImagePoint(vv, u);
         v.points.push_back(o);

@@ -16,6 +16,8 @@
 #include <Eigen/SVD>
 #include <nlopt.hpp>
 
+#include "../core/vpSelfCalibCamera.h"
+#include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibRandom.h"
 
@@ -62,11 +64,9 @@ struct Block {
 
 Block pairBlock(const PoseKin &A, const PoseKin &B)
 {
-  const Eigen::Matrix3d RAt = A.T.R.transpose();
   Block b;
-  b.t = RAt * (B.T.t - A.T.t);
-  b.Dt = RAt * (B.J.topRows(3) - A.J.topRows(3) + skew(B.T.t - A.T.t) * A.J.bottomRows(3));
-  b.Dr = RAt * (B.J.bottomRows(3) - A.J.bottomRows(3));
+  b.t = A.T.R.transpose() * (B.T.t - A.T.t);
+  relativePoseJacobian(A.T, A.J, B.T, B.J, b.Dt, b.Dr);
   return b;
 }
 
@@ -206,23 +206,10 @@ vpMeasurementPlanner::vpMeasurementPlanner(const vpKinematicChain &nominal, cons
   m_chain.resetParameters();
 
   // The parameters identifiable from relative poses: structural, so taken at generic configurations.
-  Random rng(1, kGenericConfigurations);
-  const vpColVector qmin = m_chain.getJointMin(), qmax = m_chain.getJointMax();
-  std::vector<vpKinematicIdentification::Measurement> ms;
-  vpColVector q0(m_chain.getNumJoints());
-  for (unsigned int j = 0; j < q0.size(); ++j)
-    q0[j] = rng.uniform(qmin[j], qmax[j]);
-  const vpHomogeneousMatrix fMc0 = m_chain.get_fMc(q0);
-  for (unsigned int k = 0; k < 12; ++k) {
-    vpKinematicIdentification::Measurement m;
-    m.q.resize(m_chain.getNumJoints());
-    for (unsigned int j = 0; j < m.q.size(); ++j)
-      m.q[j] = rng.uniform(qmin[j], qmax[j]);
-    m.q_ref = q0;
-    m.M = m_chain.get_fMc(m.q).inverse() * fMc0;
-    ms.push_back(m);
-  }
-  m_identified = vpKinematicIdentification::analyse(m_chain, ms, vpKinematicIdentification::Options()).identified;
+  m_identified = vpKinematicIdentification::analyseConfigurations(
+                     m_chain, vpKinematicIdentification::randomConfigurations(m_chain, 13, 1, kGenericConfigurations),
+                     vpKinematicIdentification::Options())
+                     .identified;
 }
 
 void vpMeasurementPlanner::checkConfigurations(const std::vector<vpColVector> &q, const char *where,
@@ -243,12 +230,13 @@ void vpMeasurementPlanner::checkConfigurations(const std::vector<vpColVector> &q
 bool vpMeasurementPlanner::isVisible(const vpColVector &q, double margin) const
 {
   const Rigid cMf = rigidFromVisp(m_chain.get_fMc(q)).inverse();
-  const vpCameraParameters &c = m_scene.cam;
+  const CameraModel camera = CameraModel::fromVisp(m_scene.cam);
   for (const vpColVector &P : m_scene.points) {
     const Eigen::Vector3d X = cMf * vec3(P);
     if (X.z() < m_scene.min_depth)
       return false;
-    const double u = c.get_u0() + c.get_px() * X.x() / X.z(), v = c.get_v0() + c.get_py() * X.y() / X.z();
+    const Eigen::Vector2d uv = camera.project(X);
+    const double u = uv(0), v = uv(1);
     if (u < margin || v < margin || u > m_scene.width - 1 - margin || v > m_scene.height - 1 - margin)
       return false;
   }
@@ -477,6 +465,7 @@ void vpMeasurementPlanner::visibilityTerm(const std::vector<vpColVector> &q, con
   const std::vector<PoseKin> &P = B.P;
   // Visibility: squared hinges in px on the image bounds (with the planning margin) and on depth.
   const vpCameraParameters &cam = m_scene.cam;
+  const CameraModel camera = CameraModel::fromVisp(cam);
   const double lo = m_scene.margin + o.planning_margin;
   const double hiU = m_scene.width - 1 - lo, hiV = m_scene.height - 1 - lo;
   for (size_t k = 0; k < m; ++k) {
@@ -494,10 +483,16 @@ void vpMeasurementPlanner::visibilityTerm(const std::vector<vpColVector> &q, con
       double h[5];
       Eigen::Vector3d dh[5];
       const double z = X.z();
-      const double zs = std::max(z, m_scene.min_depth); // projections are only meaningful in front
-      const double u = cam.get_u0() + cam.get_px() * X.x() / zs, v = cam.get_v0() + cam.get_py() * X.y() / zs;
-      const Eigen::Vector3d du(cam.get_px() / zs, 0, z > m_scene.min_depth ? -cam.get_px() * X.x() / (zs * zs) : 0);
-      const Eigen::Vector3d dv(0, cam.get_py() / zs, z > m_scene.min_depth ? -cam.get_py() * X.y() / (zs * zs) : 0);
+      // Projections are only meaningful in front: the point is held at min_depth (no z derivative)
+      // when it is closer.
+      const double zs = std::max(z, m_scene.min_depth);
+      Eigen::Vector2d uv;
+      Eigen::Matrix<double, 2, 3> J;
+      camera.project(Eigen::Vector3d(X.x(), X.y(), zs), uv, &J, nullptr);
+      if (!(z > m_scene.min_depth))
+        J.col(2).setZero();
+      const double u = uv(0), v = uv(1);
+      const Eigen::Vector3d du = J.row(0).transpose(), dv = J.row(1).transpose();
       h[0] = lo - u, dh[0] = -du;
       h[1] = u - hiU, dh[1] = du;
       h[2] = lo - v, dh[2] = -dv;

@@ -1,11 +1,21 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpDotGrid.h
+  \brief What a dot target is, as the image front end looks for it: an asymmetric circle grid in OpenCV's
+  layout, `rows` rows of `cols` dots, odd rows shifted by half a step, and the scene point ids of
+  its dots.
+*/
 #ifndef VP_DOT_GRID_H
 #define VP_DOT_GRID_H
 
+#include <visp3/selfcalib/vpSelfCalibExport.h>
+
 /*!
   \class vpDotGrid
+  \ingroup group_selfcalib_frontend
   \brief What a dot target is, as the image front end looks for it: an asymmetric circle grid in
   OpenCV's layout, `rows` rows of `cols` dots, odd rows shifted by half a step, and the scene point
   ids of its dots.
@@ -15,7 +25,7 @@
   first_id + k. A plain description shared by whoever draws a target (vpSelfCalibRenderer) and
   whoever finds it (vpFeatureFrontEnd): neither depends on the other.
 */
-class vpDotGrid
+class VISP_SELFCALIB_EXPORT vpDotGrid
 {
 public:
   //! Default first id: far above the ids of the image front end's feature tracks.

@@ -1,8 +1,16 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpPlannerScene.h
+  \brief What the camera must see at every planned configuration (vpMeasurementPlanner's input): rough
+  scene points in the reference frame f, the camera, the image size and the margins.
+*/
 #ifndef VP_PLANNER_SCENE_H
 #define VP_PLANNER_SCENE_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <vector>
 
@@ -11,12 +19,13 @@
 
 /*!
   \class vpPlannerScene
+  \ingroup group_selfcalib_planning
   \brief What the camera must see at every planned configuration (vpMeasurementPlanner's input):
   rough scene points in the reference frame f, the camera, the image size and the margins. A plain
   description: whoever knows the scene (a user, or vpSelfCalibSimulator::getPlannerScene()) fills
   it without depending on the planner; vpMeasurementPlanner checks it.
 */
-class vpPlannerScene
+class VISP_SELFCALIB_EXPORT vpPlannerScene
 {
 public:
   std::vector<vpColVector> points; //!< in f: 3-vectors or homogeneous 4-vectors

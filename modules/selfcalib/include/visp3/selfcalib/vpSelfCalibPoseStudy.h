@@ -1,8 +1,16 @@
 /*
  * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
  */
+/*!
+  \file vpSelfCalibPoseStudy.h
+  \brief The paper's Figure 6: the 3-D yardstick error on the held-out views against the number of
+  calibration poses.
+*/
 #ifndef VP_SELFCALIB_POSE_STUDY_H
 #define VP_SELFCALIB_POSE_STUDY_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <functional>
 #include <string>
@@ -14,6 +22,7 @@
 
 /*!
   \class vpSelfCalibPoseStudy
+  \ingroup group_selfcalib_pipeline
   \brief The paper's Figure 6: the 3-D yardstick error on the held-out views against the number of
   calibration poses.
 
@@ -28,7 +37,7 @@
   It runs the calibration once per n: the figure of a report (vpSelfCalibReport::write() takes the
   result), computed apart from the report so that writing a report never calibrates.
 */
-class vpSelfCalibPoseStudy
+class VISP_SELFCALIB_EXPORT vpSelfCalibPoseStudy
 {
 public:
   struct Options {
