@@ -33,6 +33,7 @@ RANK = {
 # that implements part of it.
 HEADER_TOPIC = {
     'vpSelfCalibException.h': 'core',  # the module's exception, used by every layer
+    'vpSelfCalibExport.h': 'core',     # the export macro of every public class
     'vpSelfCalibDataset.h': 'core',    # the data every layer reads; its YAML methods are in io
     'vpDotGrid.h': 'core',             # a dot target's description: drawn in simulation, found in frontend
     'vpPlannerScene.h': 'planning',    # the planner's input, filled by the simulator
