@@ -58,32 +58,20 @@ Rigid endEffector(const vpKinematicChain &nominal, const vpSelfCalibDataset::Vie
 {
   return rigidFromVisp(v.has_fMe ? v.fMe : nominal.get_fMe(v.q));
 }
-} // namespace
 
-void vpSelfCalibDataCheck::Options::check() const
+using Finding = vpSelfCalibDataCheck::Finding;
+using Severity = vpSelfCalibDataCheck::Severity;
+using View = vpSelfCalibDataset::View;
+
+void add(std::vector<Finding> &out, Severity s, const std::string &code, const std::string &msg)
 {
-  if (!(joint_limit_tolerance >= 0 && same_pose_tolerance >= 0 && min_joint_range >= 0 && min_rotation >= 0 &&
-        parallel_axes_tolerance >= 0 && pixel_sd > 0 && homography_inliers > 0 && homography_inliers <= 1))
-    throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpSelfCalibDataCheck::Options: tolerances must be non-negative, pixel_sd positive "
-                               "and homography_inliers in (0, 1]");
+  out.push_back({s, code, msg});
 }
 
-bool vpSelfCalibDataCheck::degenerate(const std::vector<Finding> &findings)
+//! Caller mistakes, on every view (the verification views too): thrown.
+void checkInputs(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, const vpSelfCalibDataCheck::Options &opt)
 {
-  return std::any_of(findings.begin(), findings.end(), [](const Finding &f) { return f.severity == DEGENERATE; });
-}
-
-std::vector<vpSelfCalibDataCheck::Finding> vpSelfCalibDataCheck::check(const vpKinematicChain &nominal,
-                                                                       const vpSelfCalibDataset &ds,
-                                                                       unsigned int num_calibration, bool hand_eye,
-                                                                       const Options &opt)
-{
-  opt.check();
   const unsigned int n = nominal.getNumJoints();
-  const unsigned int N = std::min<unsigned int>(num_calibration, static_cast<unsigned int>(ds.views.size()));
-
-  // Caller mistakes, on every view (the verification views too).
   for (size_t k = 0; k < ds.views.size(); ++k) {
     const auto &v = ds.views[k];
     const std::string pose = "pose " + std::to_string(k);
@@ -109,47 +97,48 @@ std::vector<vpSelfCalibDataCheck::Finding> vpSelfCalibDataCheck::check(const vpK
         fail(pose + ": point " + std::to_string(o.id) + " has a non-finite pixel position");
   }
 
-  std::vector<Finding> out;
-  auto add = [&out](Severity s, const std::string &code, const std::string &msg) { out.push_back({s, code, msg}); };
-  const std::vector<vpSelfCalibDataset::View> cal(ds.views.begin(), ds.views.begin() + N);
+}
 
-  // Points: too few in a view, outside the image.
-  {
-    std::vector<std::string> few;
-    unsigned int outside = 0;
-    std::string example;
-    for (size_t k = 0; k < cal.size(); ++k) {
-      if (cal[k].points.size() < opt.min_points)
-        few.push_back(std::to_string(k) + " (" + std::to_string(cal[k].points.size()) + ")");
-      for (const auto &o : cal[k].points)
-        if (ds.width > 0 && (o.ip.get_u() < -1 || o.ip.get_v() < -1 || o.ip.get_u() > ds.width ||
-                             o.ip.get_v() > ds.height)) {
-          if (outside++ == 0)
-            example = "pose " + std::to_string(k) + ", point " + std::to_string(o.id) + " at (" +
-                      fmt(o.ip.get_u(), 1) + ", " + fmt(o.ip.get_v(), 1) + ")";
-        }
-    }
-    if (!few.empty()) {
-      std::string list;
-      for (const auto &f : few)
-        list += (list.empty() ? "" : ", ") + f;
-      add(WARNING, "few-points",
-          "calibration poses with fewer than " + std::to_string(opt.min_points) + " image points: " + list +
-              "; such a pose cannot be placed by the reconstruction and adds little: aim the camera so that it sees "
-              "more of the scene");
-    }
-    if (outside > 0)
-      add(WARNING, "points-outside-image",
-          std::to_string(outside) + " image points lie outside the " + std::to_string(ds.width) + " x " +
-              std::to_string(ds.height) + " image (" + example +
-              "): check that the camera size matches the images and that points are (u, v) = (column, row)");
+//! Points: too few in a view, outside the image.
+void checkPoints(const vpSelfCalibDataset &ds, const std::vector<View> &cal, const vpSelfCalibDataCheck::Options &opt,
+                 std::vector<Finding> &out)
+{
+  std::vector<std::string> few;
+  unsigned int outside = 0;
+  std::string example;
+  for (size_t k = 0; k < cal.size(); ++k) {
+    if (cal[k].points.size() < opt.min_points)
+      few.push_back(std::to_string(k) + " (" + std::to_string(cal[k].points.size()) + ")");
+    for (const auto &o : cal[k].points)
+      if (ds.width > 0 && (o.ip.get_u() < -1 || o.ip.get_v() < -1 || o.ip.get_u() > ds.width ||
+                           o.ip.get_v() > ds.height)) {
+        if (outside++ == 0)
+          example = "pose " + std::to_string(k) + ", point " + std::to_string(o.id) + " at (" +
+                    fmt(o.ip.get_u(), 1) + ", " + fmt(o.ip.get_v(), 1) + ")";
+      }
   }
+  if (!few.empty()) {
+    std::string list;
+    for (const auto &f : few)
+      list += (list.empty() ? "" : ", ") + f;
+    add(out, vpSelfCalibDataCheck::WARNING, "few-points",
+        "calibration poses with fewer than " + std::to_string(opt.min_points) + " image points: " + list +
+            "; such a pose cannot be placed by the reconstruction and adds little: aim the camera so that it sees "
+            "more of the scene");
+  }
+  if (outside > 0)
+    add(out, vpSelfCalibDataCheck::WARNING, "points-outside-image",
+        std::to_string(outside) + " image points lie outside the " + std::to_string(ds.width) + " x " +
+            std::to_string(ds.height) + " image (" + example +
+            "): check that the camera size matches the images and that points are (u, v) = (column, row)");
 
-  // Repeated poses and joint motion (views with joints).
-  std::vector<unsigned int> with_joints;
-  for (unsigned int k = 0; k < N; ++k)
-    if (cal[k].q.size() == n)
-      with_joints.push_back(k);
+}
+
+//! Repeated poses; false (and a DEGENERATE finding) when fewer than two distinct poses remain.
+bool checkRepeatedPoses(const vpKinematicChain &nominal, const std::vector<View> &cal,
+                        const vpSelfCalibDataCheck::Options &opt, std::vector<Finding> &out)
+{
+  const unsigned int n = nominal.getNumJoints();
   unsigned int distinct = 0;
   {
     std::vector<std::string> repeats;
@@ -173,10 +162,10 @@ std::vector<vpSelfCalibDataCheck::Finding> vpSelfCalibDataCheck::check(const vpK
         ++distinct;
     }
     if (distinct < 2) {
-      add(DEGENERATE, "identical-poses",
+      add(out, vpSelfCalibDataCheck::DEGENERATE, "identical-poses",
           "all calibration poses are the same robot configuration: nothing moves, so nothing can be calibrated; "
           "record poses that move every joint");
-      return out;
+      return false;
     }
     if (!repeats.empty()) {
       std::string list;
@@ -184,11 +173,23 @@ std::vector<vpSelfCalibDataCheck::Finding> vpSelfCalibDataCheck::check(const vpK
         list += (list.empty() ? "" : ", ") + repeats[k];
       if (repeats.size() > 5)
         list += ", ...";
-      add(WARNING, "repeated-poses",
+      add(out, vpSelfCalibDataCheck::WARNING, "repeated-poses",
           "poses " + list + " are the same configuration: a repeated pose only averages image noise and adds no "
           "geometry; use distinct configurations");
     }
   }
+  return true;
+}
+
+//! Joints that barely move over the calibration views that have joints.
+void checkJointMotion(const vpKinematicChain &nominal, const std::vector<View> &cal, bool hand_eye,
+                      const vpSelfCalibDataCheck::Options &opt, std::vector<Finding> &out)
+{
+  const unsigned int n = nominal.getNumJoints();
+  std::vector<unsigned int> with_joints;
+  for (unsigned int k = 0; k < cal.size(); ++k)
+    if (cal[k].q.size() == n)
+      with_joints.push_back(k);
   if (with_joints.size() >= 2) {
     std::vector<unsigned int> still;
     std::string ranges;
@@ -204,98 +205,108 @@ std::vector<vpSelfCalibDataCheck::Finding> vpSelfCalibDataCheck::check(const vpK
       }
     }
     if (!still.empty() && !hand_eye)
-      add(WARNING, "joints-barely-move",
+      add(out, vpSelfCalibDataCheck::WARNING, "joints-barely-move",
           jointList(still) + " barely move" + (still.size() == 1 ? "s" : "") + " (range " + ranges +
               " deg over the calibration poses): the parameters that need " + (still.size() == 1 ? "its" : "their") +
               " motion are unidentifiable or poorly determined; add poses with larger " + jointList(still) +
               " rotations (10 deg or more)");
   }
 
-  // Camera rotation and the axes of the end-effector rotations.
-  {
-    std::vector<Rigid> fMe;
-    for (const auto &v : cal)
-      fMe.push_back(endEffector(nominal, v));
-    double max_rotation = 0;
-    std::vector<Eigen::Vector3d> axes; // in f, of the rotations between view pairs
-    for (size_t a = 0; a < fMe.size(); ++a)
-      for (size_t b = a + 1; b < fMe.size(); ++b) {
-        const Eigen::Vector3d r = logSO3(fMe[b].R * fMe[a].R.transpose());
-        max_rotation = std::max(max_rotation, r.norm());
-        if (r.norm() > 2 * opt.parallel_axes_tolerance)
-          axes.push_back(r.normalized());
-      }
-    if (max_rotation < opt.min_rotation)
-      add(WARNING, "barely-rotates",
-          "the camera barely rotates between the calibration poses (largest relative rotation " +
-              fmt(deg(max_rotation)) +
-              " deg): the focal length, the hand-eye rotation and the joint offsets are poorly determined; add poses "
-              "rotated by 10 deg or more about different axes");
-    else if (hand_eye && !axes.empty()) {
-      double spread = 0;
-      for (const auto &x : axes)
-        spread = std::max(spread, std::acos(std::min(1.0, std::fabs(x.dot(axes[0])))));
-      if (spread < opt.parallel_axes_tolerance)
-        add(WARNING, "parallel-rotation-axes",
-            "every end-effector rotation is about the same axis direction (within " + fmt(deg(spread)) +
-                " deg): the hand-eye translation along that axis is unobservable (see its standard deviation); add "
-                "poses rotated about another axis");
+}
+
+//! Camera rotation and the axes of the end-effector rotations.
+void checkRotations(const vpKinematicChain &nominal, const std::vector<View> &cal, bool hand_eye,
+                    const vpSelfCalibDataCheck::Options &opt, std::vector<Finding> &out)
+{
+  std::vector<Rigid> fMe;
+  for (const auto &v : cal)
+    fMe.push_back(endEffector(nominal, v));
+  double max_rotation = 0;
+  std::vector<Eigen::Vector3d> axes; // in f, of the rotations between view pairs
+  for (size_t a = 0; a < fMe.size(); ++a)
+    for (size_t b = a + 1; b < fMe.size(); ++b) {
+      const Eigen::Vector3d r = logSO3(fMe[b].R * fMe[a].R.transpose());
+      max_rotation = std::max(max_rotation, r.norm());
+      if (r.norm() > 2 * opt.parallel_axes_tolerance)
+        axes.push_back(r.normalized());
     }
+  if (max_rotation < opt.min_rotation)
+    add(out, vpSelfCalibDataCheck::WARNING, "barely-rotates",
+        "the camera barely rotates between the calibration poses (largest relative rotation " +
+            fmt(deg(max_rotation)) +
+            " deg): the focal length, the hand-eye rotation and the joint offsets are poorly determined; add poses "
+            "rotated by 10 deg or more about different axes");
+  else if (hand_eye && !axes.empty()) {
+    double spread = 0;
+    for (const auto &x : axes)
+      spread = std::max(spread, std::acos(std::min(1.0, std::fabs(x.dot(axes[0])))));
+    if (spread < opt.parallel_axes_tolerance)
+      add(out, vpSelfCalibDataCheck::WARNING, "parallel-rotation-axes",
+          "every end-effector rotation is about the same axis direction (within " + fmt(deg(spread)) +
+              " deg): the hand-eye translation along that axis is unobservable (see its standard deviation); add "
+              "poses rotated about another axis");
   }
 
-  // Parallax: a homography explaining the matches of every pair means no depth information.
-  {
-    const double threshold = std::max(1.0, 3.0 * opt.pixel_sd);
-    unsigned int pairs = 0, flat = 0;
-    double max_baseline = 0;
-    const Rigid eMc = rigidFromVisp(nominal.get_eMc_corrected());
-    const Rigid c0 = endEffector(nominal, cal[0]) * eMc;
-    std::map<int, vpImagePoint> first;
-    for (const auto &o : cal[0].points)
-      first[o.id] = o.ip;
-    for (size_t k = 1; k < cal.size(); ++k) {
-      max_baseline = std::max(max_baseline, ((endEffector(nominal, cal[k]) * eMc).t - c0.t).norm());
-      std::vector<Eigen::Vector2d> a, b;
-      for (const auto &o : cal[k].points) {
-        const auto it = first.find(o.id);
-        if (it != first.end()) {
-          a.emplace_back(it->second.get_u(), it->second.get_v());
-          b.emplace_back(o.ip.get_u(), o.ip.get_v());
-        }
+}
+
+//! Parallax: a homography explaining the matches of every pair means no depth information.
+void checkParallax(const vpKinematicChain &nominal, const std::vector<View> &cal,
+                   const vpSelfCalibDataCheck::Options &opt, std::vector<Finding> &out)
+{
+  const double threshold = std::max(1.0, 3.0 * opt.pixel_sd);
+  unsigned int pairs = 0, flat = 0;
+  double max_baseline = 0;
+  const Rigid eMc = rigidFromVisp(nominal.get_eMc_corrected());
+  const Rigid c0 = endEffector(nominal, cal[0]) * eMc;
+  std::map<int, vpImagePoint> first;
+  for (const auto &o : cal[0].points)
+    first[o.id] = o.ip;
+  for (size_t k = 1; k < cal.size(); ++k) {
+    max_baseline = std::max(max_baseline, ((endEffector(nominal, cal[k]) * eMc).t - c0.t).norm());
+    std::vector<Eigen::Vector2d> a, b;
+    for (const auto &o : cal[k].points) {
+      const auto it = first.find(o.id);
+      if (it != first.end()) {
+        a.emplace_back(it->second.get_u(), it->second.get_v());
+        b.emplace_back(o.ip.get_u(), o.ip.get_v());
       }
-      if (a.size() < 8)
-        continue;
-      // RANSAC with a loose threshold (a homography from 4 noisy points of a grazing plane
-      // extrapolates poorly), then every point against the refined homography. 200 samples find a
-      // homography that explains 90% of the points with probability 1 - (1 - 0.9^4)^200; a scene
-      // with relief leaves RANSAC at that cap (2000 made the check cost 40 ms per pair).
-      Eigen::Matrix3d H;
-      std::vector<bool> ransac_inliers;
-      ++pairs;
-      if (!fitHomography(a, b, 3 * threshold, 200, 0.999, H, ransac_inliers))
-        continue;
-      unsigned int explained = 0;
-      for (size_t i = 0; i < a.size(); ++i)
-        explained += ((H * a[i].homogeneous()).hnormalized() - b[i]).norm() < threshold;
-      if (explained >= opt.homography_inliers * static_cast<double>(a.size()))
-        ++flat;
     }
-    if (pairs > 0 && flat == pairs) {
-      if (max_baseline < 0.01)
-        add(DEGENERATE, "no-parallax",
-            "the camera only rotates: its centre moves by " + fmt(max_baseline * 1e3, 1) +
-                " mm at most, and a homography explains the matched points of every pair, so no depth can be "
-                "measured; add poses that translate the camera (10% of the distance to the scene or more)");
-      else
-        add(DEGENERATE, "no-parallax",
-            "a homography explains the matched points of every pair (" + std::to_string(pairs) +
-                " pairs): the scene is a plane, or it is far away compared with the camera's motion, and the two-view "
-                "geometry is undefined; add objects at other depths (a relief of a few percent of the distance is "
-                "enough) or move the camera closer");
-    }
+    if (a.size() < 8)
+      continue;
+    // RANSAC with a loose threshold (a homography from 4 noisy points of a grazing plane
+    // extrapolates poorly), then every point against the refined homography. 200 samples find a
+    // homography that explains 90% of the points with probability 1 - (1 - 0.9^4)^200; a scene
+    // with relief leaves RANSAC at that cap (2000 made the check cost 40 ms per pair).
+    Eigen::Matrix3d H;
+    std::vector<bool> ransac_inliers;
+    ++pairs;
+    if (!fitHomography(a, b, 3 * threshold, 200, 0.999, H, ransac_inliers))
+      continue;
+    unsigned int explained = 0;
+    for (size_t i = 0; i < a.size(); ++i)
+      explained += ((H * a[i].homogeneous()).hnormalized() - b[i]).norm() < threshold;
+    if (explained >= opt.homography_inliers * static_cast<double>(a.size()))
+      ++flat;
+  }
+  if (pairs > 0 && flat == pairs) {
+    if (max_baseline < 0.01)
+      add(out, vpSelfCalibDataCheck::DEGENERATE, "no-parallax",
+          "the camera only rotates: its centre moves by " + fmt(max_baseline * 1e3, 1) +
+              " mm at most, and a homography explains the matched points of every pair, so no depth can be "
+              "measured; add poses that translate the camera (10% of the distance to the scene or more)");
+    else
+      add(out, vpSelfCalibDataCheck::DEGENERATE, "no-parallax",
+          "a homography explains the matched points of every pair (" + std::to_string(pairs) +
+              " pairs): the scene is a plane, or it is far away compared with the camera's motion, and the two-view "
+              "geometry is undefined; add objects at other depths (a relief of a few percent of the distance is "
+              "enough) or move the camera closer");
   }
 
-  // The yardstick needs each end in two calibration views to be triangulated.
+}
+
+//! The yardstick needs each end in two calibration views to be triangulated.
+void checkYardstick(const vpSelfCalibDataset &ds, const std::vector<View> &cal, std::vector<Finding> &out)
+{
   if (ds.yardstick.isSet()) {
     unsigned int seen_a = 0, seen_b = 0;
     for (const auto &v : cal)
@@ -305,12 +316,47 @@ std::vector<vpSelfCalibDataCheck::Finding> vpSelfCalibDataCheck::check(const vpK
       }
     const unsigned int seen = std::min(seen_a, seen_b);
     if (seen < 2)
-      add(WARNING, "yardstick-unseen",
+      add(out, vpSelfCalibDataCheck::WARNING, "yardstick-unseen",
           std::string("the yardstick (points ") + std::to_string(ds.yardstick.id_a) + " and " +
               std::to_string(ds.yardstick.id_b) + ") is seen in " + std::to_string(seen) +
               " calibration pose" + (seen == 1 ? "" : "s") +
               ": two are needed to triangulate it, so it cannot set the scale (the bundle adjustment keeps the "
               "nominal model's scale; the paper's method fails); show both ends in two or more poses");
   }
+}
+} // namespace
+
+
+void vpSelfCalibDataCheck::Options::check() const
+{
+  if (!(joint_limit_tolerance >= 0 && same_pose_tolerance >= 0 && min_joint_range >= 0 && min_rotation >= 0 &&
+        parallel_axes_tolerance >= 0 && pixel_sd > 0 && homography_inliers > 0 && homography_inliers <= 1))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpSelfCalibDataCheck::Options: tolerances must be non-negative, pixel_sd positive "
+                               "and homography_inliers in (0, 1]");
+}
+
+bool vpSelfCalibDataCheck::degenerate(const std::vector<Finding> &findings)
+{
+  return std::any_of(findings.begin(), findings.end(), [](const Finding &f) { return f.severity == DEGENERATE; });
+}
+
+std::vector<vpSelfCalibDataCheck::Finding> vpSelfCalibDataCheck::check(const vpKinematicChain &nominal,
+                                                                       const vpSelfCalibDataset &ds,
+                                                                       unsigned int num_calibration, bool hand_eye,
+                                                                       const Options &opt)
+{
+  opt.check();
+  const unsigned int N = std::min<unsigned int>(num_calibration, static_cast<unsigned int>(ds.views.size()));
+  checkInputs(nominal, ds, opt);
+  std::vector<Finding> out;
+  const std::vector<vpSelfCalibDataset::View> cal(ds.views.begin(), ds.views.begin() + N);
+  checkPoints(ds, cal, opt, out);
+  if (!checkRepeatedPoses(nominal, cal, opt, out))
+    return out;
+  checkJointMotion(nominal, cal, hand_eye, opt, out);
+  checkRotations(nominal, cal, hand_eye, opt, out);
+  checkParallax(nominal, cal, opt, out);
+  checkYardstick(ds, cal, out);
   return out;
 }
