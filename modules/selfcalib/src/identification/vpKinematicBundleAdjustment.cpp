@@ -5,6 +5,7 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -32,6 +33,7 @@ struct ViewState {
   Eigen::Vector3d tf;                          // camera origin in f
   Eigen::Matrix<double, 3, Eigen::Dynamic> A;  // fRc^T J_t
   Eigen::Matrix<double, 3, Eigen::Dynamic> C;  // fRc^T J_phi
+  Eigen::Matrix<double, 3, 6> Ad, Cd;          // the same for the view's pose correction delta (pose noise)
 };
 
 void computeView(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const vpColVector &q,
@@ -87,19 +89,44 @@ void computeHandEyeView(const vpKinematicChain &chain, const std::vector<unsigne
 }
 
 /*
+  Hand-eye-only mode with robot pose error: the view's pose is fMe E(delta) eMc, E = [exp([r]x) | t]
+  for delta = (t, r). With fMe = [R_G | t_G] and eMc = [R_c | t_c] (corrected), the camera origin is
+  p = R_G (R_E t_c + t) + t_G and its orientation R_G R_E R_c: dp/dt = R_G,
+  dp/dr = -R_G [R_E t_c]x J_l(r), dphi/dr = R_G J_l(r), dphi/dt = 0 (left perturbations in f, as the
+  chain's Jacobian).
+*/
+void computePoseNoiseView(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const Rigid &fMe,
+                          const double *delta, bool with_jacobian, ViewState &v)
+{
+  const Rigid E = rigidFromVector(delta);
+  computeHandEyeView(chain, id, fMe * E, with_jacobian, v);
+  if (!with_jacobian)
+    return;
+  const Rigid C = rigidFromVisp(chain.get_eMc_corrected());
+  const Eigen::Matrix3d Jl = leftJacobianSO3(Eigen::Vector3d(delta[3], delta[4], delta[5]));
+  Eigen::Matrix<double, 3, 6> dp, dphi;
+  dp.leftCols<3>() = fMe.R;
+  dp.rightCols<3>() = -fMe.R * skew(E.R * C.t) * Jl;
+  dphi.leftCols<3>().setZero();
+  dphi.rightCols<3>() = fMe.R * Jl;
+  v.Ad = v.RT * dp;
+  v.Cd = v.RT * dphi;
+}
+
+/*
   Projection of X (f) through a view and the core camera model (ViSP's k_ud distortion; k_ud = 0 is
   the pinhole): (u, v), and on request its derivatives with respect to the corrections (2 x P), the
   intrinsics (2 x 5) and X (2 x 3), row-major. in = (p_x, mu, u0, v0, k_ud). With D = d uv / d X_c:
   d uv / d rho = D (-R^T J_t + [X_c]x R^T J_phi), d uv / d X = D R^T.
 */
 bool project(const ViewState &v, const double *in, const double *Xp, double uv[2], double *Jrho, double *Jin,
-             double *JX, int P)
+             double *JX, int P, double *Jdelta = nullptr)
 {
   const Eigen::Vector3d Xc = v.RT * (Eigen::Map<const Eigen::Vector3d>(Xp) - v.tf);
   const CameraModel camera(Distortion::VISP, in);
   Eigen::Vector2d p;
   Eigen::Matrix<double, 2, 3> D;
-  if (!camera.project(Xc, p, (Jrho || JX) ? &D : nullptr, Jin))
+  if (!camera.project(Xc, p, (Jrho || JX || Jdelta) ? &D : nullptr, Jin))
     return false;
   uv[0] = p(0);
   uv[1] = p(1);
@@ -110,6 +137,10 @@ bool project(const ViewState &v, const double *in, const double *Xp, double uv[2
   if (Jrho) {
     Eigen::Map<Eigen::Matrix<double, 2, Eigen::Dynamic, Eigen::RowMajor>> Jr(Jrho, 2, P);
     Jr = D * (-v.A + skew(Xc) * v.C);
+  }
+  if (Jdelta) {
+    Eigen::Map<Eigen::Matrix<double, 2, 6, Eigen::RowMajor>> Jd(Jdelta);
+    Jd = D * (-v.Ad + skew(Xc) * v.Cd);
   }
   return true;
 }
@@ -122,8 +153,9 @@ class KinematicState : public ceres::EvaluationCallback
 {
 public:
   KinematicState(const vpKinematicChain &start, const std::vector<unsigned int> &id, const std::vector<vpColVector> &q,
-                 const std::vector<Rigid> &fMe = std::vector<Rigid>())
-    : chain(start), base(start.getParameters()), id(id), q(q), fMe(fMe), rho(id.size()), views(q.size())
+                 const std::vector<Rigid> &fMe = std::vector<Rigid>(), bool pose_noise = false)
+    : chain(start), base(start.getParameters()), id(id), q(q), fMe(fMe), rho(id.size()), views(q.size()),
+      delta(pose_noise ? q.size() : 0, std::array<double, 6>{0, 0, 0, 0, 0, 0})
   {
     for (size_t i = 0; i < id.size(); ++i)
       rho[i] = base[id[i]];
@@ -142,8 +174,10 @@ public:
     for (size_t k = 0; k < q.size(); ++k)
       if (fMe.empty())
         computeView(chain, id, q[k], with_jacobians, views[k]);
-      else
+      else if (delta.empty())
         computeHandEyeView(chain, id, fMe[k], with_jacobians, views[k]);
+      else
+        computePoseNoiseView(chain, id, fMe[k], delta[k].data(), with_jacobians, views[k]);
     has_jacobians_ = with_jacobians;
   }
 
@@ -154,6 +188,8 @@ public:
   std::vector<Rigid> fMe; //!< hand-eye-only mode: the trusted end-effector poses (else empty)
   std::vector<double> rho;
   std::vector<ViewState> views;
+  //! Hand-eye-only mode with robot pose error: each view's pose correction (a parameter block); else empty.
+  std::vector<std::array<double, 6>> delta;
 
 private:
   bool has_jacobians_ = false;
@@ -170,19 +206,23 @@ public:
     mutable_parameter_block_sizes()->push_back(static_cast<int>(state->id.size()));
     mutable_parameter_block_sizes()->push_back(kIntrinsics);
     mutable_parameter_block_sizes()->push_back(3);
+    if (!state->delta.empty())
+      mutable_parameter_block_sizes()->push_back(6);
   }
   bool Evaluate(double const *const *p, double *r, double **J) const override
   {
     const int P = static_cast<int>(state_->id.size());
+    const int blocks = state_->delta.empty() ? 3 : 4;
     double uv[2];
-    if (!project(state_->views[view_], p[1], p[2], uv, J ? J[0] : nullptr, J ? J[1] : nullptr, J ? J[2] : nullptr, P))
+    if (!project(state_->views[view_], p[1], p[2], uv, J ? J[0] : nullptr, J ? J[1] : nullptr, J ? J[2] : nullptr, P,
+                 J && blocks == 4 ? J[3] : nullptr))
       return false;
     r[0] = (uv[0] - u_) * w_;
     r[1] = (uv[1] - v_) * w_;
     if (J)
-      for (int b = 0; b < 3; ++b)
+      for (int b = 0; b < blocks; ++b)
         if (J[b]) {
-          const int n = 2 * (b == 0 ? P : (b == 1 ? kIntrinsics : 3));
+          const int n = 2 * (b == 0 ? P : (b == 1 ? kIntrinsics : (b == 2 ? 3 : 6)));
           for (int i = 0; i < n; ++i)
             J[b][i] *= w_;
         }
@@ -193,6 +233,20 @@ private:
   const KinematicState *state_;
   unsigned int view_;
   double u_, v_, w_;
+};
+
+//! (t / sd_t, theta u / sd_r): the prior of a view's controller-pose correction (robot pose error).
+struct PosePriorCost {
+  PosePriorCost(double sd_t, double sd_r) : wt(1 / sd_t), wr(1 / sd_r) {}
+  template <typename T> bool operator()(const T *d, T *r) const
+  {
+    for (int i = 0; i < 3; ++i) {
+      r[i] = d[i] * T(wt);
+      r[3 + i] = d[3 + i] * T(wr);
+    }
+    return true;
+  }
+  double wt, wr;
 };
 
 //! (|X_a - X_b| - L) / sd: the yardstick fixes the scale.
@@ -382,8 +436,8 @@ std::vector<int> estimatedIntrinsics(const vpCameraParameters &camera, unsigned 
 //! Everything one adjustment works on, built by the stages and shared by them.
 struct Adjustment {
   Adjustment(const std::map<int, Eigen::Vector3d> &X0, const vpKinematicChain &start, const std::vector<unsigned int> &id,
-             const std::vector<vpColVector> &q, const std::vector<Rigid> &fMe)
-    : X(X0), state(start, id, q, fMe)
+             const std::vector<vpColVector> &q, const std::vector<Rigid> &fMe, bool pose_noise)
+    : X(X0), state(start, id, q, fMe, pose_noise)
   {
   }
   PointStore X;
@@ -395,6 +449,7 @@ struct Adjustment {
   std::unique_ptr<ceres::Manifold> subset; //!< the intrinsics held constant (none when all or none are)
   std::vector<double> rho0;
   Eigen::VectorXd scale_dir;
+  bool scale_covariance = false;
   bool has_yardstick = false;
   int P = 0;
 
@@ -454,9 +509,12 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
     if (!a.inlier[n])
       continue;
     double *Xp = a.X[a.obs[n].id].data();
+    std::vector<double *> blocks = {a.state.rho.data(), a.in, Xp};
+    if (!a.state.delta.empty())
+      blocks.push_back(a.state.delta[a.obs[n].view].data());
     problem->AddResidualBlock(new ObservationCost(&a.state, a.obs[n].view, a.obs[n].u, a.obs[n].v, opt.pixel_sd),
                               loss_scale > 0 ? makeLoss(static_cast<RobustLoss>(opt.loss), loss_scale) : nullptr,
-                              a.state.rho.data(), a.in, Xp);
+                              blocks);
     // The yardstick residual links its two ends: they stay in the reduced system.
     const bool end = a.has_yardstick && (a.obs[n].id == yardstick.id_a || a.obs[n].id == yardstick.id_b);
     order->AddElementToGroup(Xp, end ? 1 : 0);
@@ -477,6 +535,14 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
   // separately allocated blocks changes from run to run (and so would the last digits).
   order->AddElementToGroup(a.state.rho.data(), 2);
   order->AddElementToGroup(a.in, 3);
+  // Robot pose error: each view's correction with its prior (a view whose observations were all
+  // rejected keeps only its prior: the correction stays 0).
+  for (size_t k = 0; k < a.state.delta.size(); ++k) {
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<PosePriorCost, 6, 6>(
+                                  new PosePriorCost(opt.pose_sd_translation, opt.pose_sd_rotation)),
+                              nullptr, a.state.delta[k].data());
+    order->AddElementToGroup(a.state.delta[k].data(), 4 + static_cast<int>(k));
+  }
   if (a.free_in.empty())
     problem->SetParameterBlockConstant(a.in);
   else if (a.subset)
@@ -538,8 +604,24 @@ void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::
     kept.insert(a.obs[n].id);
   }
   res.rms = res.num_observations ? std::sqrt(sum / (2.0 * res.num_observations)) : 0;
+  // The pose priors add as many residuals as unknowns: the degrees of freedom are the pixels'.
   const double dof = 2.0 * res.num_observations - static_cast<double>(a.P + a.free_in.size() + 3 * kept.size());
   res.sigma0 = dof > 0 ? res.rms / opt.pixel_sd * std::sqrt(2.0 * res.num_observations / dof) : 0;
+  if (!a.state.delta.empty()) {
+    double chi2 = sum / (opt.pixel_sd * opt.pixel_sd), st = 0, sr = 0;
+    for (const auto &d : a.state.delta) {
+      const double t2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], r2 = d[3] * d[3] + d[4] * d[4] + d[5] * d[5];
+      st += t2;
+      sr += r2;
+      chi2 += t2 / (opt.pose_sd_translation * opt.pose_sd_translation) +
+              r2 / (opt.pose_sd_rotation * opt.pose_sd_rotation);
+      res.pose_corrections.push_back(vpColVector({d[0], d[1], d[2], d[3], d[4], d[5]}));
+    }
+    const double views = static_cast<double>(a.state.delta.size());
+    res.pose_rms_translation = std::sqrt(st / (3 * views));
+    res.pose_rms_rotation = std::sqrt(sr / (3 * views));
+    res.sigma0 = dof > 0 ? std::sqrt(chi2 / dof) : 0;
+  }
   for (int idp : kept) {
     vpColVector v(3);
     for (unsigned int c = 0; c < 3; ++c)
@@ -573,6 +655,8 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
       kept.push_back(a.X[e].data());
       ends.insert(a.X[e].data());
     }
+  for (auto &d : a.state.delta)
+    kept.push_back(d.data());
   for (const auto &e : a.X.index())
     if (!ends.count(a.X[e.first].data()) && problem.HasParameterBlock(a.X[e.first].data()))
       eliminated.push_back(a.X[e.first].data());
@@ -580,10 +664,13 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
   Eigen::MatrixXd full;
   if (!marginalCovariance(problem, kept, eliminated, full))
     return false;
+  // The a posteriori variance factor: the stated noise is too small for the residuals.
+  const double factor = a.scale_covariance && res.sigma0 > 1 ? res.sigma0 * res.sigma0 : 1.0;
+  res.covariance_scaled = factor > 1;
   res.covariance.resize(N, N);
   for (int r = 0; r < N; ++r)
     for (int c = 0; c < N; ++c)
-      res.covariance[r][c] = full(r, c);
+      res.covariance[r][c] = factor * full(r, c);
   for (int r = 0; r < P; ++r)
     res.sd[id[r]] = std::sqrt(std::max(0.0, res.covariance[r][r]));
   for (size_t r = 0; r < a.free_in.size(); ++r) {
@@ -607,6 +694,11 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
                                         const vpKinematicBundleAdjustment::Options &opt, bool solve)
 {
   opt.check();
+  // Checked here rather than in check(): the pipeline sets hand_eye_only from its method.
+  if (opt.pose_sd_translation > 0 && !opt.hand_eye_only)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment: robot pose error (pose_sd_*) is modelled in hand-eye-only "
+                               "mode (controller poses); joint-reading noise is not modelled yet");
   const QuietCeres quiet;
   const auto t0 = std::chrono::steady_clock::now();
   const unsigned int m = static_cast<unsigned int>(views.size());
@@ -626,13 +718,14 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   res.camera = camera;
   res.sd.resize(start.getNumParameters());
   res.identifiability = estimatedSet(start, q, opt);
-  Adjustment a(X0, start, res.identifiability.identified, q, fMe);
+  Adjustment a(X0, start, res.identifiability.identified, q, fMe, opt.hand_eye_only && opt.pose_sd_translation > 0);
   a.P = static_cast<int>(res.identifiability.identified.size());
   for (unsigned int k = 0; k < m; ++k)
     for (const auto &o : views[k].points)
       if (a.X.count(o.id))
         a.obs.push_back({k, o.id, o.ip.get_u(), o.ip.get_v()});
   a.free_in = estimatedIntrinsics(camera, opt.intrinsics, a.in);
+  a.scale_covariance = opt.scale_covariance;
   const bool distortion = (opt.intrinsics & KBA::DISTORTION) || a.in[4] != 0;
   const size_t unknowns = a.P + a.free_in.size() + 3 * a.X.size();
   if (a.P == 0 || 2 * a.obs.size() <= unknowns) {
@@ -732,6 +825,11 @@ void vpKinematicBundleAdjustment::Options::check() const
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: pixel_sd, yardstick_sd and loss_scale must be positive, "
                                "outlier_threshold non-negative, rank_tolerance in (0, 1)");
+  if (!(pose_sd_translation >= 0) || !(pose_sd_rotation >= 0) || !std::isfinite(pose_sd_translation) ||
+      !std::isfinite(pose_sd_rotation) || ((pose_sd_translation > 0) != (pose_sd_rotation > 0)))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment: pose_sd_translation and pose_sd_rotation must be both "
+                               "positive (robot pose error modelled) or both 0 (exact poses)");
   if (max_iterations == 0 || num_threads == 0)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: max_iterations and num_threads must be at least 1");

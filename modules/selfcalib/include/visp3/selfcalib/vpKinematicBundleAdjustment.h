@@ -89,6 +89,22 @@ public:
       its residual. Rotations about a single axis leave part of eMc unobservable: RANK_DEFICIENT.
     */
     bool hand_eye_only = false;
+    /*!
+      Hand-eye-only mode: the expected error of the controller poses fMe (robot pose error). Each
+      view k gets a correction delta_k = (t, theta u) in its end-effector frame,
+      fMe_k' = fMe_k [exp([theta u]x) | t], estimated with the prior residual
+      (t / pose_sd_translation, theta u / pose_sd_rotation) beside the pixel residuals, so that the
+      estimate weighs pixel noise and robot pose noise together and its covariance accounts for
+      both. 0 and 0 (default): the poses are exact (no correction). Both positive or both 0.
+    */
+    double pose_sd_translation = 0; //!< m
+    double pose_sd_rotation = 0;    //!< rad
+    /*!
+      Scale the covariance by sigma0^2 when sigma0 > 1: the residuals say the stated noise (pixel
+      and robot pose) is too small, and the standard deviations are widened accordingly (the a
+      posteriori variance factor). Off by default.
+    */
+    bool scale_covariance = false;
     unsigned int num_threads = 1;       //!< more is faster on large problems, but not bit-reproducible
     void check() const;
   };
@@ -116,6 +132,14 @@ public:
     unsigned int num_observations = 0, num_outliers = 0;
     double rms = 0;                          //!< px, reprojection RMS over the kept observations
     double sigma0 = 0;                       //!< sqrt(2 cost / dof): about 1 when pixel_sd is right
+    bool covariance_scaled = false;          //!< the covariance was multiplied by sigma0^2 (scale_covariance)
+    /*!
+      With robot pose error modelled (pose_sd_*): the estimated correction delta_k of each view's
+      controller pose (t, theta u; empty otherwise), and the RMS of their translation (m) and rotation
+      (rad) parts: the robot part of the residuals, beside rms (the pixel part).
+    */
+    std::vector<vpColVector> pose_corrections;
+    double pose_rms_translation = 0, pose_rms_rotation = 0;
     unsigned int iterations = 0;
     double seconds_solve = 0, seconds_covariance = 0;
   };
