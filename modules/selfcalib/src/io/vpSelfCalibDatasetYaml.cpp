@@ -11,10 +11,10 @@
 #include <set>
 #include <sstream>
 
-#include <visp3/core/vpXmlParserCamera.h>
 #include <yaml-cpp/yaml.h>
 
 #include "../core/vpSelfCalibCamera.h"
+#include "vpSelfCalibCameraXml.h"
 #include "vpSelfCalibYaml.h"
 
 using namespace vpSelfCalib;
@@ -61,16 +61,15 @@ void parseCamera(const Reader &r, const YAML::Node &root, const std::string &bas
     const std::string name = r.text(cx["name"], "camera_xml.name");
     if (!std::ifstream(file))
       r.fail("camera_xml.file", "cannot read '" + file + "'");
-    vpXmlParserCamera parser;
-    vpCameraParameters cam;
-    if (parser.parse(cam, file, name, vpCameraParameters::perspectiveProjWithDistortion) == vpXmlParserCamera::SEQUENCE_OK) {
-      has_distortion = cam.get_kud() != 0 || cam.get_kdu() != 0;
-      distorted = cam;
-    } else if (parser.parse(cam, file, name, vpCameraParameters::perspectiveProjWithoutDistortion) !=
-               vpXmlParserCamera::SEQUENCE_OK)
+    CameraXml xml;
+    if (readCameraXml(file, name, vpCameraParameters::perspectiveProjWithDistortion, xml)) {
+      has_distortion = xml.cam.get_kud() != 0 || xml.cam.get_kdu() != 0;
+      distorted = xml.cam;
+    } else if (!readCameraXml(file, name, vpCameraParameters::perspectiveProjWithoutDistortion, xml))
       r.fail("camera_xml", "no camera named '" + name + "' in '" + file + "'");
-    ds.width = parser.getWidth();
-    ds.height = parser.getHeight();
+    const vpCameraParameters &cam = xml.cam;
+    ds.width = xml.width;
+    ds.height = xml.height;
     if (ds.width == 0 || ds.height == 0)
       r.fail("camera_xml", "'" + file + "' gives no image_width / image_height for camera '" + name + "'");
     ds.cam.initPersProjWithoutDistortion(cam.get_px(), cam.get_py(), cam.get_u0(), cam.get_v0());
@@ -212,15 +211,6 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
   return ds;
 }
 
-std::string readFile(const std::string &filename)
-{
-  std::ifstream in(filename, std::ios::binary);
-  if (!in)
-    throw vpSelfCalibException(vpSelfCalibException::ioError, std::string(kWhat) + " '" + filename + "': cannot read");
-  std::ostringstream os;
-  os << in.rdbuf();
-  return os.str();
-}
 /*!
   The pose vector written for a controller pose: theta-u from the matrix can be one ulp away from
   the vector the matrix was built from, and a dataset would then drift by an ulp at every write and
@@ -269,7 +259,7 @@ vpSelfCalibDataset vpSelfCalibDataset::fromYamlString(const std::string &yaml, c
 
 vpSelfCalibDataset vpSelfCalibDataset::loadYaml(const std::string &filename)
 {
-  return fromYamlString(readFile(filename), "'" + filename + "'", directoryOf(filename));
+  return fromYamlString(readTextFile(filename, kWhat), "'" + filename + "'", directoryOf(filename));
 }
 
 std::string vpSelfCalibDataset::toYamlString(const std::string &base_dir) const

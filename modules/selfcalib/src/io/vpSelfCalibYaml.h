@@ -5,6 +5,7 @@
 #define VP_SELFCALIB_YAML_H
 
 #include <cmath>
+#include <fstream>
 #include <set>
 #include <sstream>
 #include <string>
@@ -113,15 +114,20 @@ public:
     vpPoseVector p;
     for (unsigned int i = 0; i < 6; ++i)
       p[i] = number(n[i], key + "[" + std::to_string(i) + "]");
-    // A theta-u vector far beyond a turn is a mistake (and loses all precision: 4e307 rad became a
-    // NaN pose on writing, found by fuzzing).
+    checkRotation(p, key);
+    return p;
+  }
+
+  //! A theta-u vector far beyond a turn is a mistake (and loses all precision: 4e307 rad became a
+  //! NaN pose on writing, found by fuzzing).
+  void checkRotation(const vpPoseVector &p, const std::string &key) const
+  {
     const double angle = std::hypot(p[3], p[4], p[5]);
     if (!(angle <= 2 * M_PI + 1e-9)) {
       std::ostringstream os;
       os << "a rotation of |theta u| = " << angle << " rad: expected at most 2 pi";
       fail(key, os.str());
     }
-    return p;
   }
 
   //! The name of a map key; YAML also allows lists, maps and nulls as keys, which these files never use.
@@ -148,6 +154,18 @@ public:
 private:
   std::string m_what, m_source;
 };
+
+//! The whole content of a file; throws vpSelfCalibException (ioError) naming `what` (the kind of
+//! file) and the file when it cannot be read.
+inline std::string readTextFile(const std::string &filename, const std::string &what)
+{
+  std::ifstream in(filename, std::ios::binary);
+  if (!in)
+    throw vpSelfCalibException(vpSelfCalibException::ioError, what + " '" + filename + "': cannot read");
+  std::ostringstream os;
+  os << in.rdbuf();
+  return os.str();
+}
 
 //! A yaml-cpp error as the module's exception, with the line and column when yaml-cpp knows them.
 [[noreturn]] inline void rethrowYaml(const YAML::Exception &e, const std::string &what, const std::string &source,
