@@ -325,12 +325,27 @@ std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinemat
       << YAML::Key << "u0" << YAML::Value << r.camera.get_u0() << YAML::Key << "v0" << YAML::Value << r.camera.get_v0()
       << YAML::Key << "px_sd" << YAML::Value << r.fx_sd;
   out << YAML::EndMap;
-  if (r.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT) {
+  if (r.has_eMc) {
+    out << YAML::Key << "eMc" << YAML::Comment("calibrated hand-eye pose vector (tx ty tz tux tuy tuz; m, rad) and sd")
+        << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "pose" << YAML::Value << YAML::BeginSeq;
+    for (unsigned int k = 0; k < 6; ++k)
+      out << r.eMc[k];
+    out << YAML::EndSeq << YAML::Key << "sd" << YAML::Value << YAML::BeginSeq;
+    for (unsigned int k = 0; k < 6; ++k)
+      out << r.eMc_sd[k];
+    out << YAML::EndSeq << YAML::EndMap;
+  }
+  if (r.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT || r.method == vpRobotSelfCalibration::HAND_EYE) {
     out << YAML::Key << "bundle_adjustment" << YAML::Value << YAML::Flow << YAML::BeginMap;
     out << YAML::Key << "observations" << YAML::Value << r.bundle.num_observations << YAML::Key << "dropped"
         << YAML::Value << r.bundle.num_outliers << YAML::Key << "rms_px" << YAML::Value << r.bundle.rms << YAML::Key
         << "sigma0" << YAML::Value << r.bundle.sigma0 << YAML::Key << "scale_from" << YAML::Value << YAML::DoubleQuoted
         << vpKinematicBundleAdjustment::scaleSourceName(r.bundle.scale_source);
+    if (!r.bundle.pose_corrections.empty())
+      out << YAML::Key << "robot_pose_rms_m" << YAML::Value << r.bundle.pose_rms_translation << YAML::Key
+          << "robot_pose_rms_rad" << YAML::Value << r.bundle.pose_rms_rotation;
+    if (r.bundle.covariance_scaled)
+      out << YAML::Key << "sd_scaled_by_sigma0" << YAML::Value << true;
     out << YAML::EndMap;
   }
   const std::vector<std::string> names = nominal.getParameterNames();
@@ -359,6 +374,7 @@ struct CalibrateArgs {
   std::string dataset, out, method, focal = "auto";
   unsigned int calibration = 0;
   double pixel_sd = 0.2;
+  std::vector<double> pose_sd; //!< robot pose error (m, rad) of controller poses; empty: exact
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::vector<std::string> dot_grids;
   bool no_features = false;
@@ -404,6 +420,14 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
   c->add_option("--pixel-sd", a.pixel_sd, "image noise sd used as weight (default 0.2)")
       ->type_name("PX")
       ->check(selfcalibCli::number(0, true));
+  c->add_option("--pose-sd", a.pose_sd,
+                "hand-eye: the controller poses' error, translation (m) and rotation (rad) sd,\n"
+                "e.g. 0.002,0.002: each pose gets a correction with that prior, and the sd are\n"
+                "widened by sigma0 when the residuals say the noise is larger (default: exact poses)")
+      ->type_name("T,R")
+      ->delimiter(',')
+      ->expected(2)
+      ->check(selfcalibCli::number(0, true));
   c->add_option("--threads", a.threads,
                 "threads of the image front end (default: all cores); the results do not depend on it")
       ->type_name("N")
@@ -443,6 +467,11 @@ int calibrate(const CalibrateArgs &a)
   vpRobotSelfCalibration::Options po;
   po.focal_mode = vpRobotSelfCalibration::focalModeFromName(a.focal);
   po.pixel_sd = a.pixel_sd;
+  if (a.pose_sd.size() == 2) {
+    po.bundle.pose_sd_translation = a.pose_sd[0];
+    po.bundle.pose_sd_rotation = a.pose_sd[1];
+    po.bundle.scale_covariance = true;
+  }
 
   // The image front end runs on `threads` OpenCV threads: its results do not depend on them (test
   // app-deterministic). Everything after it runs on one thread, OpenMP included (OpenCV's
@@ -512,6 +541,19 @@ int calibrate(const CalibrateArgs &a)
   if (r.verified)
     std::cout << "; yardstick 3-D error on the held-out views " << std::setprecision(3)
               << 1e3 * r.before.yardstick_error << " mm (nominal) -> " << 1e3 * r.after.yardstick_error << " mm";
+  if (r.has_eMc) {
+    std::cout << "\neMc: t = (" << std::fixed << std::setprecision(2);
+    for (unsigned int k = 0; k < 3; ++k)
+      std::cout << (k ? ", " : "") << 1e3 * r.eMc[k] << " +- " << 1e3 * r.eMc_sd[k];
+    std::cout << ") mm, theta-u = (";
+    for (unsigned int k = 3; k < 6; ++k)
+      std::cout << (k > 3 ? ", " : "") << 1e3 * r.eMc[k] << " +- " << 1e3 * r.eMc_sd[k];
+    std::cout << ") mrad; pixel rms " << std::setprecision(3) << r.bundle.rms << " px";
+    if (!r.bundle.pose_corrections.empty())
+      std::cout << ", robot pose corrections rms " << 1e3 * r.bundle.pose_rms_translation << " mm / "
+                << 1e3 * r.bundle.pose_rms_rotation << " mrad";
+    std::cout << ", sigma0 " << std::setprecision(2) << r.bundle.sigma0 << std::defaultfloat;
+  }
   std::cout << "\nwrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
   std::cerr << "... report\n";
   const std::string report_dir = (fs::path(out) / "report").string();

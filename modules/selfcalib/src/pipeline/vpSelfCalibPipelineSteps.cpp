@@ -157,6 +157,47 @@ std::vector<View> undistorted(const std::vector<View> &views, const vpCameraPara
   return out;
 }
 
+/*
+  res.eMc and res.eMc_sd from the calibrated chain and the bundle adjustment's covariance: the
+  Jacobian of the pose vector of eMc with respect to the six eMc corrections by central differences
+  (1e-7), times their covariance (rows and columns of the estimated ones; the others are held).
+*/
+static void handEyeWithSd(Result &res)
+{
+  const vpKinematicChain &chain = res.calibrated;
+  const unsigned int first = chain.getNumParameters() - vpKinematicChain::kBlockSize;
+  const std::vector<std::string> names = chain.getParameterNames();
+  Eigen::Matrix<double, 6, 6> S = Eigen::Matrix<double, 6, 6>::Zero();
+  std::vector<int> row(6, -1);
+  for (size_t r = 0; r < res.bundle.covariance_names.size(); ++r)
+    for (unsigned int i = 0; i < 6; ++i)
+      if (res.bundle.covariance_names[r] == names[first + i])
+        row[i] = static_cast<int>(r);
+  for (unsigned int i = 0; i < 6; ++i)
+    for (unsigned int j = 0; j < 6; ++j)
+      if (row[i] >= 0 && row[j] >= 0)
+        S(i, j) = res.bundle.covariance[static_cast<unsigned int>(row[i])][static_cast<unsigned int>(row[j])];
+  Eigen::Matrix<double, 6, 6> J;
+  const double h = 1e-7;
+  for (unsigned int i = 0; i < 6; ++i) {
+    vpKinematicChain a = chain, b = chain;
+    vpColVector pa = chain.getParameters(), pb = pa;
+    pa[first + i] += h;
+    pb[first + i] -= h;
+    a.setParameters(pa);
+    b.setParameters(pb);
+    const vpPoseVector A(a.get_eMc_corrected()), B(b.get_eMc_corrected());
+    for (unsigned int k = 0; k < 6; ++k)
+      J(k, i) = (A[k] - B[k]) / (2 * h);
+  }
+  const Eigen::Matrix<double, 6, 6> C = J * S * J.transpose();
+  res.eMc = vpPoseVector(chain.get_eMc_corrected());
+  res.eMc_sd.resize(6);
+  for (unsigned int k = 0; k < 6; ++k)
+    res.eMc_sd[k] = std::sqrt(std::max(0.0, C(k, k)));
+  res.has_eMc = true;
+}
+
 bool multiView(const Context &c, Result &res)
 {
   c.report("multi-view reconstruction", 0, 1);
@@ -213,6 +254,8 @@ bool bundle(const Context &c, const vpKinematicChain &start, const vpHomogeneous
   res.camera = res.bundle.camera;
   res.identifiability = res.bundle.identifiability;
   res.parameter_sd = res.bundle.sd;
+  if (res.bundle.has_covariance)
+    handEyeWithSd(res);
   if (res.bundle.status != vpKinematicBundleAdjustment::OK) {
     res.status = vpRobotSelfCalibration::IDENTIFICATION_FAILED;
     res.message = label + ": " + res.bundle.message;

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <visp3/core/vpCameraParameters.h>
+#include <visp3/core/vpPoseVector.h>
 #include <visp3/selfcalib/vpCalibrationVerifier.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpKinematicBundleAdjustment.h>
@@ -166,6 +167,15 @@ public:
     //! their sd (per chain parameter, 0 for those not estimated).
     vpKinematicIdentification::Identifiability identifiability;
     vpColVector parameter_sd;
+    /*!
+      The calibrated hand-eye transform eMc (BUNDLE_ADJUSTMENT and HAND_EYE) as a pose vector
+      (tx, ty, tz, theta u) and its sd, propagated to first order from the covariance of the eMc
+      corrections (a correction that is not estimated contributes no variance); has_eMc false
+      otherwise.
+    */
+    bool has_eMc = false;
+    vpPoseVector eMc;
+    vpColVector eMc_sd;
     vpKinematicChain calibrated;           //!< the nominal model with the identified corrections
     vpCameraParameters camera;             //!< with the focal length used
     double fx = 0, fx_sd = 0;
