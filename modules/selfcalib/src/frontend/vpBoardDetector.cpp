@@ -446,8 +446,9 @@ void vpBoardDetector::Options::check() const
                                "vpBoardDetector: a " + boardName(*this) +
                                    " looks the same after a turn in its plane: which point is which cannot be told "
                                    "from the image, so its ids would not be the same in every view. Use " +
-                                   hint + ", or accept the 'upright' rule (ids stable only while the board stays "
-                                          "within 90 degrees of upright in the images)");
+                                   hint + ", or accept the upright rule (assume_upright; ':upright' in a board "
+                                          "description): ids then stay the same only while the board stays within 90 "
+                                          "degrees of upright in the images");
   }
 }
 
