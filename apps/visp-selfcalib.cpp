@@ -37,6 +37,7 @@
 #include <visp3/core/vpPoseVector.h>
 #include <visp3/core/vpXmlParserCamera.h>
 #include <visp3/io/vpImageIo.h>
+#include <visp3/selfcalib/vpBoardDetector.h>
 #include <visp3/selfcalib/vpCalibrationVerifier.h>
 #include <visp3/selfcalib/vpFeatureFrontEnd.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
@@ -378,6 +379,8 @@ struct CalibrateArgs {
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::vector<std::string> dot_grids;
   bool no_features = false;
+  std::string board;
+  bool with_features = false;
 };
 
 //! "CxR": C columns, R rows of an asymmetric circle grid; false when it is not that.
@@ -443,7 +446,27 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
             return parseDotGrid(item, g) ? std::string() : "expected COLSxROWS[,COLSxROWS...], got '" + item + "'";
           },
           std::string()));
-  c->add_flag("--no-features", a.no_features, "no natural features (dot targets only)");
+  CLI::Option *no_features = c->add_flag("--no-features", a.no_features, "no natural features (dot targets only)");
+  CLI::Option *board =
+      c->add_option("--board", a.board,
+                    "a calibration board whose points are the observations (their ids from\n"
+                    "2000000 + row * cols + col): chessboard:ROWSxCOLS:SPACING (inner corners),\n"
+                    "circles:, acircles: or modified-circles:ROWSxCOLS:SPACING (dots), spacing in m,\n"
+                    "e.g. chessboard:9x6:0.0236, modified-circles:10x10:0.0254; ':upright' accepts a\n"
+                    "board that looks the same turned. Without a yardstick in the dataset, the ends\n"
+                    "of the board's first row are the yardstick")
+          ->type_name("SPEC")
+          ->check(CLI::Validator(
+              [](std::string &spec) -> std::string {
+                try {
+                  vpBoardDetector::parse(spec);
+                  return std::string();
+                } catch (const vpSelfCalibException &e) {
+                  return e.getStringMessage();
+                }
+              },
+              std::string()));
+  c->add_flag("--with-features", a.with_features, "with --board: natural features too")->needs(board)->excludes(no_features);
   c->footer("Self-calibrates on the first N views and verifies on the others. Writes DIR/model.yaml,\n"
             "DIR/model.urdf, DIR/camera.xml, DIR/results.yaml and DIR/report/ (report.md, gnuplot figures),\n"
             "each atomically, never over an input. The data check's findings are printed as warnings.\n"
@@ -454,7 +477,10 @@ int calibrate(const CalibrateArgs &a)
 {
   const std::string &dataset = a.dataset, &out = a.out;
   vpSelfCalibImageCorrespondences::Options co;
-  co.front_end.features = !a.no_features;
+  // A board alone unless natural features are asked for too.
+  co.front_end.features = a.board.empty() ? !a.no_features : a.with_features;
+  if (!a.board.empty())
+    co.board = vpBoardDetector::parse(a.board);
   // C x R; grid g numbered from 1000000 + 1000 g (as simulate --target dots).
   for (const std::string &item : a.dot_grids) {
     vpFeatureFrontEnd::DotGrid g;
@@ -484,12 +510,25 @@ int calibrate(const CalibrateArgs &a)
   const size_t num_images = ds.views.size();
   if (vpSelfCalibImageCorrespondences::needsFrontEnd(ds))
     std::cerr << "... image front end (" << num_images << " images)\n";
+  else if (co.board)
+    std::cerr << "warning: --board: the dataset's views come with their points; the board is not looked for\n";
   const vpSelfCalibImageCorrespondences::Result cr = vpSelfCalibImageCorrespondences::fromDatasetImages(ds, co);
   if (cr.front_end_ran) {
     if (!co.front_end.dot_grids.empty())
       std::cerr << "... dot grids found " << cr.grids_found << " times in " << num_images << " images\n";
     std::cerr << "... " << cr.front_end.num_tracks << " tracks, yardstick in " << cr.yardstick_images << " images, "
               << std::setprecision(2) << cr.front_end.seconds << " s\n";
+  }
+  if (cr.board_ran) {
+    std::cerr << "... board " << vpBoardDetector::toString(*co.board) << " found in " << cr.board_images << " of "
+              << num_images << " images\n";
+    if (cr.board_yardstick)
+      std::cerr << "... yardstick: the ends of the board's first row (ids " << ds.yardstick.id_a << ", "
+                << ds.yardstick.id_b << "), " << std::setprecision(6) << ds.yardstick.length << " m\n";
+  }
+  for (const std::string &w : cr.warnings)
+    std::cerr << "warning: " << w << "\n";
+  if (cr.front_end_ran || cr.board_ran) {
     for (auto d = cr.dropped.rbegin(); d != cr.dropped.rend(); ++d)
       std::cerr << "warning: view " << d->index << " (" << d->image << "): no correspondence found; left out\n";
   }

@@ -5,7 +5,11 @@
 #include <visp3/selfcalib/vpSelfCalibImageCorrespondences.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
+#include <algorithm>
+#include <sstream>
 #include <utility>
+
+#include <visp3/io/vpImageIo.h>
 
 bool vpSelfCalibImageCorrespondences::needsFrontEnd(const vpSelfCalibDataset &dataset)
 {
@@ -20,11 +24,39 @@ vpSelfCalibImageCorrespondences::Result vpSelfCalibImageCorrespondences::fromDat
 {
   Result result;
   if (needsFrontEnd(dataset)) {
-    result.front_end = vpFeatureFrontEnd::fillDataset(dataset, options.front_end);
-    result.front_end_ran = true;
+    if (options.board)
+      runOnImages(dataset, readImages(dataset), options, result);
+    else {
+      result.front_end = vpFeatureFrontEnd::fillDataset(dataset, options.front_end);
+      result.front_end_ran = true;
+    }
   }
   finish(dataset, options, result);
   return result;
+}
+
+std::vector<vpImage<unsigned char>> vpSelfCalibImageCorrespondences::readImages(const vpSelfCalibDataset &dataset)
+{
+  std::vector<vpImage<unsigned char>> images(dataset.views.size());
+  for (size_t k = 0; k < images.size(); ++k) {
+    const std::string &file = dataset.views[k].image, view = "vpSelfCalibImageCorrespondences: view " + std::to_string(k);
+    if (file.empty())
+      throw vpSelfCalibException(vpSelfCalibException::badValue, view + " has no image");
+    try {
+      vpImageIo::read(images[k], file);
+    } catch (const vpException &e) {
+      throw vpSelfCalibException(vpSelfCalibException::ioError,
+                                 view + ": cannot read image '" + file + "': " + e.getStringMessage());
+    }
+    std::ostringstream size;
+    size << images[k].getWidth() << " x " << images[k].getHeight();
+    if (images[k].getWidth() != dataset.width || images[k].getHeight() != dataset.height)
+      throw vpSelfCalibException(vpSelfCalibException::dimensionError, view + ": image '" + file + "' is " +
+                                                                           size.str() + ", the camera says " +
+                                                                           std::to_string(dataset.width) + " x " +
+                                                                           std::to_string(dataset.height));
+  }
+  return images;
 }
 
 vpSelfCalibImageCorrespondences::Result
@@ -36,25 +68,90 @@ vpSelfCalibImageCorrespondences::fromImages(vpSelfCalibDataset &dataset,
                                "vpSelfCalibImageCorrespondences: " + std::to_string(images.size()) + " images for " +
                                    std::to_string(dataset.views.size()) + " views");
   Result result;
-  result.front_end = vpFeatureFrontEnd::process(images, options.front_end);
-  result.front_end_ran = true;
-  for (size_t k = 0; k < dataset.views.size(); ++k)
-    dataset.views[k].points = result.front_end.observations[k];
-  dataset.yardstick.id_a = result.front_end.yardstick_a;
-  dataset.yardstick.id_b = result.front_end.yardstick_b;
+  runOnImages(dataset, images, options, result);
   finish(dataset, options, result);
   return result;
 }
 
+void vpSelfCalibImageCorrespondences::runOnImages(vpSelfCalibDataset &dataset,
+                                                  const std::vector<vpImage<unsigned char>> &images,
+                                                  const Options &options, Result &result)
+{
+  // Without a board the feature front end always runs (and refuses options that find nothing).
+  if (!options.board || options.front_end.features || !options.front_end.dot_grids.empty()) {
+    result.front_end = vpFeatureFrontEnd::process(images, options.front_end);
+    result.front_end_ran = true;
+    for (size_t k = 0; k < dataset.views.size(); ++k)
+      dataset.views[k].points = result.front_end.observations[k];
+    dataset.yardstick.id_a = result.front_end.yardstick_a;
+    dataset.yardstick.id_b = result.front_end.yardstick_b;
+  } else {
+    // The board alone: the views' points are the board's, the yardstick's ends are not known yet.
+    for (vpSelfCalibDataset::View &v : dataset.views)
+      v.points.clear();
+    dataset.yardstick.id_a = dataset.yardstick.id_b = -1;
+  }
+  if (options.board)
+    addBoard(dataset, images, options, result);
+}
+
+void vpSelfCalibImageCorrespondences::addBoard(vpSelfCalibDataset &dataset,
+                                               const std::vector<vpImage<unsigned char>> &images,
+                                               const Options &options, Result &result)
+{
+  const vpBoardDetector detector(*options.board);
+  const int first = options.board->id_offset,
+            last = first + static_cast<int>(options.board->rows * options.board->cols) - 1;
+  auto collision = [&](const std::string &what) {
+    return vpSelfCalibException(vpSelfCalibException::badValue,
+                                "vpSelfCalibImageCorrespondences: the board's ids (" + std::to_string(first) + " to " +
+                                    std::to_string(last) + ") collide with " + what +
+                                    ": choose another board id offset");
+  };
+  for (const vpFeatureFrontEnd::DotGrid &g : options.front_end.dot_grids)
+    if (g.first_id <= last && first < g.first_id + static_cast<int>(g.cols * g.rows))
+      throw collision("a dot grid's (from " + std::to_string(g.first_id) + ")");
+  for (const vpSelfCalibDataset::View &v : dataset.views)
+    for (const vpSelfCalibDataset::Observation &o : v.points)
+      if (o.id >= first && o.id <= last)
+        throw collision("the front end's point " + std::to_string(o.id));
+
+  result.board_ran = true;
+  for (size_t k = 0; k < images.size(); ++k) {
+    result.board.push_back(detector.detect(images[k]));
+    const vpBoardDetector::Result &b = result.board.back();
+    if (b.found) {
+      ++result.board_images;
+      std::vector<vpSelfCalibDataset::Observation> &points = dataset.views[k].points;
+      points.insert(points.end(), b.corners.begin(), b.corners.end());
+    } else
+      result.warnings.push_back("view " + std::to_string(k) +
+                                (dataset.views[k].image.empty() ? std::string() : " (" + dataset.views[k].image + ")") +
+                                ": board not found: " + b.message);
+  }
+  // The yardstick rule (see the class).
+  if (!dataset.yardstick.isSet() && result.board_images >= 2) {
+    if (dataset.yardstick.length > 0) {
+      std::ostringstream w;
+      w << "the dataset's yardstick (" << dataset.yardstick.length
+        << " m) was not found in the images: the board's first row is the yardstick instead";
+      result.warnings.push_back(w.str());
+    }
+    dataset.yardstick = detector.getYardstick();
+    result.board_yardstick = true;
+  }
+}
+
 void vpSelfCalibImageCorrespondences::finish(vpSelfCalibDataset &dataset, const Options &options, Result &result)
 {
-  if (result.front_end_ran) {
+  if (result.front_end_ran || result.board_ran) {
     for (bool seen : result.front_end.yardstick_seen)
       result.yardstick_images += seen;
     for (const std::vector<bool> &grid : result.front_end.grid_seen)
       for (bool seen : grid)
         result.grids_found += seen;
-    // A view where the front end found nothing (no track, no grid, no yardstick dot) cannot be used.
+    // A view where the front end found nothing (no track, no grid, no yardstick dot, no board) cannot
+    // be used.
     std::vector<vpSelfCalibDataset::View> kept;
     for (size_t k = 0; k < dataset.views.size(); ++k) {
       if (dataset.views[k].points.empty()) {

@@ -210,16 +210,22 @@ vpImage<unsigned char> vpSelfCalibRenderer::render(const vpColVector &q, unsigne
   const vpSelfCalibSimulator::Options &so = m_sim.getOptions();
   vpImage<unsigned char> I(so.height, so.width, 128);
   vpImageSimulator::getImage(I, list, m_sim.getCamera());
+  blurAndNoise(I, m_opt.blur_sd, m_opt.noise_sd, m_opt.seed, 1000 + view_index);
+  return I;
+}
+
+void vpSelfCalibRenderer::blurAndNoise(vpImage<unsigned char> &I, double blur_sd, double noise_sd, uint64_t seed,
+                                       uint64_t stream)
+{
   vpImage<double> F;
-  if (m_opt.blur_sd > 0) {
+  if (blur_sd > 0) {
     vpImage<double> G;
     vpImageConvert::convert(I, G);
-    vpImageFilter::gaussianBlur(G, F, static_cast<unsigned int>(2 * std::ceil(3 * m_opt.blur_sd) + 1), m_opt.blur_sd);
+    vpImageFilter::gaussianBlur(G, F, static_cast<unsigned int>(2 * std::ceil(3 * blur_sd) + 1), blur_sd);
   } else
     vpImageConvert::convert(I, F);
-  Random rng(m_opt.seed, 1000 + view_index);
+  Random rng(seed, stream);
   for (unsigned int i = 0; i < I.getHeight(); ++i)
     for (unsigned int j = 0; j < I.getWidth(); ++j)
-      I[i][j] = static_cast<unsigned char>(std::max(0.0, std::min(255.0, std::round(F[i][j] + rng.normal(m_opt.noise_sd)))));
-  return I;
+      I[i][j] = static_cast<unsigned char>(std::max(0.0, std::min(255.0, std::round(F[i][j] + rng.normal(noise_sd)))));
 }

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include <visp3/core/vpImage.h>
+#include <visp3/selfcalib/vpBoardDetector.h>
 #include <visp3/selfcalib/vpFeatureFrontEnd.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
@@ -29,15 +30,30 @@
   (vpFeatureFrontEnd) fills the dataset's observations and the yardstick's ends, the views where
   it found nothing are left out (they cannot be used), and the calibration method is chosen.
 
+  A calibration board (Options::board, vpBoardDetector) can be the observations instead of, or
+  besides, the natural features: every image is searched for it, its points get the board's ids
+  (id_offset + row * cols + col), and an image where it is not found gets a warning (with the
+  reason) and, when nothing else was found in it, is left out. The feature front end runs besides
+  it only when Options::front_end asks for natural features or dot grids; the board's ids must not
+  collide with the front end's (the default offset, 2000000, is above them: vpBoardDetector).
+
+  Yardstick rule: when the dataset's yardstick is not set after the front end (no length declared,
+  or its dots not found) and the board was found in two or more images, the board is the
+  yardstick: the two ends of its first row (ids id_offset and id_offset + cols - 1), their distance
+  on the board apart (vpBoardDetector::getYardstick()). A declared length whose dots were not found
+  is replaced, with a warning.
+
   visp-selfcalib calibrate and the tutorial both go through here, so that a dataset on disk and
   images in memory are prepared the same way. Nothing is printed: the result says what happened
-  (front-end statistics, the views left out) for the caller to report.
+  (front-end statistics, the board, the views left out, warnings) for the caller to report.
 */
 class VISP_SELFCALIB_EXPORT vpSelfCalibImageCorrespondences
 {
 public:
   struct Options {
     vpFeatureFrontEnd::Options front_end;
+    //! A calibration board to find in every image (see the class); unset: none.
+    std::optional<vpBoardDetector::Options> board;
     //! The calibration method. Unset (default): HAND_EYE when a view (after leaving out those
     //! without correspondences) has a controller pose fMe and no joints, else BUNDLE_ADJUSTMENT.
     std::optional<vpRobotSelfCalibration::Method> method;
@@ -50,11 +66,20 @@ public:
   };
 
   struct Result {
-    bool front_end_ran = false;          //!< false when the dataset's views came with their points
+    //! The feature front end ran (front_end holds its result); false when the dataset's views came
+    //! with their points, or when a board alone was looked for.
+    bool front_end_ran = false;
     vpFeatureFrontEnd::Result front_end; //!< when it ran
     unsigned int yardstick_images = 0;   //!< images where the yardstick's two dots were found
     unsigned int grids_found = 0;        //!< dot grids found, summed over the images
     std::vector<DroppedView> dropped;    //!< views left out, by increasing index
+    bool board_ran = false;                       //!< a board was looked for in the images
+    std::vector<vpBoardDetector::Result> board;   //!< per image of the dataset as given, when board_ran
+    unsigned int board_images = 0;                //!< images where the board was found
+    bool board_yardstick = false;                 //!< the board became the yardstick (see the class)
+    //! What the caller should tell the user: images where the board was not found (view, image
+    //! and reason), a declared yardstick replaced by the board.
+    std::vector<std::string> warnings;
     vpRobotSelfCalibration::Method method = vpRobotSelfCalibration::BUNDLE_ADJUSTMENT;
   };
 
@@ -63,23 +88,39 @@ public:
 
   /*!
     A dataset as read from a file: when needsFrontEnd(), the front end runs on the views' image files
-    (vpFeatureFrontEnd::fillDataset: every view needs a readable image of the camera's size) and the
-    views where it finds nothing are removed from the dataset; otherwise the views are kept as they
-    are. Then the method is chosen. Throws vpSelfCalibException as fillDataset does.
+    (vpFeatureFrontEnd::fillDataset, or readImages() then as fromImages() with a board: every view
+    needs a readable image of the camera's size) and the views where it finds nothing are removed
+    from the dataset; otherwise the views are kept as they are. Then the method is chosen. Throws
+    vpSelfCalibException as fillDataset and readImages() do, or when the board's ids collide with
+    the front end's.
   */
   static Result fromDatasetImages(vpSelfCalibDataset &dataset, const Options &options);
 
   /*!
+    Every view's image file, read as grey (vpImageIo). Throws vpSelfCalibException naming the view
+    and the file when a view has no image, or its image is missing, unreadable or not of the
+    camera's size.
+  */
+  static std::vector<vpImage<unsigned char>> readImages(const vpSelfCalibDataset &dataset);
+
+  /*!
     Images in memory, one per view of the dataset in order (a simulated or live acquisition): the
     front end runs on them, replaces every view's points, sets the yardstick's end ids (its length
-    stays the dataset's) and the views where it finds nothing are removed. Then the method is
-    chosen. Throws vpSelfCalibException when the number of images is not the number of views, or
-    as vpFeatureFrontEnd::process does.
+    stays the dataset's) and the views where it finds nothing are removed. With a board, its points
+    are added (see the class). Then the method is chosen. Throws vpSelfCalibException when the
+    number of images is not the number of views, as vpFeatureFrontEnd::process does, or when the
+    board's ids collide with the front end's.
   */
   static Result fromImages(vpSelfCalibDataset &dataset, const std::vector<vpImage<unsigned char>> &images,
                            const Options &options);
 
 private:
+  //! The front end (features and dot grids, a board) on the images, into the views' points.
+  static void runOnImages(vpSelfCalibDataset &dataset, const std::vector<vpImage<unsigned char>> &images,
+                          const Options &options, Result &result);
+  //! The board on every image: its points added to the views', the yardstick rule, warnings.
+  static void addBoard(vpSelfCalibDataset &dataset, const std::vector<vpImage<unsigned char>> &images,
+                       const Options &options, Result &result);
   //! Statistics, views left out, method: what both entry points do after the front end.
   static void finish(vpSelfCalibDataset &dataset, const Options &options, Result &result);
 };

@@ -16,6 +16,7 @@
 
 #include <visp3/selfcalib/vpSelfCalibExport.h>
 
+#include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
@@ -66,6 +67,14 @@ public:
 
   //! The image of the true camera at joints q; view_index selects the noise stream.
   vpImage<unsigned char> render(const vpColVector &q, unsigned int view_index) const;
+
+  /*!
+    What render() does to the image vpImageSimulator draws, for other rendered scenes (tests of the
+    board detector): a Gaussian blur of sd blur_sd px (none when 0), then Gaussian noise of sd
+    noise_sd grey levels from random stream `stream` of `seed`, rounded and clipped to 0-255.
+  */
+  static void blurAndNoise(vpImage<unsigned char> &I, double blur_sd, double noise_sd, uint64_t seed,
+                           uint64_t stream);
 
   //! The yardstick's ends in f (3-vectors) and its length.
   const vpColVector &getYardstickEndA() const { return m_end_a; }
