@@ -295,11 +295,15 @@ void checkParallax(const vpKinematicChain &nominal, const std::vector<View> &cal
               " mm at most, and a homography explains the matched points of every pair, so no depth can be "
               "measured; add poses that translate the camera (10% of the distance to the scene or more)");
     else
-      add(out, vpSelfCalibDataCheck::DEGENERATE, "no-parallax",
+      // A plane seen from poses that translate is not degenerate for the estimate as a whole (with f
+      // known it determines eMc and the kinematics; views at several tilts determine f, as in
+      // Zhang's calibration): the bundle adjustment's information matrix decides, and names what is
+      // not determined.
+      add(out, vpSelfCalibDataCheck::WARNING, "planar-scene",
           "a homography explains the matched points of every pair (" + std::to_string(pairs) +
-              " pairs): the scene is a plane, or it is far away compared with the camera's motion, and the two-view "
-              "geometry is undefined; add objects at other depths (a relief of a few percent of the distance is "
-              "enough) or move the camera closer");
+              " pairs): the scene is a plane (or far away compared with the camera's motion); the calibration "
+              "goes on, and its information matrix says whether the poses determine it (a self-calibrated focal "
+              "length needs the plane seen at several tilts); objects at other depths make it stronger");
   }
 
 }
