@@ -7,6 +7,7 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -23,27 +24,30 @@ namespace
 {
 const char *const kWhat = "dataset";
 
-bool isAbsolute(const std::string &p) { return !p.empty() && p[0] == '/'; }
+bool isAbsolute(const std::string &p) { return std::filesystem::path(p).is_absolute(); }
 
 std::string resolve(const std::string &base_dir, const std::string &p)
 {
   if (p.empty() || base_dir.empty() || isAbsolute(p))
     return p;
-  return base_dir + "/" + p;
+  return (std::filesystem::path(base_dir) / p).string();
 }
 
+//! p relative to base_dir when it lies below it; p itself otherwise.
 std::string relativeTo(const std::string &base_dir, const std::string &p)
 {
-  if (base_dir.empty())
+  if (base_dir.empty() || p.empty())
     return p;
-  const std::string prefix = base_dir + "/";
-  return p.compare(0, prefix.size(), prefix) == 0 ? p.substr(prefix.size()) : p;
+  const std::filesystem::path rel = std::filesystem::path(p).lexically_relative(base_dir);
+  if (rel.empty() || *rel.begin() == "..")
+    return p;
+  return rel.string();
 }
 
 std::string directoryOf(const std::string &file)
 {
-  const size_t s = file.find_last_of('/');
-  return s == std::string::npos ? "." : (s == 0 ? "/" : file.substr(0, s));
+  const std::filesystem::path dir = std::filesystem::path(file).parent_path();
+  return dir.empty() ? "." : dir.string();
 }
 
 void parseCamera(const Reader &r, const YAML::Node &root, const std::string &base_dir, vpSelfCalibDataset &ds,

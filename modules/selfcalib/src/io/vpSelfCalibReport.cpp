@@ -5,11 +5,11 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <cmath>
+#include <filesystem>
 #include <cstdlib>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
-#include <sys/stat.h>
 
 #include <visp3/core/vpMeterPixelConversion.h>
 
@@ -109,8 +109,9 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
                                                    const vpFeatureFrontEnd::Result *fe,
                                                    const vpSelfCalibPoseStudy::Result *study, const Options &ro)
 {
-  struct stat st;
-  if (stat(dir.c_str(), &st) != 0 && mkdir(dir.c_str(), 0777) != 0)
+  std::error_code ec;
+  std::filesystem::create_directory(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir, ec))
     throw vpSelfCalibException(vpSelfCalibException::ioError,
                                "vpSelfCalibReport: cannot create the directory '" + dir + "'");
   Result res;
