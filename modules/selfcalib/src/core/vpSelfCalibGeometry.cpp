@@ -122,7 +122,7 @@ bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eige
 }
 
 bool marginalCovariance(ceres::Problem &problem, const std::vector<double *> &kept,
-                        const std::vector<double *> &eliminated, Eigen::MatrixXd &cov)
+                        const std::vector<double *> &eliminated, Eigen::MatrixXd &cov, Eigen::MatrixXd *undetermined)
 {
   ceres::Problem::EvaluateOptions eo;
   eo.parameter_blocks = kept;
@@ -166,20 +166,39 @@ bool marginalCovariance(ceres::Problem &problem, const std::vector<double *> &ke
       C[point] += p * p.transpose();
     }
   }
+  // The kept parameters' own information, before the points are marginalized: the scale of the test
+  // below. Scaling by the complement's diagonal instead would blow a direction the points take all
+  // the information from (its diagonal is then pure cancellation) up to order 1.
+  const Eigen::VectorXd d = H.diagonal();
   for (size_t i = 0; i < C.size(); ++i) {
     const Eigen::LDLT<Eigen::Matrix3d> ldlt(C[i]);
     if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-12 * ldlt.vectorD().maxCoeff()))
       return false;
     H.noalias() -= B[i] * ldlt.solve(B[i].transpose());
   }
-  const Eigen::VectorXd d = H.diagonal();
-  if (!(d.minCoeff() > 0))
+  if (!(d.minCoeff() > 0)) {
+    if (undetermined) {
+      Eigen::Index i = 0;
+      d.minCoeff(&i);
+      *undetermined = Eigen::VectorXd::Unit(d.size(), i);
+    }
     return false;
+  }
   const Eigen::VectorXd scale = d.cwiseSqrt().cwiseInverse();
   const Eigen::MatrixXd Hs = scale.asDiagonal() * H * scale.asDiagonal();
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (Hs + Hs.transpose()));
-  if (eig.info() != Eigen::Success || !(eig.eigenvalues().minCoeff() > 1e-15 * eig.eigenvalues().maxCoeff()))
+  // Hs's eigenvalues are the fractions of the parameters' own information left once the points are
+  // marginalized (at most the number of parameters); a direction the data do not determine keeps only
+  // rounding errors, far below 1e-10.
+  if (eig.info() != Eigen::Success || !(eig.eigenvalues().minCoeff() > 1e-10)) {
+    if (undetermined && eig.info() == Eigen::Success) {
+      Eigen::Index k = 0; // eigenvalues in increasing order
+      while (k < eig.eigenvalues().size() && !(eig.eigenvalues()(k) > 1e-10))
+        ++k;
+      *undetermined = eig.eigenvectors().leftCols(std::max<Eigen::Index>(k, 1));
+    }
     return false;
+  }
   cov = scale.asDiagonal() *
         (eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() * eig.eigenvectors().transpose()) *
         scale.asDiagonal();

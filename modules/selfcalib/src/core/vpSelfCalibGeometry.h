@@ -67,12 +67,18 @@ bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eige
   marginalized: the inverse of the Schur complement of J^T J, J from Problem::Evaluate on one
   thread. Computed here rather than by ceres::Covariance (SPARSE_QR): SuiteSparseQR runs on TBB's
   threads, and its sums, so the last digits of every standard deviation, changed from run to run
-  once another library had started TBB workers. False when the information is singular (relative
-  eigenvalue of the diagonally scaled complement below 1e-15), a point is not determined, or a
-  residual involves two eliminated blocks.
+  once another library had started TBB workers. False when the information is singular (an
+  eigenvalue of the complement, scaled by the kept parameters' own information, below 1e-10: the
+  data leave less than 1e-10 of a direction's information once the points are free), a point is
+  not determined, or a
+  residual involves two eliminated blocks. undetermined (when given and the information is singular):
+  the directions of the kept parameters that the data do not determine, one unit column each in the
+  diagonally scaled coordinates (the eigenvectors below the threshold; a parameter with no
+  information at all is its own direction), so that the caller can name the parameters involved.
 */
 bool marginalCovariance(ceres::Problem &problem, const std::vector<double *> &kept,
-                        const std::vector<double *> &eliminated, Eigen::MatrixXd &cov);
+                        const std::vector<double *> &eliminated, Eigen::MatrixXd &cov,
+                        Eigen::MatrixXd *undetermined = nullptr);
 
 //! Robust losses on whitened residuals. The values are those of vpMultiViewReconstruction::Loss.
 enum class RobustLoss { NONE = 0, HUBER = 1, CAUCHY = 2 };

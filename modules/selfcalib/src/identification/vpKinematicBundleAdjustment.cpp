@@ -662,8 +662,21 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
       eliminated.push_back(a.X[e.first].data());
   const int P = a.P, N = P + static_cast<int>(a.free_in.size());
   Eigen::MatrixXd full;
-  if (!marginalCovariance(problem, kept, eliminated, full))
+  Eigen::MatrixXd undetermined;
+  if (!marginalCovariance(problem, kept, eliminated, full, &undetermined)) {
+    // Name the estimated parameters in the undetermined directions (a component of 0.3 or more in
+    // one of them; the pose corrections and the yardstick's ends, also kept, are not named).
+    std::vector<std::pair<double, std::string>> named;
+    for (int r = 0; r < std::min<int>(N, static_cast<int>(undetermined.rows())); ++r) {
+      const double c = undetermined.row(r).cwiseAbs().maxCoeff();
+      if (c >= 0.3)
+        named.push_back({-c, r < P ? names[id[r]] : kIntrinsicNames[a.free_in[r - P]]});
+    }
+    std::sort(named.begin(), named.end());
+    for (const auto &e : named)
+      res.undetermined.push_back(e.second);
     return false;
+  }
   // The a posteriori variance factor: the stated noise is too small for the residuals.
   const double factor = a.scale_covariance && res.sigma0 > 1 ? res.sigma0 * res.sigma0 : 1.0;
   res.covariance_scaled = factor > 1;
@@ -776,6 +789,12 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
                           "rotating about another axis"
                         : "the information matrix of the corrections and intrinsics is singular: the views do not "
                           "determine them (too few or too similar configurations)";
+      if (!res.undetermined.empty()) {
+        std::string list;
+        for (const std::string &n : res.undetermined)
+          list += (list.empty() ? "" : ", ") + n;
+        res.message += "; not determined: " + list;
+      }
       return res;
     }
   }

@@ -563,3 +563,68 @@ TEST(HandEye, RobotPoseErrorIsModelledAndTheSdAreHonest)
                                                    sim.getScenePointsById(), bo),
                vpSelfCalibException);
 }
+
+namespace
+{
+//! Views of a plane z = 1 (f frame) by a camera at fMc_k, hand-eye data (fMe = fMc eMc^-1, exact).
+std::vector<vpSelfCalibDataset::View> planeViews(const vpKinematicChain &chain, const vpCameraParameters &cam,
+                                                 const std::vector<vpHomogeneousMatrix> &fMc,
+                                                 std::map<int, vpColVector> &X)
+{
+  X.clear();
+  for (int i = 0; i < 7; ++i)
+    for (int j = 0; j < 7; ++j)
+      X[7 * i + j] = vpColVector({-0.15 + 0.05 * i, -0.15 + 0.05 * j, 1.0});
+  const vpHomogeneousMatrix cMe = chain.get_eMc_corrected().inverse();
+  std::vector<vpSelfCalibDataset::View> views;
+  for (const vpHomogeneousMatrix &M : fMc) {
+    vpSelfCalibDataset::View v;
+    v.has_fMe = true;
+    v.fMe = M * cMe;
+    const Rigid cMf = rigidFromVisp(M).inverse();
+    for (const auto &e : X) {
+      const Eigen::Vector3d x = cMf * vec3(e.second);
+      v.points.push_back({e.first, vpImagePoint(cam.get_v0() + cam.get_py() * x(1) / x(2),
+                                                cam.get_u0() + cam.get_px() * x(0) / x(2))});
+    }
+    views.push_back(v);
+  }
+  return views;
+}
+} // namespace
+
+/*
+  One plane, f self-calibrated (hand-eye): views at one tilt (the camera translating parallel to the
+  plane and turning about its optical axis) leave f undetermined (it trades with the plane's depth
+  and the hand-eye translation along the axis): RANK_DEFICIENT, with fx named. The same plane seen
+  at several tilts determines f (Zhang's calibration): exact on noise-free data.
+*/
+TEST(HandEye, OnePlaneAtOneTiltLeavesFUndeterminedAndNamesIt)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 73, 0.0);
+  const vpKinematicChain chain = sim.getNominalChain();
+  const vpCameraParameters cam = sim.getCamera();
+  vpKinematicBundleAdjustment::Options o;
+  o.hand_eye_only = true;
+  o.intrinsics = vpKinematicBundleAdjustment::FX;
+  o.tight = true;
+  std::map<int, vpColVector> X;
+  std::vector<vpHomogeneousMatrix> flat, tilted;
+  for (int k = 0; k < 8; ++k) {
+    flat.push_back(vpHomogeneousMatrix(0.03 * (k % 3 - 1), 0.03 * (k / 3 - 1), 0, 0, 0, 0.3 * k));
+    tilted.push_back(vpHomogeneousMatrix(0.03 * (k % 3 - 1), 0.03 * (k / 3 - 1), 0.02 * (k % 2), 0.25 * ((k % 3) - 1),
+                                         0.25 * ((k / 3) % 3 - 1), 0.3 * k));
+  }
+  vpCameraParameters start;
+  start.initPersProjWithoutDistortion(1400, 1400, cam.get_u0(), cam.get_v0());
+  const auto r = vpKinematicBundleAdjustment::adjust(chain, start, planeViews(chain, cam, flat, X),
+                                                     vpSelfCalibDataset::Yardstick(), X, o);
+  EXPECT_EQ(r.status, vpKinematicBundleAdjustment::RANK_DEFICIENT) << r.message;
+  ASSERT_FALSE(r.undetermined.empty()) << r.message;
+  EXPECT_NE(std::find(r.undetermined.begin(), r.undetermined.end(), "fx"), r.undetermined.end()) << r.message;
+  EXPECT_NE(r.message.find("not determined: "), std::string::npos) << r.message;
+  const auto t = vpKinematicBundleAdjustment::adjust(chain, start, planeViews(chain, cam, tilted, X),
+                                                     vpSelfCalibDataset::Yardstick(), X, o);
+  ASSERT_EQ(t.status, vpKinematicBundleAdjustment::OK) << t.message;
+  EXPECT_NEAR(t.camera.get_px(), cam.get_px(), 1e-6);
+}

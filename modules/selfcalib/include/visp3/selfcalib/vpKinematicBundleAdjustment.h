@@ -129,6 +129,11 @@ public:
     vpMatrix covariance;                     //!< identified parameters then estimated intrinsics
     std::vector<std::string> covariance_names;
     bool has_covariance = false;
+    /*!
+      RANK_DEFICIENT: the estimated parameters (corrections and intrinsics) along the direction the
+      data do not determine, the most involved first (also named in the message).
+    */
+    std::vector<std::string> undetermined;
     unsigned int num_observations = 0, num_outliers = 0;
     double rms = 0;                          //!< px, reprojection RMS over the kept observations
     double sigma0 = 0;                       //!< sqrt(2 cost / dof): about 1 when pixel_sd is right
