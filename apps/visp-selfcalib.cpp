@@ -376,6 +376,7 @@ struct CalibrateArgs {
   unsigned int calibration = 0;
   double pixel_sd = 0.2;
   std::vector<double> pose_sd; //!< robot pose error (m, rad) of controller poses; empty: exact
+  std::vector<std::string> estimate; //!< intrinsics estimated beside f: aspect, pp, distortion
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::vector<std::string> dot_grids;
   bool no_features = false;
@@ -431,6 +432,12 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
       ->delimiter(',')
       ->expected(2)
       ->check(selfcalibCli::number(0, true));
+  c->add_option("--estimate", a.estimate,
+                "intrinsics estimated with the calibration besides f (--focal): aspect (p_y / p_x),\n"
+                "pp (principal point), distortion (ViSP's radial k_ud); for nominal intrinsics")
+      ->type_name("WHAT[,WHAT...]")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"aspect", "pp", "distortion"}));
   c->add_option("--threads", a.threads,
                 "threads of the image front end (default: all cores); the results do not depend on it")
       ->type_name("N")
@@ -493,6 +500,10 @@ int calibrate(const CalibrateArgs &a)
   vpRobotSelfCalibration::Options po;
   po.focal_mode = vpRobotSelfCalibration::focalModeFromName(a.focal);
   po.pixel_sd = a.pixel_sd;
+  for (const std::string &e : a.estimate)
+    po.bundle.intrinsics |= e == "aspect"   ? vpKinematicBundleAdjustment::ASPECT
+                            : e == "pp"     ? vpKinematicBundleAdjustment::PRINCIPAL_POINT
+                                            : vpKinematicBundleAdjustment::DISTORTION;
   if (a.pose_sd.size() == 2) {
     po.bundle.pose_sd_translation = a.pose_sd[0];
     po.bundle.pose_sd_rotation = a.pose_sd[1];
