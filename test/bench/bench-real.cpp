@@ -1,0 +1,410 @@
+/*
+ * bench-real: hand-eye calibration on ViSP's real Franka data set (issue 18).
+ *
+ *   bench-real [--data DIR] [--csv FILE] [-h]
+ *
+ * DIR/visp-franka-eye-in-hand (ViSP's apps/calibration/hand-eye data: 8 views of a 9 x 6 chessboard,
+ * squares 0.0236 m, the flange poses fMe and the camera XML) is imported with vpSelfCalibImporter,
+ * its chessboard corners found with vpSelfCalibImageCorrespondences (board chessboard:9x6:0.0236,
+ * the ends of its first row as the yardstick), as `visp-selfcalib calibrate --board` does. Then, on
+ * all views (none held out):
+ *   1. HAND_EYE, corners as unknown scene points, f known, controller poses trusted (pixel_sd 0.2);
+ *   2. the same with the robot pose error modelled (3 mm / 3 mrad, sd scaled by sigma0: as
+ *      `calibrate --pose-sd 0.003,0.003`);
+ *   3. the same as 2 with f self-calibrated (FOCAL_SHARED, from the XML's px);
+ *   4. OpenCV on the same corners with the board's layout known: solvePnP per image with the XML
+ *      intrinsics, then calibrateHandEye (Tsai, Park, Daniilidis).
+ * Each is compared with the reference of shared/data/README.md (ViSP's published eMc; the three
+ * OpenCV methods agree with it within 0.6 mm and 0.9 mrad): translation difference per axis (mm),
+ * rotation difference as the theta-u of R_ref^T R_est (mrad), and, for our rows, the largest
+ * |difference| / reported sd over the six pose-vector components. Then issue 18's targets.
+ * Exit 77 (skipped) when the data folder is absent.
+ */
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+
+#include <visp3/core/vpException.h>
+#include <visp3/core/vpHomogeneousMatrix.h>
+#include <visp3/core/vpPoseVector.h>
+#include <visp3/core/vpThetaUVector.h>
+#include <visp3/selfcalib/vpBoardDetector.h>
+#include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibDataset.h>
+#include <visp3/selfcalib/vpSelfCalibImageCorrespondences.h>
+#include <visp3/selfcalib/vpSelfCalibImporter.h>
+
+#include "benchCommon.h"
+#include "selfcalibCli.h"
+
+#ifndef SELFCALIB_SHARED_DATA
+#define SELFCALIB_SHARED_DATA "../shared/data"
+#endif
+
+namespace
+{
+using Clock = std::chrono::steady_clock;
+constexpr int kSkipped = 77;
+const char *kFolder = "visp-franka-eye-in-hand";
+const char *kBoard = "chessboard:9x6:0.0236";
+
+//! shared/data/README.md: ViSP's published eMc (m, rad).
+vpHomogeneousMatrix referenceEMc()
+{
+  return vpHomogeneousMatrix(vpPoseVector(0.0577, -0.0339, -0.0423, 0.002, 0.0095, 1.5817));
+}
+
+//! One row of the table.
+struct Row {
+  std::string method;
+  std::string status;       //!< "ok" or the failure's status name
+  std::string message;      //!< the failure's message (printed below the table)
+  bool ok = false;          //!< an eMc to compare
+  vpPoseVector eMc;         //!< m, rad
+  bool has_sd = false;      //!< ours: the reported sd
+  vpColVector sd;           //!< per pose-vector component (m, rad)
+  double f = NAN, f_sd = NAN; //!< px; f_sd only when f was estimated
+  double seconds = 0;
+  bool ours = false;
+  // Differences to the reference.
+  vpColVector dt, dtu;      //!< m; theta-u of R_ref^T R_est (rad)
+  double dt_norm = NAN, dtu_norm = NAN, max_ratio = NAN;
+};
+
+void compare(Row &row, const vpHomogeneousMatrix &ref)
+{
+  if (!row.ok)
+    return;
+  const vpHomogeneousMatrix est(row.eMc);
+  const vpPoseVector ref_pose(ref);
+  row.dt.resize(3);
+  for (unsigned int k = 0; k < 3; ++k)
+    row.dt[k] = row.eMc[k] - ref_pose[k];
+  const vpThetaUVector tu(ref.getRotationMatrix().t() * est.getRotationMatrix());
+  row.dtu.resize(3);
+  for (unsigned int k = 0; k < 3; ++k)
+    row.dtu[k] = tu[k];
+  row.dt_norm = row.dt.frobeniusNorm();
+  row.dtu_norm = row.dtu.frobeniusNorm();
+  if (row.has_sd) {
+    // The sd is that of the pose vector's components: the ratio compares like with like (the
+    // theta-u components' difference, not the relative rotation's).
+    row.max_ratio = 0;
+    for (unsigned int k = 0; k < 6; ++k)
+      row.max_ratio = std::max(row.max_ratio, std::fabs(row.eMc[k] - ref_pose[k]) / row.sd[k]);
+  }
+}
+
+std::string fixed(double v, int precision)
+{
+  if (!std::isfinite(v))
+    return "–";
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  os.precision(precision);
+  os << v;
+  return os.str();
+}
+
+//! "(a, b, c)" of v[first..first+2] times unit.
+std::string triple(const vpColVector &v, unsigned int first, double unit, int precision)
+{
+  if (v.size() < first + 3)
+    return "–";
+  return "(" + fixed(unit * v[first], precision) + ", " + fixed(unit * v[first + 1], precision) + ", " +
+         fixed(unit * v[first + 2], precision) + ")";
+}
+
+vpColVector poseColumn(const vpPoseVector &p)
+{
+  vpColVector v(6);
+  for (unsigned int k = 0; k < 6; ++k)
+    v[k] = p[k];
+  return v;
+}
+
+Row ours(const std::string &method, const vpKinematicChain &nominal, const vpSelfCalibDataset &ds,
+         const vpRobotSelfCalibration::Options &po)
+{
+  Row row;
+  row.method = method;
+  row.ours = true;
+  const Clock::time_point t0 = Clock::now();
+  const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(nominal, ds, po);
+  row.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  row.status = vpRobotSelfCalibration::statusName(r.status);
+  if (r.status != vpRobotSelfCalibration::OK) {
+    row.message = r.message;
+    return row;
+  }
+  if (!r.has_eMc) {
+    row.status += " (no eMc)";
+    return row;
+  }
+  row.ok = true;
+  row.eMc = r.eMc;
+  row.has_sd = true;
+  row.sd = r.eMc_sd;
+  row.f = r.camera.get_px();
+  if (po.focal_mode != vpRobotSelfCalibration::FOCAL_KNOWN)
+    row.f_sd = r.fx_sd;
+  return row;
+}
+
+cv::Mat toCv(const vpRotationMatrix &R)
+{
+  cv::Mat m(3, 3, CV_64F);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      m.at<double>(i, j) = R[i][j];
+  return m;
+}
+
+cv::Mat toCv(const vpTranslationVector &t) { return (cv::Mat_<double>(3, 1) << t[0], t[1], t[2]); }
+
+const char *metText(bool met) { return met ? "met" : "NOT met"; }
+} // namespace
+
+int main(int argc, char **argv)
+{
+  try {
+    std::string data = SELFCALIB_SHARED_DATA, csv_path;
+    CLI::App app("bench-real: hand-eye calibration on ViSP's real Franka data set (issue 18): ours, with the\n"
+                 "board's corners as unknown scene points, against OpenCV's board-based hand-eye.",
+                 "bench-real");
+    app.add_option("--data", data, "the shared data folder holding " + std::string(kFolder) + " (default " +
+                                       std::string(SELFCALIB_SHARED_DATA) + ")")
+        ->type_name("DIR");
+    app.add_option("--csv", csv_path, "one row per method")->type_name("FILE");
+    const int parsed = selfcalibCli::parse(app, argc, argv);
+    if (parsed >= 0)
+      return parsed;
+
+    const std::string folder = data + "/" + kFolder;
+    if (!std::filesystem::is_directory(folder)) { // (vpIoTools::checkDirectory wants it writable)
+      std::cout << "SKIPPED: the real data set " << folder << " is absent (shared/data beside the repository, or --data DIR)\n";
+      return kSkipped;
+    }
+
+    // Import, as `visp-selfcalib import` (then the same text round trip as its dataset file: the
+    // controller poses are those `calibrate` reads).
+    const vpSelfCalibImporter::Result imp = vpSelfCalibImporter::import(folder);
+    vpSelfCalibDataset ds = vpSelfCalibDataset::fromYamlString(imp.dataset.toYamlString());
+    const vpKinematicChain nominal =
+        imp.has_robot_model ? imp.robot_model : vpKinematicChain::fromPresetOrFile(ds.robot);
+    const vpSelfCalibDataset imported = ds; // views as given, for OpenCV
+    const vpCameraParameters cam = ds.cam;
+    const double f_xml = cam.get_px();
+
+    // The board's corners, as `calibrate --board chessboard:9x6:0.0236`.
+    vpSelfCalibImageCorrespondences::Options co;
+    co.front_end.features = false;
+    co.board = vpBoardDetector::parse(kBoard);
+    co.method = vpRobotSelfCalibration::HAND_EYE;
+    cv::setNumThreads(1);
+    const Clock::time_point t_board = Clock::now();
+    const vpSelfCalibImageCorrespondences::Result cr = vpSelfCalibImageCorrespondences::fromDatasetImages(ds, co);
+    const double board_seconds = std::chrono::duration<double>(Clock::now() - t_board).count();
+    const unsigned int m = static_cast<unsigned int>(ds.views.size());
+
+    std::cout << "bench-real: " << folder << "\n"
+              << imported.views.size() << " views, camera XML px " << std::setprecision(6) << f_xml << " px, robot "
+              << nominal.getName() << "; board " << kBoard << " found in " << cr.board_images << " of "
+              << imported.views.size() << " images (" << fixed(board_seconds, 2) << " s)";
+    if (cr.board_yardstick)
+      std::cout << ", yardstick: the ends of its first row, " << ds.yardstick.length << " m";
+    std::cout << "\n";
+    for (const std::string &w : cr.warnings)
+      std::cout << "warning: " << w << "\n";
+    std::cout << "reference eMc (shared/data/README.md): t (57.7, -33.9, -42.3) mm, theta-u (2.0, 9.5, 1581.7) mrad\n\n";
+
+    const vpHomogeneousMatrix ref = referenceEMc();
+    std::vector<Row> rows;
+
+    // Ours: HAND_EYE on every view, corners as unknown scene points.
+    vpRobotSelfCalibration::Options po;
+    po.method = vpRobotSelfCalibration::HAND_EYE;
+    po.num_calibration_poses = m;
+    po.pixel_sd = 0.2;
+    po.focal_mode = vpRobotSelfCalibration::FOCAL_KNOWN;
+    rows.push_back(ours("1. ours, f known, poses trusted", nominal, ds, po));
+    po.bundle.pose_sd_translation = 0.003; // as calibrate --pose-sd 0.003,0.003
+    po.bundle.pose_sd_rotation = 0.003;
+    po.bundle.scale_covariance = true;
+    rows.push_back(ours("2. ours, f known, pose sd 3 mm / 3 mrad", nominal, ds, po));
+    po.focal_mode = vpRobotSelfCalibration::FOCAL_SHARED; // from the dataset's px
+    rows.push_back(ours("3. ours, f self-calibrated, pose sd 3 mm / 3 mrad", nominal, ds, po));
+
+    // OpenCV: PnP on the same corners with the board's layout and the XML intrinsics, then calibrateHandEye.
+    {
+      const Clock::time_point t0 = Clock::now();
+      const vpBoardDetector detector(*co.board);
+      const std::map<int, vpColVector> layout = detector.getLayout();
+      const cv::Mat K = (cv::Mat_<double>(3, 3) << cam.get_px(), 0, cam.get_u0(), 0, cam.get_py(), cam.get_v0(), 0, 0, 1);
+      std::vector<cv::Mat> R_g2b, t_g2b, R_t2c, t_t2c;
+      for (size_t i = 0; i < cr.board.size() && i < imported.views.size(); ++i) {
+        if (!cr.board[i].found || !imported.views[i].has_fMe)
+          continue;
+        std::vector<cv::Point3d> object;
+        std::vector<cv::Point2d> image;
+        for (const auto &o : cr.board[i].corners) {
+          const auto it = layout.find(o.id);
+          if (it == layout.end())
+            continue;
+          object.emplace_back(it->second[0], it->second[1], it->second[2]);
+          image.emplace_back(o.ip.get_u(), o.ip.get_v());
+        }
+        cv::Mat rvec, tvec, R;
+        if (object.size() < 4 || !cv::solvePnP(object, image, K, cv::Mat(), rvec, tvec))
+          continue;
+        cv::Rodrigues(rvec, R);
+        R_t2c.push_back(R);
+        t_t2c.push_back(tvec);
+        const vpHomogeneousMatrix &fMe = imported.views[i].fMe;
+        R_g2b.push_back(toCv(fMe.getRotationMatrix()));
+        t_g2b.push_back(toCv(fMe.getTranslationVector()));
+      }
+      const double pnp_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+      const std::pair<const char *, cv::HandEyeCalibrationMethod> methods[3] = {
+          {"4a. OpenCV PnP + calibrateHandEye Tsai", cv::CALIB_HAND_EYE_TSAI},
+          {"4b. OpenCV PnP + calibrateHandEye Park", cv::CALIB_HAND_EYE_PARK},
+          {"4c. OpenCV PnP + calibrateHandEye Daniilidis", cv::CALIB_HAND_EYE_DANIILIDIS}};
+      for (const auto &method : methods) {
+        Row row;
+        row.method = method.first;
+        row.f = f_xml;
+        const Clock::time_point t1 = Clock::now();
+        if (R_g2b.size() < 3) {
+          row.status = "failed";
+          row.message = "the board's pose in fewer than 3 views";
+        } else {
+          cv::Mat R, t;
+          cv::calibrateHandEye(R_g2b, t_g2b, R_t2c, t_t2c, R, t, method.second);
+          vpHomogeneousMatrix eMc;
+          for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j)
+              eMc[i][j] = R.at<double>(i, j);
+            eMc[i][3] = t.at<double>(i, 0);
+          }
+          row.ok = true;
+          row.status = "ok";
+          row.eMc.buildFrom(eMc);
+        }
+        row.seconds = pnp_seconds + std::chrono::duration<double>(Clock::now() - t1).count();
+        rows.push_back(row);
+      }
+    }
+
+    for (Row &row : rows)
+      compare(row, ref);
+
+    // The table.
+    std::cout << "| method | status | eMc t (mm) | theta-u (mrad) | dt (mm) | \\|dt\\| (mm) | dtheta-u (mrad) | "
+                 "\\|dtheta-u\\| (mrad) | sd t (mm) | sd theta-u (mrad) | max \\|diff\\|/sd | f (px) | time (s) |\n"
+              << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const Row &row : rows) {
+      const vpColVector pose = row.ok ? poseColumn(row.eMc) : vpColVector();
+      std::string f = fixed(row.f, 2);
+      if (std::isfinite(row.f_sd))
+        f += " +- " + fixed(row.f_sd, 2);
+      std::cout << "| " << row.method << " | " << row.status << " | " << triple(pose, 0, 1e3, 2) << " | "
+                << triple(pose, 3, 1e3, 2) << " | " << triple(row.dt, 0, 1e3, 2) << " | " << fixed(1e3 * row.dt_norm, 2)
+                << " | " << triple(row.dtu, 0, 1e3, 2) << " | " << fixed(1e3 * row.dtu_norm, 2) << " | "
+                << (row.has_sd ? triple(row.sd, 0, 1e3, 2) : "–") << " | "
+                << (row.has_sd ? triple(row.sd, 3, 1e3, 2) : "–") << " | " << fixed(row.max_ratio, 2) << " | " << f
+                << " | " << fixed(row.seconds, 2) << " |\n";
+    }
+    for (size_t i = 0; i < rows.size(); ++i)
+      if (!rows[i].message.empty())
+        std::cout << "\nrow " << i + 1 << " (" << rows[i].method << "): " << rows[i].status << ": " << rows[i].message
+                  << "\n";
+    std::cout << "\ndt: t_est - t_ref per axis; dtheta-u: theta-u of R_ref^T R_est; max |diff|/sd: over the six\n"
+                 "pose-vector components (tx, ty, tz, tux, tuy, tuz), est - ref over the reported sd. The reference\n"
+                 "is given to 0.1 mm / 0.1 mrad. Times: run() for ours (the board detection above is shared), PnP\n"
+                 "and calibrateHandEye for OpenCV.\n";
+
+    if (csv_path.size()) {
+      bench::Csv csv(csv_path, "method,status,tx_mm,ty_mm,tz_mm,tux_mrad,tuy_mrad,tuz_mrad,dtx_mm,dty_mm,dtz_mm,dt_norm_mm,"
+                               "dtux_mrad,dtuy_mrad,dtuz_mrad,dtu_norm_mrad,sd_tx_mm,sd_ty_mm,sd_tz_mm,sd_tux_mrad,"
+                               "sd_tuy_mrad,sd_tuz_mrad,max_ratio,f_px,f_sd_px,time_s");
+      for (const Row &row : rows) {
+        std::ostream &o = csv.row();
+        std::string status = row.status;
+        std::replace(status.begin(), status.end(), '"', '\'');
+        std::string message = row.message;
+        std::replace(message.begin(), message.end(), '"', '\'');
+        o << std::setprecision(10) << "\"" << row.method << "\",\"" << status << (message.empty() ? "" : ": ")
+          << message << "\"";
+        for (unsigned int k = 0; k < 6; ++k)
+          o << "," << (row.ok ? 1e3 * row.eMc[k] : NAN);
+        for (unsigned int k = 0; k < 3; ++k)
+          o << "," << (row.ok ? 1e3 * row.dt[k] : NAN);
+        o << "," << 1e3 * row.dt_norm;
+        for (unsigned int k = 0; k < 3; ++k)
+          o << "," << (row.ok ? 1e3 * row.dtu[k] : NAN);
+        o << "," << 1e3 * row.dtu_norm;
+        for (unsigned int k = 0; k < 6; ++k)
+          o << "," << (row.has_sd ? 1e3 * row.sd[k] : NAN);
+        o << "," << row.max_ratio << "," << row.f << "," << row.f_sd << "," << row.seconds << "\n";
+      }
+    }
+
+    // Issue 18's targets.
+    auto perAxis = [](const Row &row, double t_max, double r_max) {
+      if (!row.ok)
+        return false;
+      for (unsigned int k = 0; k < 3; ++k)
+        if (!(std::fabs(row.dt[k]) <= t_max && std::fabs(row.dtu[k]) <= r_max))
+          return false;
+      return true;
+    };
+    auto norms = [](const Row &row, double t_max, double r_max) {
+      return row.ok && row.dt_norm <= t_max && row.dtu_norm <= r_max;
+    };
+    const Row &r2 = rows[1], &r3 = rows[2];
+    std::cout << "\ntargets (issue 18):\n";
+    std::cout << "- row 2 within 3 mm and 5 mrad of the reference: norms " << fixed(1e3 * r2.dt_norm, 2) << " mm, "
+              << fixed(1e3 * r2.dtu_norm, 2) << " mrad: " << metText(norms(r2, 0.003, 0.005)) << "; per axis: "
+              << metText(perAxis(r2, 0.003, 0.005)) << "\n";
+    const bool f_met = r3.ok && std::fabs(r3.f - f_xml) <= 0.01 * f_xml;
+    std::cout << "- row 3 f within 1 % of the XML px " << fixed(f_xml, 2) << ": " << fixed(r3.f, 2) << " px ("
+              << fixed(r3.ok ? 100 * (r3.f - f_xml) / f_xml : NAN, 2) << " %): " << metText(f_met) << "\n";
+    std::cout << "- row 3 eMc within 5 mm and 5 mrad: norms " << fixed(1e3 * r3.dt_norm, 2) << " mm, "
+              << fixed(1e3 * r3.dtu_norm, 2) << " mrad: " << metText(norms(r3, 0.005, 0.005))
+              << "; per axis: " << metText(perAxis(r3, 0.005, 0.005)) << "\n";
+    for (size_t i = 0; i < rows.size(); ++i) {
+      if (!rows[i].ours)
+        continue;
+      std::cout << "- row " << i + 1 << " max |diff|/sd <= 3: ";
+      if (!rows[i].ok)
+        std::cout << "NOT met (no estimate: " << rows[i].status << ", see above)\n";
+      else
+        std::cout << fixed(rows[i].max_ratio, 2) << ": " << metText(rows[i].max_ratio <= 3) << "\n";
+    }
+    bool fast = true;
+    double slowest = 0;
+    for (const Row &row : rows) {
+      fast = fast && row.seconds < 10;
+      slowest = std::max(slowest, row.seconds);
+    }
+    std::cout << "- every row under 10 s: slowest " << fixed(slowest, 2) << " s: " << metText(fast) << "\n";
+    return EXIT_SUCCESS;
+  } catch (const vpException &e) {
+    std::cerr << "bench-real: " << e.getStringMessage() << "\n";
+  } catch (const std::exception &e) {
+    std::cerr << "bench-real: " << e.what() << "\n";
+  }
+  return EXIT_FAILURE;
+}
