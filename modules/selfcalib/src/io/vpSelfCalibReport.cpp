@@ -11,8 +11,8 @@
 #include <iomanip>
 #include <sstream>
 
-#include <visp3/core/vpMeterPixelConversion.h>
 
+#include "../core/vpSelfCalibCamera.h"
 #include "vpSelfCalibYaml.h"
 
 using namespace vpSelfCalib;
@@ -27,6 +27,7 @@ std::vector<std::vector<double>> residuals(const vpKinematicChain &model, const 
   if (views.size() < 2)
     return out;
   const std::map<int, vpColVector> X = vpCalibrationVerifier::triangulate(model, cam, views);
+  const vpSelfCalib::CameraModel camera = vpSelfCalib::CameraModel::fromVisp(cam);
   for (size_t k = 0; k < views.size(); ++k) {
     const vpHomogeneousMatrix cMf = vpCalibrationVerifier::cameraPose(model, views[k]).inverse();
     for (const auto &o : views[k].points) {
@@ -39,9 +40,8 @@ std::vector<std::vector<double>> residuals(const vpKinematicChain &model, const 
       const vpColVector c = cMf * P;
       if (!(c[2] > 0))
         continue;
-      double u = 0, v = 0;
-      vpMeterPixelConversion::convertPoint(cam, c[0] / c[2], c[1] / c[2], u, v);
-      out[k].push_back(std::hypot(u - o.ip.get_u(), v - o.ip.get_v()));
+      const Eigen::Vector2d uv = camera.project(Eigen::Vector3d(c[0], c[1], c[2]));
+      out[k].push_back(std::hypot(uv(0) - o.ip.get_u(), uv(1) - o.ip.get_v()));
     }
   }
   return out;

@@ -10,6 +10,7 @@
 #include <ceres/ceres.h>
 
 #include "../core/vpSelfCalibCeres.h"
+#include "../core/vpSelfCalibCamera.h"
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibRandom.h"
 
@@ -228,12 +229,13 @@ bool vpSelfCalibSimulator::isVisible(const vpColVector &q) const
 {
   const Rigid cMf = rigidFromVisp(m_true.get_fMc(q)).inverse();
   const double m = m_opt.image_margin;
+  const CameraModel camera = CameraModel::pinhole(m_opt.px, m_opt.py, m_opt.u0, m_opt.v0);
   for (const vpColVector &X : m_points) {
     const Eigen::Vector3d Xc = cMf * vec3(X);
     if (!(Xc.z() > 1e-3))
       return false;
-    const double u = m_opt.u0 + m_opt.px * Xc.x() / Xc.z();
-    const double v = m_opt.v0 + m_opt.py * Xc.y() / Xc.z();
+    const Eigen::Vector2d uv = camera.project(Xc);
+    const double u = uv(0), v = uv(1);
     if (u < m || v < m || u > m_opt.width - 1 - m || v > m_opt.height - 1 - m)
       return false;
   }
@@ -295,6 +297,7 @@ std::vector<vpSelfCalibDataset::Observation> vpSelfCalibSimulator::observe(const
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpSelfCalibSimulator::observe: non-finite noise");
   Random noise(m_opt.seed, kNoise + view_index);
   const Rigid cMf = rigidFromVisp(m_true.get_fMc(q)).inverse();
+  const CameraModel camera = CameraModel::pinhole(m_opt.px, m_opt.py, m_opt.u0, m_opt.v0);
   std::vector<vpSelfCalibDataset::Observation> obs;
   for (size_t i = 0; i < m_points.size(); ++i) {
     const Eigen::Vector3d Xc = cMf * vec3(m_points[i]);
@@ -302,8 +305,8 @@ std::vector<vpSelfCalibDataset::Observation> vpSelfCalibSimulator::observe(const
     const double nu = noise.normal(sd), nv = noise.normal(sd);
     if (!(Xc.z() > 1e-3))
       continue;
-    const double u = m_opt.u0 + m_opt.px * Xc.x() / Xc.z() + nu;
-    const double v = m_opt.v0 + m_opt.py * Xc.y() / Xc.z() + nv;
+    const Eigen::Vector2d uv = camera.project(Xc);
+    const double u = uv(0) + nu, v = uv(1) + nv;
     if (u < 0 || v < 0 || u > m_opt.width - 1 || v > m_opt.height - 1)
       continue;
     vpSelfCalibDataset::Observation o;
