@@ -13,6 +13,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -83,6 +84,29 @@ inline int parse(CLI::App &app, int argc, char **argv)
   }
 }
 
+//! The benchmarks' common options: --seeds N (seeds 1..N, at least 1).
+inline void addSeeds(CLI::App &app, unsigned int &seeds)
+{
+  app.add_option("--seeds", seeds, "seeds 1..N (default " + std::to_string(seeds) + ")")
+      ->type_name("N")
+      ->check(wholeNumber(1));
+}
+
+//! --noise A,B: pixel noise levels (px), at least 0, or above 0 when strictly_positive.
+inline void addNoiseLevels(CLI::App &app, std::vector<double> &noises, const std::string &help,
+                           bool strictly_positive = false)
+{
+  app.add_option("--noise", noises, help)->type_name("A,B")->delimiter(',')->check(number(0, strictly_positive));
+}
+
+//! --robots A,B: robot presets among the given names.
+inline void addRobots(CLI::App &app, std::vector<std::string> &robots, const std::vector<std::string> &presets)
+{
+  app.add_option("--robots", robots, "puma560, viper850 (default both)")
+      ->type_name("A,B")
+      ->delimiter(',')
+      ->check(CLI::IsMember(presets));
+}
 } // namespace selfcalibCli
 
 #endif

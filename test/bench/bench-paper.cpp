@@ -68,15 +68,9 @@ int main(int argc, char **argv)
     CLI::App app("bench-paper: the paper's simulation study (Section 4.2) with its method on the reference scenario,\n"
                  "random (\"initial\") trajectories: Table 2, Figure 6 and the wall time.",
                  "bench-paper");
-    app.add_option("--seeds", seeds, "seeds 1..N (default 10)")->type_name("N")->check(selfcalibCli::wholeNumber(1));
-    app.add_option("--noise", noises, "pixel noise levels (default 0,0.2,0.5: noise-free, the paper's I and II)")
-        ->type_name("A,B")
-        ->delimiter(',')
-        ->check(selfcalibCli::number(0));
-    app.add_option("--robots", robots, "puma560, viper850 (default both)")
-        ->type_name("A,B")
-        ->delimiter(',')
-        ->check(CLI::IsMember(vpKinematicChain::presetNames()));
+    selfcalibCli::addSeeds(app, seeds);
+    selfcalibCli::addNoiseLevels(app, noises, "pixel noise levels (default 0,0.2,0.5: noise-free, the paper's I and II)");
+    selfcalibCli::addRobots(app, robots, vpKinematicChain::presetNames());
     app.add_option("--focal", focals,
                    "focal modes: shared (self-calibrated, default), known, per-pair (the\n"
                    "paper; degenerate on this scenario) (default shared,known)")

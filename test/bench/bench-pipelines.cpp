@@ -110,18 +110,13 @@ int main(int argc, char **argv)
     CLI::App app("bench-pipelines: the default pipeline against the paper's pipeline, the nominal model and the\n"
                  "Cramer-Rao bound, on the same data; then the default pipeline's wall time at scale.",
                  "bench-pipelines");
-    app.add_option("--seeds", seeds, "seeds 1..N (default 10)")->type_name("N")->check(selfcalibCli::wholeNumber(1));
+    selfcalibCli::addSeeds(app, seeds);
     app.add_option("--draws", draws, "extra noise draws of each seed's geometry for the default (default 5)")
         ->type_name("K")
         ->check(selfcalibCli::wholeNumber());
-    app.add_option("--robots", robots, "puma560, viper850 (default both)")
-        ->type_name("A,B")
-        ->delimiter(',')
-        ->check(CLI::IsMember(vpKinematicChain::presetNames()));
-    app.add_option("--noise", noises, "pixel noise levels, above 0: the bound needs noise (default 0.2,0.5)")
-        ->type_name("A,B")
-        ->delimiter(',')
-        ->check(selfcalibCli::number(0, true));
+    selfcalibCli::addRobots(app, robots, vpKinematicChain::presetNames());
+    selfcalibCli::addNoiseLevels(app, noises, "pixel noise levels, above 0: the bound needs noise (default 0.2,0.5)",
+                                 true);
     app.add_option("--focal", focal, "shared (default) or known")
         ->type_name("MODE")
         ->check(CLI::IsMember(

@@ -53,15 +53,9 @@ int main(int argc, char **argv)
     std::string algorithm = "lbfgs", ratio_cost = "consecutive";
     CLI::App app("bench-planner: the paper's optimal measurement trajectory (Section 3.3) against the initial one.",
                  "bench-planner");
-    app.add_option("--seeds", seeds, "seeds 1..N (default 10)")->type_name("N")->check(selfcalibCli::wholeNumber(1));
-    app.add_option("--noise", noises, "pixel noise levels (default 0,0.2,0.5)")
-        ->type_name("A,B")
-        ->delimiter(',')
-        ->check(selfcalibCli::number(0));
-    app.add_option("--robots", robots, "puma560, viper850 (default both)")
-        ->type_name("A,B")
-        ->delimiter(',')
-        ->check(CLI::IsMember(vpKinematicChain::presetNames()));
+    selfcalibCli::addSeeds(app, seeds);
+    selfcalibCli::addNoiseLevels(app, noises, "pixel noise levels (default 0,0.2,0.5)");
+    selfcalibCli::addRobots(app, robots, vpKinematicChain::presetNames());
     app.add_option("--focal", focal, "shared (default), known or per-pair")
         ->type_name("MODE")
         ->check(CLI::IsMember(

@@ -180,11 +180,8 @@ int main(int argc, char **argv)
     double fx_guess = 1400;
     CLI::App app("bench-twoview: the two-view pose measurement (paper Section 3.1) on the reference scenario.",
                  "bench-twoview");
-    app.add_option("--seeds", seeds, "seeds 1..N (default 10)")->type_name("N")->check(selfcalibCli::wholeNumber(1));
-    app.add_option("--noise", noises, "pixel noise levels (default 0.2,0.5)")
-        ->type_name("A,B")
-        ->delimiter(',')
-        ->check(selfcalibCli::number(0));
+    selfcalibCli::addSeeds(app, seeds);
+    selfcalibCli::addNoiseLevels(app, noises, "pixel noise levels (default 0.2,0.5)");
     app.add_option("--robot", robot, "viper850 (default) or puma560")
         ->type_name("NAME")
         ->check(CLI::IsMember(vpKinematicChain::presetNames()));
