@@ -381,6 +381,7 @@ struct CalibrateArgs {
   std::vector<std::string> dot_grids;
   bool no_features = false;
   std::string board;
+  bool board_geometry = false; //!< the board's layout as a prior on its points
   bool with_features = false;
 };
 
@@ -474,6 +475,10 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
               },
               std::string()));
   c->add_flag("--with-features", a.with_features, "with --board: natural features too")->needs(board)->excludes(no_features);
+  c->add_flag("--board-geometry", a.board_geometry,
+              "with --board: its layout is known (a 0.1 mm prior on its points, its pose estimated);\n"
+              "without it the board's points are unknown scene points")
+      ->needs(board);
   c->footer("Self-calibrates on the first N views and verifies on the others. Writes DIR/model.yaml,\n"
             "DIR/model.urdf, DIR/camera.xml, DIR/results.yaml and DIR/report/ (report.md, gnuplot figures),\n"
             "each atomically, never over an input. The data check's findings are printed as warnings.\n"
@@ -500,6 +505,8 @@ int calibrate(const CalibrateArgs &a)
   vpRobotSelfCalibration::Options po;
   po.focal_mode = vpRobotSelfCalibration::focalModeFromName(a.focal);
   po.pixel_sd = a.pixel_sd;
+  if (a.board_geometry)
+    po.bundle.known_points = vpBoardDetector(*co.board).getLayout();
   for (const std::string &e : a.estimate)
     po.bundle.intrinsics |= e == "aspect"   ? vpKinematicBundleAdjustment::ASPECT
                             : e == "pp"     ? vpKinematicBundleAdjustment::PRINCIPAL_POINT

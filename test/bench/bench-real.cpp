@@ -246,6 +246,10 @@ int main(int argc, char **argv)
     rows.push_back(ours("2. ours, f known, pose sd 3 mm / 3 mrad", nominal, ds, po));
     po.focal_mode = vpRobotSelfCalibration::FOCAL_SHARED; // from the dataset's px
     rows.push_back(ours("3. ours, f self-calibrated, pose sd 3 mm / 3 mrad", nominal, ds, po));
+    // Board mode: the board's layout as a prior on its points (calibrate --board-geometry).
+    po.focal_mode = vpRobotSelfCalibration::FOCAL_KNOWN;
+    po.bundle.known_points = vpBoardDetector(*co.board).getLayout();
+    rows.push_back(ours("4. ours, board layout known, f known, pose sd 3 mm / 3 mrad", nominal, ds, po));
 
     // OpenCV: PnP on the same corners with the board's layout and the XML intrinsics, then calibrateHandEye.
     {
@@ -278,9 +282,9 @@ int main(int argc, char **argv)
       }
       const double pnp_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
       const std::pair<const char *, cv::HandEyeCalibrationMethod> methods[3] = {
-          {"4a. OpenCV PnP + calibrateHandEye Tsai", cv::CALIB_HAND_EYE_TSAI},
-          {"4b. OpenCV PnP + calibrateHandEye Park", cv::CALIB_HAND_EYE_PARK},
-          {"4c. OpenCV PnP + calibrateHandEye Daniilidis", cv::CALIB_HAND_EYE_DANIILIDIS}};
+          {"5a. OpenCV PnP + calibrateHandEye Tsai", cv::CALIB_HAND_EYE_TSAI},
+          {"5b. OpenCV PnP + calibrateHandEye Park", cv::CALIB_HAND_EYE_PARK},
+          {"5c. OpenCV PnP + calibrateHandEye Daniilidis", cv::CALIB_HAND_EYE_DANIILIDIS}};
       for (const auto &method : methods) {
         Row row;
         row.method = method.first;
@@ -373,7 +377,7 @@ int main(int argc, char **argv)
     auto norms = [](const Row &row, double t_max, double r_max) {
       return row.ok && row.dt_norm <= t_max && row.dtu_norm <= r_max;
     };
-    const Row &r2 = rows[1], &r3 = rows[2];
+    const Row &r2 = rows[1], &r3 = rows[2], &r4 = rows[3];
     std::cout << "\ntargets (issue 18):\n";
     std::cout << "- row 2 within 3 mm and 5 mrad of the reference: norms " << fixed(1e3 * r2.dt_norm, 2) << " mm, "
               << fixed(1e3 * r2.dtu_norm, 2) << " mrad: " << metText(norms(r2, 0.003, 0.005)) << "; per axis: "
@@ -384,6 +388,9 @@ int main(int argc, char **argv)
     std::cout << "- row 3 eMc within 5 mm and 5 mrad: norms " << fixed(1e3 * r3.dt_norm, 2) << " mm, "
               << fixed(1e3 * r3.dtu_norm, 2) << " mrad: " << metText(norms(r3, 0.005, 0.005))
               << "; per axis: " << metText(perAxis(r3, 0.005, 0.005)) << "\n";
+    std::cout << "- row 4 (board mode) within 2 mm and 2 mrad: norms " << fixed(1e3 * r4.dt_norm, 2) << " mm, "
+              << fixed(1e3 * r4.dtu_norm, 2) << " mrad: " << metText(norms(r4, 0.002, 0.002))
+              << "; per axis: " << metText(perAxis(r4, 0.002, 0.002)) << "\n";
     for (size_t i = 0; i < rows.size(); ++i) {
       if (!rows[i].ours)
         continue;

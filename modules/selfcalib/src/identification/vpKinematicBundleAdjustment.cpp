@@ -12,7 +12,9 @@
 #include <set>
 #include <sstream>
 
+#include <Eigen/Geometry>
 #include <ceres/ceres.h>
+#include <ceres/rotation.h>
 
 #include "../core/vpSelfCalibCamera.h"
 #include "../core/vpSelfCalibCeres.h"
@@ -249,6 +251,21 @@ struct PosePriorCost {
   double wt, wr;
 };
 
+//! (X - (R(o_r) L + o_t)) / sd: a point of known geometry L (object frame) and the object's pose o.
+struct KnownPointCost {
+  KnownPointCost(const vpColVector &L, double sd) : L_{L[0], L[1], L[2]}, w(1 / sd) {}
+  template <typename T> bool operator()(const T *o, const T *X, T *r) const
+  {
+    const T L[3] = {T(L_[0]), T(L_[1]), T(L_[2])};
+    T p[3];
+    ceres::AngleAxisRotatePoint(o + 3, L, p);
+    for (int i = 0; i < 3; ++i)
+      r[i] = (X[i] - (p[i] + o[i])) * T(w);
+    return true;
+  }
+  double L_[3], w;
+};
+
 //! (|X_a - X_b| - L) / sd: the yardstick fixes the scale.
 struct YardstickCost {
   YardstickCost(double length, double sd) : L(length), w(1 / sd) {}
@@ -452,6 +469,9 @@ struct Adjustment {
   bool scale_covariance = false;
   bool has_yardstick = false;
   int P = 0;
+  //! Known geometry (Options::known_points): the object's pose (t, theta u) in f, when used.
+  std::array<double, 6> object{0, 0, 0, 0, 0, 0};
+  bool has_object = false;
 
   bool reproject(size_t n, double uv[2])
   {
@@ -489,6 +509,40 @@ struct Adjustment {
     return e;
   }
 };
+
+/*
+  Stage 2, known geometry: the object's start pose, the rigid fit (Umeyama, no scale) of its layout
+  to the start points it has among the reconstructed ones. A caller mistake when fewer than 3 of them
+  are there or a layout entry is not a finite 3-vector.
+*/
+void startObject(const std::map<int, vpColVector> &layout, Adjustment &a)
+{
+  std::vector<int> ids;
+  for (const auto &e : layout) {
+    if (e.second.size() != 3 || !allFinite(e.second))
+      throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicBundleAdjustment: known point " +
+                                                                     std::to_string(e.first) +
+                                                                     " is not a finite 3-vector");
+    if (a.X.count(e.first))
+      ids.push_back(e.first);
+  }
+  if (ids.size() < 3)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment: only " + std::to_string(ids.size()) +
+                                   " of the known points are observed in two views; at least 3 are needed");
+  Eigen::Matrix3Xd L(3, ids.size()), X(3, ids.size());
+  for (size_t i = 0; i < ids.size(); ++i) {
+    L.col(static_cast<Eigen::Index>(i)) = vec3(layout.at(ids[i]));
+    X.col(static_cast<Eigen::Index>(i)) = a.X[ids[i]];
+  }
+  const Eigen::Matrix4d T = Eigen::umeyama(L, X, false);
+  const Eigen::Vector3d r = logSO3(T.topLeftCorner<3, 3>());
+  for (int i = 0; i < 3; ++i) {
+    a.object[i] = T(i, 3);
+    a.object[3 + i] = r(i);
+  }
+  a.has_object = true;
+}
 
 /*
   Stage 3, one Ceres problem of the schedule: the kept observations (robust loss of the given scale,
@@ -542,6 +596,15 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
                                   new PosePriorCost(opt.pose_sd_translation, opt.pose_sd_rotation)),
                               nullptr, a.state.delta[k].data());
     order->AddElementToGroup(a.state.delta[k].data(), 4 + static_cast<int>(k));
+  }
+  if (a.has_object) {
+    for (const auto &e : opt.known_points)
+      if (a.X.count(e.first) && problem->HasParameterBlock(a.X[e.first].data()))
+        problem->AddResidualBlock(new ceres::AutoDiffCostFunction<KnownPointCost, 3, 6, 3>(
+                                      new KnownPointCost(e.second, opt.known_points_sd)),
+                                  nullptr, a.object.data(), a.X[e.first].data());
+    if (problem->HasParameterBlock(a.object.data()))
+      order->AddElementToGroup(a.object.data(), 4 + static_cast<int>(a.state.delta.size()));
   }
   if (a.free_in.empty())
     problem->SetParameterBlockConstant(a.in);
@@ -657,6 +720,8 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
     }
   for (auto &d : a.state.delta)
     kept.push_back(d.data());
+  if (a.has_object && problem.HasParameterBlock(a.object.data()))
+    kept.push_back(a.object.data());
   for (const auto &e : a.X.index())
     if (!ends.count(a.X[e.first].data()) && problem.HasParameterBlock(a.X[e.first].data()))
       eliminated.push_back(a.X[e.first].data());
@@ -754,6 +819,8 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   if (!opt.hand_eye_only)
     a.scale_dir = scaleDirection(a.state);
   a.keepVisible();
+  if (!opt.known_points.empty())
+    startObject(opt.known_points, a);
   if (!a.free_in.empty() && a.free_in.size() < kIntrinsics) {
     std::vector<int> constant;
     for (int i = 0; i < kIntrinsics; ++i)

@@ -628,3 +628,43 @@ TEST(HandEye, OnePlaneAtOneTiltLeavesFUndeterminedAndNamesIt)
   ASSERT_EQ(t.status, vpKinematicBundleAdjustment::OK) << t.message;
   EXPECT_NEAR(t.camera.get_px(), cam.get_px(), 1e-6);
 }
+
+// A board of known layout (known_points, in its own frame: here the plane's points moved by an
+// arbitrary rigid transform): the adjustment estimates the board's pose with the rest and recovers
+// eMc exactly on noise-free data; a layout with fewer than 3 observed points is refused.
+TEST(HandEye, KnownBoardLayoutIsAPriorOnItsPoints)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 74, 0.0);
+  const vpKinematicChain truth = sim.getTrueChain();
+  const vpCameraParameters cam = sim.getCamera();
+  std::map<int, vpColVector> X;
+  std::vector<vpHomogeneousMatrix> poses;
+  for (int k = 0; k < 8; ++k)
+    poses.push_back(vpHomogeneousMatrix(0.03 * (k % 3 - 1), 0.03 * (k / 3 - 1), 0.02 * (k % 2), 0.25 * ((k % 3) - 1),
+                                        0.25 * ((k / 3) % 3 - 1), 0.3 * k));
+  const auto views = planeViews(truth, cam, poses, X);
+  const vpHomogeneousMatrix oMf(0.1, -0.2, 0.3, 0.2, -0.1, 0.4); // the board frame, anywhere
+  std::map<int, vpColVector> layout;
+  for (const auto &e : X) {
+    const vpColVector p = oMf * vpColVector({e.second[0], e.second[1], e.second[2], 1.0});
+    layout[e.first] = vpColVector({p[0], p[1], p[2]});
+  }
+  vpKinematicBundleAdjustment::Options o;
+  o.hand_eye_only = true;
+  o.intrinsics = 0;
+  o.tight = true;
+  o.known_points = layout;
+  // Start from the nominal model and points 1 cm off.
+  std::map<int, vpColVector> X0 = X;
+  for (auto &e : X0)
+    e.second[2] += 0.01;
+  const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam, views,
+                                                     vpSelfCalibDataset::Yardstick(), X0, o);
+  ASSERT_EQ(r.status, vpKinematicBundleAdjustment::OK) << r.message;
+  EXPECT_LT(translationDistance(r.chain.get_eMc_corrected(), truth.get_eMc_corrected()), 1e-7);
+  EXPECT_LT(rotationDistance(r.chain.get_eMc_corrected(), truth.get_eMc_corrected()), 1e-7);
+  o.known_points = {{0, layout[0]}, {1, layout[1]}, {900, layout[2]}};
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam, views, vpSelfCalibDataset::Yardstick(),
+                                                   X0, o),
+               vpSelfCalibException);
+}

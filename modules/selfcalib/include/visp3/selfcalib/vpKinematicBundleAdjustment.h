@@ -105,6 +105,14 @@ public:
       posteriori variance factor). Off by default.
     */
     bool scale_covariance = false;
+    /*!
+      Scene points of known geometry (a calibration board's layout): id -> coordinates (3-vector, m)
+      in the object's own frame. The object's pose in f (6 parameters) is estimated with the rest,
+      and each of these points observed gets the prior residual (X_j - fMo L_j) / known_points_sd.
+      At least 3 of them must be observed. Empty (default): the whole scene is unknown.
+    */
+    std::map<int, vpColVector> known_points;
+    double known_points_sd = 1e-4; //!< m
     unsigned int num_threads = 1;       //!< more is faster on large problems, but not bit-reproducible
     void check() const;
   };
