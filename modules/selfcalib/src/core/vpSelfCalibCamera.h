@@ -126,6 +126,8 @@ public:
   */
   Eigen::Vector2d unproject(const Eigen::Vector2d &uv) const;
   bool unproject(const Eigen::Vector2d &uv, Eigen::Vector2d &xy) const;
+  //! The pixel where the same camera without distortion would see what it sees at uv.
+  Eigen::Vector2d undistortPixel(const Eigen::Vector2d &uv) const { return withoutDistortion().pixel(unproject(uv)); }
   //! The unit ray (camera frame) through a pixel.
   Eigen::Vector3d ray(const Eigen::Vector2d &uv) const;
 

@@ -472,28 +472,31 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<u
   return res;
 }
 
-vpFeatureFrontEnd::Result vpFeatureFrontEnd::fillDataset(vpSelfCalibDataset &ds, const Options &opt)
+std::vector<vpImage<unsigned char>> vpFeatureFrontEnd::readImages(const vpSelfCalibDataset &ds, const std::string &who)
 {
   std::vector<vpImage<unsigned char>> images(ds.views.size());
   for (size_t k = 0; k < ds.views.size(); ++k) {
-    const std::string &file = ds.views[k].image;
+    const std::string &file = ds.views[k].image, view = who + ": view " + std::to_string(k);
     if (file.empty())
-      throw vpSelfCalibException(vpSelfCalibException::badValue,
-                                 "vpFeatureFrontEnd: view " + std::to_string(k) + " has no image");
+      throw vpSelfCalibException(vpSelfCalibException::badValue, view + " has no image");
     try {
       vpImageIo::read(images[k], file);
     } catch (const vpException &e) {
-      throw vpSelfCalibException(vpSelfCalibException::ioError, "vpFeatureFrontEnd: view " + std::to_string(k) +
-                                                                    ": cannot read image '" + file +
-                                                                    "': " + e.getStringMessage());
+      throw vpSelfCalibException(vpSelfCalibException::ioError,
+                                 view + ": cannot read image '" + file + "': " + e.getStringMessage());
     }
     if (images[k].getWidth() != ds.width || images[k].getHeight() != ds.height)
       throw vpSelfCalibException(vpSelfCalibException::dimensionError,
-                                 "vpFeatureFrontEnd: view " + std::to_string(k) + ": image '" + file + "' is " +
-                                     std::to_string(images[k].getWidth()) + " x " +
+                                 view + ": image '" + file + "' is " + std::to_string(images[k].getWidth()) + " x " +
                                      std::to_string(images[k].getHeight()) + ", the camera says " +
                                      std::to_string(ds.width) + " x " + std::to_string(ds.height));
   }
+  return images;
+}
+
+vpFeatureFrontEnd::Result vpFeatureFrontEnd::fillDataset(vpSelfCalibDataset &ds, const Options &opt)
+{
+  const std::vector<vpImage<unsigned char>> images = readImages(ds);
   const Result r = process(images, opt);
   for (size_t k = 0; k < ds.views.size(); ++k)
     ds.views[k].points = r.observations[k];

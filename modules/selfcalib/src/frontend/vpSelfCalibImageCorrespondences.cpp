@@ -37,26 +37,7 @@ vpSelfCalibImageCorrespondences::Result vpSelfCalibImageCorrespondences::fromDat
 
 std::vector<vpImage<unsigned char>> vpSelfCalibImageCorrespondences::readImages(const vpSelfCalibDataset &dataset)
 {
-  std::vector<vpImage<unsigned char>> images(dataset.views.size());
-  for (size_t k = 0; k < images.size(); ++k) {
-    const std::string &file = dataset.views[k].image, view = "vpSelfCalibImageCorrespondences: view " + std::to_string(k);
-    if (file.empty())
-      throw vpSelfCalibException(vpSelfCalibException::badValue, view + " has no image");
-    try {
-      vpImageIo::read(images[k], file);
-    } catch (const vpException &e) {
-      throw vpSelfCalibException(vpSelfCalibException::ioError,
-                                 view + ": cannot read image '" + file + "': " + e.getStringMessage());
-    }
-    std::ostringstream size;
-    size << images[k].getWidth() << " x " << images[k].getHeight();
-    if (images[k].getWidth() != dataset.width || images[k].getHeight() != dataset.height)
-      throw vpSelfCalibException(vpSelfCalibException::dimensionError, view + ": image '" + file + "' is " +
-                                                                           size.str() + ", the camera says " +
-                                                                           std::to_string(dataset.width) + " x " +
-                                                                           std::to_string(dataset.height));
-  }
-  return images;
+  return vpFeatureFrontEnd::readImages(dataset, "vpSelfCalibImageCorrespondences");
 }
 
 vpSelfCalibImageCorrespondences::Result

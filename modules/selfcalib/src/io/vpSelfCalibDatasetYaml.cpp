@@ -123,8 +123,7 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
   vpCameraParameters distorted;
   bool has_distortion = false;
   parseCamera(r, root, base_dir, ds, distorted, has_distortion);
-  const vpSelfCalib::CameraModel camera = vpSelfCalib::CameraModel::fromVisp(distorted),
-                                 pinhole = camera.withoutDistortion();
+  const vpSelfCalib::CameraModel camera = vpSelfCalib::CameraModel::fromVisp(distorted);
 
   const std::string robot = r.text(root["robot"], "robot");
   const std::vector<std::string> presets = vpKinematicChain::presetNames();
@@ -182,7 +181,7 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
         if (has_distortion) {
           // Undistorted pixel: the camera model's exact inverse of k_ud (ViSP's separately fitted
           // k_du, a first-order inverse, is not used), then the pinhole.
-          const Eigen::Vector2d uv = pinhole.pixel(camera.unproject(Eigen::Vector2d(u, vv)));
+          const Eigen::Vector2d uv = camera.undistortPixel(Eigen::Vector2d(u, vv));
           o.ip = vpImagePoint(uv(1), uv(0));
         } else
           o.ip = vpImagePoint(vv, u);

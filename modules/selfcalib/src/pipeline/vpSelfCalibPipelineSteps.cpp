@@ -147,11 +147,10 @@ std::vector<View> undistorted(const std::vector<View> &views, const vpCameraPara
   const CameraModel camera = CameraModel::fromVisp(cam);
   if (camera.distortion() == Distortion::NONE)
     return views;
-  const CameraModel pinhole = camera.withoutDistortion();
   std::vector<View> out = views;
   for (View &v : out)
     for (auto &o : v.points) {
-      const Eigen::Vector2d uv = pinhole.pixel(camera.unproject(Eigen::Vector2d(o.ip.get_u(), o.ip.get_v())));
+      const Eigen::Vector2d uv = camera.undistortPixel(Eigen::Vector2d(o.ip.get_u(), o.ip.get_v()));
       o.ip = vpImagePoint(uv(1), uv(0));
     }
   return out;

@@ -102,6 +102,14 @@ public:
     another size, or when a view has no image.
   */
   static Result fillDataset(vpSelfCalibDataset &dataset, const Options &options);
+
+  /*!
+    The images of a dataset's views (grey), checked: a view without an image, an unreadable file or
+    an image of another size than the camera's throws vpSelfCalibException, the message starting
+    with `who` and the view's index.
+  */
+  static std::vector<vpImage<unsigned char>> readImages(const vpSelfCalibDataset &dataset,
+                                                        const std::string &who = "vpFeatureFrontEnd");
 };
 
 #endif
