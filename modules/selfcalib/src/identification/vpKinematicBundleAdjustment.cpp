@@ -26,8 +26,20 @@ using namespace vpSelfCalib;
 
 namespace
 {
-constexpr int kIntrinsics = 5; // p_x, mu, u0, v0, k_ud
-const char *const kIntrinsicNames[kIntrinsics] = {"fx", "mu", "u0", "v0", "kud"};
+// The intrinsics block: p_x, mu, u0, v0 and up to five distortion coefficients (ViSP's k_ud uses the
+// first; OpenCV's k1, k2, p1, p2, k3 all five); the unused ones are held constant.
+constexpr int kIntrinsics = kMaxIntrinsics;
+const char *const kVispNames[kIntrinsics] = {"fx", "mu", "u0", "v0", "kud", "", "", "", ""};
+const char *const kOpenCvNames[kIntrinsics] = {"fx", "mu", "u0", "v0", "k1", "k2", "p1", "p2", "k3"};
+//! The lens model of an adjustment's options.
+Distortion lensModel(const vpKinematicBundleAdjustment::Options &o)
+{
+  return o.distortion_model == vpKinematicBundleAdjustment::DISTORTION_OPENCV ? Distortion::OPENCV : Distortion::VISP;
+}
+const char *intrinsicName(Distortion model, int i)
+{
+  return model == Distortion::OPENCV ? kOpenCvNames[i] : kVispNames[i];
+}
 
 //! Pose of one view and its derivatives with respect to the estimated corrections.
 struct ViewState {
@@ -116,20 +128,28 @@ void computePoseNoiseView(const vpKinematicChain &chain, const std::vector<unsig
 }
 
 /*
-  Projection of X (f) through a view and the core camera model (ViSP's k_ud distortion; k_ud = 0 is
-  the pinhole): (u, v), and on request its derivatives with respect to the corrections (2 x P), the
-  intrinsics (2 x 5) and X (2 x 3), row-major. in = (p_x, mu, u0, v0, k_ud). With D = d uv / d X_c:
+  Projection of X (f) through a view and the core camera model (ViSP's k_ud or OpenCV's distortion;
+  zero coefficients are the pinhole): (u, v), and on request its derivatives with respect to the
+  corrections (2 x P), the intrinsics block (2 x kIntrinsics) and X (2 x 3), row-major.
+  in = (p_x, mu, u0, v0, distortion coefficients). With D = d uv / d X_c:
   d uv / d rho = D (-R^T J_t + [X_c]x R^T J_phi), d uv / d X = D R^T.
 */
-bool project(const ViewState &v, const double *in, const double *Xp, double uv[2], double *Jrho, double *Jin,
-             double *JX, int P, double *Jdelta = nullptr)
+bool project(Distortion model, const ViewState &v, const double *in, const double *Xp, double uv[2], double *Jrho,
+             double *Jin, double *JX, int P, double *Jdelta = nullptr)
 {
   const Eigen::Vector3d Xc = v.RT * (Eigen::Map<const Eigen::Vector3d>(Xp) - v.tf);
-  const CameraModel camera(Distortion::VISP, in);
+  const CameraModel camera(model, in);
   Eigen::Vector2d p;
   Eigen::Matrix<double, 2, 3> D;
-  if (!camera.project(Xc, p, (Jrho || JX || Jdelta) ? &D : nullptr, Jin))
+  double Jm[2 * kIntrinsics];
+  if (!camera.project(Xc, p, (Jrho || JX || Jdelta) ? &D : nullptr, Jin ? Jm : nullptr))
     return false;
+  if (Jin) { // the model's 2 x size() Jacobian in the 2 x kIntrinsics block (unused coefficients: 0)
+    const int n = camera.size();
+    for (int r = 0; r < 2; ++r)
+      for (int c = 0; c < kIntrinsics; ++c)
+        Jin[r * kIntrinsics + c] = c < n ? Jm[r * n + c] : 0.0;
+  }
   uv[0] = p(0);
   uv[1] = p(1);
   if (JX) {
@@ -192,12 +212,14 @@ public:
   std::vector<ViewState> views;
   //! Hand-eye-only mode with robot pose error: each view's pose correction (a parameter block); else empty.
   std::vector<std::array<double, 6>> delta;
+  Distortion model = Distortion::VISP; //!< the lens model of the intrinsics block
 
 private:
   bool has_jacobians_ = false;
 };
 
-//! Whitened reprojection error of one observation; blocks: corrections (P), intrinsics (5), point (3).
+//! Whitened reprojection error of one observation; blocks: corrections (P), intrinsics (kIntrinsics),
+//! point (3), and the view's pose correction (6) when robot pose error is modelled.
 class ObservationCost : public ceres::CostFunction
 {
 public:
@@ -216,7 +238,7 @@ public:
     const int P = static_cast<int>(state_->id.size());
     const int blocks = state_->delta.empty() ? 3 : 4;
     double uv[2];
-    if (!project(state_->views[view_], p[1], p[2], uv, J ? J[0] : nullptr, J ? J[1] : nullptr, J ? J[2] : nullptr, P,
+    if (!project(state_->model, state_->views[view_], p[1], p[2], uv, J ? J[0] : nullptr, J ? J[1] : nullptr, J ? J[2] : nullptr, P,
                  J && blocks == 4 ? J[3] : nullptr))
       return false;
     r[0] = (uv[0] - u_) * w_;
@@ -329,16 +351,24 @@ struct Obs {
   double u, v;
 };
 
-void intrinsicsFrom(const vpCameraParameters &cam, double in[kIntrinsics])
+//! The intrinsics block of the camera (and, OpenCV model, the given start coefficients).
+void intrinsicsFrom(const vpCameraParameters &cam, const vpKinematicBundleAdjustment::Options &o,
+                    double in[kIntrinsics])
 {
   const CameraModel c = CameraModel::fromVisp(cam);
-  for (int i = 0; i < kIntrinsics; ++i)
+  std::fill(in, in + kIntrinsics, 0.0);
+  for (int i = 0; i < c.size(); ++i)
     in[i] = c.intrinsics()[i];
+  if (lensModel(o) == Distortion::OPENCV)
+    for (size_t i = 0; i < o.opencv_distortion.size(); ++i)
+      in[4 + i] = o.opencv_distortion[i];
 }
 
-vpCameraParameters cameraFrom(const double in[kIntrinsics], bool distortion)
+//! The ViSP camera of the block: ViSP's model with k_ud when distortion, else the pinhole (the
+//! OpenCV coefficients, which vpCameraParameters cannot hold, are returned apart).
+vpCameraParameters cameraFrom(const double in[kIntrinsics], Distortion model, bool distortion)
 {
-  return CameraModel(distortion ? Distortion::VISP : Distortion::NONE, in).toVisp();
+  return CameraModel(distortion && model == Distortion::VISP ? Distortion::VISP : Distortion::NONE, in).toVisp();
 }
 
 using KBA = vpKinematicBundleAdjustment;
@@ -433,9 +463,10 @@ vpKinematicIdentification::Identifiability estimatedSet(const vpKinematicChain &
 }
 
 //! Stage 2, the intrinsics: their start values (in) and the indices estimated.
-std::vector<int> estimatedIntrinsics(const vpCameraParameters &camera, unsigned int flags, double in[kIntrinsics])
+std::vector<int> estimatedIntrinsics(const vpCameraParameters &camera, const KBA::Options &opt, double in[kIntrinsics])
 {
-  intrinsicsFrom(camera, in);
+  const unsigned int flags = opt.intrinsics;
+  intrinsicsFrom(camera, opt, in);
   std::vector<int> free_in;
   if (flags & KBA::FX)
     free_in.push_back(0);
@@ -445,8 +476,14 @@ std::vector<int> estimatedIntrinsics(const vpCameraParameters &camera, unsigned 
     free_in.push_back(2);
     free_in.push_back(3);
   }
-  if (flags & KBA::DISTORTION)
+  if (flags & KBA::DISTORTION) {
     free_in.push_back(4);
+    if (lensModel(opt) == Distortion::OPENCV) // k2, p1, p2; k3 only on request (poorly determined)
+      for (int i : {5, 6, 7})
+        free_in.push_back(i);
+  }
+  if ((flags & KBA::DISTORTION_K3) && lensModel(opt) == Distortion::OPENCV)
+    free_in.push_back(8);
   return free_in;
 }
 
@@ -475,7 +512,7 @@ struct Adjustment {
 
   bool reproject(size_t n, double uv[2])
   {
-    return project(state.views[obs[n].view], in, X[obs[n].id].data(), uv, nullptr, nullptr, nullptr, P);
+    return project(state.model, state.views[obs[n].view], in, X[obs[n].id].data(), uv, nullptr, nullptr, nullptr, P);
   }
   //! Observations of points behind their camera cannot be evaluated: left out; then the points
   //! seen fewer than twice.
@@ -652,7 +689,9 @@ std::unique_ptr<ceres::Problem> solveSchedule(Adjustment &a, const vpSelfCalibDa
 void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::Result &res)
 {
   res.chain = a.state.chain;
-  res.camera = cameraFrom(a.in, distortion);
+  res.camera = cameraFrom(a.in, a.state.model, distortion);
+  if (a.state.model == Distortion::OPENCV)
+    res.opencv_distortion.assign(a.in + 4, a.in + 9);
   std::set<int> kept;
   double sum = 0;
   for (size_t n = 0; n < a.obs.size(); ++n) {
@@ -692,7 +731,7 @@ void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::
     res.points[idp] = v;
   }
   for (int i : a.free_in)
-    res.intrinsic_names.push_back(kIntrinsicNames[i]);
+    res.intrinsic_names.push_back(intrinsicName(a.state.model, i));
   res.intrinsics.resize(static_cast<unsigned int>(a.free_in.size()));
   res.intrinsics_sd.resize(static_cast<unsigned int>(a.free_in.size()));
   for (size_t i = 0; i < a.free_in.size(); ++i)
@@ -735,7 +774,7 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
     for (int r = 0; r < std::min<int>(N, static_cast<int>(undetermined.rows())); ++r) {
       const double c = undetermined.row(r).cwiseAbs().maxCoeff();
       if (c >= 0.3)
-        named.push_back({-c, r < P ? names[id[r]] : kIntrinsicNames[a.free_in[r - P]]});
+        named.push_back({-c, r < P ? names[id[r]] : intrinsicName(a.state.model, a.free_in[r - P])});
     }
     std::sort(named.begin(), named.end());
     for (const auto &e : named)
@@ -759,7 +798,7 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
   for (int r = 0; r < P; ++r)
     res.covariance_names.push_back(names[id[r]]);
   for (int i : a.free_in)
-    res.covariance_names.push_back(kIntrinsicNames[i]);
+    res.covariance_names.push_back(intrinsicName(a.state.model, i));
   res.has_covariance = true;
   return true;
 }
@@ -785,6 +824,10 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   if (!(camera.get_px() > 0) || !(camera.get_py() > 0))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: the camera needs positive px and py");
+  if (opt.distortion_model == KBA::DISTORTION_OPENCV && CameraModel::fromVisp(camera).distortion() != Distortion::NONE)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment: with the OpenCV distortion model the camera must have no "
+                               "ViSP distortion (k_ud): give the start coefficients in opencv_distortion");
   std::vector<vpColVector> q;
   std::vector<Rigid> fMe;
   std::map<int, unsigned int> seen;
@@ -802,7 +845,8 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     for (const auto &o : views[k].points)
       if (a.X.count(o.id))
         a.obs.push_back({k, o.id, o.ip.get_u(), o.ip.get_v()});
-  a.free_in = estimatedIntrinsics(camera, opt.intrinsics, a.in);
+  a.state.model = lensModel(opt);
+  a.free_in = estimatedIntrinsics(camera, opt, a.in);
   a.scale_covariance = opt.scale_covariance;
   const bool distortion = (opt.intrinsics & KBA::DISTORTION) || a.in[4] != 0;
   const size_t unknowns = a.P + a.free_in.size() + 3 * a.X.size();
@@ -904,8 +948,22 @@ const char *vpKinematicBundleAdjustment::statusName(Status s)
 
 void vpKinematicBundleAdjustment::Options::check() const
 {
-  if (intrinsics > (FX | ASPECT | PRINCIPAL_POINT | DISTORTION))
+  if (intrinsics > (FX | ASPECT | PRINCIPAL_POINT | DISTORTION | DISTORTION_K3))
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicBundleAdjustment: unknown intrinsics flag");
+  if (distortion_model != DISTORTION_VISP && distortion_model != DISTORTION_OPENCV)
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicBundleAdjustment: unknown distortion model");
+  if (distortion_model == DISTORTION_VISP ? !opencv_distortion.empty()
+                                          : !(opencv_distortion.empty() || opencv_distortion.size() == 5))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment: opencv_distortion is (k1, k2, p1, p2, k3), with "
+                               "distortion_model DISTORTION_OPENCV only (empty: all 0)");
+  for (double k : opencv_distortion)
+    if (!std::isfinite(k) || std::abs(k) > 1e3)
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpKinematicBundleAdjustment: opencv_distortion coefficients must be finite, |k| <= 1000");
+  if ((intrinsics & DISTORTION_K3) && !(intrinsics & DISTORTION))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment: DISTORTION_K3 goes with DISTORTION");
   if (!(pixel_sd > 0) || !(yardstick_sd > 0) || !(loss_scale > 0) || !(outlier_threshold >= 0) ||
       !std::isfinite(outlier_threshold) || !(rank_tolerance > 0 && rank_tolerance < 1))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
@@ -993,13 +1051,14 @@ vpMatrix vpKinematicBundleAdjustment::observationJacobian(const vpKinematicChain
   ViewState v;
   computeView(chain, parameters, q, true, v);
   double in[kIntrinsics];
-  intrinsicsFrom(camera, in);
+  intrinsicsFrom(camera, Options(), in);
+  constexpr int kVisp = 5; // p_x, mu, u0, v0, k_ud
   const int P = static_cast<int>(parameters.size());
   std::vector<double> Jr(2 * P), Ji(2 * kIntrinsics), JX(6);
   double Xp[3] = {X[0], X[1], X[2]}, p[2];
   uv.resize(2);
-  vpMatrix J(2, P + kIntrinsics + 3);
-  if (!project(v, in, Xp, p, Jr.data(), Ji.data(), JX.data(), P))
+  vpMatrix J(2, P + kVisp + 3);
+  if (!project(Distortion::VISP, v, in, Xp, p, Jr.data(), Ji.data(), JX.data(), P))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment::observationJacobian: the point is behind the camera");
   uv[0] = p[0];
@@ -1007,10 +1066,10 @@ vpMatrix vpKinematicBundleAdjustment::observationJacobian(const vpKinematicChain
   for (unsigned int r = 0; r < 2; ++r) {
     for (int c = 0; c < P; ++c)
       J[r][c] = Jr[r * P + c];
-    for (int c = 0; c < kIntrinsics; ++c)
+    for (int c = 0; c < kVisp; ++c)
       J[r][P + c] = Ji[r * kIntrinsics + c];
     for (int c = 0; c < 3; ++c)
-      J[r][P + kIntrinsics + c] = JX[r * 3 + c];
+      J[r][P + kVisp + c] = JX[r * 3 + c];
   }
   return J;
 }

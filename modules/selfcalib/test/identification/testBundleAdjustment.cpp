@@ -14,6 +14,7 @@
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
 #include "../testCommon.h"
+#include "core/vpSelfCalibCamera.h"
 #include "core/vpSelfCalibMath.h"
 #include "core/vpSelfCalibRandom.h"
 
@@ -666,5 +667,79 @@ TEST(HandEye, KnownBoardLayoutIsAPriorOnItsPoints)
   o.known_points = {{0, layout[0]}, {1, layout[1]}, {900, layout[2]}};
   EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam, views, vpSelfCalibDataset::Yardstick(),
                                                    X0, o),
+               vpSelfCalibException);
+}
+
+/*
+  OpenCV's lens model (k1, k2, p1, p2) estimated with f, the aspect ratio and the principal point
+  from views of one plane at several tilts (hand-eye, poses exact), as Zhang's calibration does:
+  exact recovery on noise-free data from a start with no distortion, f 5 % and the principal point
+  10 px off; k3 held at its start value; the names say which coefficients were estimated. Bad
+  settings (coefficients with the ViSP model, a camera with k_ud under the OpenCV model, K3 alone)
+  are refused.
+*/
+TEST(HandEye, OpenCvDistortionAndPrincipalPointFromATiltedPlane)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 75, 0.0);
+  const vpKinematicChain truth = sim.getTrueChain();
+  const double in[9] = {800, 1.002, 330, 236, -0.21, 0.09, 0.0012, -0.0015, 0};
+  const CameraModel lens(Distortion::OPENCV, in);
+  std::map<int, vpColVector> X;
+  for (int i = 0; i < 11; ++i)
+    for (int j = 0; j < 11; ++j)
+      X[11 * i + j] = vpColVector({-0.3 + 0.06 * i, -0.3 + 0.06 * j, 1.0});
+  const vpHomogeneousMatrix cMe = truth.get_eMc_corrected().inverse();
+  std::vector<vpSelfCalibDataset::View> views;
+  for (int k = 0; k < 9; ++k) {
+    const vpHomogeneousMatrix fMc(0.03 * (k % 3 - 1), 0.03 * (k / 3 - 1), 0.05 * (k % 2), 0.3 * ((k % 3) - 1),
+                                  0.3 * ((k / 3) % 3 - 1), 0.4 * k);
+    vpSelfCalibDataset::View v;
+    v.has_fMe = true;
+    v.fMe = fMc * cMe;
+    const Rigid cMf = rigidFromVisp(fMc).inverse();
+    for (const auto &e : X) {
+      const Eigen::Vector2d uv = lens.project(cMf * vec3(e.second));
+      if (uv(0) > 0 && uv(0) < 640 && uv(1) > 0 && uv(1) < 480)
+        v.points.push_back({e.first, vpImagePoint(uv(1), uv(0))});
+    }
+    views.push_back(v);
+  }
+  vpCameraParameters start;
+  start.initPersProjWithoutDistortion(760, 760, 320, 246);
+  vpKinematicBundleAdjustment::Options o;
+  o.hand_eye_only = true;
+  o.intrinsics = vpKinematicBundleAdjustment::FX | vpKinematicBundleAdjustment::ASPECT |
+                 vpKinematicBundleAdjustment::PRINCIPAL_POINT | vpKinematicBundleAdjustment::DISTORTION;
+  o.distortion_model = vpKinematicBundleAdjustment::DISTORTION_OPENCV;
+  o.tight = true;
+  const auto r = vpKinematicBundleAdjustment::adjust(truth, start, views, vpSelfCalibDataset::Yardstick(), X, o);
+  ASSERT_EQ(r.status, vpKinematicBundleAdjustment::OK) << r.message;
+  const std::vector<std::string> names = {"fx", "mu", "u0", "v0", "k1", "k2", "p1", "p2"};
+  EXPECT_EQ(r.intrinsic_names, names);
+  ASSERT_EQ(r.opencv_distortion.size(), 5u);
+  EXPECT_NEAR(r.camera.get_px(), in[0], 1e-6);
+  EXPECT_NEAR(r.camera.get_py() / r.camera.get_px(), in[1], 1e-10);
+  EXPECT_NEAR(r.camera.get_u0(), in[2], 1e-6);
+  EXPECT_NEAR(r.camera.get_v0(), in[3], 1e-6);
+  for (int i = 0; i < 5; ++i)
+    EXPECT_NEAR(r.opencv_distortion[i], in[4 + i], 1e-8) << i;
+  EXPECT_EQ(r.camera.get_kud(), 0.0);
+  for (unsigned int i = 0; i < r.intrinsics_sd.size(); ++i)
+    EXPECT_GT(r.intrinsics_sd[i], 0.0) << r.intrinsic_names[i];
+  EXPECT_LT(translationDistance(r.chain.get_eMc_corrected(), truth.get_eMc_corrected()), 1e-8);
+
+  vpKinematicBundleAdjustment::Options bad = o;
+  bad.distortion_model = vpKinematicBundleAdjustment::DISTORTION_VISP;
+  bad.opencv_distortion = {0, 0, 0, 0, 0};
+  EXPECT_THROW(bad.check(), vpSelfCalibException);
+  bad = o;
+  bad.opencv_distortion = {0.1, 0.2};
+  EXPECT_THROW(bad.check(), vpSelfCalibException);
+  bad = o;
+  bad.intrinsics = vpKinematicBundleAdjustment::FX | vpKinematicBundleAdjustment::DISTORTION_K3;
+  EXPECT_THROW(bad.check(), vpSelfCalibException);
+  vpCameraParameters kud;
+  kud.initPersProjWithDistortion(760, 760, 320, 246, -0.1, 0.1);
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(truth, kud, views, vpSelfCalibDataset::Yardstick(), X, o),
                vpSelfCalibException);
 }

@@ -67,10 +67,24 @@ class VISP_SELFCALIB_EXPORT vpKinematicBundleAdjustment
 {
 public:
   //! Intrinsics that can be estimated (bitwise or).
-  enum Intrinsic : unsigned int { FX = 1, ASPECT = 2, PRINCIPAL_POINT = 4, DISTORTION = 8 };
+  /*!
+    Intrinsics that can be estimated (bitwise or). DISTORTION: ViSP's k_ud, or with the OpenCV model
+    k1, k2, p1, p2 (k3 held at its start value unless DISTORTION_K3 is added too: it is poorly
+    determined by most data, as in OpenCV's CALIB_FIX_K3 practice).
+  */
+  enum Intrinsic : unsigned int { FX = 1, ASPECT = 2, PRINCIPAL_POINT = 4, DISTORTION = 8, DISTORTION_K3 = 16 };
+  //! Lens distortion model of the estimate.
+  enum DistortionModel { DISTORTION_VISP, DISTORTION_OPENCV };
 
   struct Options {
     unsigned int intrinsics = FX;      //!< estimated intrinsics; 0: the camera is known
+    /*!
+      DISTORTION_VISP (default): the camera's own model (vpCameraParameters' k_ud, or none).
+      DISTORTION_OPENCV: OpenCV's (k1, k2, p1, p2, k3) model, starting from (or, without DISTORTION,
+      held at) opencv_distortion; the camera passed must then have no ViSP distortion.
+    */
+    DistortionModel distortion_model = DISTORTION_VISP;
+    std::vector<double> opencv_distortion; //!< (k1, k2, p1, p2, k3); empty: all 0
     std::vector<std::string> fixed;    //!< kinematic parameters kept at their start value by the caller
     double pixel_sd = 0.2;             //!< px
     double yardstick_sd = 1e-5;        //!< m, uncertainty of the yardstick's length
@@ -126,12 +140,15 @@ public:
     Status status = TOO_FEW_OBSERVATIONS;
     std::string message;
     vpKinematicChain chain;                  //!< the start chain with the estimated corrections
-    vpCameraParameters camera;               //!< estimated intrinsics (with distortion when estimated)
+    vpCameraParameters camera;               //!< estimated intrinsics (with k_ud when that model is estimated)
+    //! OpenCV model: its (k1, k2, p1, p2, k3) at the estimate (camera then has no distortion); else empty.
+    std::vector<double> opencv_distortion;
     vpKinematicIdentification::Identifiability identifiability; //!< estimated and left-out parameters
     ScaleSource scale_source = SCALE_NOMINAL;
     std::map<int, vpColVector> points;       //!< scene points in f (3-vectors), by id
     vpColVector sd;                          //!< per chain parameter (0 for those not estimated)
-    std::vector<std::string> intrinsic_names; //!< estimated intrinsics: "fx", "mu", "u0", "v0", "kud"
+    //! Estimated intrinsics: "fx", "mu", "u0", "v0", then "kud" or OpenCV's "k1", "k2", "p1", "p2", "k3".
+    std::vector<std::string> intrinsic_names;
     vpColVector intrinsics, intrinsics_sd;   //!< their values and sd
     double fx_sd = 0;                        //!< px (0 when f is not estimated)
     vpMatrix covariance;                     //!< identified parameters then estimated intrinsics
