@@ -85,7 +85,20 @@ void parseCamera(const Reader &r, const YAML::Node &root, const std::string &bas
     r.fail("camera", "missing; expected {width, height, u0, v0, px, py} or camera_xml");
   if (!c.IsMap())
     r.fail("camera", "expected a map {width, height, u0, v0, px, py}, got " + Reader::show(c));
-  r.onlyKeys(c, {"width", "height", "u0", "v0", "px", "py", "f_guess"}, "camera");
+  r.onlyKeys(c, {"width", "height", "u0", "v0", "px", "py", "f_guess", "distortion"}, "camera");
+  if (c["distortion"]) {
+    // OpenCV's lens model; the pixels stay as measured (the pipeline applies the model).
+    const YAML::Node d = c["distortion"];
+    if (!d.IsSequence() || (d.size() != 4 && d.size() != 5))
+      r.fail("camera.distortion", "expected OpenCV's [k1, k2, p1, p2] or [k1, k2, p1, p2, k3], got " + Reader::show(d));
+    ds.opencv_distortion.assign(5, 0.0);
+    for (size_t i = 0; i < d.size(); ++i) {
+      const double k = r.number(d[i], "camera.distortion[" + std::to_string(i) + "]");
+      if (!(std::abs(k) <= 1e3))
+        r.fail("camera.distortion[" + std::to_string(i) + "]", "a distortion coefficient between -1000 and 1000");
+      ds.opencv_distortion[i] = k;
+    }
+  }
   const double w = r.number(c["width"], "camera.width"), h = r.number(c["height"], "camera.height");
   if (!(w >= 1 && h >= 1 && w <= 1e6 && h <= 1e6 && w == std::floor(w) && h == std::floor(h)))
     r.fail("camera", "width and height must be whole numbers of pixels from 1 to 1000000");
@@ -277,6 +290,12 @@ std::string vpSelfCalibDataset::toYamlString(const std::string &base_dir) const
     out << YAML::Key << "px" << YAML::Value << cam.get_px() << YAML::Key << "py" << YAML::Value << cam.get_py();
   else
     out << YAML::Key << "f_guess" << YAML::Value << cam.get_px();
+  if (!opencv_distortion.empty()) {
+    out << YAML::Key << "distortion" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+    for (double k : opencv_distortion)
+      out << k;
+    out << YAML::EndSeq;
+  }
   out << YAML::EndMap;
   out << YAML::Key << "robot" << YAML::Value << relativeTo(base_dir, robot);
   out << YAML::Key << "poses" << YAML::Value << YAML::BeginSeq;

@@ -162,6 +162,13 @@ vpKinematicBundleAdjustment::Options vpRobotSelfCalibration::bundleOptions(const
     bo.intrinsics &= ~FX;
   bo.hand_eye_only =
       derived(opt.bundle.hand_eye_only, def.hand_eye_only, opt.method == HAND_EYE, "bundle.hand_eye_only", "method");
+  // The dataset's OpenCV lens model: the model of the estimate, its coefficients the start (unless
+  // the caller gives other start coefficients).
+  if (!ds.opencv_distortion.empty()) {
+    bo.distortion_model = vpKinematicBundleAdjustment::DISTORTION_OPENCV;
+    if (bo.opencv_distortion.empty())
+      bo.opencv_distortion = ds.opencv_distortion;
+  }
   return bo;
 }
 
@@ -212,13 +219,24 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
   using vpSelfCalibPipeline::seconds;
   const auto t0 = std::chrono::steady_clock::now();
   const unsigned int N = checkInputs(nominal, ds, opt);
+  // Known OpenCV distortion (not estimated): applied once to every pixel, the steps see a pinhole camera.
+  const bool estimate_lens = opt.method != PAPER && (opt.bundle.intrinsics & vpKinematicBundleAdjustment::DISTORTION) &&
+                             (!ds.opencv_distortion.empty() ||
+                              opt.bundle.distortion_model == vpKinematicBundleAdjustment::DISTORTION_OPENCV);
+  vpSelfCalibDataset pinhole;
+  if (!ds.opencv_distortion.empty() && !estimate_lens) {
+    pinhole = ds;
+    pinhole.views = vpSelfCalibPipeline::undistorted(ds.views, vpSelfCalibPipeline::lensOf(ds));
+    pinhole.opencv_distortion.clear();
+  }
+  const vpSelfCalibDataset &data = pinhole.views.empty() ? ds : pinhole;
   // Resolves the focal mode and builds every step's options: the remaining caller mistakes throw here.
-  const vpSelfCalibPipeline::Context context(nominal, ds, opt, N, progress);
+  const vpSelfCalibPipeline::Context context(nominal, data, opt, N, progress);
 
   Result res;
   res.method = opt.method;
   res.calibrated = nominal;
-  res.camera = ds.cam;
+  res.camera = data.cam;
   if (!vpSelfCalibPipeline::checkData(context, res)) {
     res.seconds = seconds(t0);
     return res;

@@ -137,14 +137,31 @@ bool checkData(const Context &c, Result &res)
   return false;
 }
 
+CameraModel lensOf(const vpSelfCalibDataset &ds)
+{
+  if (ds.opencv_distortion.empty())
+    return CameraModel::fromVisp(ds.cam);
+  return lensOf(ds.cam, ds.opencv_distortion);
+}
+
+CameraModel lensOf(const vpCameraParameters &cam, const std::vector<double> &opencv_distortion)
+{
+  if (opencv_distortion.empty())
+    return CameraModel::fromVisp(cam);
+  const CameraModel pin = CameraModel::fromVisp(cam);
+  double in[kMaxIntrinsics] = {pin.px(), pin.mu(), pin.u0(), pin.v0(), 0, 0, 0, 0, 0};
+  for (size_t i = 0; i < opencv_distortion.size() && i < 5; ++i)
+    in[4 + i] = opencv_distortion[i];
+  return CameraModel(Distortion::OPENCV, in);
+}
+
 /*
   The views with their pixels moved through the inverse of the camera's distortion (pinhole pixels
   of the same camera), for the steps that model a pinhole camera (the multi-view reconstruction);
   the views themselves when the camera has no distortion.
 */
-std::vector<View> undistorted(const std::vector<View> &views, const vpCameraParameters &cam)
+std::vector<View> undistorted(const std::vector<View> &views, const CameraModel &camera)
 {
-  const CameraModel camera = CameraModel::fromVisp(cam);
   if (camera.distortion() == Distortion::NONE)
     return views;
   std::vector<View> out = views;
@@ -200,7 +217,7 @@ static void handEyeWithSd(Result &res)
 bool multiView(const Context &c, Result &res)
 {
   c.report("multi-view reconstruction", 0, 1);
-  res.multiview = vpMultiViewReconstruction::reconstruct(undistorted(c.calibration, c.dataset.cam),
+  res.multiview = vpMultiViewReconstruction::reconstruct(undistorted(c.calibration, lensOf(c.dataset)),
                                                          c.dataset.yardstick, c.multiview);
   res.pairs = res.multiview.pairs;
   res.stage_seconds.push_back({"two-view poses", res.multiview.seconds_twoview});
@@ -294,8 +311,16 @@ void verify(const Context &c, Result &res)
     return;
   c.report("verification", 0, 1);
   const auto tv = std::chrono::steady_clock::now();
-  res.before = vpCalibrationVerifier::verify(c.nominal, c.dataset.cam, c.verification, c.dataset.yardstick);
-  res.after = vpCalibrationVerifier::verify(res.calibrated, res.camera, c.verification, c.dataset.yardstick);
+  // An estimated OpenCV lens model (which vpCameraParameters cannot hold): the held-out pixels
+  // through the inverse of the start one (before) and of the estimated one (after).
+  const bool opencv = !res.bundle.opencv_distortion.empty();
+  res.before = vpCalibrationVerifier::verify(c.nominal, c.dataset.cam,
+                                             opencv ? undistorted(c.verification, lensOf(c.dataset)) : c.verification,
+                                             c.dataset.yardstick);
+  res.after = vpCalibrationVerifier::verify(
+      res.calibrated, res.camera,
+      opencv ? undistorted(c.verification, lensOf(res.camera, res.bundle.opencv_distortion)) : c.verification,
+      c.dataset.yardstick);
   res.verified = true;
   res.stage_seconds.push_back({"verification", seconds(tv)});
 }

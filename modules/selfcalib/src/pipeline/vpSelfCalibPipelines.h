@@ -13,6 +13,8 @@
 
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 
+#include "../core/vpSelfCalibCamera.h"
+
 namespace vpSelfCalibPipeline
 {
 using Result = vpRobotSelfCalibration::Result;
@@ -51,6 +53,13 @@ void runBundle(const Context &context, Result &result);
 void runHandEye(const Context &context, Result &result);
 
 // Steps shared by the pipelines.
+
+//! The dataset's camera with its lens model (ViSP's k_ud in cam, or OpenCV's coefficients).
+vpSelfCalib::CameraModel lensOf(const vpSelfCalibDataset &dataset);
+//! A pinhole camera with OpenCV's coefficients (empty: the camera's own model).
+vpSelfCalib::CameraModel lensOf(const vpCameraParameters &cam, const std::vector<double> &opencv_distortion);
+//! The views with their pixels through the inverse of the lens distortion (the views themselves without).
+std::vector<View> undistorted(const std::vector<View> &views, const vpSelfCalib::CameraModel &lens);
 
 //! Wall time since a point (s).
 double seconds(const std::chrono::steady_clock::time_point &since);

@@ -35,6 +35,8 @@
   \code
   camera: {width: 640, height: 480, u0: 320, v0: 240, px: 1500, py: 1500}
   # f self-calibrated: omit px, py (optionally f_guess: 1400, default the image width)
+  # lens distortion, OpenCV's model: distortion: [k1, k2, p1, p2, k3] in the camera map (pixels are
+  #    kept as measured; the pipeline undistorts them, or estimates the coefficients from these)
   # or camera_xml: {file: camera.xml, name: Camera}   (vpXmlParserCamera; a distortion model in it is
   #    applied: every observation is undistorted and the dataset's camera has none)
   robot: viper850                 # preset name or robot-model file (relative to this file)
@@ -71,6 +73,12 @@ struct VISP_SELFCALIB_EXPORT vpSelfCalibDataset {
   vpCameraParameters cam;      //!< intrinsics; px, py are a first guess when !focal_known
   unsigned int width = 0, height = 0;
   bool focal_known = true;     //!< false: the focal length is to be self-calibrated
+  /*!
+    OpenCV's lens distortion (k1, k2, p1, p2, k3) of the camera, for the pixels as measured; empty:
+    none (or ViSP's k_ud in cam). Known coefficients are applied by the pipeline; with the distortion
+    estimated they are the start.
+  */
+  std::vector<double> opencv_distortion;
   std::string robot;           //!< preset name or robot-model file
   std::vector<View> views;
   Yardstick yardstick;
