@@ -131,10 +131,39 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
   if (!root.IsMap())
     throw vpSelfCalibException(vpSelfCalibException::parseError,
                                std::string(kWhat) + " " + source + ": expected a YAML map at the top level");
-  r.onlyKeys(root, {"camera", "camera_xml", "robot", "poses", "yardstick"}, "");
+  r.onlyKeys(root, {"camera", "camera_xml", "robot", "robot_error", "poses", "yardstick"}, "");
   vpSelfCalibDataset ds;
   vpCameraParameters distorted;
   bool has_distortion = false;
+  if (root["robot_error"]) {
+    // The expected error of the robot's poses (controller poses, joint readings).
+    const YAML::Node e = root["robot_error"];
+    if (!e.IsMap())
+      r.fail("robot_error", "expected a map {pose_sd: [m, rad], joint_sd: [rad, ...]}, got " + Reader::show(e));
+    r.onlyKeys(e, {"pose_sd", "joint_sd"}, "robot_error");
+    if (e["pose_sd"]) {
+      const YAML::Node p = e["pose_sd"];
+      if (!p.IsSequence() || p.size() != 2)
+        r.fail("robot_error.pose_sd", "expected [translation m, rotation rad], got " + Reader::show(p));
+      ds.pose_sd_translation = r.number(p[0], "robot_error.pose_sd[0]");
+      ds.pose_sd_rotation = r.number(p[1], "robot_error.pose_sd[1]");
+      if (!(ds.pose_sd_translation > 0 && ds.pose_sd_translation < 1 && ds.pose_sd_rotation > 0 &&
+            ds.pose_sd_rotation < 1))
+        r.fail("robot_error.pose_sd", "both positive, below 1 m and 1 rad");
+    }
+    if (e["joint_sd"]) {
+      const YAML::Node j = e["joint_sd"];
+      if (!j.IsSequence() || j.size() == 0)
+        r.fail("robot_error.joint_sd", "expected a list of joint sd (rad): one for every joint, or one per joint, got " +
+                                           Reader::show(j));
+      for (size_t i = 0; i < j.size(); ++i) {
+        const double v = r.number(j[i], "robot_error.joint_sd[" + std::to_string(i) + "]");
+        if (!(v > 0 && v < 1))
+          r.fail("robot_error.joint_sd[" + std::to_string(i) + "]", "positive, below 1 rad");
+        ds.joint_sd.push_back(v);
+      }
+    }
+  }
   parseCamera(r, root, base_dir, ds, distorted, has_distortion);
   const vpSelfCalib::CameraModel camera = vpSelfCalib::CameraModel::fromVisp(distorted);
 
@@ -298,6 +327,19 @@ std::string vpSelfCalibDataset::toYamlString(const std::string &base_dir) const
   }
   out << YAML::EndMap;
   out << YAML::Key << "robot" << YAML::Value << relativeTo(base_dir, robot);
+  if (pose_sd_translation > 0 || !joint_sd.empty()) {
+    out << YAML::Key << "robot_error" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    if (pose_sd_translation > 0)
+      out << YAML::Key << "pose_sd" << YAML::Value << YAML::Flow << YAML::BeginSeq << pose_sd_translation
+          << pose_sd_rotation << YAML::EndSeq;
+    if (!joint_sd.empty()) {
+      out << YAML::Key << "joint_sd" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (double v : joint_sd)
+        out << v;
+      out << YAML::EndSeq;
+    }
+    out << YAML::EndMap;
+  }
   out << YAML::Key << "poses" << YAML::Value << YAML::BeginSeq;
   for (const View &v : views) {
     out << YAML::BeginMap;

@@ -162,6 +162,29 @@ TEST(DatasetYaml, CameraXmlDistortionIsAppliedToObservations)
   rmdir(dir);
 }
 
+// OpenCV's lens model in the camera map: read (4 coefficients: k3 = 0), pixels kept as measured,
+// written back exactly; malformed coefficient lists are refused naming the key.
+TEST(DatasetYaml, OpenCvDistortionInTheCameraMap)
+{
+  const std::string pose = "poses:\n  - joints: [0, 0, 0, 0, 0, 0]\n    points: [[1, 10.5, 20.25]]\n";
+  const std::string cam = "camera: {width: 640, height: 480, u0: 320, v0: 240, px: 600, py: 600, distortion: ";
+  const vpSelfCalibDataset ds =
+      vpSelfCalibDataset::fromYamlString(cam + "[-0.2, 0.05, 0.001, -0.002]}\nrobot: viper850\n" + pose);
+  ASSERT_EQ(ds.opencv_distortion.size(), 5u);
+  EXPECT_EQ(ds.opencv_distortion[0], -0.2);
+  EXPECT_EQ(ds.opencv_distortion[3], -0.002);
+  EXPECT_EQ(ds.opencv_distortion[4], 0.0);
+  EXPECT_EQ(ds.views[0].points[0].ip.get_u(), 10.5);
+  EXPECT_EQ(ds.views[0].points[0].ip.get_v(), 20.25);
+  const vpSelfCalibDataset back = vpSelfCalibDataset::fromYamlString(ds.toYamlString());
+  EXPECT_EQ(back.opencv_distortion, ds.opencv_distortion);
+  EXPECT_TRUE(vpSelfCalibDataset::fromYamlString(kHead + pose).opencv_distortion.empty());
+  for (const std::string bad : {"[0.1, 0.2]", "[1, 2, 3, 4, 5, 6, 7, 8]", "{k1: 0.1}", "[0.1, .nan, 0, 0]",
+                                "[1e9, 0, 0, 0]"})
+    EXPECT_NE(parseError(cam + bad + "}\nrobot: viper850\n" + pose).find("camera.distortion"), std::string::npos)
+        << bad;
+}
+
 // Every kind of malformed input gets an error naming the key and what was expected.
 TEST(DatasetYaml, BadInputNamesTheKey)
 {

@@ -40,6 +40,9 @@
   # or camera_xml: {file: camera.xml, name: Camera}   (vpXmlParserCamera; a distortion model in it is
   #    applied: every observation is undistorted and the dataset's camera has none)
   robot: viper850                 # preset name or robot-model file (relative to this file)
+  robot_error: {pose_sd: [0.002, 0.002], joint_sd: [1e-4]}   # optional: the expected error of the
+                                  # controller poses (m, rad) and of the joint readings (rad; one for
+                                  # every joint or one per joint); absent: exact
   poses:
     - joints: [q1, q2, q3, q4, q5, q6]   # or fMe: [tx, ty, tz, tux, tuy, tuz]
       image: images/0001.png           # optional, relative to this file
@@ -80,6 +83,11 @@ struct VISP_SELFCALIB_EXPORT vpSelfCalibDataset {
   */
   std::vector<double> opencv_distortion;
   std::string robot;           //!< preset name or robot-model file
+  //! Expected error of the controller poses (m, rad; 0: exact) and of the joint readings (rad; one
+  //! value for every joint or one per joint; empty: exact). Read by the pipeline's bundle adjustment
+  //! when its own options leave them unset.
+  double pose_sd_translation = 0, pose_sd_rotation = 0;
+  std::vector<double> joint_sd;
   std::vector<View> views;
   Yardstick yardstick;
 
