@@ -162,6 +162,18 @@ vpKinematicBundleAdjustment::Options vpRobotSelfCalibration::bundleOptions(const
     bo.intrinsics &= ~FX;
   bo.hand_eye_only =
       derived(opt.bundle.hand_eye_only, def.hand_eye_only, opt.method == HAND_EYE, "bundle.hand_eye_only", "method");
+  // The robot's pose error as the dataset states it, unless the caller states it: controller poses
+  // (hand-eye) or joint readings (full kinematics), with the sd widened by sigma0 when the residuals
+  // say the noise is larger.
+  if (opt.method == HAND_EYE && bo.pose_sd_translation == 0 && ds.pose_sd_translation > 0) {
+    bo.pose_sd_translation = ds.pose_sd_translation;
+    bo.pose_sd_rotation = ds.pose_sd_rotation;
+    bo.scale_covariance = true;
+  }
+  if (opt.method == BUNDLE_ADJUSTMENT && bo.joint_sd.empty() && !ds.joint_sd.empty()) {
+    bo.joint_sd = ds.joint_sd;
+    bo.scale_covariance = true;
+  }
   // The dataset's OpenCV lens model: the model of the estimate, its coefficients the start (unless
   // the caller gives other start coefficients).
   if (!ds.opencv_distortion.empty()) {
@@ -219,17 +231,44 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
   using vpSelfCalibPipeline::seconds;
   const auto t0 = std::chrono::steady_clock::now();
   const unsigned int N = checkInputs(nominal, ds, opt);
-  // Known OpenCV distortion (not estimated): applied once to every pixel, the steps see a pinhole camera.
-  const bool estimate_lens = opt.method != PAPER && (opt.bundle.intrinsics & vpKinematicBundleAdjustment::DISTORTION) &&
-                             (!ds.opencv_distortion.empty() ||
-                              opt.bundle.distortion_model == vpKinematicBundleAdjustment::DISTORTION_OPENCV);
+  // Known OpenCV distortion with every intrinsic known: applied once to every pixel, the steps see a
+  // pinhole camera. When an intrinsic is estimated (the focal length included) undistorting needs it:
+  // the lens stays in the bundle adjustment's model (its coefficients estimated or held).
+  const unsigned int others = vpKinematicBundleAdjustment::ASPECT | vpKinematicBundleAdjustment::PRINCIPAL_POINT |
+                              vpKinematicBundleAdjustment::DISTORTION | vpKinematicBundleAdjustment::DISTORTION_K3;
+  const bool lens_in_bundle = opt.method != PAPER && ((opt.bundle.intrinsics & others) != 0 ||
+                                                      resolveFocalMode(opt, ds) != FOCAL_KNOWN);
   vpSelfCalibDataset pinhole;
-  if (!ds.opencv_distortion.empty() && !estimate_lens) {
+  if (!ds.opencv_distortion.empty() && !lens_in_bundle) {
     pinhole = ds;
     pinhole.views = vpSelfCalibPipeline::undistorted(ds.views, vpSelfCalibPipeline::lensOf(ds));
     pinhole.opencv_distortion.clear();
   }
-  const vpSelfCalibDataset &data = pinhole.views.empty() ? ds : pinhole;
+  vpSelfCalibDataset started;
+  const vpSelfCalibDataset &data0 = pinhole.views.empty() ? ds : pinhole;
+  if (opt.method != PAPER && resolveFocalMode(opt, data0) != FOCAL_KNOWN) {
+    // A self-calibrated focal length starts from where the rays of the robot's predicted camera
+    // poses meet best, not from the image width (a start twice the truth does not converge).
+    std::vector<vpSelfCalib::Rigid> fMc;
+    const vpSelfCalib::Rigid eMc = vpSelfCalib::rigidFromVisp(nominal.get_eMc_corrected());
+    for (unsigned int k = 0; k < N; ++k) {
+      const vpSelfCalibDataset::View &v = data0.views[k];
+      fMc.push_back(opt.method == HAND_EYE && v.has_fMe ? vpSelfCalib::rigidFromVisp(v.fMe) * eMc
+                                                          : vpSelfCalib::rigidFromVisp(nominal.get_fMc(v.q)));
+    }
+    const std::vector<vpSelfCalibDataset::View> cal(data0.views.begin(), data0.views.begin() + N);
+    const vpSelfCalibPipeline::PredictedStart p =
+        vpSelfCalibPipeline::predictedStart(cal, fMc, vpSelfCalibPipeline::lensOf(data0), false);
+    if (p.ok) {
+      started = data0;
+      const double mu = data0.cam.get_py() / data0.cam.get_px();
+      started.cam.initPersProjWithoutDistortion(p.fx, mu * p.fx, data0.cam.get_u0(), data0.cam.get_v0());
+      if (data0.cam.get_projModel() == vpCameraParameters::perspectiveProjWithDistortion)
+        started.cam.initPersProjWithDistortion(p.fx, mu * p.fx, data0.cam.get_u0(), data0.cam.get_v0(),
+                                               data0.cam.get_kud(), data0.cam.get_kdu());
+    }
+  }
+  const vpSelfCalibDataset &data = started.views.empty() ? data0 : started;
   // Resolves the focal mode and builds every step's options: the remaining caller mistakes throw here.
   const vpSelfCalibPipeline::Context context(nominal, data, opt, N, progress);
 

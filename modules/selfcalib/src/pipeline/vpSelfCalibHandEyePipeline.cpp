@@ -67,36 +67,91 @@ vpKinematicChain handEyeStart(const vpKinematicChain &nominal, const std::vector
 }
 } // namespace
 
+namespace
+{
+//! The better of two finished runs: more observations kept (beyond 2 %), else the lower sigma0.
+bool better(const Result &a, const Result &b)
+{
+  if (a.status != vpRobotSelfCalibration::OK)
+    return false;
+  if (b.status != vpRobotSelfCalibration::OK)
+    return true;
+  const double na = a.bundle.num_observations, nb = b.bundle.num_observations;
+  if (std::abs(na - nb) > 0.02 * std::max(na, nb))
+    return na > nb;
+  return a.bundle.sigma0 < b.bundle.sigma0;
+}
+} // namespace
+
+/*
+  Two starts, both adjusted, the better kept (better()): (1) the points triangulated from the camera
+  poses the controller poses and the model's eMc predict, with the focal length where their rays meet
+  best (no two-view geometry: works on planes and with f self-calibrated); (2) the multi-view
+  reconstruction and Tsai's closed form (works when the model's eMc is far off).
+*/
 void runHandEye(const Context &c, Result &res)
 {
   const unsigned int N = c.num_calibration;
   const std::vector<View> &cal = c.calibration;
-  if (!multiView(c, res))
-    return;
-  auto ts = std::chrono::steady_clock::now();
   std::vector<Rigid> fMe;
   for (const auto &v : cal)
     fMe.push_back(rigidFromVisp(v.has_fMe ? v.fMe : c.nominal.get_fMe(v.q)));
-
-  // Metric unit: the yardstick, else the end-effector baseline of the reference pair with the model's eMc.
-  const Rigid eMc0 = rigidFromVisp(c.nominal.get_eMc_corrected());
-  double s = 1;
-  if (!res.multiview.metric) {
-    const unsigned int r = res.multiview.reference_view;
-    const double baseline = ((fMe[r] * eMc0).inverse() * (fMe[0] * eMc0)).t.norm();
-    s = baseline / res.multiview.cMc0[r].getTranslationVector().frobeniusNorm();
-  }
-  const vpKinematicChain start = handEyeStart(c.nominal, fMe, res.multiview, s);
-  res.stage_seconds.push_back({"hand-eye closed form", seconds(ts)});
-
-  // Kinematic bundle adjustment in hand-eye-only mode (bundleOptions), points moved to f through the
-  // first eMc; every view with its end-effector pose.
   std::vector<View> views = cal;
   for (unsigned int k = 0; k < N; ++k)
     if (!views[k].has_fMe) {
       views[k].has_fMe = true;
       views[k].fMe = toVisp(fMe[k]);
     }
-  bundle(c, start, toVisp(fMe[0]) * start.get_eMc_corrected(), s, views, c.bundle, "hand-eye bundle adjustment", res);
+  const Result before = res;
+
+  // (1) From the robot's predicted poses.
+  Result predicted = before;
+  {
+    auto ts = std::chrono::steady_clock::now();
+    const Rigid eMc0 = rigidFromVisp(c.nominal.get_eMc_corrected());
+    std::vector<Rigid> fMc;
+    for (const Rigid &M : fMe)
+      fMc.push_back(M * eMc0);
+    const PredictedStart p =
+        predictedStart(cal, fMc, lensOf(c.dataset), c.mode == vpRobotSelfCalibration::FOCAL_KNOWN);
+    predicted.stage_seconds.push_back({"start from the robot's poses", seconds(ts)});
+    if (p.ok && bundleFrom(c, c.nominal, p.points, p.fx, views, c.bundle, "hand-eye bundle adjustment", predicted))
+      predicted.message = "start from the controller poses; " + predicted.message;
+    else if (!p.ok) {
+      predicted.status = vpRobotSelfCalibration::TWO_VIEW_FAILED;
+      predicted.message = "fewer than 10 observations triangulate from the controller poses";
+    }
+  }
+
+  // (2) From the multi-view reconstruction.
+  Result multi = before;
+  if (multiView(c, multi)) {
+    auto ts = std::chrono::steady_clock::now();
+    // Metric unit: the yardstick, else the end-effector baseline of the reference pair with the model's eMc.
+    const Rigid eMc0 = rigidFromVisp(c.nominal.get_eMc_corrected());
+    double s = 1;
+    if (!multi.multiview.metric) {
+      const unsigned int r = multi.multiview.reference_view;
+      const double baseline = ((fMe[r] * eMc0).inverse() * (fMe[0] * eMc0)).t.norm();
+      s = baseline / multi.multiview.cMc0[r].getTranslationVector().frobeniusNorm();
+    }
+    const vpKinematicChain start = handEyeStart(c.nominal, fMe, multi.multiview, s);
+    multi.stage_seconds.push_back({"hand-eye closed form", seconds(ts)});
+    // Kinematic bundle adjustment in hand-eye-only mode (bundleOptions), points moved to f through
+    // the first eMc; every view with its end-effector pose.
+    bundle(c, start, toVisp(fMe[0]) * start.get_eMc_corrected(), s, views, c.bundle, "hand-eye bundle adjustment",
+           multi);
+  }
+  if (better(predicted, multi)) {
+    const vpMultiViewReconstruction::Result mv = multi.multiview;
+    res = predicted;
+    res.multiview = mv; // what the reconstruction found, for the report
+    res.pairs = multi.pairs;
+  } else if (multi.status == vpRobotSelfCalibration::OK || predicted.status != vpRobotSelfCalibration::OK) {
+    res = multi;
+    if (predicted.status != vpRobotSelfCalibration::OK && multi.status != vpRobotSelfCalibration::OK)
+      res.message += "; from the controller poses: " + predicted.message;
+  } else
+    res = predicted;
 }
 } // namespace vpSelfCalibPipeline

@@ -6,11 +6,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <sstream>
 
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibCamera.h"
+#include "../core/vpSelfCalibGeometry.h"
 
 using namespace vpSelfCalib;
 
@@ -248,7 +250,6 @@ bool bundle(const Context &c, const vpKinematicChain &start, const vpHomogeneous
             const std::vector<View> &views, const vpKinematicBundleAdjustment::Options &bo, const std::string &label,
             Result &res)
 {
-  c.report(label, 0, 1);
   const Rigid fMc0 = rigidFromVisp(fMc0_);
   std::map<int, vpColVector> points;
   for (const auto &e : res.multiview.points) {
@@ -258,10 +259,18 @@ bool bundle(const Context &c, const vpKinematicChain &start, const vpHomogeneous
       v[a] = x(a);
     points[e.first] = v;
   }
+  return bundleFrom(c, start, points, res.multiview.fx, views, bo, label, res);
+}
+
+bool bundleFrom(const Context &c, const vpKinematicChain &start, const std::map<int, vpColVector> &points, double fx0,
+                const std::vector<View> &views, const vpKinematicBundleAdjustment::Options &bo,
+                const std::string &label, Result &res)
+{
+  c.report(label, 0, 1);
   const vpSelfCalibDataset &ds = c.dataset;
   // The dataset's camera (its distortion included) with the multi-view focal length.
   CameraModel start_camera = CameraModel::fromVisp(ds.cam);
-  start_camera.intrinsics()[0] = res.multiview.fx;
+  start_camera.intrinsics()[0] = fx0;
   const vpCameraParameters cam0 = start_camera.toVisp();
   res.bundle = vpKinematicBundleAdjustment::adjust(start, cam0, views, ds.yardstick, points, bo);
   res.stage_seconds.push_back({label, res.bundle.seconds_solve});
@@ -294,6 +303,90 @@ bool bundle(const Context &c, const vpKinematicChain &start, const vpHomogeneous
   res.status = vpRobotSelfCalibration::OK;
   res.message = "multi-view " + res.multiview.message + "; " + label + " " + res.bundle.message;
   return true;
+}
+
+namespace
+{
+/*
+  Points triangulated (multi-ray midpoint, cheirality) from cameras at fMc through camera, and the
+  median reprojection error (px) of their observations; ids seen in fewer than 2 views, or that do
+  not triangulate, are left out.
+*/
+double triangulateAll(const std::vector<View> &views, const std::vector<Rigid> &fMc, const CameraModel &camera,
+                      std::map<int, Eigen::Vector3d> &X)
+{
+  std::map<int, std::vector<std::pair<size_t, Eigen::Vector2d>>> seen;
+  for (size_t k = 0; k < views.size(); ++k)
+    for (const auto &o : views[k].points)
+      seen[o.id].push_back({k, Eigen::Vector2d(o.ip.get_u(), o.ip.get_v())});
+  X.clear();
+  std::vector<double> errors;
+  for (const auto &e : seen) {
+    if (e.second.size() < 2)
+      continue;
+    std::vector<Ray> rays;
+    for (const auto &ob : e.second)
+      rays.push_back(rayThrough(fMc[ob.first], camera, ob.second));
+    Eigen::Vector3d x;
+    if (!triangulateMidpoint(rays, x))
+      continue;
+    X[e.first] = x;
+    for (const auto &ob : e.second) {
+      const Eigen::Vector3d xc = fMc[ob.first].inverse() * x;
+      errors.push_back(inFront(xc) ? (camera.project(xc) - ob.second).norm() : 1e6);
+    }
+  }
+  if (errors.size() < 10)
+    return std::numeric_limits<double>::infinity();
+  std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+  return errors[errors.size() / 2];
+}
+} // namespace
+
+PredictedStart predictedStart(const std::vector<View> &views, const std::vector<Rigid> &fMc, const CameraModel &lens,
+                              bool focal_known)
+{
+  PredictedStart out;
+  std::map<int, Eigen::Vector3d> X;
+  CameraModel camera = lens;
+  double best = std::numeric_limits<double>::infinity(), f0 = lens.px();
+  if (!focal_known) {
+    // A ladder of focal lengths from 0.3x to 3x the guess (steps of 2^(1/4)), then golden-section
+    // search between the best rung's neighbours.
+    auto error = [&](double f) {
+      camera.intrinsics()[0] = f;
+      return triangulateAll(views, fMc, camera, X);
+    };
+    int best_k = 0;
+    for (int k = -7; k <= 6; ++k) {
+      const double e = error(lens.px() * std::pow(2.0, k / 4.0));
+      if (e < best) {
+        best = e;
+        best_k = k;
+      }
+    }
+    if (!std::isfinite(best))
+      return out;
+    double a = std::log(lens.px()) + (best_k - 1) * std::log(2.0) / 4, b = a + std::log(2.0) / 2;
+    const double g = (std::sqrt(5.0) - 1) / 2;
+    for (int it = 0; it < 20; ++it) {
+      const double x1 = b - g * (b - a), x2 = a + g * (b - a);
+      if (error(std::exp(x1)) < error(std::exp(x2)))
+        b = x2;
+      else
+        a = x1;
+    }
+    f0 = std::exp(0.5 * (a + b));
+  }
+  camera.intrinsics()[0] = f0;
+  out.median_error = triangulateAll(views, fMc, camera, X);
+  if (!std::isfinite(out.median_error))
+    return out;
+  out.fx = f0;
+  for (const auto &e : X)
+    out.points[e.first] = vpColVector({e.second(0), e.second(1), e.second(2)});
+  out.ok = true;
+  return out;
 }
 
 void checkResult(const Context &c, Result &res)

@@ -8,12 +8,14 @@
 #define VP_SELFCALIB_PIPELINES_H
 
 #include <chrono>
+#include <map>
 #include <string>
 #include <vector>
 
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 
 #include "../core/vpSelfCalibCamera.h"
+#include "../core/vpSelfCalibMath.h"
 
 namespace vpSelfCalibPipeline
 {
@@ -83,6 +85,29 @@ bool multiView(const Context &context, Result &result);
 bool bundle(const Context &context, const vpKinematicChain &start, const vpHomogeneousMatrix &fMc0, double s,
             const std::vector<View> &views, const vpKinematicBundleAdjustment::Options &bundle_options,
             const std::string &label, Result &result);
+//! The same from start points in f and a start focal length.
+bool bundleFrom(const Context &context, const vpKinematicChain &start, const std::map<int, vpColVector> &points,
+                double fx0, const std::vector<View> &views, const vpKinematicBundleAdjustment::Options &bundle_options,
+                const std::string &label, Result &result);
+
+//! A start from the camera poses the robot predicts (see predictedStart()).
+struct PredictedStart {
+  bool ok = false;
+  double fx = 0;                         //!< px
+  double median_error = 0;               //!< px, median reprojection error of the triangulated points
+  std::map<int, vpColVector> points;     //!< in f
+};
+/*!
+  Every point seen twice triangulated from the cameras the robot predicts (fMc: nominal kinematics
+  or controller poses with the nominal eMc) through the lens; with the focal length not known, the
+  focal length that makes these rays meet best (lowest median reprojection error over a ladder of
+  candidates from 0.3x to 3x the lens's, then a golden-section search). Needs no two-view geometry:
+  it works on planar scenes and from any focal guess. ok false when fewer than 10 observations
+  triangulate.
+*/
+PredictedStart predictedStart(const std::vector<View> &views, const std::vector<vpSelfCalib::Rigid> &fMc,
+                              const vpSelfCalib::CameraModel &lens, bool focal_known);
+
 //! Findings after a run: many outliers, an unused yardstick, parameters a richer trajectory would identify.
 void checkResult(const Context &context, Result &result);
 //! Step 5: the yardstick 3-D error on the verification views, nominal and calibrated (2 views or more).
