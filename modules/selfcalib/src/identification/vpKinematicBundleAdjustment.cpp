@@ -47,7 +47,9 @@ struct ViewState {
   Eigen::Vector3d tf;                          // camera origin in f
   Eigen::Matrix<double, 3, Eigen::Dynamic> A;  // fRc^T J_t
   Eigen::Matrix<double, 3, Eigen::Dynamic> C;  // fRc^T J_phi
-  Eigen::Matrix<double, 3, 6> Ad, Cd;          // the same for the view's pose correction delta (pose noise)
+  // The same for the view's own correction: its pose correction delta (6, robot pose error) or its
+  // joint corrections (n, joint-reading noise).
+  Eigen::Matrix<double, 3, Eigen::Dynamic> Ad, Cd;
 };
 
 void computeView(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const vpColVector &q,
@@ -68,6 +70,28 @@ void computeView(const vpKinematicChain &chain, const std::vector<unsigned int> 
     }
   v.A = v.RT * Jt;
   v.C = v.RT * Jr;
+}
+
+//! computeView at q + dq, with the derivatives with respect to dq (joint-reading noise).
+void computeJointNoiseView(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const vpColVector &q,
+                           const double *dq, bool with_jacobian, ViewState &v)
+{
+  vpColVector qe = q;
+  for (unsigned int i = 0; i < q.size(); ++i)
+    qe[i] += dq[i];
+  computeView(chain, id, qe, with_jacobian, v);
+  if (!with_jacobian)
+    return;
+  const vpMatrix J = chain.getJointJacobian(qe);
+  const int n = static_cast<int>(q.size());
+  Eigen::Matrix<double, 3, Eigen::Dynamic> Jt(3, n), Jr(3, n);
+  for (int c = 0; c < n; ++c)
+    for (int a = 0; a < 3; ++a) {
+      Jt(a, c) = J[a][c];
+      Jr(a, c) = J[a + 3][c];
+    }
+  v.Ad = v.RT * Jt;
+  v.Cd = v.RT * Jr;
 }
 
 /*
@@ -161,7 +185,7 @@ bool project(Distortion model, const ViewState &v, const double *in, const doubl
     Jr = D * (-v.A + skew(Xc) * v.C);
   }
   if (Jdelta) {
-    Eigen::Map<Eigen::Matrix<double, 2, 6, Eigen::RowMajor>> Jd(Jdelta);
+    Eigen::Map<Eigen::Matrix<double, 2, Eigen::Dynamic, Eigen::RowMajor>> Jd(Jdelta, 2, v.Ad.cols());
     Jd = D * (-v.Ad + skew(Xc) * v.Cd);
   }
   return true;
@@ -175,9 +199,10 @@ class KinematicState : public ceres::EvaluationCallback
 {
 public:
   KinematicState(const vpKinematicChain &start, const std::vector<unsigned int> &id, const std::vector<vpColVector> &q,
-                 const std::vector<Rigid> &fMe = std::vector<Rigid>(), bool pose_noise = false)
+                 const std::vector<Rigid> &fMe = std::vector<Rigid>(), bool pose_noise = false, bool joint_noise = false)
     : chain(start), base(start.getParameters()), id(id), q(q), fMe(fMe), rho(id.size()), views(q.size()),
-      delta(pose_noise ? q.size() : 0, std::array<double, 6>{0, 0, 0, 0, 0, 0})
+      delta(pose_noise ? q.size() : 0, std::array<double, 6>{0, 0, 0, 0, 0, 0}),
+      dq(joint_noise ? q.size() : 0, std::vector<double>(start.getNumJoints(), 0.0))
   {
     for (size_t i = 0; i < id.size(); ++i)
       rho[i] = base[id[i]];
@@ -194,7 +219,9 @@ public:
       p[id[i]] = rho[i];
     chain.setParameters(p);
     for (size_t k = 0; k < q.size(); ++k)
-      if (fMe.empty())
+      if (fMe.empty() && !dq.empty())
+        computeJointNoiseView(chain, id, q[k], dq[k].data(), with_jacobians, views[k]);
+      else if (fMe.empty())
         computeView(chain, id, q[k], with_jacobians, views[k]);
       else if (delta.empty())
         computeHandEyeView(chain, id, fMe[k], with_jacobians, views[k]);
@@ -212,7 +239,12 @@ public:
   std::vector<ViewState> views;
   //! Hand-eye-only mode with robot pose error: each view's pose correction (a parameter block); else empty.
   std::vector<std::array<double, 6>> delta;
+  //! Full mode with joint-reading noise: each view's joint corrections (a parameter block); else empty.
+  std::vector<std::vector<double>> dq;
   Distortion model = Distortion::VISP; //!< the lens model of the intrinsics block
+  //! The size of a view's own correction block (6, the number of joints, or 0).
+  int correctionSize() const { return !delta.empty() ? 6 : (!dq.empty() ? static_cast<int>(dq[0].size()) : 0); }
+  double *correction(size_t k) { return !delta.empty() ? delta[k].data() : dq[k].data(); }
 
 private:
   bool has_jacobians_ = false;
@@ -230,13 +262,14 @@ public:
     mutable_parameter_block_sizes()->push_back(static_cast<int>(state->id.size()));
     mutable_parameter_block_sizes()->push_back(kIntrinsics);
     mutable_parameter_block_sizes()->push_back(3);
-    if (!state->delta.empty())
-      mutable_parameter_block_sizes()->push_back(6);
+    if (state->correctionSize() > 0)
+      mutable_parameter_block_sizes()->push_back(state->correctionSize());
   }
   bool Evaluate(double const *const *p, double *r, double **J) const override
   {
     const int P = static_cast<int>(state_->id.size());
-    const int blocks = state_->delta.empty() ? 3 : 4;
+    const int S = state_->correctionSize();
+    const int blocks = S > 0 ? 4 : 3;
     double uv[2];
     if (!project(state_->model, state_->views[view_], p[1], p[2], uv, J ? J[0] : nullptr, J ? J[1] : nullptr, J ? J[2] : nullptr, P,
                  J && blocks == 4 ? J[3] : nullptr))
@@ -246,7 +279,7 @@ public:
     if (J)
       for (int b = 0; b < blocks; ++b)
         if (J[b]) {
-          const int n = 2 * (b == 0 ? P : (b == 1 ? kIntrinsics : (b == 2 ? 3 : 6)));
+          const int n = 2 * (b == 0 ? P : (b == 1 ? kIntrinsics : (b == 2 ? 3 : S)));
           for (int i = 0; i < n; ++i)
             J[b][i] *= w_;
         }
@@ -271,6 +304,31 @@ struct PosePriorCost {
     return true;
   }
   double wt, wr;
+};
+
+//! dq_i / sd_i: the prior of a view's joint corrections (joint-reading noise).
+class JointPriorCost : public ceres::CostFunction
+{
+public:
+  explicit JointPriorCost(const std::vector<double> &sd) : sd_(sd)
+  {
+    set_num_residuals(static_cast<int>(sd.size()));
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(sd.size()));
+  }
+  bool Evaluate(double const *const *p, double *r, double **J) const override
+  {
+    const size_t n = sd_.size();
+    for (size_t i = 0; i < n; ++i)
+      r[i] = p[0][i] / sd_[i];
+    if (J && J[0])
+      for (size_t i = 0; i < n; ++i)
+        for (size_t j = 0; j < n; ++j)
+          J[0][i * n + j] = i == j ? 1 / sd_[i] : 0.0;
+    return true;
+  }
+
+private:
+  std::vector<double> sd_;
 };
 
 //! (X - (R(o_r) L + o_t)) / sd: a point of known geometry L (object frame) and the object's pose o.
@@ -490,12 +548,14 @@ std::vector<int> estimatedIntrinsics(const vpCameraParameters &camera, const KBA
 //! Everything one adjustment works on, built by the stages and shared by them.
 struct Adjustment {
   Adjustment(const std::map<int, Eigen::Vector3d> &X0, const vpKinematicChain &start, const std::vector<unsigned int> &id,
-             const std::vector<vpColVector> &q, const std::vector<Rigid> &fMe, bool pose_noise)
-    : X(X0), state(start, id, q, fMe, pose_noise)
+             const std::vector<vpColVector> &q, const std::vector<Rigid> &fMe, bool pose_noise,
+             const std::vector<double> &joint_sd_)
+    : X(X0), state(start, id, q, fMe, pose_noise, !joint_sd_.empty()), joint_sd(joint_sd_)
   {
   }
   PointStore X;
   KinematicState state;
+  std::vector<double> joint_sd; //!< per joint (rad) with joint-reading noise, else empty
   std::vector<Obs> obs;
   std::vector<bool> inlier;
   double in[kIntrinsics];
@@ -601,8 +661,8 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
       continue;
     double *Xp = a.X[a.obs[n].id].data();
     std::vector<double *> blocks = {a.state.rho.data(), a.in, Xp};
-    if (!a.state.delta.empty())
-      blocks.push_back(a.state.delta[a.obs[n].view].data());
+    if (a.state.correctionSize() > 0)
+      blocks.push_back(a.state.correction(a.obs[n].view));
     problem->AddResidualBlock(new ObservationCost(&a.state, a.obs[n].view, a.obs[n].u, a.obs[n].v, opt.pixel_sd),
                               loss_scale > 0 ? makeLoss(static_cast<RobustLoss>(opt.loss), loss_scale) : nullptr,
                               blocks);
@@ -634,6 +694,11 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
                               nullptr, a.state.delta[k].data());
     order->AddElementToGroup(a.state.delta[k].data(), 4 + static_cast<int>(k));
   }
+  // Joint-reading noise: each view's joint corrections with their prior.
+  for (size_t k = 0; k < a.state.dq.size(); ++k) {
+    problem->AddResidualBlock(new JointPriorCost(a.joint_sd), nullptr, a.state.dq[k].data());
+    order->AddElementToGroup(a.state.dq[k].data(), 4 + static_cast<int>(k));
+  }
   if (a.has_object) {
     for (const auto &e : opt.known_points)
       if (a.X.count(e.first) && problem->HasParameterBlock(a.X[e.first].data()))
@@ -641,7 +706,8 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
                                       new KnownPointCost(e.second, opt.known_points_sd)),
                                   nullptr, a.object.data(), a.X[e.first].data());
     if (problem->HasParameterBlock(a.object.data()))
-      order->AddElementToGroup(a.object.data(), 4 + static_cast<int>(a.state.delta.size()));
+      order->AddElementToGroup(a.object.data(),
+                               4 + static_cast<int>(std::max(a.state.delta.size(), a.state.dq.size())));
   }
   if (a.free_in.empty())
     problem->SetParameterBlockConstant(a.in);
@@ -724,6 +790,20 @@ void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::
     res.pose_rms_rotation = std::sqrt(sr / (3 * views));
     res.sigma0 = dof > 0 ? std::sqrt(chi2 / dof) : 0;
   }
+  if (!a.state.dq.empty()) {
+    double chi2 = sum / (opt.pixel_sd * opt.pixel_sd), sq = 0;
+    for (const auto &d : a.state.dq) {
+      vpColVector c(static_cast<unsigned int>(d.size()));
+      for (size_t i = 0; i < d.size(); ++i) {
+        c[static_cast<unsigned int>(i)] = d[i];
+        chi2 += d[i] * d[i] / (a.joint_sd[i] * a.joint_sd[i]);
+        sq += d[i] * d[i];
+      }
+      res.joint_corrections.push_back(c);
+    }
+    res.joint_rms = std::sqrt(sq / static_cast<double>(a.state.dq.size() * a.joint_sd.size()));
+    res.sigma0 = dof > 0 ? std::sqrt(chi2 / dof) : 0;
+  }
   for (int idp : kept) {
     vpColVector v(3);
     for (unsigned int c = 0; c < 3; ++c)
@@ -758,6 +838,8 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
       ends.insert(a.X[e].data());
     }
   for (auto &d : a.state.delta)
+    kept.push_back(d.data());
+  for (auto &d : a.state.dq)
     kept.push_back(d.data());
   if (a.has_object && problem.HasParameterBlock(a.object.data()))
     kept.push_back(a.object.data());
@@ -839,7 +921,23 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   res.camera = camera;
   res.sd.resize(start.getNumParameters());
   res.identifiability = estimatedSet(start, q, opt);
-  Adjustment a(X0, start, res.identifiability.identified, q, fMe, opt.hand_eye_only && opt.pose_sd_translation > 0);
+  std::vector<double> joint_sd;
+  if (!opt.joint_sd.empty()) {
+    if (opt.hand_eye_only)
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpKinematicBundleAdjustment: joint_sd (joint-reading noise) is for the full kinematic "
+                                 "mode; in hand-eye-only mode give the controller pose error (pose_sd_*)");
+    if (opt.joint_sd.size() != 1 && opt.joint_sd.size() != start.getNumJoints())
+      throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                                 "vpKinematicBundleAdjustment: joint_sd needs 1 or " +
+                                     std::to_string(start.getNumJoints()) + " values, got " +
+                                     std::to_string(opt.joint_sd.size()));
+    joint_sd.assign(start.getNumJoints(), opt.joint_sd[0]);
+    if (opt.joint_sd.size() > 1)
+      joint_sd = opt.joint_sd;
+  }
+  Adjustment a(X0, start, res.identifiability.identified, q, fMe, opt.hand_eye_only && opt.pose_sd_translation > 0,
+               joint_sd);
   a.P = static_cast<int>(res.identifiability.identified.size());
   for (unsigned int k = 0; k < m; ++k)
     for (const auto &o : views[k].points)
@@ -974,6 +1072,10 @@ void vpKinematicBundleAdjustment::Options::check() const
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: pose_sd_translation and pose_sd_rotation must be both "
                                "positive (robot pose error modelled) or both 0 (exact poses)");
+  for (double sd : joint_sd)
+    if (!(sd > 0) || !(sd < 1))
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpKinematicBundleAdjustment: joint_sd values must be in (0, 1) rad");
   if (max_iterations == 0 || num_threads == 0)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: max_iterations and num_threads must be at least 1");

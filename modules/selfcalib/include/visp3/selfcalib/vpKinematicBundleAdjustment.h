@@ -114,6 +114,14 @@ public:
     double pose_sd_translation = 0; //!< m
     double pose_sd_rotation = 0;    //!< rad
     /*!
+      Full kinematic mode: the expected error of the joint readings (rad; one value for every joint,
+      or one per joint): encoder resolution, backlash, joint compliance under the camera's weight.
+      Each view k gets joint corrections dq_k, the pose is fMc(q_k + dq_k; rho), estimated with the
+      prior residual dq_k,i / joint_sd_i beside the pixel residuals. Empty (default): the readings
+      are exact.
+    */
+    std::vector<double> joint_sd;
+    /*!
       Scale the covariance by sigma0^2 when sigma0 > 1: the residuals say the stated noise (pixel
       and robot pose) is too small, and the standard deviations are widened accordingly (the a
       posteriori variance factor). Off by default.
@@ -170,6 +178,9 @@ public:
     */
     std::vector<vpColVector> pose_corrections;
     double pose_rms_translation = 0, pose_rms_rotation = 0;
+    //! With joint-reading noise modelled (joint_sd): each view's estimated joint corrections (rad) and their RMS.
+    std::vector<vpColVector> joint_corrections;
+    double joint_rms = 0;
     unsigned int iterations = 0;
     double seconds_solve = 0, seconds_covariance = 0;
   };
