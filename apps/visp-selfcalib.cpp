@@ -325,7 +325,22 @@ std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinemat
   out << YAML::Key << "px" << YAML::Value << r.camera.get_px() << YAML::Key << "py" << YAML::Value << r.camera.get_py()
       << YAML::Key << "u0" << YAML::Value << r.camera.get_u0() << YAML::Key << "v0" << YAML::Value << r.camera.get_v0()
       << YAML::Key << "px_sd" << YAML::Value << r.fx_sd;
+  if (!r.bundle.opencv_distortion.empty()) {
+    out << YAML::Key << "distortion" << YAML::Comment("OpenCV: k1 k2 p1 p2 k3") << YAML::Value << YAML::BeginSeq;
+    for (double k : r.bundle.opencv_distortion)
+      out << k;
+    out << YAML::EndSeq;
+  }
   out << YAML::EndMap;
+  if (r.bundle.intrinsic_names.size() == r.bundle.intrinsics_sd.size() && !r.bundle.intrinsic_names.empty() &&
+      r.bundle.has_covariance) {
+    out << YAML::Key << "intrinsics_estimated" << YAML::Comment("value and sd (px; mu and distortion unitless)")
+        << YAML::Value << YAML::Flow << YAML::BeginMap;
+    for (unsigned int i = 0; i < r.bundle.intrinsics.size(); ++i)
+      out << YAML::Key << r.bundle.intrinsic_names[i] << YAML::Value << YAML::BeginSeq << r.bundle.intrinsics[i]
+          << r.bundle.intrinsics_sd[i] << YAML::EndSeq;
+    out << YAML::EndMap;
+  }
   if (r.has_eMc) {
     out << YAML::Key << "eMc" << YAML::Comment("calibrated hand-eye pose vector (tx ty tz tux tuy tuz; m, rad) and sd")
         << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "pose" << YAML::Value << YAML::BeginSeq;
@@ -345,6 +360,8 @@ std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinemat
     if (!r.bundle.pose_corrections.empty())
       out << YAML::Key << "robot_pose_rms_m" << YAML::Value << r.bundle.pose_rms_translation << YAML::Key
           << "robot_pose_rms_rad" << YAML::Value << r.bundle.pose_rms_rotation;
+    if (!r.bundle.joint_corrections.empty())
+      out << YAML::Key << "joint_correction_rms_rad" << YAML::Value << r.bundle.joint_rms;
     if (r.bundle.covariance_scaled)
       out << YAML::Key << "sd_scaled_by_sigma0" << YAML::Value << true;
     out << YAML::EndMap;
@@ -376,6 +393,7 @@ struct CalibrateArgs {
   unsigned int calibration = 0;
   double pixel_sd = 0.2;
   std::vector<double> pose_sd; //!< robot pose error (m, rad) of controller poses; empty: exact
+  std::vector<double> joint_sd; //!< joint-reading noise (rad), one or one per joint; empty: exact
   std::vector<std::string> estimate; //!< intrinsics estimated beside f: aspect, pp, distortion
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::vector<std::string> dot_grids;
@@ -433,12 +451,21 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
       ->delimiter(',')
       ->expected(2)
       ->check(selfcalibCli::number(0, true));
+  c->add_option("--joint-sd", a.joint_sd,
+                "bundle-adjustment: the joint readings' error (rad), one value for every joint or one\n"
+                "per joint, e.g. 1e-4: each view gets joint corrections with that prior, and the sd are\n"
+                "widened by sigma0 when the residuals say the noise is larger (default: the dataset's\n"
+                "robot_error, else exact readings)")
+      ->type_name("RAD[,RAD...]")
+      ->delimiter(',')
+      ->check(selfcalibCli::number(0, true));
   c->add_option("--estimate", a.estimate,
                 "intrinsics estimated with the calibration besides f (--focal): aspect (p_y / p_x),\n"
-                "pp (principal point), distortion (ViSP's radial k_ud); for nominal intrinsics")
+                "pp (principal point), distortion (OpenCV's k1, k2, p1, p2), k3 (and OpenCV's k3),\n"
+                "kud (ViSP's one radial coefficient instead); for nominal intrinsics")
       ->type_name("WHAT[,WHAT...]")
       ->delimiter(',')
-      ->check(CLI::IsMember({"aspect", "pp", "distortion"}));
+      ->check(CLI::IsMember({"aspect", "pp", "distortion", "k3", "kud"}));
   c->add_option("--threads", a.threads,
                 "threads of the image front end (default: all cores); the results do not depend on it")
       ->type_name("N")
@@ -507,13 +534,24 @@ int calibrate(const CalibrateArgs &a)
   po.pixel_sd = a.pixel_sd;
   if (a.board_geometry)
     po.bundle.known_points = vpBoardDetector(*co.board).getLayout();
-  for (const std::string &e : a.estimate)
-    po.bundle.intrinsics |= e == "aspect"   ? vpKinematicBundleAdjustment::ASPECT
-                            : e == "pp"     ? vpKinematicBundleAdjustment::PRINCIPAL_POINT
-                                            : vpKinematicBundleAdjustment::DISTORTION;
+  for (const std::string &e : a.estimate) {
+    using KBA = vpKinematicBundleAdjustment;
+    po.bundle.intrinsics |= e == "aspect" ? KBA::ASPECT
+                            : e == "pp"   ? KBA::PRINCIPAL_POINT
+                            : e == "k3"   ? KBA::DISTORTION | KBA::DISTORTION_K3
+                                          : KBA::DISTORTION;
+    if (e == "distortion" || e == "k3")
+      po.bundle.distortion_model = KBA::DISTORTION_OPENCV;
+  }
+  if (std::count(a.estimate.begin(), a.estimate.end(), "kud") && po.bundle.distortion_model != 0)
+    throw CLI::ValidationError("--estimate", "kud (ViSP's model) and distortion / k3 (OpenCV's) exclude each other");
   if (a.pose_sd.size() == 2) {
     po.bundle.pose_sd_translation = a.pose_sd[0];
     po.bundle.pose_sd_rotation = a.pose_sd[1];
+    po.bundle.scale_covariance = true;
+  }
+  if (!a.joint_sd.empty()) {
+    po.bundle.joint_sd = a.joint_sd;
     po.bundle.scale_covariance = true;
   }
 
@@ -610,6 +648,16 @@ int calibrate(const CalibrateArgs &a)
       std::cout << ", robot pose corrections rms " << 1e3 * r.bundle.pose_rms_translation << " mm / "
                 << 1e3 * r.bundle.pose_rms_rotation << " mrad";
     std::cout << ", sigma0 " << std::setprecision(2) << r.bundle.sigma0 << std::defaultfloat;
+  }
+  if (!r.bundle.joint_corrections.empty())
+    std::cout << "\njoint corrections rms " << std::setprecision(3) << 1e3 * r.bundle.joint_rms << " mrad, sigma0 "
+              << std::setprecision(2) << r.bundle.sigma0 << std::defaultfloat;
+  if (r.bundle.has_covariance && r.bundle.intrinsic_names.size() > 1) {
+    std::cout << "\nintrinsics:";
+    for (unsigned int i = 0; i < r.bundle.intrinsics.size(); ++i)
+      std::cout << " " << r.bundle.intrinsic_names[i] << " " << std::setprecision(5) << r.bundle.intrinsics[i]
+                << " +- " << std::setprecision(2) << r.bundle.intrinsics_sd[i];
+    std::cout << std::defaultfloat;
   }
   std::cout << "\nwrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
   std::cerr << "... report\n";

@@ -40,6 +40,7 @@
 #include <visp3/core/vpPoseVector.h>
 #include <visp3/core/vpThetaUVector.h>
 #include <visp3/selfcalib/vpBoardDetector.h>
+#include <visp3/selfcalib/vpKinematicBundleAdjustment.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
@@ -76,6 +77,8 @@ struct Row {
   bool has_sd = false;      //!< ours: the reported sd
   vpColVector sd;           //!< per pose-vector component (m, rad)
   double f = NAN, f_sd = NAN; //!< px; f_sd only when f was estimated
+  //! Estimated intrinsics (name -> value, sd), ours with more than f estimated, OpenCV's calibrateCamera.
+  std::map<std::string, std::pair<double, double>> intrinsics;
   double seconds = 0;
   bool ours = false;
   // Differences to the reference.
@@ -160,8 +163,21 @@ Row ours(const std::string &method, const vpKinematicChain &nominal, const vpSel
   row.f = r.camera.get_px();
   if (po.focal_mode != vpRobotSelfCalibration::FOCAL_KNOWN)
     row.f_sd = r.fx_sd;
+  for (unsigned int i = 0; i < r.bundle.intrinsics.size() && i < r.bundle.intrinsics_sd.size(); ++i)
+    row.intrinsics[r.bundle.intrinsic_names[i]] = {r.bundle.intrinsics[i], r.bundle.intrinsics_sd[i]};
   return row;
 }
+
+//! "v +- sd" of an intrinsic of a row, or "–".
+std::string intrinsic(const Row &row, const std::string &name, int precision)
+{
+  const auto it = row.intrinsics.find(name);
+  if (it == row.intrinsics.end())
+    return "–";
+  return fixed(it->second.first, precision) +
+         (std::isfinite(it->second.second) ? " +- " + fixed(it->second.second, precision) : "");
+}
+
 
 cv::Mat toCv(const vpRotationMatrix &R)
 {
@@ -175,6 +191,154 @@ cv::Mat toCv(const vpRotationMatrix &R)
 cv::Mat toCv(const vpTranslationVector &t) { return (cv::Mat_<double>(3, 1) << t[0], t[1], t[2]); }
 
 const char *metText(bool met) { return met ? "met" : "NOT met"; }
+/*
+  The industrial_calibration set (15 views of a 10 x 10 modified circle grid on a textured floor;
+  nominal intrinsics fx = fy = 550, cy 25 px off; poses fitting one eMc only to about 8 mm / 20 mrad):
+  f, principal point and OpenCV's distortion self-calibrated with eMc, the dots as unknown scene
+  points (the grid's first row ends as the yardstick) and with the grid's layout known; against
+  OpenCV's board-based calibrateCamera (fx, fy, principal point, k1, k2, p1, p2; k3 fixed) then
+  solvePnP + calibrateHandEye (Park) on the same dots, and the reference of shared/data/README.md.
+*/
+void industrialSection(const std::string &data)
+{
+  const std::string folder = data + "/industrial-calibration-10x10";
+  if (!std::filesystem::is_directory(folder)) {
+    std::cout << "\nSKIPPED: " << folder << " is absent\n";
+    return;
+  }
+  const vpSelfCalibImporter::Result imp = vpSelfCalibImporter::import(folder);
+  vpSelfCalibDataset ds = vpSelfCalibDataset::fromYamlString(imp.dataset.toYamlString());
+  const vpKinematicChain nominal = imp.robot_model;
+  const vpSelfCalibDataset imported = ds;
+  vpSelfCalibImageCorrespondences::Options co;
+  co.front_end.features = false;
+  co.board = vpBoardDetector::parse("modified-circles:10x10:0.0254");
+  co.method = vpRobotSelfCalibration::HAND_EYE;
+  const vpSelfCalibImageCorrespondences::Result cr = vpSelfCalibImageCorrespondences::fromDatasetImages(ds, co);
+  const unsigned int m = static_cast<unsigned int>(ds.views.size());
+  std::cout << "\nbench-real: " << folder << "\n"
+            << m << " views, nominal intrinsics fx " << imported.cam.get_px() << ", principal point ("
+            << imported.cam.get_u0() << ", " << imported.cam.get_v0() << "); board modified-circles:10x10:0.0254 found in "
+            << cr.board_images << " of " << m << " images\n"
+            << "reference (shared/data/README.md, OpenCV on the grid): fx 541.3, fy 542.8, principal point (322.6, "
+               "215.2), k1 0.020, k2 0.109; eMc (Park) t (-78.9, 31.4, 64.6) mm, theta-u (41.4, -32.5, -1569.5) mrad, "
+               "good to about 1-3 cm and 10 mrad (the poses fit one eMc to 8 mm / 20 mrad)\n\n";
+  const vpHomogeneousMatrix ref(vpPoseVector(-0.0789, 0.0314, 0.0646, 0.0414, -0.0325, -1.5695));
+  std::vector<Row> rows;
+  vpRobotSelfCalibration::Options po;
+  po.method = vpRobotSelfCalibration::HAND_EYE;
+  po.num_calibration_poses = m;
+  po.pixel_sd = 0.2;
+  po.focal_mode = vpRobotSelfCalibration::FOCAL_SHARED;
+  po.bundle.intrinsics = vpKinematicBundleAdjustment::FX | vpKinematicBundleAdjustment::PRINCIPAL_POINT |
+                         vpKinematicBundleAdjustment::DISTORTION;
+  po.bundle.distortion_model = vpKinematicBundleAdjustment::DISTORTION_OPENCV;
+  po.bundle.pose_sd_translation = 0.005; // as calibrate --pose-sd 0.005,0.01
+  po.bundle.pose_sd_rotation = 0.01;
+  po.bundle.scale_covariance = true;
+  rows.push_back(ours("I1. ours, dots as unknown points, f, pp, distortion self-calibrated, pose sd 5 mm / 10 mrad",
+                      nominal, ds, po));
+  po.bundle.known_points = vpBoardDetector(*co.board).getLayout();
+  rows.push_back(ours("I2. ours, grid layout known, f, pp, distortion self-calibrated, pose sd 5 mm / 10 mrad",
+                      nominal, ds, po));
+  {
+    // OpenCV: calibrateCamera on the grid, then PnP + calibrateHandEye (Park).
+    Row row;
+    row.method = "I3. OpenCV calibrateCamera + PnP + calibrateHandEye Park";
+    const Clock::time_point t0 = Clock::now();
+    const std::map<int, vpColVector> layout = vpBoardDetector(*co.board).getLayout();
+    std::vector<std::vector<cv::Point3f>> object;
+    std::vector<std::vector<cv::Point2f>> image;
+    std::vector<size_t> index;
+    for (size_t i = 0; i < cr.board.size() && i < imported.views.size(); ++i) {
+      if (!cr.board[i].found)
+        continue;
+      object.emplace_back();
+      image.emplace_back();
+      for (const auto &o : cr.board[i].corners) {
+        const auto it = layout.find(o.id);
+        if (it == layout.end())
+          continue;
+        object.back().emplace_back(static_cast<float>(it->second[0]), static_cast<float>(it->second[1]),
+                                   static_cast<float>(it->second[2]));
+        image.back().emplace_back(static_cast<float>(o.ip.get_u()), static_cast<float>(o.ip.get_v()));
+      }
+      index.push_back(i);
+    }
+    if (object.size() >= 3) {
+      cv::Mat K = (cv::Mat_<double>(3, 3) << imported.cam.get_px(), 0, imported.cam.get_u0(), 0,
+                   imported.cam.get_py(), imported.cam.get_v0(), 0, 0, 1);
+      cv::Mat dist = cv::Mat::zeros(5, 1, CV_64F), sd_in, sd_ex, per_view;
+      std::vector<cv::Mat> rvecs, tvecs;
+      const double rms = cv::calibrateCamera(object, image, cv::Size(static_cast<int>(imported.width),
+                                                                     static_cast<int>(imported.height)),
+                                             K, dist, rvecs, tvecs, sd_in, sd_ex, per_view,
+                                             cv::CALIB_USE_INTRINSIC_GUESS | cv::CALIB_FIX_K3);
+      std::vector<cv::Mat> R_g2b, t_g2b, R_t2c, t_t2c;
+      for (size_t j = 0; j < index.size(); ++j) {
+        cv::Mat R;
+        cv::Rodrigues(rvecs[j], R);
+        R_t2c.push_back(R);
+        t_t2c.push_back(tvecs[j]);
+        const vpHomogeneousMatrix &fMe = imported.views[index[j]].fMe;
+        R_g2b.push_back(toCv(fMe.getRotationMatrix()));
+        t_g2b.push_back(toCv(fMe.getTranslationVector()));
+      }
+      cv::Mat R, t;
+      cv::calibrateHandEye(R_g2b, t_g2b, R_t2c, t_t2c, R, t, cv::CALIB_HAND_EYE_PARK);
+      vpHomogeneousMatrix eMc;
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j)
+          eMc[i][j] = R.at<double>(i, j);
+        eMc[i][3] = t.at<double>(i, 0);
+      }
+      row.ok = true;
+      row.status = "ok (rms " + fixed(rms, 2) + " px)";
+      row.eMc.buildFrom(eMc);
+      row.f = K.at<double>(0, 0);
+      const char *names[] = {"fx", "", "u0", "v0", "k1", "k2", "p1", "p2"};
+      const double values[] = {K.at<double>(0, 0), 0, K.at<double>(0, 2), K.at<double>(1, 2),
+                               dist.at<double>(0), dist.at<double>(1), dist.at<double>(2), dist.at<double>(3)};
+      // sd_in: fx, fy, cx, cy, k1, k2, p1, p2, k3, ...
+      const int sd_index[] = {0, -1, 2, 3, 4, 5, 6, 7};
+      for (int i = 0; i < 8; ++i)
+        if (names[i][0])
+          row.intrinsics[names[i]] = {values[i], sd_in.at<double>(sd_index[i])};
+    } else {
+      row.status = "failed";
+      row.message = "the grid in fewer than 3 images";
+    }
+    row.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    rows.push_back(row);
+  }
+  for (Row &row : rows)
+    compare(row, ref);
+  std::cout << "| method | status | fx (px) | u0 (px) | v0 (px) | k1 | k2 | eMc t (mm) | theta-u (mrad) | "
+               "\\|dt\\| (mm) | \\|dtheta-u\\| (mrad) | sd t (mm) | sd theta-u (mrad) | max \\|diff\\|/sd | time (s) |\n"
+            << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const Row &row : rows) {
+    const vpColVector pose = row.ok ? poseColumn(row.eMc) : vpColVector();
+    std::cout << "| " << row.method << " | " << row.status << " | " << intrinsic(row, "fx", 1) << " | "
+              << intrinsic(row, "u0", 1) << " | " << intrinsic(row, "v0", 1) << " | " << intrinsic(row, "k1", 3) << " | "
+              << intrinsic(row, "k2", 3) << " | " << triple(pose, 0, 1e3, 1) << " | " << triple(pose, 3, 1e3, 1)
+              << " | " << fixed(1e3 * row.dt_norm, 1) << " | " << fixed(1e3 * row.dtu_norm, 1) << " | "
+              << (row.has_sd ? triple(row.sd, 0, 1e3, 1) : "–") << " | "
+              << (row.has_sd ? triple(row.sd, 3, 1e3, 1) : "–") << " | " << fixed(row.max_ratio, 2) << " | "
+              << fixed(row.seconds, 2) << " |\n";
+  }
+  for (const Row &row : rows)
+    if (!row.message.empty())
+      std::cout << "\n" << row.method << ": " << row.status << ": " << row.message << "\n";
+  const Row &i1 = rows[0];
+  const bool f_met = i1.intrinsics.count("fx") && std::fabs(i1.intrinsics.at("fx").first - 541.3) <= 0.01 * 541.3;
+  const bool pp_met = i1.intrinsics.count("u0") && std::hypot(i1.intrinsics.at("u0").first - 322.6,
+                                                             i1.intrinsics.at("v0").first - 215.2) <= 5;
+  std::cout << "\ntargets (the reference is OpenCV's board calibration on the same images):\n"
+            << "- I1 fx within 1 % of 541.3: " << intrinsic(i1, "fx", 1) << ": " << metText(f_met) << "\n"
+            << "- I1 principal point within 5 px of (322.6, 215.2): (" << intrinsic(i1, "u0", 1) << ", "
+            << intrinsic(i1, "v0", 1) << "): " << metText(pp_met) << "\n";
+}
+
 } // namespace
 
 int main(int argc, char **argv)
@@ -407,6 +571,7 @@ int main(int argc, char **argv)
       slowest = std::max(slowest, row.seconds);
     }
     std::cout << "- every row under 10 s: slowest " << fixed(slowest, 2) << " s: " << metText(fast) << "\n";
+    industrialSection(data);
     return EXIT_SUCCESS;
   } catch (const vpException &e) {
     std::cerr << "bench-real: " << e.getStringMessage() << "\n";
