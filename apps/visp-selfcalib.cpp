@@ -643,11 +643,15 @@ int calibrate(const CalibrateArgs &a)
     std::cout << ") mm, theta-u = (";
     for (unsigned int k = 3; k < 6; ++k)
       std::cout << (k > 3 ? ", " : "") << 1e3 * r.eMc[k] << " +- " << 1e3 * r.eMc_sd[k];
-    std::cout << ") mrad; pixel rms " << std::setprecision(3) << r.bundle.rms << " px";
-    if (!r.bundle.pose_corrections.empty())
-      std::cout << ", robot pose corrections rms " << 1e3 * r.bundle.pose_rms_translation << " mm / "
-                << 1e3 * r.bundle.pose_rms_rotation << " mrad";
-    std::cout << ", sigma0 " << std::setprecision(2) << r.bundle.sigma0 << std::defaultfloat;
+    std::cout << ") mrad";
+    if (r.method != vpRobotSelfCalibration::PAPER) {
+      std::cout << "; pixel rms " << std::setprecision(3) << r.bundle.rms << " px";
+      if (!r.bundle.pose_corrections.empty())
+        std::cout << ", robot pose corrections rms " << 1e3 * r.bundle.pose_rms_translation << " mm / "
+                  << 1e3 * r.bundle.pose_rms_rotation << " mrad";
+      std::cout << ", sigma0 " << std::setprecision(2) << r.bundle.sigma0;
+    }
+    std::cout << std::defaultfloat;
   }
   if (!r.bundle.joint_corrections.empty())
     std::cout << "\njoint corrections rms " << std::setprecision(3) << 1e3 * r.bundle.joint_rms << " mrad, sigma0 "

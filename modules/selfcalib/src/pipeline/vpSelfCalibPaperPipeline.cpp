@@ -169,6 +169,14 @@ void runPaper(const Context &c, Result &res)
   }
   res.identifiability = res.identification.identifiability;
   res.parameter_sd = res.identification.sd;
+  {
+    // The calibrated eMc with its sd, as the other methods give it.
+    const std::vector<std::string> all = res.calibrated.getParameterNames();
+    std::vector<std::string> rows;
+    for (unsigned int k : res.identification.identifiability.identified)
+      rows.push_back(all[k]);
+    handEyeWithSd(res, res.identification.covariance, rows);
+  }
   res.status = vpRobotSelfCalibration::OK;
   std::ostringstream os;
   os << "ok: " << res.measurements.size() << " pose measurements, " << res.identification.identifiability.identified.size()

@@ -180,21 +180,21 @@ std::vector<View> undistorted(const std::vector<View> &views, const CameraModel 
   Jacobian of the pose vector of eMc with respect to the six eMc corrections by central differences
   (1e-7), times their covariance (rows and columns of the estimated ones; the others are held).
 */
-static void handEyeWithSd(Result &res)
+void handEyeWithSd(Result &res, const vpMatrix &covariance, const std::vector<std::string> &covariance_names)
 {
   const vpKinematicChain &chain = res.calibrated;
   const unsigned int first = chain.getNumParameters() - vpKinematicChain::kBlockSize;
   const std::vector<std::string> names = chain.getParameterNames();
   Eigen::Matrix<double, 6, 6> S = Eigen::Matrix<double, 6, 6>::Zero();
   std::vector<int> row(6, -1);
-  for (size_t r = 0; r < res.bundle.covariance_names.size(); ++r)
+  for (size_t r = 0; r < covariance_names.size() && r < covariance.getRows(); ++r)
     for (unsigned int i = 0; i < 6; ++i)
-      if (res.bundle.covariance_names[r] == names[first + i])
+      if (covariance_names[r] == names[first + i])
         row[i] = static_cast<int>(r);
   for (unsigned int i = 0; i < 6; ++i)
     for (unsigned int j = 0; j < 6; ++j)
       if (row[i] >= 0 && row[j] >= 0)
-        S(i, j) = res.bundle.covariance[static_cast<unsigned int>(row[i])][static_cast<unsigned int>(row[j])];
+        S(i, j) = covariance[static_cast<unsigned int>(row[i])][static_cast<unsigned int>(row[j])];
   Eigen::Matrix<double, 6, 6> J;
   const double h = 1e-7;
   for (unsigned int i = 0; i < 6; ++i) {
@@ -280,7 +280,7 @@ bool bundleFrom(const Context &c, const vpKinematicChain &start, const std::map<
   res.identifiability = res.bundle.identifiability;
   res.parameter_sd = res.bundle.sd;
   if (res.bundle.has_covariance)
-    handEyeWithSd(res);
+    handEyeWithSd(res, res.bundle.covariance, res.bundle.covariance_names);
   if (res.bundle.status != vpKinematicBundleAdjustment::OK) {
     res.status = vpRobotSelfCalibration::IDENTIFICATION_FAILED;
     res.message = label + ": " + res.bundle.message;

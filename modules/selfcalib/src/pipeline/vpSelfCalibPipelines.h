@@ -108,6 +108,12 @@ struct PredictedStart {
 PredictedStart predictedStart(const std::vector<View> &views, const std::vector<vpSelfCalib::Rigid> &fMc,
                               const vpSelfCalib::CameraModel &lens, bool focal_known);
 
+/*!
+  result.eMc and result.eMc_sd from the calibrated chain and a covariance of its parameters (rows
+  named by covariance_names; eMc components not among them are held, no variance).
+*/
+void handEyeWithSd(Result &result, const vpMatrix &covariance, const std::vector<std::string> &covariance_names);
+
 //! Findings after a run: many outliers, an unused yardstick, parameters a richer trajectory would identify.
 void checkResult(const Context &context, Result &result);
 //! Step 5: the yardstick 3-D error on the verification views, nominal and calibrated (2 views or more).

@@ -84,6 +84,20 @@ TEST(RobotSelfCalibration, PaperPipelineOnNoiseFreeImagesImprovesTheModel)
   const auto after = vpCalibrationVerifier::verify(r.calibrated, r.camera, ver, ds.yardstick, {}, true_fMc);
   EXPECT_LT(after.position_error_mean, before.position_error_mean);
   EXPECT_LT(after.rotation_error_mean, before.rotation_error_mean);
+  // The paper method gives eMc with its sd too: the calibrated chain's, with a positive sd for
+  // every estimated component and none for those held.
+  ASSERT_TRUE(r.has_eMc);
+  const vpPoseVector e(r.calibrated.get_eMc_corrected());
+  const std::vector<std::string> names = r.calibrated.getParameterNames();
+  const unsigned int first = r.calibrated.getNumParameters() - vpKinematicChain::kBlockSize;
+  bool any_estimated = false;
+  for (unsigned int k = 0; k < 6; ++k) {
+    EXPECT_EQ(r.eMc[k], e[k]);
+    any_estimated = any_estimated || r.parameter_sd[first + k] > 0;
+  }
+  ASSERT_EQ(r.eMc_sd.size(), 6u);
+  if (any_estimated)
+    EXPECT_GT(r.eMc_sd.frobeniusNorm(), 0.0);
 }
 
 TEST(RobotSelfCalibration, BadInputsGiveAStatusOrAnError)

@@ -168,7 +168,7 @@ public:
     vpKinematicIdentification::Identifiability identifiability;
     vpColVector parameter_sd;
     /*!
-      The calibrated hand-eye transform eMc (BUNDLE_ADJUSTMENT and HAND_EYE) as a pose vector
+      The calibrated hand-eye transform eMc (every method; PAPER from its identification's covariance) as a pose vector
       (tx, ty, tz, theta u) and its sd, propagated to first order from the covariance of the eMc
       corrections (a correction that is not estimated contributes no variance); has_eMc false
       otherwise.
