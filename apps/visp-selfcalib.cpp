@@ -846,7 +846,9 @@ int importData(const ImportArgs &a)
             << "  camera: " << r.camera << "\n"
             << "  robot:  " << r.robot << "\n"
             << "  board:  " << (r.board.empty() ? "none described" : r.board)
-            << (r.board.empty() ? "" : "; not used today: the front end matches natural features") << "\n";
+            << (r.board.empty() ? "" : "; used only with calibrate --board TYPE:RxC:SPACING (else natural features)")
+            << "\n"
+            << "  robot error: " << r.robot_error << "\n";
   if (!r.unused.empty()) {
     std::cout << "not used:\n";
     for (const vpSelfCalibImporter::Unused &u : r.unused)

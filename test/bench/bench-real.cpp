@@ -366,6 +366,8 @@ int main(int argc, char **argv)
     // controller poses are those `calibrate` reads).
     const vpSelfCalibImporter::Result imp = vpSelfCalibImporter::import(folder);
     vpSelfCalibDataset ds = vpSelfCalibDataset::fromYamlString(imp.dataset.toYamlString());
+    // Each row states its own robot pose error (row 1: none), not the importer's default.
+    ds.pose_sd_translation = ds.pose_sd_rotation = 0;
     const vpKinematicChain nominal =
         imp.has_robot_model ? imp.robot_model : vpKinematicChain::fromPresetOrFile(ds.robot);
     const vpSelfCalibDataset imported = ds; // views as given, for OpenCV

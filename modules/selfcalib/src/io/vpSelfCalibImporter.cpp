@@ -679,11 +679,22 @@ vpSelfCalibImporter::Result vpSelfCalibImporter::import(const std::string &path,
   if (path.empty() || !fs::exists(path, ec))
     throw vpSelfCalibException(vpSelfCalibException::ioError,
                                "importer " + inQuotes(path) + ": no such file or folder");
-  if (fs::is_directory(path, ec)) {
-    const fs::path cal = fs::path(path) / "cal_data.yaml";
-    return fs::is_regular_file(cal, ec) ? importCalData(cal, options) : importVisp(path, options);
-  }
-  return importCalData(path, options);
+  Result res;
+  if (fs::is_directory(path, ec) && !fs::is_regular_file(fs::path(path) / "cal_data.yaml", ec))
+    res = importVisp(path, options);
+  else
+    res = importCalData(fs::is_directory(path, ec) ? (fs::path(path) / "cal_data.yaml").string() : path, options);
+  // Controller poses are not exact: a serial arm's absolute pose accuracy is of the order of
+  // millimetres (the Franka set's poses fit one eMc to about 3 mm / 3 mrad, industrial_calibration's
+  // to 8 mm / 20 mrad). The calibration weighs this prior with the pixels and widens its sd by
+  // sigma0 when the residuals say the error is larger.
+  res.dataset.pose_sd_translation = kDefaultPoseSdTranslation;
+  res.dataset.pose_sd_rotation = kDefaultPoseSdRotation;
+  res.report.robot_error = "controller poses' error taken as " + fmt(1e3 * kDefaultPoseSdTranslation) + " mm / " +
+                           fmt(1e3 * kDefaultPoseSdRotation) +
+                           " mrad sd (robot_error in the dataset: edit it, or calibrate --pose-sd; the sd are "
+                           "widened by sigma0 when the residuals say more)";
+  return res;
 }
 
 vpSelfCalibImporter::Result vpSelfCalibImporter::import(const std::string &path) { return import(path, Options()); }

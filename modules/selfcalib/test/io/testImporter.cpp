@@ -358,6 +358,10 @@ TEST(Importer, RoundTripThroughTheDatasetFile)
   EXPECT_EQ(vpSelfCalibImporter::robotModelFileFor(out), d / "out/dataset-robot.yaml");
   const vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(out);
   ASSERT_EQ(ds.views.size(), res.dataset.views.size());
+  // The controller poses' error the importer states, kept through the file and said in the report.
+  EXPECT_EQ(ds.pose_sd_translation, vpSelfCalibImporter::kDefaultPoseSdTranslation);
+  EXPECT_EQ(ds.pose_sd_rotation, vpSelfCalibImporter::kDefaultPoseSdRotation);
+  EXPECT_NE(res.report.robot_error.find("2 mm / 2 mrad"), std::string::npos) << res.report.robot_error;
   for (size_t k = 0; k < ds.views.size(); ++k) {
     EXPECT_TRUE(ds.views[k].has_fMe);
     expectNear(ds.views[k].fMe, res.dataset.views[k].fMe, 1e-12, "view " + std::to_string(k));

@@ -89,6 +89,9 @@ public:
   };
 
   //! What was found, as the tool prints it.
+  //! The controller pose error an imported dataset states (robot_error.pose_sd): m, rad.
+  static constexpr double kDefaultPoseSdTranslation = 0.002, kDefaultPoseSdRotation = 0.002;
+
   struct Report {
     Layout layout = VISP_HAND_EYE;
     std::string source;              //!< the folder or the cal_data.yaml file read
@@ -99,6 +102,7 @@ public:
     std::string camera;              //!< where the intrinsics come from, their values and how they are taken
     std::string robot;               //!< the robot model used and where its eMc guess comes from
     std::string board;               //!< the calibration board described by the data, "" when none
+    std::string robot_error;         //!< the robot pose error the dataset states, and why
     std::vector<Unused> unused;
   };
 
