@@ -19,8 +19,25 @@ void runBundle(const Context &c, Result &res)
   const std::vector<View> &cal = c.calibration;
 
   // 1. Scale-consistent poses and points of the calibration views, one focal length.
-  if (!multiView(c, res))
+  if (!multiView(c, res)) {
+    // No two-view geometry (a plane seen with f self-calibrated, too few matches per pair): the
+    // points triangulated from the camera poses the nominal model predicts, with the focal length
+    // where their rays meet best; the bundle adjustment from there (its information decides).
+    const Result failed = res;
+    std::vector<Rigid> fMc;
+    for (const View &v : cal)
+      fMc.push_back(rigidFromVisp(c.nominal.get_fMc(v.q)));
+    const PredictedStart p =
+        predictedStart(cal, fMc, lensOf(c.dataset), c.mode == vpRobotSelfCalibration::FOCAL_KNOWN);
+    res.stage_seconds.push_back({"start from the nominal model's poses", seconds(ts)});
+    if (!p.ok)
+      return;
+    if (bundleFrom(c, c.nominal, p.points, p.fx, cal, c.bundle, "kinematic bundle adjustment", res))
+      res.message = "start from the nominal model's poses (" + failed.message + "); " + res.message;
+    else
+      res.message = failed.message + "; from the nominal model's poses: " + res.message;
     return;
+  }
   res.fx = res.multiview.fx;
   res.fx_sd = res.multiview.fx_sd;
   ts = std::chrono::steady_clock::now();
