@@ -53,6 +53,7 @@
 #include <visp3/selfcalib/vpSelfCalibReport.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
+#include "acquireCommand.h"
 #include "selfcalibCli.h"
 
 namespace fs = std::filesystem;
@@ -884,6 +885,8 @@ int run(int argc, char **argv)
   addPlan(app, plan_args);
   SimulateArgs simulate_args;
   addSimulate(app, simulate_args);
+  AcquireArgs acquire_args;
+  addAcquire(app, acquire_args);
   ImportArgs import_args;
   addImport(app, import_args);
   CalibrateArgs calibrate_args;
@@ -918,6 +921,8 @@ int run(int argc, char **argv)
     return parsed;
   if (app.got_subcommand("simulate"))
     return simulate(simulate_args);
+  if (app.got_subcommand("acquire"))
+    return acquire(acquire_args);
   if (app.got_subcommand("import"))
     return importData(import_args);
   if (app.got_subcommand("calibrate"))

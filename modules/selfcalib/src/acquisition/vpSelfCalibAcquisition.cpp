@@ -129,7 +129,8 @@ vpSelfCalibDataset vpSelfCalibAcquisition::loadExisting() const
     ds.views.clear();
     return ds;
   }
-  vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(m_opt.dataset_file);
+  // Absolute: the paths in it are resolved to absolute ones, written back relative (see recordPose).
+  vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(fs::absolute(m_opt.dataset_file).lexically_normal().string());
   // The camera and the robot must be this acquisition's.
   const vpSelfCalibDataset &h = m_opt.header;
   if (ds.width != h.width || ds.height != h.height || ds.focal_known != h.focal_known ||
@@ -214,7 +215,8 @@ vpSelfCalibAcquisition::Result vpSelfCalibAcquisition::recordPose(vpSelfCalibDat
                                    "': " + ec.message());
   v.image = fs::absolute(file).lexically_normal().string();
   ds.views.push_back(v);
-  ds.saveYaml(m_opt.dataset_file);
+  // Absolute path: the images and the robot file are then written relative to the dataset's directory.
+  ds.saveYaml(fs::absolute(m_opt.dataset_file).lexically_normal().string());
   r.acquired = 1;
   return r;
 }
