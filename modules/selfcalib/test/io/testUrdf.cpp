@@ -248,33 +248,37 @@ TEST(Urdf, ToolsReadUrdfFilesByTheirExtension)
 }
 
 // A URDF robot and the same robot from its DH table calibrate identically on noise-free simulated
-// data: same estimated set, same held-out errors (to 1e-9).
+// data: same estimated set, same held-out errors (to 1e-9); the UR5 (DH) and the Panda (7 axes, MDH).
 TEST(Urdf, ImportedAndPresetRobotsCalibrateIdentically)
 {
-  const vpKinematicChain preset = vpKinematicChain::preset("ur5");
-  const vpKinematicChain urdf = vpKinematicChainUrdf::load(kData + "/ur5.urdf", ur5Options());
-  vpSelfCalibSimulator::Options so;
-  so.seed = 21;
-  so.pixel_noise_sd = 0;
-  so.home = vpColVector({0.3, -1.9, 1.9, -1.3, -1.57, 0.2});
-  const vpSelfCalibSimulator sim(preset, so);
-  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(20));
-  vpRobotSelfCalibration::Options o;
-  o.num_calibration_poses = 14;
-  const auto a = vpRobotSelfCalibration::run(preset, ds, o);
-  const auto b = vpRobotSelfCalibration::run(urdf, ds, o);
-  ASSERT_EQ(a.status, vpRobotSelfCalibration::OK) << a.message;
-  ASSERT_EQ(b.status, vpRobotSelfCalibration::OK) << b.message;
-  EXPECT_EQ(a.identifiability.identified, b.identifiability.identified);
-  EXPECT_EQ(a.identifiability.identified.size(), 4u * 6u);
-  ASSERT_TRUE(a.verified && b.verified);
-  ASSERT_EQ(a.after.position_errors.size(), b.after.position_errors.size());
-  for (size_t i = 0; i < a.after.position_errors.size(); ++i) {
-    EXPECT_NEAR(a.after.position_errors[i], b.after.position_errors[i], 1e-9);
-    EXPECT_NEAR(a.after.rotation_errors[i], b.after.rotation_errors[i], 1e-9);
+  for (const std::string robot : {"ur5", "panda"}) {
+    const vpKinematicChain preset = vpKinematicChain::preset(robot);
+    const vpKinematicChain urdf = robot == "ur5" ? vpKinematicChainUrdf::load(kData + "/ur5.urdf", ur5Options())
+                                                 : vpKinematicChainUrdf::load(kData + "/panda.urdf", pandaOptions());
+    vpSelfCalibSimulator::Options so;
+    so.seed = 21;
+    so.pixel_noise_sd = 0;
+    if (robot == "ur5")
+      so.home = vpColVector({0.3, -1.9, 1.9, -1.3, -1.57, 0.2});
+    const vpSelfCalibSimulator sim(preset, so);
+    const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(20));
+    vpRobotSelfCalibration::Options o;
+    o.num_calibration_poses = 14;
+    const auto a = vpRobotSelfCalibration::run(preset, ds, o);
+    const auto b = vpRobotSelfCalibration::run(urdf, ds, o);
+    ASSERT_EQ(a.status, vpRobotSelfCalibration::OK) << robot << ": " << a.message;
+    ASSERT_EQ(b.status, vpRobotSelfCalibration::OK) << robot << ": " << b.message;
+    EXPECT_EQ(a.identifiability.identified, b.identifiability.identified) << robot;
+    EXPECT_EQ(a.identifiability.identified.size(), 4u * preset.getNumJoints()) << robot;
+    ASSERT_TRUE(a.verified && b.verified);
+    ASSERT_EQ(a.after.position_errors.size(), b.after.position_errors.size());
+    for (size_t i = 0; i < a.after.position_errors.size(); ++i) {
+      EXPECT_NEAR(a.after.position_errors[i], b.after.position_errors[i], 1e-9) << robot;
+      EXPECT_NEAR(a.after.rotation_errors[i], b.after.rotation_errors[i], 1e-9) << robot;
+    }
+    EXPECT_NEAR(a.after.yardstick_error, b.after.yardstick_error, 1e-9) << robot;
+    EXPECT_LT(a.after.position_error_mean, 1e-6) << robot; // noise-free: exact recovery
   }
-  EXPECT_NEAR(a.after.yardstick_error, b.after.yardstick_error, 1e-9);
-  EXPECT_LT(a.after.position_error_mean, 1e-6); // noise-free: exact recovery
 }
 
 // Bad URDFs: a clear message for each.
