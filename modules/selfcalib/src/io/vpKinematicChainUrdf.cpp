@@ -173,11 +173,13 @@ Normal commonNormal(const Line &A, const Line &B, const Vec3 &through_a)
 // with the sign of the hint.
 Vec3 normalDirection(const Normal &n, const Line &A, const Line &B, const Vec3 &hint)
 {
-  Vec3 dir = n.foot_b - n.foot_a;
-  if (dir.norm() < 1e-12)
-    dir = A.z.cross(B.z);
-  dir.normalize();
-  return signFrom(dir, hint) * dir;
+  const Vec3 ab = n.foot_b - n.foot_a;
+  if (isParallel(A.z, B.z)) // the normal through a chosen point: from foot to foot
+    return signFrom(ab.normalized(), hint) * ab.normalized();
+  // Skew or intersecting: along zA x zB, which is accurate where the difference of two feet far
+  // from the origin (nearly parallel axes) is not; the sign is the hint's (a may be negative).
+  const Vec3 c = A.z.cross(B.z).normalized();
+  return signFrom(c, hint) * c;
 }
 
 struct Row {

@@ -226,10 +226,10 @@ TEST(Urdf, RoundTripThroughTheExportIsExact)
     EXPECT_EQ(imported.getConvention(), calibrated.getConvention()) << robot;
     // Nearly parallel axes (UR5 2-3-4, PUMA and Viper 2-3) put the common normals hundreds of
     // metres away: the table is exact but its rounding is amplified (vpModelExport says the same).
-    EXPECT_LT(fkDifference(calibrated, imported, 9), 1e-9) << robot;
+    EXPECT_LT(fkDifference(calibrated, imported, 9), 1e-10) << robot;
     const vpKinematicChain again = vpKinematicChainUrdf::fromString(vpModelExport::toURDF(imported), vpKinematicChainUrdf::Options(), robot);
-    // Re-importing a table with lengths of hundreds of metres: 2e-8 m measured on the UR5.
-    EXPECT_LT(fkDifference(imported, again, 10), 1e-7) << robot;
+    expectSameTable(imported, again, 1e-12);
+    EXPECT_LT(fkDifference(imported, again, 10), 1e-12) << robot;
   }
 }
 
