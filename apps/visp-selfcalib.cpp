@@ -53,6 +53,7 @@
 #include <visp3/selfcalib/vpSelfCalibReport.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
+#include "acquireCommand.h"
 #include "selfcalibCli.h"
 
 namespace fs = std::filesystem;
@@ -60,7 +61,7 @@ namespace fs = std::filesystem;
 namespace
 {
 const char *const kProgram = "visp-selfcalib";
-const char *const kModelHelp = "a preset (puma560, viper850) or a robot-model YAML file";
+const char *const kModelHelp = "a preset (puma560, viper850, panda, ur5), a robot-model YAML or a URDF file";
 
 int info(const vpKinematicChain &c)
 {
@@ -151,12 +152,12 @@ std::vector<std::string> focalNames(std::initializer_list<vpRobotSelfCalibration
   return names;
 }
 
-//! --robot NAME: a preset.
+//! --robot NAME: a preset or a robot-model file (YAML or URDF).
 CLI::Option *addRobotOption(CLI::App &app, std::string &robot)
 {
-  return app.add_option("--robot", robot, "the robot: viper850 (default) or puma560")
+  return app.add_option("--robot", robot, "the robot: viper850 (default), another preset, or a robot-model YAML or URDF file")
       ->type_name("NAME")
-      ->check(CLI::IsMember(vpKinematicChain::presetNames()));
+      ->check(CLI::IsMember(vpKinematicChain::presetNames()) | CLI::ExistingFile);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -215,7 +216,7 @@ int simulate(const SimulateArgs &a)
     std::cerr << "error: '" << out << "' exists; use --force to replace it\n";
     return 1;
   }
-  const vpSelfCalibSimulator sim(vpKinematicChain::preset(a.robot), so);
+  const vpSelfCalibSimulator sim(vpKinematicChain::fromPresetOrFile(a.robot), so);
   std::vector<vpColVector> configurations;
   if (!a.joints_file.empty()) {
     // The given configurations (a plan), each checked for joint limits and visibility.
@@ -244,7 +245,10 @@ int simulate(const SimulateArgs &a)
     std::cerr << "\n";
   }
   vpSelfCalibDataset ds = sim.makeDataset(configurations);
-  ds.robot = a.robot;
+  const std::vector<std::string> presets = vpKinematicChain::presetNames(); // a file: written relative to the dataset
+  ds.robot = std::count(presets.begin(), presets.end(), a.robot)
+                 ? a.robot
+                 : fs::relative(fs::absolute(a.robot), fs::absolute(out).parent_path()).string();
   std::vector<vpColVector> qs;
   for (const auto &v : ds.views)
     qs.push_back(v.q);
@@ -731,7 +735,7 @@ int plan(const PlanArgs &a)
     std::cerr << "error: '" << out << "' exists; use --force to replace it\n";
     return 1;
   }
-  const vpSelfCalibSimulator sim(vpKinematicChain::preset(robot), so);
+  const vpSelfCalibSimulator sim(vpKinematicChain::fromPresetOrFile(robot), so);
   const unsigned int pool = method == "observability" ? 60 : 0;
   std::cerr << "... random feasible configurations\n";
   const std::vector<vpColVector> q = sim.generateConfigurations(poses + held_out + pool);
@@ -938,6 +942,8 @@ int run(int argc, char **argv)
   addPlan(app, plan_args);
   SimulateArgs simulate_args;
   addSimulate(app, simulate_args);
+  AcquireArgs acquire_args;
+  addAcquire(app, acquire_args);
   ImportArgs import_args;
   addImport(app, import_args);
   CalibrateArgs calibrate_args;
@@ -972,6 +978,8 @@ int run(int argc, char **argv)
     return parsed;
   if (app.got_subcommand("simulate"))
     return simulate(simulate_args);
+  if (app.got_subcommand("acquire"))
+    return acquire(acquire_args);
   if (app.got_subcommand("import"))
     return importData(import_args);
   if (app.got_subcommand("calibrate"))

@@ -4,7 +4,9 @@ only on those before it, so a file may include files of its own topic and of lay
 never of a higher rank:
 
     core (0) < kinematics, twoview (1) < scale (2) < identification (3) < planning, pipeline (4)
-    < simulation, frontend, io (5)
+    < simulation, frontend, io (5) < acquisition (6)
+
+(acquisition drives a robot and writes datasets: it uses io, and simulation for its rendering grabber.)
 
 Topics of one rank do not include each other either ("sideways"), except where SIDEWAYS_ALLOWED
 says why.
@@ -28,6 +30,7 @@ RANK = {
     'identification': 3,
     'planning': 4, 'pipeline': 4,
     'simulation': 5, 'frontend': 5, 'io': 5,
+    'acquisition': 6,
 }
 # Public headers with no source file of their name, or whose type belongs higher than the file
 # that implements part of it.

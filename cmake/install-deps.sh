@@ -8,7 +8,7 @@ set -euo pipefail
 PACKAGES=(
   cmake g++ make pkg-config
   libvisp-dev visp-images-data
-  libeigen3-dev libopencv-dev libnlopt-cxx-dev libceres-dev libyaml-cpp-dev libgtest-dev libcli11-dev
+  libeigen3-dev libopencv-dev libnlopt-cxx-dev libceres-dev libyaml-cpp-dev libgtest-dev libcli11-dev liburdfdom-dev
   gnuplot-nox
 )
 

@@ -15,6 +15,7 @@
  *   corrections: {...}         # optional
  */
 #include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpKinematicChainUrdf.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <cmath>
@@ -134,6 +135,8 @@ vpKinematicChain vpKinematicChain::fromPresetOrFile(const std::string &name_or_f
   for (const std::string &p : presetNames())
     if (p == name_or_file)
       return preset(p);
+  if (vpKinematicChainUrdf::isUrdfFile(name_or_file))
+    return vpKinematicChainUrdf::load(name_or_file);
   return loadYaml(name_or_file);
 }
 
