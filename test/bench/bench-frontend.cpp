@@ -48,6 +48,7 @@ int main(int argc, char **argv)
   std::vector<unsigned int> counts = {25, 100};
   unsigned int seed = 1, threads = 2, unguided_max = 25;
   double tolerance = 1.0;
+  vpFeatureFrontEnd::Options base;
   CLI::App app("bench-frontend: the image front end on rendered images, guided by the nominal kinematics or not:\n"
                "time, track observations within 1 px of the truth, median track length.",
                "bench-frontend");
@@ -64,6 +65,15 @@ int main(int argc, char **argv)
   app.add_option("--tolerance", tolerance, "px: an observation within it of its true projection is correct (default 1)")
       ->type_name("PX")
       ->check(selfcalibCli::number(0, true));
+  app.add_option("--guided-ratio", base.guided_ratio, "the front end's guided_ratio (default 0.7)")
+      ->type_name("R")
+      ->check(selfcalibCli::number(0, true));
+  app.add_option("--track-tolerance", base.track_tolerance, "the front end's track_tolerance (px, default 1)")
+      ->type_name("PX")
+      ->check(selfcalibCli::number(0, true));
+  app.add_option("--neighbours", base.neighbours, "the front end's neighbours (default 8)")
+      ->type_name("N")
+      ->check(selfcalibCli::wholeNumber(1));
   const int parsed = selfcalibCli::parse(app, argc, argv);
   if (parsed >= 0)
     return parsed;
@@ -104,7 +114,7 @@ int main(int argc, char **argv)
         rows.push_back({"prior with eMc 10 deg off", &wrong});
       }
       for (const Row &row : rows) {
-        vpFeatureFrontEnd::Options fo;
+        vpFeatureFrontEnd::Options fo = base;
         fo.threads = threads;
         if (row.prior)
           fo.prior = *row.prior;

@@ -293,6 +293,9 @@ struct Features {
   std::vector<std::vector<cv::KeyPoint>> kp;
   std::vector<cv::Mat> desc;
   std::vector<size_t> offset;
+  //! Per image, per feature: the squared descriptor distance to the nearest other feature of the
+  //! same image (its distinctiveness; filled when a prior guides the matching).
+  std::vector<std::vector<float>> self_nn;
 };
 
 // Step 1: detection (none when opt.features is off), one image per thread; res.features gets the
@@ -304,6 +307,7 @@ Features detectFeatures(const std::vector<cv::Mat> &mats, const std::vector<cv::
   Features f;
   f.kp.resize(m);
   f.desc.resize(m);
+  f.self_nn.resize(m);
   f.offset.assign(m + 1, 0);
   if (opt.features)
     parallelFor(m, threadCount(opt), [&](size_t k) {
@@ -329,6 +333,19 @@ Features detectFeatures(const std::vector<cv::Mat> &mats, const std::vector<cv::
         return a.octave < b.octave;
       });
       det->compute(mats[k], f.kp[k], f.desc[k]);
+      // Distinctiveness, for the guided search's ratio test (see searchGuided).
+      if (opt.guided && !opt.prior.empty() && f.kp[k].size() >= 2) {
+        const bool l2 = opt.detector == FrontEnd::SIFT;
+        cv::BFMatcher matcher(l2 ? cv::NORM_L2 : cv::NORM_HAMMING);
+        std::vector<std::vector<cv::DMatch>> nn;
+        matcher.knnMatch(f.desc[k], f.desc[k], nn, 2);
+        f.self_nn[k].assign(f.kp[k].size(), std::numeric_limits<float>::infinity());
+        for (const auto &mm : nn)
+          for (const cv::DMatch &d : mm)
+            if (d.trainIdx != d.queryIdx)
+              f.self_nn[k][static_cast<size_t>(d.queryIdx)] =
+                  std::min(f.self_nn[k][static_cast<size_t>(d.queryIdx)], d.distance * d.distance);
+      }
     });
   for (size_t k = 0; k < m; ++k) {
     res.features.push_back(static_cast<unsigned int>(f.kp[k].size()));
@@ -614,11 +631,19 @@ std::vector<Match> searchGuided(const Features &f, const PriorGeometry &g, size_
         }
       }
   }
-  const float r2 = static_cast<float>(opt.guided_ratio * opt.guided_ratio);
+  const float r2 = static_cast<float>(opt.guided_ratio * opt.guided_ratio),
+              r2s = static_cast<float>(opt.ratio * opt.ratio);
   std::vector<Match> out;
   for (int a : from) {
     const int b = best_b[a];
     if (b < 0 || !(d1[a] <= r2 * d2[a]))
+      continue;
+    // The candidates near the epipolar line are few, so their second nearest is a weak reference:
+    // the match must also beat, by the ratio, the distance from either feature to its nearest
+    // twin in its own image (a repeated texture would offer that twin in the other image too).
+    if (!f.self_nn[i].empty() && !(d1[a] <= r2s * f.self_nn[i][static_cast<size_t>(a)]))
+      continue;
+    if (!f.self_nn[j].empty() && !(d1[a] <= r2s * f.self_nn[j][static_cast<size_t>(b)]))
       continue;
     if (opt.mutual && best_a[b] != a)
       continue;
@@ -637,7 +662,7 @@ std::vector<Match> matchGuided(const Features &f, const PriorGeometry &g, size_t
 {
   if (f.desc[i].empty() || f.desc[j].empty() || f.kp[i].size() < 8 || f.kp[j].size() < 8)
     return {};
-  const size_t kStrongest = 400;
+  const size_t kStrongest = 200;
   std::vector<int> all(f.kp[i].size());
   std::iota(all.begin(), all.end(), 0);
   if (all.size() > 2 * kStrongest) {
@@ -708,7 +733,8 @@ std::vector<std::pair<size_t, size_t>> selectPairs(const std::vector<std::vector
 // order, unless the two tracks already hold features of a same image; then the tracks of two or
 // more images are numbered 0, 1, ... into res.observations.
 void buildTracks(const Features &f, const std::vector<std::pair<size_t, size_t>> &pairs,
-                 const std::vector<std::vector<Match>> &verified, double tolerance, FrontEnd::Result &res)
+                 const std::vector<std::vector<Match>> &verified, double tolerance, uint64_t seed,
+                 FrontEnd::Result &res)
 {
   const size_t m = f.kp.size();
   UnionFind uf(f.offset[m]);
@@ -754,6 +780,58 @@ void buildTracks(const Features &f, const std::vector<std::pair<size_t, size_t>>
       for (int x = 0; x < 3; ++x)
         E(y, x) = Fcv.at<double>(y, x);
     F[pairs[p]] = E;
+  }
+  // The pairs of images that were not matched but share tracks: their F from the shared tracks'
+  // features (USAC, then least squares on the inliers), so that the check below sees them too.
+  {
+    std::map<std::pair<size_t, size_t>, std::pair<std::vector<cv::Point2f>, std::vector<cv::Point2f>>> shared;
+    for (const auto &c : comp) {
+      if (c.second.size() < 3)
+        continue;
+      for (size_t x = 0; x < c.second.size(); ++x)
+        for (size_t y = x + 1; y < c.second.size(); ++y) {
+          const std::pair<size_t, size_t> key(c.second[x].first, c.second[y].first);
+          if (F.count(key))
+            continue;
+          auto &sp = shared[key];
+          sp.first.push_back(f.kp[key.first][c.second[x].second].pt);
+          sp.second.push_back(f.kp[key.second][c.second[y].second].pt);
+        }
+    }
+    for (const auto &sp : shared) {
+      if (sp.second.first.size() < 30)
+        continue;
+      cv::UsacParams up;
+      up.threshold = tolerance;
+      up.confidence = 0.999;
+      up.maxIterations = 10000;
+      up.randomGeneratorState = pairSeed(seed, sp.first.first, sp.first.second);
+      std::vector<unsigned char> inl;
+      cv::Mat Fr;
+      try {
+        Fr = cv::findFundamentalMat(sp.second.first, sp.second.second, inl, up);
+      } catch (const cv::Exception &) {
+        continue;
+      }
+      if (Fr.empty() || inl.size() != sp.second.first.size())
+        continue;
+      std::vector<cv::Point2f> a, b;
+      for (size_t k = 0; k < inl.size(); ++k)
+        if (inl[k]) {
+          a.push_back(sp.second.first[k]);
+          b.push_back(sp.second.second[k]);
+        }
+      if (a.size() < 20)
+        continue;
+      const cv::Mat Fcv = cv::findFundamentalMat(a, b, cv::FM_8POINT);
+      if (Fcv.rows != 3 || Fcv.cols != 3)
+        continue;
+      Eigen::Matrix3d E;
+      for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 3; ++x)
+          E(y, x) = Fcv.at<double>(y, x);
+      F[sp.first] = E;
+    }
   }
   res.observations.assign(m, {});
   for (auto &c : comp) {
@@ -1061,7 +1139,7 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<u
   else
     res.matches.assign(m, std::vector<unsigned int>(m, 0));
   res.seconds_matching = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
-  buildTracks(features, pairs, verified, opt.track_tolerance, res);
+  buildTracks(features, pairs, verified, opt.track_tolerance, opt.seed, res);
 
   for (const DotGrid &g : opt.dot_grids)
     if (g.first_id < static_cast<int>(res.num_tracks) + 2)

@@ -40,13 +40,13 @@ struct Sequence {
 } // namespace
 
 // The nominal model predicts the true robot's views: the matching is guided (the prior agrees with
-// the images), >= 90 % of the tracks have every observation within 1 px of the true projection,
-// >= 90 % of the observations are, the tracks span several views, and pairs were selected (fewer
-// than all); two seeds.
+// the images), >= 90 % of the track observations lie within 1 px of their true projection (the
+// renderer's ray cast, see frontEndTruth.h), >= 90 % of the tracks have every observation within
+// 1 px, the tracks span several views, and pairs were selected (fewer than all); two seeds.
 TEST(GuidedMatching, NominalPriorGivesCorrectLongTracks)
 {
   for (uint64_t seed : {3u, 7u}) {
-    const Sequence s(seed, 12);
+    const Sequence s(seed, 10);
     vpFeatureFrontEnd::Options o;
     o.prior = s.prior;
     o.neighbours = 5;
@@ -55,11 +55,11 @@ TEST(GuidedMatching, NominalPriorGivesCorrectLongTracks)
     EXPECT_TRUE(fe.guided) << (fe.warnings.empty() ? "" : fe.warnings[0]);
     EXPECT_FALSE(fe.fallback);
     EXPECT_GT(fe.prior_agreement, 0.9);
-    EXPECT_LT(fe.pairs_matched, 12u * 11u / 2u);
+    EXPECT_LT(fe.pairs_matched, 10u * 9u / 2u);
     ASSERT_GT(fe.num_tracks, 300u);
     const FrontEndTruth t = checkTracks(s.sim, s.renderer, s.q, fe);
-    EXPECT_GE(t.trackFraction(), 0.9) << "seed " << seed;
     EXPECT_GE(t.observationFraction(), 0.9) << "seed " << seed;
+    EXPECT_GE(t.trackFraction(), 0.9) << "seed " << seed;
     EXPECT_GE(t.median_length, 3) << "seed " << seed;
     // The match-count matrix: upper triangle, one entry per matched pair.
     unsigned int nonzero = 0;
@@ -83,7 +83,7 @@ TEST(GuidedMatching, NominalPriorGivesCorrectLongTracks)
 // unguided matching of every pair, says so in a warning, and still finds correct tracks.
 TEST(GuidedMatching, WrongPriorFallsBackWithWarning)
 {
-  const Sequence s(5, 8);
+  const Sequence s(5, 6);
   vpFeatureFrontEnd::Options o;
   o.prior = s.prior;
   o.threads = 2;
@@ -96,7 +96,7 @@ TEST(GuidedMatching, WrongPriorFallsBackWithWarning)
   ASSERT_FALSE(fe.warnings.empty());
   EXPECT_NE(fe.warnings[0].find("prior disagrees with the images"), std::string::npos) << fe.warnings[0];
   EXPECT_LT(fe.prior_agreement, o.min_prior_agreement);
-  EXPECT_EQ(fe.pairs_matched, 8u * 7u / 2u);
+  EXPECT_EQ(fe.pairs_matched, 6u * 5u / 2u);
   const FrontEndTruth t = checkTracks(s.sim, s.renderer, s.q, fe);
   EXPECT_GE(t.observationFraction(), 0.9);
 }
@@ -104,8 +104,12 @@ TEST(GuidedMatching, WrongPriorFallsBackWithWarning)
 // One and two threads give the same tracks, guided and not (same ids, same pixels, same order).
 TEST(GuidedMatching, ThreadCountDoesNotChangeTracks)
 {
-  const Sequence s(11, 6);
+  Sequence s(11, 6);
   for (bool guided : {true, false}) {
+    if (!guided) { // every pair: fewer images keep the test short
+      s.images.resize(4);
+      s.prior.fMc.resize(4);
+    }
     vpFeatureFrontEnd::Options o;
     o.prior = s.prior;
     o.guided = guided;

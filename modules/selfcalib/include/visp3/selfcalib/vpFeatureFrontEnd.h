@@ -47,7 +47,9 @@
        `band` px of the segment of its epipolar line that the depth range spans (predicted F,
        the band inflated by the prior's uncertainty: 3 sqrt((f sd_R)^2 + (f sd_t / depth)^2) for the
        relative pose, plus ransac_threshold), ratio test (guided_ratio) and mutual best match among
-       those. In two stages: the 400 strongest features of image i first, whose verified matches
+       those; the match must also beat, by `ratio`, each feature's nearest twin in its own image
+       (distinctiveness: the second nearest of a few candidates is a weak reference, and a
+       repeated texture would offer the twin in the other image too). In two stages: the 400 strongest features of image i first, whose verified matches
        estimate the pair's F; then every feature, within the band and within
        2 ransac_threshold + 1 px of its epipolar line under that F;
      - fallback: when the prior disagrees with the images (prior_agreement < min_prior_agreement,
@@ -59,8 +61,9 @@
   3. Tracks: the verified matches, pair by pair in a fixed order, join their features' tracks
      unless the two tracks already hold features of a same image (a track holds at most one
      feature per image). Then each track of three views or more is checked: two of its features
-     whose images were matched must lie within track_tolerance px of each other's epipolar lines
-     (the pair's F, least squares on its verified matches); the feature with the most violations
+     whose images were matched, or share 30 tracks or more, must lie within track_tolerance px of
+     each other's epipolar lines (the pair's F, least squares on its verified matches or on the
+     USAC inliers of the shared tracks' features); the feature with the most violations
      leaves the track until none is left (a feature that slid along one pair's epipolar line
      misses the others'). Every track seen in two or more images becomes a scene point id
      (0, 1, ...).
@@ -122,9 +125,10 @@ public:
     Detector detector = SIFT;
     unsigned int max_features = 2000;
     double ratio = 0.8;              //!< Lowe's ratio test
-    //! Lowe's ratio in the guided search: its candidates are few (those near the epipolar line),
-    //! so the second nearest is a weaker reference and the test is stricter.
-    double guided_ratio = 0.7;
+    //! Lowe's ratio in the guided search, against the second nearest candidate near the epipolar
+    //! line; the match must also beat, by `ratio`, each feature's nearest twin in its own image
+    //! (the few candidates near the line are a weak reference alone).
+    double guided_ratio = 0.8;
     //! px: two features of a track whose images were matched must lie within it of each other's
     //! epipolar lines (the pair's F); otherwise the feature with the most violations leaves the track.
     double track_tolerance = 1.0;
@@ -141,7 +145,7 @@ public:
     unsigned int neighbours = 8;      //!< guided: images each image is matched with, most overlapping first
     double min_overlap = 0.25;        //!< guided: predicted overlap a neighbour needs (0-1)
     unsigned int probes = 3;          //!< guided: pairs matched without the prior to check it
-    double min_prior_agreement = 0.5; //!< guided: below, the prior is rejected (fallback)
+    double min_prior_agreement = 0.8; //!< guided: below, the prior is rejected (fallback; 0.63 for eMc 10 deg off, 1.0 for the nominal model on rendered images)
     unsigned int threads = 0;         //!< worker threads; 0: cv::getNumThreads(). Results do not depend on it
     uint64_t seed = 1;                //!< RANSAC's seed (combined with each pair's indices)
     bool yardstick = true;           //!< detect the yardstick's dots
