@@ -7,6 +7,8 @@
  * front end must detect it and fall back).
  *
  *   bench-frontend [--images 25,100] [--seed N] [--threads N] [--unguided-max N]
+ *   bench-frontend --real DATASET.yaml [--mask-board SPEC] [--prior-sd T,R]   (real images: what the
+ *     natural-feature path finds, guided by the dataset's robot model and unguided; no truth)
  */
 #include <algorithm>
 #include <chrono>
@@ -20,6 +22,8 @@
 #include <sys/resource.h>
 
 #include <visp3/core/vpMath.h>
+#include <opencv2/imgproc.hpp>
+#include <visp3/selfcalib/vpBoardDetector.h>
 #include <visp3/selfcalib/vpFeatureFrontEnd.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibImageCorrespondences.h>
@@ -40,6 +44,75 @@ double cpuSeconds()
 double since(std::chrono::steady_clock::time_point t0)
 {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+// Real images: the front end guided by the dataset's robot model (and its eMc guess) and unguided,
+// with the board masked out when asked (its points' convex hull, dilated by 15 px).
+int realData(const std::string &file, const std::string &mask_board, const std::vector<double> &prior_sd,
+             unsigned int threads)
+{
+  vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(file);
+  const vpKinematicChain model = vpKinematicChain::fromPresetOrFile(ds.robot);
+  const std::vector<vpImage<unsigned char>> images = vpFeatureFrontEnd::readImages(ds, "bench-frontend");
+  vpFeatureFrontEnd::Options base;
+  base.threads = threads;
+  unsigned int masked = 0;
+  if (!mask_board.empty()) {
+    const vpBoardDetector detector(vpBoardDetector::parse(mask_board));
+    for (const vpImage<unsigned char> &I : images) {
+      vpImage<unsigned char> mask(I.getHeight(), I.getWidth(), 255);
+      const vpBoardDetector::Result b = detector.detect(I);
+      if (b.found) {
+        std::vector<cv::Point> pts, hull;
+        for (const auto &o : b.corners)
+          pts.emplace_back(static_cast<int>(o.ip.get_u()), static_cast<int>(o.ip.get_v()));
+        cv::convexHull(pts, hull);
+        cv::Mat m(static_cast<int>(I.getHeight()), static_cast<int>(I.getWidth()), CV_8UC1, mask.bitmap);
+        cv::fillConvexPoly(m, hull, cv::Scalar(0));
+        cv::polylines(m, hull, true, cv::Scalar(0), 30); // 15 px beyond the outer points
+        ++masked;
+      }
+      base.masks.push_back(mask);
+    }
+  }
+  std::cout << "bench-frontend --real " << file << ": " << images.size() << " images " << images[0].getWidth() << " x "
+            << images[0].getHeight() << ", robot " << ds.robot << "; board masked in " << masked << " images\n\n"
+            << "| matching | pairs matched | pairs >= 20 matches | verified matches | tracks | median track length | "
+               "track lengths (2, 3, 4, 5+) | front end (s) | note |\n|---|---|---|---|---|---|---|---|---|\n";
+  for (bool guided : {true, false}) {
+    vpFeatureFrontEnd::Options fo = base;
+    if (guided) {
+      fo.prior = vpSelfCalibImageCorrespondences::makePrior(model, ds);
+      if (prior_sd.size() == 2) {
+        fo.prior.translation_sd = prior_sd[0];
+        fo.prior.rotation_sd = prior_sd[1];
+      }
+    }
+    const vpFeatureFrontEnd::Result fe = vpFeatureFrontEnd::process(images, fo);
+    unsigned int good = 0, total = 0;
+    for (const auto &row : fe.matches)
+      for (unsigned int c : row) {
+        good += c >= 20;
+        total += c;
+      }
+    std::vector<unsigned int> lengths;
+    unsigned int h[4] = {0, 0, 0, 0};
+    for (size_t n = 2; n < fe.track_lengths.size(); ++n) {
+      h[std::min<size_t>(n, 5) - 2] += fe.track_lengths[n];
+      lengths.insert(lengths.end(), fe.track_lengths[n], static_cast<unsigned int>(n));
+    }
+    std::ostringstream note;
+    note << (fe.guided ? "guided" : (fe.fallback ? "fell back" : "no prior"));
+    if (fe.prior_agreement >= 0)
+      note << std::fixed << std::setprecision(2) << "; agreement " << fe.prior_agreement;
+    for (const std::string &w : fe.warnings)
+      note << "; " << w;
+    std::cout << "| " << (guided ? "guided (robot model + eMc guess)" : "unguided (every pair)") << " | "
+              << fe.pairs_matched << " | " << good << " | " << total << " | " << fe.num_tracks << " | "
+              << (lengths.empty() ? 0u : lengths[lengths.size() / 2]) << " | " << h[0] << ", " << h[1] << ", " << h[2]
+              << ", " << h[3] << " | " << std::fixed << std::setprecision(2) << fe.seconds << " | " << note.str()
+              << " |\n";
+  }
+  return EXIT_SUCCESS;
 }
 } // namespace
 
@@ -74,10 +147,21 @@ int main(int argc, char **argv)
   app.add_option("--neighbours", base.neighbours, "the front end's neighbours (default 8)")
       ->type_name("N")
       ->check(selfcalibCli::wholeNumber(1));
+  std::string real, mask_board;
+  std::vector<double> prior_sd;
+  app.add_option("--real", real, "a dataset (visp-selfcalib import): its images through the front end, no truth")
+      ->type_name("DATASET");
+  app.add_option("--mask-board", mask_board, "with --real: mask the board out (vpBoardDetector spec)")->type_name("SPEC");
+  app.add_option("--prior-sd", prior_sd, "with --real: the prior's relative-pose sd (m, rad; default 0.005,0.005)")
+      ->type_name("T,R")
+      ->delimiter(',')
+      ->expected(2);
   const int parsed = selfcalibCli::parse(app, argc, argv);
   if (parsed >= 0)
     return parsed;
   try {
+    if (!real.empty())
+      return realData(real, mask_board, prior_sd, threads);
     const vpKinematicChain nominal = vpKinematicChain::preset("viper850");
     vpSelfCalibSimulator::Options so;
     so.seed = seed;
