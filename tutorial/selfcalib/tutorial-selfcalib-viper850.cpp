@@ -268,6 +268,8 @@ int main(int argc, char **argv)
                   << " matching, tracks): " << fe.num_tracks
                   << " tracks, yardstick dots in " << cr.yardstick_images << " images, " << std::setprecision(1)
                   << fe.seconds << " s\n";
+      for (const std::string &w : cr.warnings) // e.g. the kinematic prior rejected by the images
+        std::cout << "   warning: " << w << "\n";
       // A view where the front end found nothing (the grids and the yardstick missed) was left out.
       for (auto d = cr.dropped.rbegin(); d != cr.dropped.rend(); ++d) {
         std::cout << "   pose " << d->index + 1 << ": nothing found in its image, left out\n";
