@@ -567,6 +567,7 @@ int calibrate(const CalibrateArgs &a)
   cv::setNumThreads(a.threads);
   vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
+  co.prior = nominal; // the front end's matching is guided by the nominal kinematics
   const size_t num_images = ds.views.size();
   if (vpSelfCalibImageCorrespondences::needsFrontEnd(ds))
     std::cerr << "... image front end (" << num_images << " images)\n";

@@ -239,6 +239,7 @@ int main(int argc, char **argv)
     vpSelfCalibDataset data = ds;
     vpSelfCalibImageCorrespondences::Options co;
     co.method = vpRobotSelfCalibration::methodFromName(method);
+    co.prior = nominal; // the front end's matching is guided by the nominal kinematics
     vpSelfCalibImageCorrespondences::Result cr;
     if (acquisition != "points") {
       vpSelfCalibRenderer::Options ro;
@@ -263,9 +264,12 @@ int main(int argc, char **argv)
                   << " images, " << std::setprecision(1) << fe.seconds << " s\n";
       else
         std::cout << "== Acquisition: " << images.size() << " rendered images (textured planes, blur, noise); "
-                  << "front end (SIFT, ratio + mutual + RANSAC, tracks): " << fe.num_tracks
+                  << "front end (SIFT, " << (fe.guided ? "kinematics-guided" : "unguided")
+                  << " matching, tracks): " << fe.num_tracks
                   << " tracks, yardstick dots in " << cr.yardstick_images << " images, " << std::setprecision(1)
                   << fe.seconds << " s\n";
+      for (const std::string &w : cr.warnings) // e.g. the kinematic prior rejected by the images
+        std::cout << "   warning: " << w << "\n";
       // A view where the front end found nothing (the grids and the yardstick missed) was left out.
       for (auto d = cr.dropped.rbegin(); d != cr.dropped.rend(); ++d) {
         std::cout << "   pose " << d->index + 1 << ": nothing found in its image, left out\n";

@@ -11,6 +11,15 @@
 #include <map>
 #include <set>
 #include <numeric>
+#include <atomic>
+#include <exception>
+#include <functional>
+#include <iterator>
+#include <sstream>
+#include <thread>
+
+#include <Eigen/Dense>
+#include <opencv2/core/hal/hal.hpp>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -189,6 +198,17 @@ void vpFeatureFrontEnd::Options::check() const
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpFeatureFrontEnd: max_features >= 8, ratio in (0, 1], ransac_threshold > 0, "
                                "min_matches >= 8 and 0 < dot_min_radius < dot_max_radius are needed");
+  if (!(contrast_threshold > 0) || neighbours < 1 || !(guided_ratio > 0 && guided_ratio <= 1) ||
+      !(track_tolerance > 0) || !(min_overlap >= 0 && min_overlap <= 1) ||
+      !(min_prior_agreement >= 0 && min_prior_agreement <= 1))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpFeatureFrontEnd: contrast_threshold > 0, neighbours >= 1, guided_ratio in (0, 1], "
+                               "track_tolerance > 0, min_overlap and "
+                               "min_prior_agreement in [0, 1] are needed");
+  if (!prior.empty() && (!(prior.cam.get_px() > 0) || !(prior.cam.get_py() > 0) || !(prior.rotation_sd >= 0) ||
+                         !(prior.translation_sd >= 0) || !(prior.depth >= 0) || !std::isfinite(prior.depth)))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpFeatureFrontEnd: the prior needs px, py > 0 and non-negative sd and depth");
   if (!features && dot_grids.empty())
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpFeatureFrontEnd: neither natural features nor dot grids to find");
@@ -230,119 +250,619 @@ void checkImages(const std::vector<vpImage<unsigned char>> &images)
                                      std::to_string(images[0].getHeight()));
 }
 
+// Runs fn(0), ..., fn(n - 1) on `threads` threads (the calling one included), each index once; the
+// first exception thrown is rethrown. fn must write only to its own index's slots.
+template <class Fn> void parallelFor(size_t n, unsigned int threads, const Fn &fn)
+{
+  threads = static_cast<unsigned int>(std::min<size_t>(std::max(1u, threads), n));
+  if (threads <= 1) {
+    for (size_t k = 0; k < n; ++k)
+      fn(k);
+    return;
+  }
+  std::atomic<size_t> next(0);
+  std::vector<std::exception_ptr> errors(threads);
+  auto work = [&](unsigned int t) {
+    try {
+      for (size_t k; (k = next++) < n;)
+        fn(k);
+    } catch (...) {
+      errors[t] = std::current_exception();
+      next = n;
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned int t = 1; t < threads; ++t)
+    pool.emplace_back(work, t);
+  work(0);
+  for (std::thread &th : pool)
+    th.join();
+  for (const std::exception_ptr &e : errors)
+    if (e)
+      std::rethrow_exception(e);
+}
+
+unsigned int threadCount(const FrontEnd::Options &o)
+{
+  return o.threads ? o.threads : static_cast<unsigned int>(std::max(1, cv::getNumThreads()));
+}
+
 // The keypoints and descriptors of every image; the keypoints of image k are numbered from offset[k]
 // in the union-find of the tracks.
 struct Features {
   std::vector<std::vector<cv::KeyPoint>> kp;
   std::vector<cv::Mat> desc;
   std::vector<size_t> offset;
+  //! Per image, per feature: the squared descriptor distance to the nearest other feature of the
+  //! same image (its distinctiveness; filled when a prior guides the matching).
+  std::vector<std::vector<float>> self_nn;
 };
 
-// Step 1: detection (none when opt.features is off); res.features gets the count per image.
-Features detectFeatures(const std::vector<cv::Mat> &mats, const FrontEnd::Options &opt, FrontEnd::Result &res)
+// Step 1: detection (none when opt.features is off), one image per thread; res.features gets the
+// count per image.
+Features detectFeatures(const std::vector<cv::Mat> &mats, const std::vector<cv::Mat> &masks,
+                        const FrontEnd::Options &opt, FrontEnd::Result &res)
 {
   const size_t m = mats.size();
-  cv::Ptr<cv::Feature2D> det;
-  if (opt.detector == FrontEnd::SIFT)
-    det = cv::SIFT::create(static_cast<int>(opt.max_features));
-  else
-    det = cv::ORB::create(static_cast<int>(opt.max_features));
   Features f;
   f.kp.resize(m);
   f.desc.resize(m);
+  f.self_nn.resize(m);
   f.offset.assign(m + 1, 0);
-  for (size_t k = 0; k < m; ++k) {
-    if (!opt.features) {
-      res.features.push_back(0);
-      f.offset[k + 1] = f.offset[k];
-      continue;
-    }
-    // Detection runs in parallel inside OpenCV and returns the keypoints in an order that depends
-    // on the thread count: sorted here (position, then scale), so that tracks, ids and every sum
-    // downstream are the same whatever the threads.
-    det->detect(mats[k], f.kp[k]);
-    std::sort(f.kp[k].begin(), f.kp[k].end(), [](const cv::KeyPoint &a, const cv::KeyPoint &b) {
-      if (a.pt.y != b.pt.y)
-        return a.pt.y < b.pt.y;
-      if (a.pt.x != b.pt.x)
-        return a.pt.x < b.pt.x;
-      if (a.size != b.size)
-        return a.size < b.size;
-      if (a.angle != b.angle)
-        return a.angle < b.angle;
-      return a.octave < b.octave;
+  if (opt.features)
+    parallelFor(m, threadCount(opt), [&](size_t k) {
+      cv::Ptr<cv::Feature2D> det;
+      if (opt.detector == FrontEnd::SIFT)
+        det = cv::SIFT::create(static_cast<int>(opt.max_features), 3, opt.contrast_threshold);
+      else
+        det = cv::ORB::create(static_cast<int>(opt.max_features));
+      const cv::Mat mask = masks.empty() ? cv::Mat() : masks[masks.size() == 1 ? 0 : k];
+      // Detection runs in parallel inside OpenCV and returns the keypoints in an order that depends
+      // on the thread count: sorted here (position, then scale), so that tracks, ids and every sum
+      // downstream are the same whatever the threads.
+      det->detect(mats[k], f.kp[k], mask);
+      std::sort(f.kp[k].begin(), f.kp[k].end(), [](const cv::KeyPoint &a, const cv::KeyPoint &b) {
+        if (a.pt.y != b.pt.y)
+          return a.pt.y < b.pt.y;
+        if (a.pt.x != b.pt.x)
+          return a.pt.x < b.pt.x;
+        if (a.size != b.size)
+          return a.size < b.size;
+        if (a.angle != b.angle)
+          return a.angle < b.angle;
+        return a.octave < b.octave;
+      });
+      det->compute(mats[k], f.kp[k], f.desc[k]);
+      // Distinctiveness, for the guided search's ratio test (see searchGuided).
+      if (opt.guided && !opt.prior.empty() && f.kp[k].size() >= 2) {
+        const bool l2 = opt.detector == FrontEnd::SIFT;
+        cv::BFMatcher matcher(l2 ? cv::NORM_L2 : cv::NORM_HAMMING);
+        std::vector<std::vector<cv::DMatch>> nn;
+        matcher.knnMatch(f.desc[k], f.desc[k], nn, 2);
+        f.self_nn[k].assign(f.kp[k].size(), std::numeric_limits<float>::infinity());
+        for (const auto &mm : nn)
+          for (const cv::DMatch &d : mm)
+            if (d.trainIdx != d.queryIdx)
+              f.self_nn[k][static_cast<size_t>(d.queryIdx)] =
+                  std::min(f.self_nn[k][static_cast<size_t>(d.queryIdx)], d.distance * d.distance);
+      }
     });
-    det->compute(mats[k], f.kp[k], f.desc[k]);
+  for (size_t k = 0; k < m; ++k) {
     res.features.push_back(static_cast<unsigned int>(f.kp[k].size()));
     f.offset[k + 1] = f.offset[k] + f.kp[k].size();
   }
   return f;
 }
 
-// Step 2: matching of every pair, ratio test, mutual best match, RANSAC fundamental matrix; the
-// verified matches join their keypoints in uf and are counted in res.matches.
-void matchPairs(const Features &f, const FrontEnd::Options &opt, UnionFind &uf, FrontEnd::Result &res)
+using Match = std::pair<int, int>; // (feature in image i, feature in image j)
+
+// A pair's own RANSAC seed, from the options' seed and the pair (splitmix64).
+int pairSeed(uint64_t seed, size_t i, size_t j)
 {
-  const size_t m = f.kp.size();
-  cv::BFMatcher matcher(opt.detector == FrontEnd::SIFT ? cv::NORM_L2 : cv::NORM_HAMMING);
-  res.matches.assign(m, std::vector<unsigned int>(m, 0));
-  for (size_t i = 0; i < m; ++i)
-    for (size_t j = i + 1; j < m; ++j) {
-      if (f.desc[i].empty() || f.desc[j].empty() || f.kp[i].size() < 8 || f.kp[j].size() < 8)
-        continue;
-      std::vector<std::vector<cv::DMatch>> ij, ji;
-      matcher.knnMatch(f.desc[i], f.desc[j], ij, 2);
-      if (opt.mutual)
-        matcher.knnMatch(f.desc[j], f.desc[i], ji, 2);
-      std::vector<cv::Point2f> a, b;
-      std::vector<std::pair<int, int>> pairs;
-      for (const auto &mm : ij) {
-        if (mm.size() < 2 || mm[0].distance > opt.ratio * mm[1].distance)
-          continue;
-        if (opt.mutual && (ji[mm[0].trainIdx].empty() || ji[mm[0].trainIdx][0].trainIdx != mm[0].queryIdx))
-          continue;
-        pairs.push_back({mm[0].queryIdx, mm[0].trainIdx});
-        a.push_back(f.kp[i][mm[0].queryIdx].pt);
-        b.push_back(f.kp[j][mm[0].trainIdx].pt);
-      }
-      if (pairs.size() < opt.min_matches)
-        continue;
-      std::vector<unsigned char> inl;
-      const cv::Mat F = cv::findFundamentalMat(a, b, cv::FM_RANSAC, opt.ransac_threshold, 0.999, inl);
-      if (F.empty())
-        continue;
-      unsigned int n = 0;
-      for (size_t k = 0; k < pairs.size(); ++k)
-        n += inl[k] != 0;
-      if (n < opt.min_matches)
-        continue;
-      res.matches[i][j] = n;
-      for (size_t k = 0; k < pairs.size(); ++k)
-        if (inl[k])
-          uf.join(f.offset[i] + pairs[k].first, f.offset[j] + pairs[k].second);
-    }
+  uint64_t z = seed + 0x9e3779b97f4a7c15ULL * (1 + i * 1000003ULL + j);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return static_cast<int>((z ^ (z >> 31)) & 0x7fffffff);
 }
 
-// Step 3: tracks, the components of uf with two or more images and at most one feature per image,
-// numbered 0, 1, ... into res.observations.
-void buildTracks(const Features &f, UnionFind &uf, FrontEnd::Result &res)
+// Geometric verification: OpenCV's USAC fundamental matrix (MSAC score, inner local optimisation,
+// seeded): the inliers of `cand`, or nothing when fewer than min_matches.
+std::vector<Match> verify(const std::vector<Match> &cand, const std::vector<cv::KeyPoint> &ki,
+                          const std::vector<cv::KeyPoint> &kj, const FrontEnd::Options &opt, int seed)
+{
+  if (cand.size() < std::max(opt.min_matches, 8u))
+    return {};
+  std::vector<cv::Point2f> a, b;
+  for (const Match &c : cand) {
+    a.push_back(ki[c.first].pt);
+    b.push_back(kj[c.second].pt);
+  }
+  cv::UsacParams p;
+  p.threshold = opt.ransac_threshold;
+  p.confidence = 0.999;
+  p.maxIterations = 10000;
+  p.randomGeneratorState = seed;
+  p.isParallel = false;
+  std::vector<unsigned char> inl;
+  cv::Mat F;
+  try {
+    F = cv::findFundamentalMat(a, b, inl, p);
+  } catch (const cv::Exception &) {
+    return {}; // degenerate configuration: no model
+  }
+  if (F.empty() || inl.size() != cand.size())
+    return {};
+  std::vector<Match> out;
+  for (size_t k = 0; k < cand.size(); ++k)
+    if (inl[k])
+      out.push_back(cand[k]);
+  if (out.size() < opt.min_matches)
+    return {};
+  return out;
+}
+
+// Unguided candidates of a pair: two nearest neighbours, ratio test, mutual best match.
+std::vector<Match> matchUnguided(const Features &f, size_t i, size_t j, const FrontEnd::Options &opt)
+{
+  if (f.desc[i].empty() || f.desc[j].empty() || f.kp[i].size() < 8 || f.kp[j].size() < 8)
+    return {};
+  cv::BFMatcher matcher(opt.detector == FrontEnd::SIFT ? cv::NORM_L2 : cv::NORM_HAMMING);
+  std::vector<std::vector<cv::DMatch>> ij, ji;
+  matcher.knnMatch(f.desc[i], f.desc[j], ij, 2);
+  if (opt.mutual)
+    matcher.knnMatch(f.desc[j], f.desc[i], ji, 2);
+  std::vector<Match> pairs;
+  for (const auto &mm : ij) {
+    if (mm.size() < 2 || mm[0].distance > opt.ratio * mm[1].distance)
+      continue;
+    if (opt.mutual && (ji[mm[0].trainIdx].empty() || ji[mm[0].trainIdx][0].trainIdx != mm[0].queryIdx))
+      continue;
+    pairs.push_back({mm[0].queryIdx, mm[0].trainIdx});
+  }
+  return pairs;
+}
+
+// The prior's geometry: per view x_c = R x_f + t, and the intrinsics.
+struct PriorGeometry {
+  Eigen::Matrix3d K, Kinv;
+  double f = 1;
+  std::vector<Eigen::Matrix3d> R;
+  std::vector<Eigen::Vector3d> t, centre, axis; // centre and optical axis in f
+  double width = 0, height = 0;
+
+  PriorGeometry(const FrontEnd::Prior &p, unsigned int w, unsigned int h) : width(w), height(h)
+  {
+    K << p.cam.get_px(), 0, p.cam.get_u0(), 0, p.cam.get_py(), p.cam.get_v0(), 0, 0, 1;
+    Kinv = K.inverse();
+    f = std::max(p.cam.get_px(), p.cam.get_py());
+    for (const vpHomogeneousMatrix &fMc : p.fMc) {
+      const vpHomogeneousMatrix cMf = fMc.inverse();
+      Eigen::Matrix3d r;
+      Eigen::Vector3d tt, c, a;
+      for (unsigned int y = 0; y < 3; ++y) {
+        for (unsigned int x = 0; x < 3; ++x)
+          r(y, x) = cMf[y][x];
+        tt(y) = cMf[y][3];
+        c(y) = fMc[y][3];
+        a(y) = fMc[y][2];
+      }
+      R.push_back(r);
+      t.push_back(tt);
+      centre.push_back(c);
+      axis.push_back(a);
+    }
+  }
+  // Relative pose x_j = Rji x_i + tji.
+  void relative(size_t i, size_t j, Eigen::Matrix3d &Rji, Eigen::Vector3d &tji) const
+  {
+    Rji = R[j] * R[i].transpose();
+    tji = t[j] - Rji * t[i];
+  }
+  // Fundamental matrix of the prediction: x_j^T F x_i = 0 (pixels).
+  Eigen::Matrix3d fundamental(size_t i, size_t j) const
+  {
+    Eigen::Matrix3d Rji, tx;
+    Eigen::Vector3d tji;
+    relative(i, j, Rji, tji);
+    tx << 0, -tji(2), tji(1), tji(2), 0, -tji(0), -tji(1), tji(0), 0;
+    return Kinv.transpose() * tx * Rji * Kinv;
+  }
+  // Fraction of a grid of image i's pixels, at depth z, that camera j sees.
+  double overlapOneWay(size_t i, size_t j, double z) const
+  {
+    Eigen::Matrix3d Rji;
+    Eigen::Vector3d tji;
+    relative(i, j, Rji, tji);
+    int in = 0, n = 0;
+    for (int gy = 0; gy < 6; ++gy)
+      for (int gx = 0; gx < 8; ++gx, ++n) {
+        const Eigen::Vector3d r = Kinv * Eigen::Vector3d((gx + 0.5) * width / 8, (gy + 0.5) * height / 6, 1);
+        const Eigen::Vector3d X = Rji * (z * r) + tji;
+        if (X(2) <= 0)
+          continue;
+        const Eigen::Vector3d x = K * (X / X(2));
+        in += x(0) >= 0 && x(0) < width && x(1) >= 0 && x(1) < height;
+      }
+    return static_cast<double>(in) / n;
+  }
+  double overlap(size_t i, size_t j, double z) const { return std::min(overlapOneWay(i, j, z), overlapOneWay(j, i, z)); }
+  // The scene's depth: where the optical axes meet in the least-squares sense, the median distance
+  // along the axes; 0 when they do not meet (parallel axes) or the point is behind the cameras.
+  double axesDepth() const
+  {
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    for (size_t k = 0; k < axis.size(); ++k) {
+      const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - axis[k] * axis[k].transpose();
+      A += P;
+      b += P * centre[k];
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(A / static_cast<double>(axis.size()));
+    if (es.eigenvalues()(0) < 1e-3) // the axes span less than about 2 degrees
+      return 0;
+    const Eigen::Vector3d X = A.ldlt().solve(b);
+    std::vector<double> d;
+    for (size_t k = 0; k < axis.size(); ++k)
+      d.push_back(axis[k].dot(X - centre[k]));
+    std::nth_element(d.begin(), d.begin() + static_cast<long>(d.size() / 2), d.end());
+    return d[d.size() / 2] > 0 ? d[d.size() / 2] : 0;
+  }
+  // Depth in camera i of the point matched at pixels a (image i) and b (image j), through the
+  // predicted relative pose (midpoint of the two rays); NaN when the rays are (nearly) parallel.
+  double triangulateDepth(size_t i, size_t j, const cv::Point2f &a, const cv::Point2f &b) const
+  {
+    Eigen::Matrix3d Rji;
+    Eigen::Vector3d tji;
+    relative(i, j, Rji, tji);
+    const Eigen::Vector3d ri = Kinv * Eigen::Vector3d(a.x, a.y, 1), dj = Rji.transpose() * (Kinv * Eigen::Vector3d(b.x, b.y, 1));
+    const Eigen::Vector3d cj = -Rji.transpose() * tji;
+    // s ri - u dj = cj, least squares in (s, u).
+    Eigen::Matrix<double, 3, 2> M;
+    M.col(0) = ri;
+    M.col(1) = -dj;
+    const Eigen::Matrix2d N = M.transpose() * M;
+    if (std::fabs(N.determinant()) < 1e-12 * N.trace() * N.trace())
+      return std::numeric_limits<double>::quiet_NaN();
+    const Eigen::Vector2d su = N.ldlt().solve(M.transpose() * cj);
+    return su(0) * ri(2);
+  }
+};
+
+// Distance of pixel x from the line l (a x + b y + c = 0).
+double lineDistance(const Eigen::Vector3d &l, double x, double y)
+{
+  return std::fabs(l(0) * x + l(1) * y + l(2)) / std::max(1e-12, std::hypot(l(0), l(1)));
+}
+
+// Guided candidates of pair (i, j) among the features `from` of image i: a feature is compared with
+// the features of image j within `band` px of the segment its epipolar line spans over the depths
+// [zmin, zmax] (predicted relative pose) and, when F is given (an estimate of this pair's
+// fundamental matrix), within `narrow` px of its epipolar line under F; ratio test and mutual best
+// match among those candidates.
+std::vector<Match> searchGuided(const Features &f, const PriorGeometry &g, size_t i, size_t j, double band,
+                                double zmin, double zmax, const std::vector<int> &from, const Eigen::Matrix3d *F,
+                                double narrow, const FrontEnd::Options &opt)
+{
+  Eigen::Matrix3d Rji;
+  Eigen::Vector3d tji;
+  g.relative(i, j, Rji, tji);
+  // Image j's features in cells of `cell` px.
+  const double cell = 32, half_diag = cell * 0.7072;
+  const int cols = static_cast<int>(std::ceil(g.width / cell)), rows = static_cast<int>(std::ceil(g.height / cell));
+  std::vector<std::vector<int>> grid(static_cast<size_t>(cols * rows));
+  for (size_t b = 0; b < f.kp[j].size(); ++b) {
+    const int cx = std::min(cols - 1, std::max(0, static_cast<int>(f.kp[j][b].pt.x / cell)));
+    const int cy = std::min(rows - 1, std::max(0, static_cast<int>(f.kp[j][b].pt.y / cell)));
+    grid[static_cast<size_t>(cy * cols + cx)].push_back(static_cast<int>(b));
+  }
+  const bool l2 = opt.detector == FrontEnd::SIFT;
+  const int len = f.desc[i].cols;
+  auto distance = [&](int a, int b) -> float {
+    if (l2)
+      return cv::hal::normL2Sqr_(f.desc[i].ptr<float>(a), f.desc[j].ptr<float>(b), len);
+    const float d = static_cast<float>(cv::hal::normHamming(f.desc[i].ptr<uchar>(a), f.desc[j].ptr<uchar>(b), len));
+    return d * d; // compared squared, as L2's
+  };
+  const float inf = std::numeric_limits<float>::infinity();
+  std::vector<int> best_a(f.kp[j].size(), -1);
+  std::vector<float> best_a_d(f.kp[j].size(), inf);
+  std::vector<int> best_b(f.kp[i].size(), -1);
+  std::vector<float> d1(f.kp[i].size(), inf), d2(f.kp[i].size(), inf);
+  const double eps = 1e-3 * zmin;
+  for (int a : from) {
+    const Eigen::Vector3d xa(f.kp[i][a].pt.x, f.kp[i][a].pt.y, 1);
+    const Eigen::Vector3d d = Rji * (g.Kinv * xa);
+    // Depths z in [z0, z1] with the point in front of camera j: z d_z + t_z > eps.
+    double z0 = zmin, z1 = zmax;
+    if (d(2) > 0)
+      z0 = std::max(z0, (eps - tji(2)) / d(2));
+    else if (d(2) < 0)
+      z1 = std::min(z1, (eps - tji(2)) / d(2));
+    else if (tji(2) <= eps)
+      continue;
+    if (!(z1 > z0))
+      continue;
+    const Eigen::Vector3d X0 = g.K * (z0 * d + tji), X1 = g.K * (z1 * d + tji);
+    const Eigen::Vector2d p0(X0(0) / X0(2), X0(1) / X0(2)), p1(X1(0) / X1(2), X1(1) / X1(2));
+    const Eigen::Vector2d seg = p1 - p0;
+    const double seg2 = seg.squaredNorm();
+    auto segmentDistance2 = [&](const Eigen::Vector2d &x) {
+      const double s = seg2 > 0 ? std::max(0.0, std::min(1.0, (x - p0).dot(seg) / seg2)) : 0.0;
+      return (x - p0 - s * seg).squaredNorm();
+    };
+    Eigen::Vector3d l = Eigen::Vector3d::Zero();
+    if (F) {
+      l = *F * xa;
+      l /= std::max(1e-12, std::hypot(l(0), l(1)));
+    }
+    const double ux0 = std::max(0.0, std::min(p0(0), p1(0)) - band), ux1 = std::min(g.width - 1, std::max(p0(0), p1(0)) + band);
+    const double uy0 = std::max(0.0, std::min(p0(1), p1(1)) - band), uy1 = std::min(g.height - 1, std::max(p0(1), p1(1)) + band);
+    if (ux0 > ux1 || uy0 > uy1)
+      continue;
+    const int cx0 = static_cast<int>(ux0 / cell), cx1 = std::min(cols - 1, static_cast<int>(ux1 / cell));
+    const int cy0 = static_cast<int>(uy0 / cell), cy1 = std::min(rows - 1, static_cast<int>(uy1 / cell));
+    for (int cy = cy0; cy <= cy1; ++cy)
+      for (int cx = cx0; cx <= cx1; ++cx) {
+        const std::vector<int> &members = grid[static_cast<size_t>(cy * cols + cx)];
+        if (members.empty())
+          continue;
+        const Eigen::Vector2d centre((cx + 0.5) * cell, (cy + 0.5) * cell);
+        if (segmentDistance2(centre) > (band + half_diag) * (band + half_diag))
+          continue;
+        if (F && std::fabs(l.dot(Eigen::Vector3d(centre(0), centre(1), 1))) > narrow + half_diag)
+          continue;
+        for (int b : members) {
+          const Eigen::Vector2d x(f.kp[j][b].pt.x, f.kp[j][b].pt.y);
+          if (F && std::fabs(l.dot(Eigen::Vector3d(x(0), x(1), 1))) > narrow)
+            continue;
+          if (segmentDistance2(x) > band * band)
+            continue;
+          const float dd = distance(a, b);
+          if (dd < d1[a]) {
+            d2[a] = d1[a];
+            d1[a] = dd;
+            best_b[a] = b;
+          } else if (dd < d2[a])
+            d2[a] = dd;
+          if (dd < best_a_d[b] || (dd == best_a_d[b] && a < best_a[b])) {
+            best_a_d[b] = dd;
+            best_a[b] = a;
+          }
+        }
+      }
+  }
+  const float r2 = static_cast<float>(opt.guided_ratio * opt.guided_ratio),
+              r2s = static_cast<float>(opt.ratio * opt.ratio);
+  std::vector<Match> out;
+  for (int a : from) {
+    const int b = best_b[a];
+    if (b < 0 || !(d1[a] <= r2 * d2[a]))
+      continue;
+    // The candidates near the epipolar line are few, so their second nearest is a weak reference:
+    // the match must also beat, by the ratio, the distance from either feature to its nearest
+    // twin in its own image (a repeated texture would offer that twin in the other image too).
+    if (!f.self_nn[i].empty() && !(d1[a] <= r2s * f.self_nn[i][static_cast<size_t>(a)]))
+      continue;
+    if (!f.self_nn[j].empty() && !(d1[a] <= r2s * f.self_nn[j][static_cast<size_t>(b)]))
+      continue;
+    if (opt.mutual && best_a[b] != a)
+      continue;
+    out.push_back({a, b});
+  }
+  return out;
+}
+
+// The guided matches of pair (i, j), verified. Two stages: the `kStrongest` strongest features of
+// image i (SIFT's response) are searched in the prior's band; their verified matches estimate the
+// pair's fundamental matrix F; then every feature is searched in the band AND within
+// 2 ransac_threshold + 1 px of its epipolar line under F (far fewer candidates, the same
+// guarantee). When the first stage finds too few, every feature is searched in the band.
+std::vector<Match> matchGuided(const Features &f, const PriorGeometry &g, size_t i, size_t j, double band,
+                               double zmin, double zmax, const FrontEnd::Options &opt, int seed)
+{
+  if (f.desc[i].empty() || f.desc[j].empty() || f.kp[i].size() < 8 || f.kp[j].size() < 8)
+    return {};
+  const size_t kStrongest = 200;
+  std::vector<int> all(f.kp[i].size());
+  std::iota(all.begin(), all.end(), 0);
+  if (all.size() > 2 * kStrongest) {
+    std::vector<int> strong = all;
+    std::stable_sort(strong.begin(), strong.end(),
+                     [&](int a, int b) { return f.kp[i][a].response > f.kp[i][b].response; });
+    strong.resize(kStrongest);
+    std::sort(strong.begin(), strong.end());
+    const std::vector<Match> first =
+        verify(searchGuided(f, g, i, j, band, zmin, zmax, strong, nullptr, 0, opt), f.kp[i], f.kp[j], opt, seed);
+    if (first.size() >= std::max(opt.min_matches, 15u)) {
+      std::vector<cv::Point2f> a, b;
+      for (const Match &m : first) {
+        a.push_back(f.kp[i][m.first].pt);
+        b.push_back(f.kp[j][m.second].pt);
+      }
+      const cv::Mat Fcv = cv::findFundamentalMat(a, b, cv::FM_8POINT);
+      if (Fcv.rows == 3 && Fcv.cols == 3) {
+        Eigen::Matrix3d F;
+        for (int y = 0; y < 3; ++y)
+          for (int x = 0; x < 3; ++x)
+            F(y, x) = Fcv.at<double>(y, x);
+        return verify(searchGuided(f, g, i, j, band, zmin, zmax, all, &F, 2 * opt.ransac_threshold + 1, opt),
+                      f.kp[i], f.kp[j], opt, seed);
+      }
+    }
+  }
+  return verify(searchGuided(f, g, i, j, band, zmin, zmax, all, nullptr, 0, opt), f.kp[i], f.kp[j], opt, seed);
+}
+
+// Pair selection (see the class): each image's `neighbours` most overlapping images with overlap
+// >= min_overlap, then the edges of a maximum spanning forest of the overlaps that join what is
+// still apart. Sorted by (i, j).
+std::vector<std::pair<size_t, size_t>> selectPairs(const std::vector<std::vector<double>> &O,
+                                                   const FrontEnd::Options &opt)
+{
+  const size_t m = O.size();
+  std::set<std::pair<size_t, size_t>> sel;
+  for (size_t i = 0; i < m; ++i) {
+    std::vector<size_t> others;
+    for (size_t j = 0; j < m; ++j)
+      if (j != i)
+        others.push_back(j);
+    std::stable_sort(others.begin(), others.end(), [&](size_t a, size_t b) { return O[i][a] > O[i][b]; });
+    for (size_t k = 0; k < others.size() && k < opt.neighbours; ++k)
+      if (O[i][others[k]] >= opt.min_overlap)
+        sel.insert({std::min(i, others[k]), std::max(i, others[k])});
+  }
+  UnionFind uf(m);
+  for (const auto &p : sel)
+    uf.join(p.first, p.second);
+  std::vector<std::pair<size_t, size_t>> all;
+  for (size_t i = 0; i < m; ++i)
+    for (size_t j = i + 1; j < m; ++j)
+      all.push_back({i, j});
+  std::stable_sort(all.begin(), all.end(), [&](const std::pair<size_t, size_t> &a, const std::pair<size_t, size_t> &b) {
+    return O[a.first][a.second] > O[b.first][b.second];
+  });
+  for (const auto &p : all)
+    if (uf.find(p.first) != uf.find(p.second)) {
+      uf.join(p.first, p.second);
+      sel.insert(p);
+    }
+  return std::vector<std::pair<size_t, size_t>>(sel.begin(), sel.end());
+}
+
+// Step 3: tracks. The verified matches join their features' tracks pair by pair in the given
+// order, unless the two tracks already hold features of a same image; then the tracks of two or
+// more images are numbered 0, 1, ... into res.observations.
+void buildTracks(const Features &f, const std::vector<std::pair<size_t, size_t>> &pairs,
+                 const std::vector<std::vector<Match>> &verified, double tolerance, uint64_t seed,
+                 FrontEnd::Result &res)
 {
   const size_t m = f.kp.size();
+  UnionFind uf(f.offset[m]);
+  std::vector<std::vector<uint32_t>> images(f.offset[m]); // per root: the images of its track, sorted
+  for (size_t k = 0; k < m; ++k)
+    for (size_t i = f.offset[k]; i < f.offset[k + 1]; ++i)
+      images[i].push_back(static_cast<uint32_t>(k));
+  std::vector<uint32_t> merged;
+  for (size_t p = 0; p < pairs.size(); ++p)
+    for (const Match &mt : verified[p]) {
+      const size_t ra = uf.find(f.offset[pairs[p].first] + static_cast<size_t>(mt.first));
+      const size_t rb = uf.find(f.offset[pairs[p].second] + static_cast<size_t>(mt.second));
+      if (ra == rb)
+        continue;
+      merged.clear();
+      std::set_union(images[ra].begin(), images[ra].end(), images[rb].begin(), images[rb].end(),
+                     std::back_inserter(merged));
+      if (merged.size() != images[ra].size() + images[rb].size())
+        continue; // the tracks share an image: inconsistent
+      uf.parent[ra] = rb;
+      images[rb].swap(merged);
+      std::vector<uint32_t>().swap(images[ra]);
+    }
   std::map<size_t, std::vector<std::pair<size_t, size_t>>> comp; // root -> (image, keypoint)
   for (size_t k = 0; k < m; ++k)
     for (size_t i = 0; i < f.kp[k].size(); ++i)
       comp[uf.find(f.offset[k] + i)].push_back({k, i});
-  res.observations.assign(m, {});
-  for (const auto &c : comp) {
-    if (c.second.size() < 2)
+  // Each matched pair's fundamental matrix, least squares on its verified matches (x_j^T F x_i = 0).
+  std::map<std::pair<size_t, size_t>, Eigen::Matrix3d> F;
+  for (size_t p = 0; p < pairs.size(); ++p) {
+    if (verified[p].size() < 8)
       continue;
-    std::vector<bool> in(m, false);
-    bool ok = true;
-    for (const auto &e : c.second) {
-      ok = ok && !in[e.first];
-      in[e.first] = true;
+    std::vector<cv::Point2f> a, b;
+    for (const Match &mt : verified[p]) {
+      a.push_back(f.kp[pairs[p].first][mt.first].pt);
+      b.push_back(f.kp[pairs[p].second][mt.second].pt);
     }
-    if (!ok)
+    const cv::Mat Fcv = cv::findFundamentalMat(a, b, cv::FM_8POINT);
+    if (Fcv.rows != 3 || Fcv.cols != 3)
+      continue;
+    Eigen::Matrix3d E;
+    for (int y = 0; y < 3; ++y)
+      for (int x = 0; x < 3; ++x)
+        E(y, x) = Fcv.at<double>(y, x);
+    F[pairs[p]] = E;
+  }
+  // The pairs of images that were not matched but share tracks: their F from the shared tracks'
+  // features (USAC, then least squares on the inliers), so that the check below sees them too.
+  {
+    std::map<std::pair<size_t, size_t>, std::pair<std::vector<cv::Point2f>, std::vector<cv::Point2f>>> shared;
+    for (const auto &c : comp) {
+      if (c.second.size() < 3)
+        continue;
+      for (size_t x = 0; x < c.second.size(); ++x)
+        for (size_t y = x + 1; y < c.second.size(); ++y) {
+          const std::pair<size_t, size_t> key(c.second[x].first, c.second[y].first);
+          if (F.count(key))
+            continue;
+          auto &sp = shared[key];
+          sp.first.push_back(f.kp[key.first][c.second[x].second].pt);
+          sp.second.push_back(f.kp[key.second][c.second[y].second].pt);
+        }
+    }
+    for (const auto &sp : shared) {
+      if (sp.second.first.size() < 30)
+        continue;
+      cv::UsacParams up;
+      up.threshold = tolerance;
+      up.confidence = 0.999;
+      up.maxIterations = 10000;
+      up.randomGeneratorState = pairSeed(seed, sp.first.first, sp.first.second);
+      std::vector<unsigned char> inl;
+      cv::Mat Fr;
+      try {
+        Fr = cv::findFundamentalMat(sp.second.first, sp.second.second, inl, up);
+      } catch (const cv::Exception &) {
+        continue;
+      }
+      if (Fr.empty() || inl.size() != sp.second.first.size())
+        continue;
+      std::vector<cv::Point2f> a, b;
+      for (size_t k = 0; k < inl.size(); ++k)
+        if (inl[k]) {
+          a.push_back(sp.second.first[k]);
+          b.push_back(sp.second.second[k]);
+        }
+      if (a.size() < 20)
+        continue;
+      const cv::Mat Fcv = cv::findFundamentalMat(a, b, cv::FM_8POINT);
+      if (Fcv.rows != 3 || Fcv.cols != 3)
+        continue;
+      Eigen::Matrix3d E;
+      for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 3; ++x)
+          E(y, x) = Fcv.at<double>(y, x);
+      F[sp.first] = E;
+    }
+  }
+  res.observations.assign(m, {});
+  for (auto &c : comp) {
+    // Consistency of a track of three or more views: every two of its features whose images were
+    // matched must satisfy that pair's epipolar constraint (a feature that slid along the epipolar
+    // line of one pair misses the lines of the others); the feature with the most violations goes,
+    // until none is left.
+    std::vector<std::pair<size_t, size_t>> &obs = c.second;
+    while (obs.size() >= 3) {
+      std::vector<unsigned int> bad(obs.size(), 0);
+      unsigned int worst = 0;
+      for (size_t x = 0; x < obs.size(); ++x)
+        for (size_t y = x + 1; y < obs.size(); ++y) {
+          const auto it = F.find({obs[x].first, obs[y].first});
+          if (it == F.end())
+            continue;
+          const cv::Point2f &pa = f.kp[obs[x].first][obs[x].second].pt, &pb = f.kp[obs[y].first][obs[y].second].pt;
+          const Eigen::Vector3d xa(pa.x, pa.y, 1), xb(pb.x, pb.y, 1);
+          const double d = std::max(lineDistance(it->second * xa, xb(0), xb(1)),
+                                    lineDistance(it->second.transpose() * xb, xa(0), xa(1)));
+          if (d > tolerance) {
+            worst = std::max({worst, ++bad[x], ++bad[y]});
+          }
+        }
+      if (worst == 0)
+        break;
+      const size_t drop = static_cast<size_t>(std::max_element(bad.begin(), bad.end()) - bad.begin());
+      obs.erase(obs.begin() + static_cast<long>(drop));
+      ++res.track_observations_dropped;
+    }
+    if (c.second.size() < 2)
       continue;
     const int id = static_cast<int>(res.num_tracks++);
     if (res.track_lengths.size() <= c.second.size())
@@ -355,6 +875,148 @@ void buildTracks(const Features &f, UnionFind &uf, FrontEnd::Result &res)
       res.observations[e.first].push_back(o);
     }
   }
+}
+
+// Step 2: the pairs to match and their verified matches (see the class), into res's statistics.
+void matchImages(const Features &f, const FrontEnd::Options &opt, unsigned int width, unsigned int height,
+                 std::vector<std::pair<size_t, size_t>> &pairs, std::vector<std::vector<Match>> &verified,
+                 FrontEnd::Result &res)
+{
+  const size_t m = f.kp.size();
+  const unsigned int threads = threadCount(opt);
+  auto run = [&](const std::vector<std::pair<size_t, size_t>> &list,
+                 const std::function<std::vector<Match>(size_t, size_t)> &candidates) {
+    std::vector<std::vector<Match>> out(list.size());
+    parallelFor(list.size(), threads, [&](size_t p) {
+      const size_t i = list[p].first, j = list[p].second;
+      out[p] = verify(candidates(i, j), f.kp[i], f.kp[j], opt, pairSeed(opt.seed, i, j));
+    });
+    return out;
+  };
+  auto unguided = [&](size_t i, size_t j) { return matchUnguided(f, i, j, opt); };
+  pairs.clear();
+  bool done = false;
+  if (opt.guided && !opt.prior.empty()) {
+    const PriorGeometry g(opt.prior, width, height);
+    double depth = opt.prior.depth > 0 ? opt.prior.depth : g.axesDepth();
+    if (!(depth > 0)) {
+      depth = 1.0;
+      res.warnings.push_back("the prior's optical axes do not meet: the scene's depth is taken as 1 m until the "
+                             "probe pairs measure it (set the prior's depth)");
+    }
+    std::vector<std::vector<double>> O(m, std::vector<double>(m, 0));
+    for (size_t i = 0; i < m; ++i)
+      for (size_t j = i + 1; j < m; ++j)
+        O[i][j] = O[j][i] = g.overlap(i, j, depth);
+    const std::vector<std::pair<size_t, size_t>> selected = selectPairs(O, opt);
+    // Probes, matched without the prior: the selected pairs that overlap (min_overlap) with the
+    // largest predicted relative rotation, where an error of the prior's rotations (e.g. of eMc,
+    // which conjugates every relative pose) shows most.
+    std::vector<std::pair<size_t, size_t>> probes;
+    for (const auto &p : selected)
+      if (O[p.first][p.second] >= opt.min_overlap)
+        probes.push_back(p);
+    if (probes.empty())
+      probes = selected;
+    auto angle = [&](const std::pair<size_t, size_t> &p) {
+      Eigen::Matrix3d Rji;
+      Eigen::Vector3d tji;
+      g.relative(p.first, p.second, Rji, tji);
+      return std::acos(std::max(-1.0, std::min(1.0, 0.5 * (Rji.trace() - 1))));
+    };
+    std::stable_sort(probes.begin(), probes.end(), [&](const std::pair<size_t, size_t> &a, const std::pair<size_t, size_t> &b) {
+      return angle(a) > angle(b);
+    });
+    probes.resize(std::min<size_t>(probes.size(), opt.probes));
+    const std::vector<std::vector<Match>> probe_matches = run(probes, unguided);
+    // Agreement of the prior with the probes' verified matches, and the depths they triangulate to.
+    const double band0 = opt.ransac_threshold;
+    unsigned int inside = 0, total = 0, probe_total = 0;
+    std::vector<double> depths;
+    std::vector<double> bands(probes.size());
+    auto bandOf = [&](double z) {
+      const double fr = g.f * opt.prior.rotation_sd, ft = g.f * opt.prior.translation_sd / z;
+      return 3 * std::sqrt(fr * fr + ft * ft) + band0;
+    };
+    for (size_t p = 0; p < probes.size(); ++p) {
+      const size_t i = probes[p].first, j = probes[p].second;
+      const Eigen::Matrix3d F = g.fundamental(i, j);
+      const double band = bandOf(depth);
+      probe_total += static_cast<unsigned int>(probe_matches[p].size());
+      for (const Match &mt : probe_matches[p]) {
+        const cv::Point2f &a = f.kp[i][mt.first].pt, &b = f.kp[j][mt.second].pt;
+        const double da = lineDistance(F * Eigen::Vector3d(a.x, a.y, 1), b.x, b.y);
+        const double db = lineDistance(F.transpose() * Eigen::Vector3d(b.x, b.y, 1), a.x, a.y);
+        ++total;
+        if (std::max(da, db) < band) {
+          ++inside;
+          const double z = g.triangulateDepth(i, j, a, b);
+          if (std::isfinite(z) && z > 0)
+            depths.push_back(z);
+        }
+      }
+    }
+    double zmin = depth / 3, zmax = depth * 3;
+    if (depths.size() >= 10) {
+      std::sort(depths.begin(), depths.end());
+      zmin = depths[depths.size() / 20] / 1.3;
+      zmax = depths[depths.size() - 1 - depths.size() / 20] * 1.3;
+      depth = depths[depths.size() / 2];
+    }
+    bool accept = true;
+    if (total >= opt.min_matches) {
+      res.prior_agreement = static_cast<double>(inside) / total;
+      if (res.prior_agreement < opt.min_prior_agreement) {
+        accept = false;
+        std::ostringstream w;
+        w << "the kinematic prior disagrees with the images: " << inside << " of " << total
+          << " verified matches of the probe pairs lie within the predicted epipolar band (minimum "
+          << opt.min_prior_agreement << "); the prior is not used and every pair is matched without it "
+          << "(check the robot model, the hand-eye guess eMc and the intrinsics)";
+        res.warnings.push_back(w.str());
+      }
+    } else
+      res.warnings.push_back("the probe pairs found too few verified matches (" + std::to_string(total) +
+                             ") to check the kinematic prior: it is used unchecked");
+    if (accept) {
+      std::vector<std::vector<Match>> guided(selected.size());
+      parallelFor(selected.size(), threads, [&](size_t p) {
+        const size_t i = selected[p].first, j = selected[p].second;
+        guided[p] = matchGuided(f, g, i, j, bandOf(depth), zmin, zmax, opt, pairSeed(opt.seed, i, j));
+      });
+      // The guided search must find at least half of what the unguided one found on the probes.
+      unsigned int guided_probe = 0;
+      for (size_t p = 0; p < selected.size(); ++p)
+        if (std::find(probes.begin(), probes.end(), selected[p]) != probes.end())
+          guided_probe += static_cast<unsigned int>(guided[p].size());
+      if (total >= opt.min_matches && 2 * guided_probe < probe_total) {
+        std::ostringstream w;
+        w << "the kinematic prior disagrees with the images: the guided search found " << guided_probe
+          << " verified matches on the probe pairs where the unguided search found " << probe_total
+          << "; the prior is not used and every pair is matched without it (check the robot model, the "
+          << "hand-eye guess eMc and the intrinsics)";
+        res.warnings.push_back(w.str());
+      } else {
+        pairs = selected;
+        verified = std::move(guided);
+        res.guided = true;
+        res.depth_min = zmin;
+        res.depth_max = zmax;
+        done = true;
+      }
+    }
+    res.fallback = !done;
+  }
+  if (!done) {
+    for (size_t i = 0; i < m; ++i)
+      for (size_t j = i + 1; j < m; ++j)
+        pairs.push_back({i, j});
+    verified = run(pairs, unguided);
+  }
+  res.pairs_matched = static_cast<unsigned int>(pairs.size());
+  res.matches.assign(m, std::vector<unsigned int>(m, 0));
+  for (size_t p = 0; p < pairs.size(); ++p)
+    res.matches[pairs[p].first][pairs[p].second] = static_cast<unsigned int>(verified[p].size());
 }
 
 // Step 4, one image: every dot of a recognised grid gets the grid's id for its place (into
@@ -447,11 +1109,37 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<u
   std::vector<cv::Mat> mats(m);
   for (size_t k = 0; k < m; ++k)
     mats[k] = toMat(images[k]);
+  std::vector<cv::Mat> masks;
+  if (!opt.masks.empty() && opt.masks.size() != 1 && opt.masks.size() != m)
+    throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                               "vpFeatureFrontEnd: " + std::to_string(opt.masks.size()) + " masks for " +
+                                   std::to_string(m) + " images (give none, one, or one per image)");
+  for (size_t k = 0; k < opt.masks.size(); ++k) {
+    if (opt.masks[k].getWidth() != images[0].getWidth() || opt.masks[k].getHeight() != images[0].getHeight())
+      throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                                 "vpFeatureFrontEnd: mask " + std::to_string(k) + " is " +
+                                     std::to_string(opt.masks[k].getWidth()) + " x " +
+                                     std::to_string(opt.masks[k].getHeight()) + ", the images " +
+                                     std::to_string(images[0].getWidth()) + " x " +
+                                     std::to_string(images[0].getHeight()));
+    masks.push_back(toMat(opt.masks[k]));
+  }
+  if (!opt.prior.empty() && opt.prior.fMc.size() != m)
+    throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                               "vpFeatureFrontEnd: the prior has " + std::to_string(opt.prior.fMc.size()) +
+                                   " camera poses for " + std::to_string(m) + " images");
   Result res;
-  const Features features = detectFeatures(mats, opt, res);
-  UnionFind uf(features.offset[m]);
-  matchPairs(features, opt, uf, res);
-  buildTracks(features, uf, res);
+  const Features features = detectFeatures(mats, masks, opt, res);
+  const auto t1 = std::chrono::steady_clock::now();
+  res.seconds_detection = std::chrono::duration<double>(t1 - t0).count();
+  std::vector<std::pair<size_t, size_t>> pairs;
+  std::vector<std::vector<Match>> verified;
+  if (opt.features)
+    matchImages(features, opt, images[0].getWidth(), images[0].getHeight(), pairs, verified, res);
+  else
+    res.matches.assign(m, std::vector<unsigned int>(m, 0));
+  res.seconds_matching = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  buildTracks(features, pairs, verified, opt.track_tolerance, opt.seed, res);
 
   for (const DotGrid &g : opt.dot_grids)
     if (g.first_id < static_cast<int>(res.num_tracks) + 2)

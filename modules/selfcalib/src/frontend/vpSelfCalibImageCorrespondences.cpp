@@ -19,6 +19,38 @@ bool vpSelfCalibImageCorrespondences::needsFrontEnd(const vpSelfCalibDataset &da
   return false;
 }
 
+vpFeatureFrontEnd::Prior vpSelfCalibImageCorrespondences::makePrior(const vpKinematicChain &model,
+                                                                   const vpSelfCalibDataset &dataset)
+{
+  vpFeatureFrontEnd::Prior prior;
+  for (const vpSelfCalibDataset::View &v : dataset.views) {
+    if (v.q.size() == model.getNumJoints() && v.q.size() > 0)
+      prior.fMc.push_back(model.get_fMc(v.q));
+    else if (v.q.size() == 0 && v.has_fMe)
+      prior.fMc.push_back(v.fMe * model.get_eMc());
+    else
+      return vpFeatureFrontEnd::Prior();
+  }
+  prior.cam = dataset.cam;
+  return prior;
+}
+
+namespace
+{
+// The front end's options with the model's prior when the caller asked for one.
+vpFeatureFrontEnd::Options withPrior(const vpSelfCalibImageCorrespondences::Options &options,
+                                     const vpSelfCalibDataset &dataset)
+{
+  vpFeatureFrontEnd::Options fo = options.front_end;
+  if (options.prior && fo.prior.empty() && fo.features) {
+    const vpFeatureFrontEnd::Prior p = vpSelfCalibImageCorrespondences::makePrior(*options.prior, dataset);
+    fo.prior.fMc = p.fMc;
+    fo.prior.cam = p.cam;
+  }
+  return fo;
+}
+} // namespace
+
 vpSelfCalibImageCorrespondences::Result vpSelfCalibImageCorrespondences::fromDatasetImages(vpSelfCalibDataset &dataset,
                                                                                            const Options &options)
 {
@@ -27,8 +59,9 @@ vpSelfCalibImageCorrespondences::Result vpSelfCalibImageCorrespondences::fromDat
     if (options.board)
       runOnImages(dataset, readImages(dataset), options, result);
     else {
-      result.front_end = vpFeatureFrontEnd::fillDataset(dataset, options.front_end);
+      result.front_end = vpFeatureFrontEnd::fillDataset(dataset, withPrior(options, dataset));
       result.front_end_ran = true;
+      result.warnings.insert(result.warnings.end(), result.front_end.warnings.begin(), result.front_end.warnings.end());
     }
   }
   finish(dataset, options, result);
@@ -60,8 +93,9 @@ void vpSelfCalibImageCorrespondences::runOnImages(vpSelfCalibDataset &dataset,
 {
   // Without a board the feature front end always runs (and refuses options that find nothing).
   if (!options.board || options.front_end.features || !options.front_end.dot_grids.empty()) {
-    result.front_end = vpFeatureFrontEnd::process(images, options.front_end);
+    result.front_end = vpFeatureFrontEnd::process(images, withPrior(options, dataset));
     result.front_end_ran = true;
+    result.warnings.insert(result.warnings.end(), result.front_end.warnings.begin(), result.front_end.warnings.end());
     for (size_t k = 0; k < dataset.views.size(); ++k)
       dataset.views[k].points = result.front_end.observations[k];
     dataset.yardstick.id_a = result.front_end.yardstick_a;

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <list>
 
 #include <visp3/core/vpImageFilter.h>
@@ -212,6 +213,32 @@ vpImage<unsigned char> vpSelfCalibRenderer::render(const vpColVector &q, unsigne
   vpImageSimulator::getImage(I, list, m_sim.getCamera());
   blurAndNoise(I, m_opt.blur_sd, m_opt.noise_sd, m_opt.seed, 1000 + view_index);
   return I;
+}
+
+bool vpSelfCalibRenderer::surfacePoint(const vpColVector &q, const vpImagePoint &ip, vpColVector &fX) const
+{
+  const Rigid fMc = rigidFromVisp(m_sim.getTrueChain().get_fMc(q));
+  const vpCameraParameters cam = m_sim.getCamera();
+  const Eigen::Vector3d d =
+      fMc.R * Eigen::Vector3d((ip.get_u() - cam.get_u0()) / cam.get_px(), (ip.get_v() - cam.get_v0()) / cam.get_py(), 1);
+  double best = std::numeric_limits<double>::infinity();
+  for (const Quad &quad : m_quads) {
+    const Eigen::Vector3d c0 = vec3(quad.corners[0]), e1 = vec3(quad.corners[1]) - c0, e2 = vec3(quad.corners[3]) - c0;
+    const Eigen::Vector3d n = e1.cross(e2);
+    const double den = n.dot(d);
+    if (std::fabs(den) < 1e-12)
+      continue;
+    const double t = n.dot(c0 - fMc.t) / den;
+    if (!(t > 0) || t >= best)
+      continue;
+    const Eigen::Vector3d P = fMc.t + t * d;
+    const double a = (P - c0).dot(e1) / e1.squaredNorm(), b = (P - c0).dot(e2) / e2.squaredNorm();
+    if (a < 0 || a > 1 || b < 0 || b > 1)
+      continue;
+    best = t;
+    fX = toCol(P);
+  }
+  return std::isfinite(best);
 }
 
 void vpSelfCalibRenderer::blurAndNoise(vpImage<unsigned char> &I, double blur_sd, double noise_sd, uint64_t seed,

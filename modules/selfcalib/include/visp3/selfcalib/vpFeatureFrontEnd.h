@@ -11,9 +11,12 @@
 
 #include <visp3/selfcalib/vpSelfCalibExport.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
+#include <visp3/core/vpCameraParameters.h>
+#include <visp3/core/vpHomogeneousMatrix.h>
 #include <visp3/core/vpImage.h>
 #include <visp3/selfcalib/vpDotGrid.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
@@ -23,12 +26,46 @@
   \ingroup group_selfcalib_frontend
   \brief Correspondences across views from images of a natural scene, and the yardstick's dots.
 
-  1. Features: OpenCV SIFT (default) or ORB, at most max_features per image.
-  2. Matching of every pair of images: two nearest neighbours (L2 for SIFT, Hamming for ORB), Lowe's
-     ratio test, mutual best match, then geometric verification: OpenCV's RANSAC fundamental matrix
-     (ransac_threshold px); a pair with fewer than min_matches verified matches is left out.
-  3. Tracks: union-find over the verified matches; a track that holds two features of one image is
-     inconsistent and dropped; every track seen in two or more images becomes a scene point id
+  1. Features: OpenCV SIFT (default) or ORB, at most max_features per image, outside the masked
+     regions (Options::masks), one image per thread.
+  2. Matching, one pair per thread. Without a prior (Options::prior empty or Options::guided off):
+     every pair of images, two nearest neighbours (L2 for SIFT, Hamming for ORB), Lowe's ratio test,
+     mutual best match. With a prior (each image's predicted camera pose, e.g. nominal forward
+     kinematics and the nominal eMc, and the intrinsics), kinematics-guided:
+     - the scene's rough depth: where the predicted optical axes meet (least squares), unless
+       Prior::depth gives it;
+     - pair selection: each pair's predicted overlap (a grid of image i's pixels at that depth,
+       seen from camera j, both ways, the smaller fraction); each image is matched with its
+       `neighbours` most overlapping images (overlap >= min_overlap), plus the pairs of a maximum
+       spanning tree of the overlaps, so that every image is connected;
+     - probes: the `probes` selected pairs (overlap >= min_overlap) with the largest predicted
+       relative rotation (where an error of eMc shows most) are first matched without the prior;
+       their verified matches measure how far the prior's epipolar geometry is from the images
+       (Result::prior_agreement, the fraction of them inside the predicted band) and give the
+       scene's depth range (triangulated through the predicted poses);
+     - guided search: a feature of image i is compared only with the features of image j within
+       `band` px of the segment of its epipolar line that the depth range spans (predicted F,
+       the band inflated by the prior's uncertainty: 3 sqrt((f sd_R)^2 + (f sd_t / depth)^2) for the
+       relative pose, plus ransac_threshold), ratio test (guided_ratio) and mutual best match among
+       those; the match must also beat, by `ratio`, each feature's nearest twin in its own image
+       (distinctiveness: the second nearest of a few candidates is a weak reference, and a
+       repeated texture would offer the twin in the other image too). In two stages: the 400 strongest features of image i first, whose verified matches
+       estimate the pair's F; then every feature, within the band and within
+       2 ransac_threshold + 1 px of its epipolar line under that F;
+     - fallback: when the prior disagrees with the images (prior_agreement < min_prior_agreement,
+       or the guided search finds fewer than half the probes' unguided matches on the probe pairs),
+       every pair is matched without the prior and Result::warnings says why.
+     Then geometric verification: OpenCV's USAC fundamental matrix (ransac_threshold px, seeded
+     from Options::seed and the pair); a pair with fewer than min_matches verified matches is left
+     out.
+  3. Tracks: the verified matches, pair by pair in a fixed order, join their features' tracks
+     unless the two tracks already hold features of a same image (a track holds at most one
+     feature per image). Then each track of three views or more is checked: two of its features
+     whose images were matched, or share 30 tracks or more, must lie within track_tolerance px of
+     each other's epipolar lines (the pair's F, least squares on its verified matches or on the
+     USAC inliers of the shared tracks' features); the feature with the most violations
+     leaves the track until none is left (a feature that slid along one pair's epipolar line
+     misses the others'). Every track seen in two or more images becomes a scene point id
      (0, 1, ...).
   4. Dot targets (the paper's experiment), when Options::dot_grids lists them: dark round dots on a
      white surround (below, measured by vpDot2), sorted by size (the semi-major axis of their
@@ -45,11 +82,14 @@
      get the ids num_tracks and num_tracks + 1.
 
   Reproducibility: keypoints are sorted after detection, so the result does not depend on the
-  order OpenCV's parallel detection returns them in; the same images and the same OpenCV thread
-  count (cv::setNumThreads) give the same tracks. visp-selfcalib uses one thread by default.
+  order OpenCV's parallel detection returns them in; every pair's RANSAC has its own seed and the
+  pairs' matches are merged in a fixed order: the same images and options give the same tracks
+  whatever Options::threads (tested with 1 and 2).
 
-  Statistics for the report: features per image, verified matches per pair, the track-length
-  histogram, where the yardstick was found.
+  Statistics for the report (Result): features per image, the verified matches of every pair
+  (Result::matches, an m x m matrix, upper triangle: a matrix image of it shows which views are
+  connected), the track-length histogram (Result::track_lengths), where the yardstick was found,
+  whether the prior guided the matching and the warnings.
 */
 class VISP_SELFCALIB_EXPORT vpFeatureFrontEnd
 {
@@ -63,15 +103,51 @@ public:
   //! from the target it printed or, in simulation, from vpSelfCalibRenderer::getDotGrids().
   using DotGrid = vpDotGrid;
 
+  /*!
+    What the robot predicts about the views (step 2): each image's camera pose in a common frame
+    (fMc, e.g. nominal forward kinematics times the nominal eMc, or the controller's flange pose
+    times eMc; vpSelfCalibImageCorrespondences::makePrior builds it from a dataset and a model) and
+    the intrinsics. The sd are those of a predicted RELATIVE pose between two views (the nominal
+    model's error, not the noise of one pose). Empty fMc: no prior.
+  */
+  struct Prior {
+    std::vector<vpHomogeneousMatrix> fMc; //!< per image, or empty
+    vpCameraParameters cam;               //!< px, py, u0, v0 (distortion ignored)
+    double rotation_sd = 0.005;           //!< rad, sd of a predicted relative rotation
+    double translation_sd = 0.005;        //!< m, sd of a predicted relative translation
+    double depth = 0;                     //!< m, rough scene depth; 0: where the optical axes meet
+    bool empty() const { return fMc.empty(); }
+  };
+
   struct Options {
     bool features = true;            //!< natural features (steps 1-3)
     std::vector<DotGrid> dot_grids;  //!< dot targets to find (step 4)
     Detector detector = SIFT;
     unsigned int max_features = 2000;
     double ratio = 0.8;              //!< Lowe's ratio test
+    //! Lowe's ratio in the guided search, against the second nearest candidate near the epipolar
+    //! line; the match must also beat, by `ratio`, each feature's nearest twin in its own image
+    //! (the few candidates near the line are a weak reference alone).
+    double guided_ratio = 0.8;
+    //! px: two features of a track whose images were matched must lie within it of each other's
+    //! epipolar lines (the pair's F); otherwise the feature with the most violations leaves the track.
+    double track_tolerance = 1.0;
     bool mutual = true;              //!< keep mutual best matches only
     double ransac_threshold = 1.0;   //!< px, fundamental-matrix RANSAC
     unsigned int min_matches = 20;   //!< verified matches a pair needs
+    double contrast_threshold = 0.04; //!< SIFT's contrast threshold (OpenCV's default)
+    //! Where features may be detected (non-zero pixels, OpenCV's convention): none (everywhere),
+    //! one mask for every image, or one per image, each of the images' size. Dots are looked for
+    //! everywhere.
+    std::vector<vpImage<unsigned char>> masks;
+    Prior prior;                      //!< kinematic prior (step 2); empty: every pair, unguided
+    bool guided = true;               //!< use the prior when there is one
+    unsigned int neighbours = 8;      //!< guided: images each image is matched with, most overlapping first
+    double min_overlap = 0.25;        //!< guided: predicted overlap a neighbour needs (0-1)
+    unsigned int probes = 3;          //!< guided: pairs matched without the prior to check it
+    double min_prior_agreement = 0.8; //!< guided: below, the prior is rejected (fallback; 0.63 for eMc 10 deg off, 1.0 for the nominal model on rendered images)
+    unsigned int threads = 0;         //!< worker threads; 0: cv::getNumThreads(). Results do not depend on it
+    uint64_t seed = 1;                //!< RANSAC's seed (combined with each pair's indices)
     bool yardstick = true;           //!< detect the yardstick's dots
     double dot_min_radius = 2.5;     //!< px
     double dot_max_radius = 40;      //!< px
@@ -84,14 +160,27 @@ public:
     unsigned int num_tracks = 0;
     int yardstick_a = -1, yardstick_b = -1; //!< ids of the ends, -1 when not found in two images
     std::vector<unsigned int> features;     //!< per image
-    std::vector<std::vector<unsigned int>> matches; //!< verified matches of pair (i, j), i < j (0 if left out)
-    std::vector<unsigned int> track_lengths; //!< histogram: track_lengths[n] tracks seen in n images
+    //! Match-count matrix: matches[i][j], i < j, the verified matches of pair (i, j) (0 if left out
+    //! or not matched); m x m, the lower triangle and the diagonal are 0.
+    std::vector<std::vector<unsigned int>> matches;
+    //! Track-length histogram: track_lengths[n] tracks seen in n images (n >= 2).
+    std::vector<unsigned int> track_lengths;
+    unsigned int pairs_matched = 0;  //!< pairs whose matching was attempted
+    unsigned int track_observations_dropped = 0; //!< features taken out of tracks by the consistency check
+    bool guided = false;             //!< the prior guided the matching (false: none, or fallback)
+    bool fallback = false;           //!< a prior was given and rejected (see warnings)
+    double prior_agreement = -1;     //!< fraction of the probes' unguided matches inside the predicted band (-1: not measured)
+    double depth_min = 0, depth_max = 0; //!< guided: scene depth range used (m)
+    //! What the caller should tell the user (the prior rejected and why, masks ignored...).
+    std::vector<std::string> warnings;
     std::vector<bool> yardstick_seen;        //!< per image
     std::vector<std::vector<bool>> grid_seen; //!< per dot grid, per image
     double seconds = 0;
+    double seconds_detection = 0, seconds_matching = 0; //!< of which: step 1, step 2
   };
 
-  //! Throws vpSelfCalibException with fewer than 2 images, images of different sizes, or bad options.
+  //! Throws vpSelfCalibException with fewer than 2 images, images of different sizes, masks or a
+  //! prior of the wrong size, or bad options.
   static Result process(const std::vector<vpImage<unsigned char>> &images, const Options &options);
 
   /*!

@@ -20,6 +20,7 @@
 #include <visp3/core/vpImage.h>
 #include <visp3/selfcalib/vpBoardDetector.h>
 #include <visp3/selfcalib/vpFeatureFrontEnd.h>
+#include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
 
@@ -54,6 +55,13 @@ public:
     vpFeatureFrontEnd::Options front_end;
     //! A calibration board to find in every image (see the class); unset: none.
     std::optional<vpBoardDetector::Options> board;
+    /*!
+      The nominal robot model as the front end's kinematic prior (vpFeatureFrontEnd, step 2): when
+      set and front_end.prior is empty, makePrior() predicts every view's camera pose from it and
+      the matching is guided by it (and falls back to unguided matching, with a warning, when the
+      images disagree with it). Unset: every pair matched without a prior.
+    */
+    std::optional<vpKinematicChain> prior;
     //! The calibration method. Unset (default): HAND_EYE when a view (after leaving out those
     //! without correspondences) has a controller pose fMe and no joints, else BUNDLE_ADJUSTMENT.
     std::optional<vpRobotSelfCalibration::Method> method;
@@ -78,10 +86,19 @@ public:
     unsigned int board_images = 0;                //!< images where the board was found
     bool board_yardstick = false;                 //!< the board became the yardstick (see the class)
     //! What the caller should tell the user: images where the board was not found (view, image
-    //! and reason), a declared yardstick replaced by the board.
+    //! and reason), a declared yardstick replaced by the board, the front end's warnings (a
+    //! kinematic prior rejected).
     std::vector<std::string> warnings;
     vpRobotSelfCalibration::Method method = vpRobotSelfCalibration::BUNDLE_ADJUSTMENT;
   };
+
+  /*!
+    The front end's prior from a model: each view's predicted camera pose, its joints through the
+    model (get_fMc) or, without joints, its controller pose fMe times the model's eMc, and the
+    dataset's camera (a guess when the focal length is not known). Empty (no prior) when a view has
+    neither joints nor fMe, or the joints do not fit the model.
+  */
+  static vpFeatureFrontEnd::Prior makePrior(const vpKinematicChain &model, const vpSelfCalibDataset &dataset);
 
   //! True when a view has an image file and no points: the front end has to run on the images.
   static bool needsFrontEnd(const vpSelfCalibDataset &dataset);

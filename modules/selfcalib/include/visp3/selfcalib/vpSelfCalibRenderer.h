@@ -23,6 +23,7 @@
 
 #include <visp3/core/vpColVector.h>
 #include <visp3/core/vpImage.h>
+#include <visp3/core/vpImagePoint.h>
 #include <visp3/selfcalib/vpDotGrid.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
@@ -67,6 +68,13 @@ public:
 
   //! The image of the true camera at joints q; view_index selects the noise stream.
   vpImage<unsigned char> render(const vpColVector &q, unsigned int view_index) const;
+
+  /*!
+    The truth behind a pixel: the scene point (in f) that the true camera at joints q sees at
+    pixel ip, the nearest of the rendered quads along its ray (a photograph's plane or a
+    yardstick patch). False when the ray meets none. For the front end's tests and benchmark.
+  */
+  bool surfacePoint(const vpColVector &q, const vpImagePoint &ip, vpColVector &fX) const;
 
   /*!
     What render() does to the image vpImageSimulator draws, for other rendered scenes (tests of the

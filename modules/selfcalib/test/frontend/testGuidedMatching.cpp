@@ -1,0 +1,162 @@
+/*
+ * Kinematics-guided matching (vpFeatureFrontEnd with a prior) on rendered images: the nominal model
+ * as the only prior of images taken by the true robot, a wrong prior, thread counts.
+ */
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include <visp3/core/vpMath.h>
+#include <visp3/selfcalib/vpFeatureFrontEnd.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibImageCorrespondences.h>
+#include <visp3/selfcalib/vpSelfCalibRenderer.h>
+
+#include "frontEndTruth.h"
+
+namespace
+{
+// A rendered sequence of the reference scenario, its true robot's images, the nominal model's prior.
+struct Sequence {
+  vpSelfCalibSimulator sim;
+  vpSelfCalibRenderer renderer;
+  std::vector<vpColVector> q;
+  std::vector<vpImage<unsigned char>> images;
+  vpFeatureFrontEnd::Prior prior;
+  Sequence(uint64_t seed, unsigned int n)
+    : sim(vpKinematicChain::preset("viper850"), [&] {
+        vpSelfCalibSimulator::Options o;
+        o.seed = seed;
+        return o;
+      }()),
+      renderer(sim, vpSelfCalibRenderer::Options()), q(sim.generateConfigurations(n))
+  {
+    for (unsigned int k = 0; k < n; ++k)
+      images.push_back(renderer.render(q[k], k));
+    prior = vpSelfCalibImageCorrespondences::makePrior(sim.getNominalChain(), sim.makeDataset(q));
+  }
+};
+} // namespace
+
+// The nominal model predicts the true robot's views: the matching is guided (the prior agrees with
+// the images), >= 90 % of the track observations lie within 1 px of their true projection (the
+// renderer's ray cast, see frontEndTruth.h), >= 90 % of the tracks have every observation within
+// 1 px, the tracks span several views, and pairs were selected (fewer than all); two seeds.
+TEST(GuidedMatching, NominalPriorGivesCorrectLongTracks)
+{
+  for (uint64_t seed : {3u, 7u}) {
+    const Sequence s(seed, 10);
+    vpFeatureFrontEnd::Options o;
+    o.prior = s.prior;
+    o.neighbours = 5;
+    o.threads = 2;
+    const vpFeatureFrontEnd::Result fe = vpFeatureFrontEnd::process(s.images, o);
+    EXPECT_TRUE(fe.guided) << (fe.warnings.empty() ? "" : fe.warnings[0]);
+    EXPECT_FALSE(fe.fallback);
+    EXPECT_GT(fe.prior_agreement, 0.9);
+    EXPECT_LT(fe.pairs_matched, 10u * 9u / 2u);
+    ASSERT_GT(fe.num_tracks, 300u);
+    const FrontEndTruth t = checkTracks(s.sim, s.renderer, s.q, fe);
+    EXPECT_GE(t.observationFraction(), 0.9) << "seed " << seed;
+    EXPECT_GE(t.trackFraction(), 0.9) << "seed " << seed;
+    EXPECT_GE(t.median_length, 3) << "seed " << seed;
+    // The match-count matrix: upper triangle, one entry per matched pair.
+    unsigned int nonzero = 0;
+    for (size_t i = 0; i < fe.matches.size(); ++i)
+      for (size_t j = 0; j <= i; ++j)
+        EXPECT_EQ(fe.matches[i][j], 0u);
+    for (const auto &row : fe.matches)
+      for (unsigned int c : row)
+        nonzero += c > 0;
+    EXPECT_LE(nonzero, fe.pairs_matched);
+    // A track holds at most one feature per image.
+    for (const auto &obs : fe.observations) {
+      std::set<int> ids;
+      for (const auto &o2 : obs)
+        EXPECT_TRUE(ids.insert(o2.id).second);
+    }
+  }
+}
+
+// A wrong prior (the hand-eye guess rotated by 10 degrees) is detected: the front end falls back to
+// unguided matching of every pair, says so in a warning, and still finds correct tracks.
+TEST(GuidedMatching, WrongPriorFallsBackWithWarning)
+{
+  const Sequence s(5, 6);
+  vpFeatureFrontEnd::Options o;
+  o.prior = s.prior;
+  o.threads = 2;
+  const vpHomogeneousMatrix R10(0, 0, 0, vpMath::rad(10) / std::sqrt(2.0), vpMath::rad(10) / std::sqrt(2.0), 0);
+  for (vpHomogeneousMatrix &M : o.prior.fMc)
+    M = M * R10;
+  const vpFeatureFrontEnd::Result fe = vpFeatureFrontEnd::process(s.images, o);
+  EXPECT_FALSE(fe.guided);
+  EXPECT_TRUE(fe.fallback);
+  ASSERT_FALSE(fe.warnings.empty());
+  EXPECT_NE(fe.warnings[0].find("prior disagrees with the images"), std::string::npos) << fe.warnings[0];
+  EXPECT_LT(fe.prior_agreement, o.min_prior_agreement);
+  EXPECT_EQ(fe.pairs_matched, 6u * 5u / 2u);
+  const FrontEndTruth t = checkTracks(s.sim, s.renderer, s.q, fe);
+  EXPECT_GE(t.observationFraction(), 0.9);
+}
+
+// One and two threads give the same tracks, guided and not (same ids, same pixels, same order).
+TEST(GuidedMatching, ThreadCountDoesNotChangeTracks)
+{
+  Sequence s(11, 6);
+  for (bool guided : {true, false}) {
+    if (!guided) { // every pair: fewer images keep the test short
+      s.images.resize(4);
+      s.prior.fMc.resize(4);
+    }
+    vpFeatureFrontEnd::Options o;
+    o.prior = s.prior;
+    o.guided = guided;
+    o.threads = 1;
+    const vpFeatureFrontEnd::Result a = vpFeatureFrontEnd::process(s.images, o);
+    o.threads = 2;
+    const vpFeatureFrontEnd::Result b = vpFeatureFrontEnd::process(s.images, o);
+    EXPECT_EQ(a.guided, guided);
+    ASSERT_EQ(a.num_tracks, b.num_tracks);
+    ASSERT_GT(a.num_tracks, 50u);
+    EXPECT_EQ(a.matches, b.matches);
+    for (size_t k = 0; k < a.observations.size(); ++k) {
+      ASSERT_EQ(a.observations[k].size(), b.observations[k].size());
+      for (size_t i = 0; i < a.observations[k].size(); ++i) {
+        EXPECT_EQ(a.observations[k][i].id, b.observations[k][i].id);
+        EXPECT_EQ(a.observations[k][i].ip.get_u(), b.observations[k][i].ip.get_u());
+        EXPECT_EQ(a.observations[k][i].ip.get_v(), b.observations[k][i].ip.get_v());
+      }
+    }
+  }
+}
+
+// Masks: no feature in the masked-out half; masks and priors of the wrong size are refused.
+TEST(GuidedMatching, MasksAndBadInputs)
+{
+  const Sequence s(13, 3);
+  vpFeatureFrontEnd::Options o;
+  vpImage<unsigned char> mask(s.images[0].getHeight(), s.images[0].getWidth(), 255);
+  for (unsigned int i = 0; i < mask.getHeight(); ++i)
+    for (unsigned int j = 0; j < mask.getWidth() / 2; ++j)
+      mask[i][j] = 0;
+  o.masks = {mask};
+  o.yardstick = false;
+  const vpFeatureFrontEnd::Result fe = vpFeatureFrontEnd::process(s.images, o);
+  ASSERT_GT(fe.num_tracks, 10u);
+  for (const auto &obs : fe.observations)
+    for (const auto &p : obs)
+      EXPECT_GE(p.ip.get_u(), mask.getWidth() / 2 - 1.0);
+  o.masks = {mask, mask};
+  EXPECT_THROW(vpFeatureFrontEnd::process(s.images, o), vpSelfCalibException);
+  o.masks = {vpImage<unsigned char>(10, 10, 255)};
+  EXPECT_THROW(vpFeatureFrontEnd::process(s.images, o), vpSelfCalibException);
+  o.masks.clear();
+  o.prior = s.prior;
+  o.prior.fMc.pop_back();
+  EXPECT_THROW(vpFeatureFrontEnd::process(s.images, o), vpSelfCalibException);
+  o.prior = s.prior;
+  o.prior.rotation_sd = -1;
+  EXPECT_THROW(vpFeatureFrontEnd::process(s.images, o), vpSelfCalibException);
+}
