@@ -450,7 +450,9 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
   c->add_option("--pose-sd", a.pose_sd,
                 "hand-eye: the controller poses' error, translation (m) and rotation (rad) sd,\n"
                 "e.g. 0.002,0.002: each pose gets a correction with that prior, and the sd are\n"
-                "widened by sigma0 when the residuals say the noise is larger (default: exact poses)")
+                "widened by sigma0 when the residuals say the noise is larger (default: the dataset's\n"
+                "robot_error, else exact poses); bundle-adjustment: the kinematic model's own residual\n"
+                "(each camera pose corrected in its own frame with that prior; default: none)")
       ->type_name("T,R")
       ->delimiter(',')
       ->expected(2)

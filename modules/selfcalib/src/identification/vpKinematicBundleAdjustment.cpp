@@ -72,26 +72,59 @@ void computeView(const vpKinematicChain &chain, const std::vector<unsigned int> 
   v.C = v.RT * Jr;
 }
 
-//! computeView at q + dq, with the derivatives with respect to dq (joint-reading noise).
-void computeJointNoiseView(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const vpColVector &q,
-                           const double *dq, bool with_jacobian, ViewState &v)
+/*
+  Full kinematic mode with robot error: the view's own correction c = (dq, delta), dq the joint
+  corrections (n_joint values, joint-reading noise), delta = (t, r) a correction of the camera pose
+  in its own frame (6 values when camera_delta: the kinematic model's own residual): the pose is
+  fMc(q + dq; rho) E(delta), E = [exp([r]x) | t]. With fMc = [R | p]: p' = p + R t, R' = R exp(r);
+  dp'/d(rho, dq) = J_t - [R t]x J_phi, dphi'/d(rho, dq) = J_phi, dp'/dt = R, dphi'/dr = R J_l(r).
+*/
+void computeNoisyView(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const vpColVector &q,
+                      const double *c, int n_joint, bool camera_delta, bool with_jacobian, ViewState &v)
 {
   vpColVector qe = q;
-  for (unsigned int i = 0; i < q.size(); ++i)
-    qe[i] += dq[i];
+  for (int i = 0; i < n_joint; ++i)
+    qe[static_cast<unsigned int>(i)] += c[i];
   computeView(chain, id, qe, with_jacobian, v);
-  if (!with_jacobian)
-    return;
-  const vpMatrix J = chain.getJointJacobian(qe);
-  const int n = static_cast<int>(q.size());
-  Eigen::Matrix<double, 3, Eigen::Dynamic> Jt(3, n), Jr(3, n);
-  for (int c = 0; c < n; ++c)
-    for (int a = 0; a < 3; ++a) {
-      Jt(a, c) = J[a][c];
-      Jr(a, c) = J[a + 3][c];
+  const int S = n_joint + (camera_delta ? 6 : 0);
+  const Eigen::Matrix3d R = v.RT.transpose();
+  if (with_jacobian) {
+    v.Ad = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, S);
+    v.Cd = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, S);
+    if (n_joint > 0) {
+      const vpMatrix J = chain.getJointJacobian(qe);
+      for (int k = 0; k < n_joint; ++k)
+        for (int a = 0; a < 3; ++a) {
+          v.Ad(a, k) = J[a][k];     // in f for now
+          v.Cd(a, k) = J[a + 3][k];
+        }
     }
-  v.Ad = v.RT * Jt;
-  v.Cd = v.RT * Jr;
+  }
+  if (!camera_delta) {
+    if (with_jacobian && n_joint > 0) {
+      v.Ad = v.RT * v.Ad;
+      v.Cd = v.RT * v.Cd;
+    }
+    return;
+  }
+  const Rigid E = rigidFromVector(c + n_joint);
+  const Eigen::Vector3d Rt = R * E.t;
+  const Eigen::Matrix3d RT2 = (R * E.R).transpose();
+  if (with_jacobian) {
+    const Eigen::Matrix<double, 3, Eigen::Dynamic> Jt = R * v.A, Jr = R * v.C;
+    v.A = RT2 * (Jt - skew(Rt) * Jr);
+    v.C = RT2 * Jr;
+    if (n_joint > 0) {
+      const Eigen::Matrix<double, 3, Eigen::Dynamic> Jtq = v.Ad.leftCols(n_joint), Jrq = v.Cd.leftCols(n_joint);
+      v.Ad.leftCols(n_joint) = RT2 * (Jtq - skew(Rt) * Jrq);
+      v.Cd.leftCols(n_joint) = RT2 * Jrq;
+    }
+    v.Ad.block(0, n_joint, 3, 3) = E.R.transpose();
+    v.Cd.block(0, n_joint + 3, 3, 3) =
+        E.R.transpose() * leftJacobianSO3(Eigen::Vector3d(c[n_joint + 3], c[n_joint + 4], c[n_joint + 5]));
+  }
+  v.tf = v.tf + Rt;
+  v.RT = RT2;
 }
 
 /*
@@ -199,10 +232,12 @@ class KinematicState : public ceres::EvaluationCallback
 {
 public:
   KinematicState(const vpKinematicChain &start, const std::vector<unsigned int> &id, const std::vector<vpColVector> &q,
-                 const std::vector<Rigid> &fMe = std::vector<Rigid>(), bool pose_noise = false, bool joint_noise = false)
+                 const std::vector<Rigid> &fMe = std::vector<Rigid>(), bool pose_noise = false, int n_joint_ = 0,
+                 bool camera_delta_ = false)
     : chain(start), base(start.getParameters()), id(id), q(q), fMe(fMe), rho(id.size()), views(q.size()),
       delta(pose_noise ? q.size() : 0, std::array<double, 6>{0, 0, 0, 0, 0, 0}),
-      dq(joint_noise ? q.size() : 0, std::vector<double>(start.getNumJoints(), 0.0))
+      dq(n_joint_ > 0 || camera_delta_ ? q.size() : 0, std::vector<double>(n_joint_ + (camera_delta_ ? 6 : 0), 0.0)),
+      n_joint(n_joint_), camera_delta(camera_delta_)
   {
     for (size_t i = 0; i < id.size(); ++i)
       rho[i] = base[id[i]];
@@ -220,7 +255,7 @@ public:
     chain.setParameters(p);
     for (size_t k = 0; k < q.size(); ++k)
       if (fMe.empty() && !dq.empty())
-        computeJointNoiseView(chain, id, q[k], dq[k].data(), with_jacobians, views[k]);
+        computeNoisyView(chain, id, q[k], dq[k].data(), n_joint, camera_delta, with_jacobians, views[k]);
       else if (fMe.empty())
         computeView(chain, id, q[k], with_jacobians, views[k]);
       else if (delta.empty())
@@ -239,8 +274,11 @@ public:
   std::vector<ViewState> views;
   //! Hand-eye-only mode with robot pose error: each view's pose correction (a parameter block); else empty.
   std::vector<std::array<double, 6>> delta;
-  //! Full mode with joint-reading noise: each view's joint corrections (a parameter block); else empty.
+  //! Full mode with robot error: each view's correction (joint corrections, then the camera pose
+  //! correction; a parameter block); else empty.
   std::vector<std::vector<double>> dq;
+  int n_joint = 0;           //!< joint corrections per view
+  bool camera_delta = false; //!< a camera pose correction per view (the model's own residual)
   Distortion model = Distortion::VISP; //!< the lens model of the intrinsics block
   //! The size of a view's own correction block (6, the number of joints, or 0).
   int correctionSize() const { return !delta.empty() ? 6 : (!dq.empty() ? static_cast<int>(dq[0].size()) : 0); }
@@ -549,13 +587,14 @@ std::vector<int> estimatedIntrinsics(const vpCameraParameters &camera, const KBA
 struct Adjustment {
   Adjustment(const std::map<int, Eigen::Vector3d> &X0, const vpKinematicChain &start, const std::vector<unsigned int> &id,
              const std::vector<vpColVector> &q, const std::vector<Rigid> &fMe, bool pose_noise,
-             const std::vector<double> &joint_sd_)
-    : X(X0), state(start, id, q, fMe, pose_noise, !joint_sd_.empty()), joint_sd(joint_sd_)
+             const std::vector<double> &full_sd_, int n_joint, bool camera_delta)
+    : X(X0), state(start, id, q, fMe, pose_noise, n_joint, camera_delta), joint_sd(full_sd_)
   {
   }
   PointStore X;
   KinematicState state;
-  std::vector<double> joint_sd; //!< per joint (rad) with joint-reading noise, else empty
+  //! Full mode with robot error: the sd of a view's correction (joints in rad, then t in m and r in rad), else empty.
+  std::vector<double> joint_sd;
   std::vector<Obs> obs;
   std::vector<bool> inlier;
   double in[kIntrinsics];
@@ -791,17 +830,35 @@ void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::
     res.sigma0 = dof > 0 ? std::sqrt(chi2 / dof) : 0;
   }
   if (!a.state.dq.empty()) {
-    double chi2 = sum / (opt.pixel_sd * opt.pixel_sd), sq = 0;
+    double chi2 = sum / (opt.pixel_sd * opt.pixel_sd), sq = 0, st = 0, sr = 0;
+    const int nj = a.state.n_joint;
     for (const auto &d : a.state.dq) {
-      vpColVector c(static_cast<unsigned int>(d.size()));
-      for (size_t i = 0; i < d.size(); ++i) {
-        c[static_cast<unsigned int>(i)] = d[i];
+      for (size_t i = 0; i < d.size(); ++i)
         chi2 += d[i] * d[i] / (a.joint_sd[i] * a.joint_sd[i]);
-        sq += d[i] * d[i];
+      if (nj > 0) {
+        vpColVector c(static_cast<unsigned int>(nj));
+        for (int i = 0; i < nj; ++i) {
+          c[static_cast<unsigned int>(i)] = d[i];
+          sq += d[i] * d[i];
+        }
+        res.joint_corrections.push_back(c);
       }
-      res.joint_corrections.push_back(c);
+      if (a.state.camera_delta) {
+        res.pose_corrections.push_back(
+            vpColVector({d[nj], d[nj + 1], d[nj + 2], d[nj + 3], d[nj + 4], d[nj + 5]}));
+        for (int i = 0; i < 3; ++i) {
+          st += d[nj + i] * d[nj + i];
+          sr += d[nj + 3 + i] * d[nj + 3 + i];
+        }
+      }
     }
-    res.joint_rms = std::sqrt(sq / static_cast<double>(a.state.dq.size() * a.joint_sd.size()));
+    const double views = static_cast<double>(a.state.dq.size());
+    if (nj > 0)
+      res.joint_rms = std::sqrt(sq / (views * nj));
+    if (a.state.camera_delta) {
+      res.pose_rms_translation = std::sqrt(st / (3 * views));
+      res.pose_rms_rotation = std::sqrt(sr / (3 * views));
+    }
     res.sigma0 = dof > 0 ? std::sqrt(chi2 / dof) : 0;
   }
   for (int idp : kept) {
@@ -894,10 +951,6 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
 {
   opt.check();
   // Checked here rather than in check(): the pipeline sets hand_eye_only from its method.
-  if (opt.pose_sd_translation > 0 && !opt.hand_eye_only)
-    throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpKinematicBundleAdjustment: robot pose error (pose_sd_*) is modelled in hand-eye-only "
-                               "mode (controller poses); joint-reading noise is not modelled yet");
   const QuietCeres quiet;
   const auto t0 = std::chrono::steady_clock::now();
   const unsigned int m = static_cast<unsigned int>(views.size());
@@ -936,8 +989,14 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     if (opt.joint_sd.size() > 1)
       joint_sd = opt.joint_sd;
   }
+  // Full mode: the camera pose error the model leaves (pose_sd_*), after the joint corrections.
+  const bool camera_delta = !opt.hand_eye_only && opt.pose_sd_translation > 0;
+  const int n_joint = static_cast<int>(joint_sd.size());
+  if (camera_delta)
+    for (int i = 0; i < 6; ++i)
+      joint_sd.push_back(i < 3 ? opt.pose_sd_translation : opt.pose_sd_rotation);
   Adjustment a(X0, start, res.identifiability.identified, q, fMe, opt.hand_eye_only && opt.pose_sd_translation > 0,
-               joint_sd);
+               joint_sd, n_joint, camera_delta);
   a.P = static_cast<int>(res.identifiability.identified.size());
   for (unsigned int k = 0; k < m; ++k)
     for (const auto &o : views[k].points)

@@ -110,6 +110,10 @@ public:
       (t / pose_sd_translation, theta u / pose_sd_rotation) beside the pixel residuals, so that the
       estimate weighs pixel noise and robot pose noise together and its covariance accounts for
       both. 0 and 0 (default): the poses are exact (no correction). Both positive or both 0.
+      Full kinematic mode: the kinematic model's own residual (what no parameter of the error model
+      explains: link deflection, gear eccentricity), a correction of each view's camera pose in the
+      camera frame, fMc_k' = fMc(q_k; rho) [exp([theta u]x) | t], with the same prior; with
+      joint_sd too, both corrections.
     */
     double pose_sd_translation = 0; //!< m
     double pose_sd_rotation = 0;    //!< rad
@@ -173,8 +177,9 @@ public:
     bool covariance_scaled = false;          //!< the covariance was multiplied by sigma0^2 (scale_covariance)
     /*!
       With robot pose error modelled (pose_sd_*): the estimated correction delta_k of each view's
-      controller pose (t, theta u; empty otherwise), and the RMS of their translation (m) and rotation
-      (rad) parts: the robot part of the residuals, beside rms (the pixel part).
+      controller pose (hand-eye) or camera pose (full mode) (t, theta u; empty otherwise), and the RMS
+      of their translation (m) and rotation (rad) parts: the robot part of the residuals, beside rms
+      (the pixel part).
     */
     std::vector<vpColVector> pose_corrections;
     double pose_rms_translation = 0, pose_rms_rotation = 0;
