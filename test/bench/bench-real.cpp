@@ -191,6 +191,22 @@ cv::Mat toCv(const vpRotationMatrix &R)
 cv::Mat toCv(const vpTranslationVector &t) { return (cv::Mat_<double>(3, 1) << t[0], t[1], t[2]); }
 
 const char *metText(bool met) { return met ? "met" : "NOT met"; }
+
+//! OpenCV's calibrateHandEye on the gripper and target poses, as a pose vector of eMc.
+vpPoseVector handEye(const std::vector<cv::Mat> &R_g2b, const std::vector<cv::Mat> &t_g2b,
+                     const std::vector<cv::Mat> &R_t2c, const std::vector<cv::Mat> &t_t2c,
+                     cv::HandEyeCalibrationMethod method)
+{
+  cv::Mat R, t;
+  cv::calibrateHandEye(R_g2b, t_g2b, R_t2c, t_t2c, R, t, method);
+  vpHomogeneousMatrix eMc;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j)
+      eMc[i][j] = R.at<double>(i, j);
+    eMc[i][3] = t.at<double>(i, 0);
+  }
+  return vpPoseVector(eMc);
+}
 /*
   The industrial_calibration set (15 views of a 10 x 10 modified circle grid on a textured floor;
   nominal intrinsics fx = fy = 550, cy 25 px off; poses fitting one eMc only to about 8 mm / 20 mrad):
@@ -284,17 +300,9 @@ void industrialSection(const std::string &data)
         R_g2b.push_back(toCv(fMe.getRotationMatrix()));
         t_g2b.push_back(toCv(fMe.getTranslationVector()));
       }
-      cv::Mat R, t;
-      cv::calibrateHandEye(R_g2b, t_g2b, R_t2c, t_t2c, R, t, cv::CALIB_HAND_EYE_PARK);
-      vpHomogeneousMatrix eMc;
-      for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j)
-          eMc[i][j] = R.at<double>(i, j);
-        eMc[i][3] = t.at<double>(i, 0);
-      }
       row.ok = true;
       row.status = "ok (rms " + fixed(rms, 2) + " px)";
-      row.eMc.buildFrom(eMc);
+      row.eMc = handEye(R_g2b, t_g2b, R_t2c, t_t2c, cv::CALIB_HAND_EYE_PARK);
       row.f = K.at<double>(0, 0);
       const char *names[] = {"fx", "", "u0", "v0", "k1", "k2", "p1", "p2"};
       const double values[] = {K.at<double>(0, 0), 0, K.at<double>(0, 2), K.at<double>(1, 2),
@@ -460,17 +468,9 @@ int main(int argc, char **argv)
           row.status = "failed";
           row.message = "the board's pose in fewer than 3 views";
         } else {
-          cv::Mat R, t;
-          cv::calibrateHandEye(R_g2b, t_g2b, R_t2c, t_t2c, R, t, method.second);
-          vpHomogeneousMatrix eMc;
-          for (int i = 0; i < 3; ++i) {
-            for (int j = 0; j < 3; ++j)
-              eMc[i][j] = R.at<double>(i, j);
-            eMc[i][3] = t.at<double>(i, 0);
-          }
           row.ok = true;
           row.status = "ok";
-          row.eMc.buildFrom(eMc);
+          row.eMc = handEye(R_g2b, t_g2b, R_t2c, t_t2c, method.second);
         }
         row.seconds = pnp_seconds + std::chrono::duration<double>(Clock::now() - t1).count();
         rows.push_back(row);

@@ -738,6 +738,47 @@ TEST(HandEye, OpenCvDistortionAndPrincipalPointFromATiltedPlane)
                vpSelfCalibException);
 }
 
+namespace
+{
+/*
+  The noise-free full-mode adjustment of 15 simulated views (the truth in the estimated
+  coordinates) and the NEES of another estimate against it: corrections and f, with the estimate's
+  own covariance. fixed: the parameters outside the noise-free estimated set, so that noisy runs
+  estimate the same set (the trust issue's stable set is not there yet).
+*/
+struct NoiseFreeReference {
+  vpSelfCalibSimulator sim;
+  vpSelfCalibDataset clean;
+  vpKinematicBundleAdjustment::Result exact;
+  std::vector<std::string> fixed;
+  NoiseFreeReference(uint64_t seed, const vpKinematicBundleAdjustment::Options &o)
+    : sim(makeSim("viper850", seed, 0.0)), clean(sim.makeDataset(sim.generateConfigurations(15)))
+  {
+    exact = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), sim.getCamera(), clean.views, clean.yardstick,
+                                                sim.getScenePointsById(), o);
+    const std::vector<unsigned int> &id = exact.identifiability.identified;
+    const std::vector<std::string> names = sim.getNominalChain().getParameterNames();
+    for (unsigned int i = 0; i < names.size(); ++i)
+      if (std::find(id.begin(), id.end(), i) == id.end())
+        fixed.push_back(names[i]);
+  }
+  double nees(const vpKinematicBundleAdjustment::Result &r) const
+  {
+    const std::vector<unsigned int> &id = exact.identifiability.identified;
+    const unsigned int P = static_cast<unsigned int>(id.size());
+    Eigen::MatrixXd C(P + 1, P + 1);
+    for (unsigned int a = 0; a <= P; ++a)
+      for (unsigned int b = 0; b <= P; ++b)
+        C(a, b) = r.covariance[a][b];
+    Eigen::VectorXd e(P + 1);
+    for (unsigned int i = 0; i < P; ++i)
+      e(i) = r.chain.getParameters()[id[i]] - exact.chain.getParameters()[id[i]];
+    e(P) = r.camera.get_px() - exact.camera.get_px();
+    return e.dot(C.ldlt().solve(e)) / (P + 1.0);
+  }
+};
+} // namespace
+
 /*
   Joint-reading noise (0.3 mrad per joint: backlash and compliance of a real arm) in the full
   kinematic mode, with 0.2 px pixel noise: modelled (joint_sd), the normalized estimation error of
@@ -748,33 +789,16 @@ TEST(HandEye, OpenCvDistortionAndPrincipalPointFromATiltedPlane)
 TEST(KinematicBundleAdjustment, JointReadingNoiseIsModelledAndTheSdAreHonest)
 {
   const double pixel_sd = 0.2, joint_sd = 3e-4;
-  const vpSelfCalibSimulator sim = makeSim("viper850", 46, 0.0);
-  const vpSelfCalibDataset clean = sim.makeDataset(sim.generateConfigurations(15));
   vpKinematicBundleAdjustment::Options o;
   o.pixel_sd = pixel_sd;
+  const NoiseFreeReference ref(46, o);
+  ASSERT_EQ(ref.exact.status, vpKinematicBundleAdjustment::OK) << ref.exact.message;
+  const vpSelfCalibSimulator &sim = ref.sim;
+  const vpSelfCalibDataset &clean = ref.clean;
   const vpCameraParameters cam0 = sim.getCamera();
-  const auto exact = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam0, clean.views, clean.yardstick,
-                                                         sim.getScenePointsById(), o);
-  ASSERT_EQ(exact.status, vpKinematicBundleAdjustment::OK) << exact.message;
-  const std::vector<unsigned int> &id = exact.identifiability.identified;
-  const unsigned int P = static_cast<unsigned int>(id.size());
-  // The noisy readings are analysed for the estimated set too: the noise-free solution's set is
-  // kept by fixing the others (the trust issue's stable set is not there yet).
-  const std::vector<std::string> names = sim.getNominalChain().getParameterNames();
-  for (unsigned int i = 0; i < names.size(); ++i)
-    if (std::find(id.begin(), id.end(), i) == id.end())
-      o.fixed.push_back(names[i]);
-  auto nees = [&](const vpKinematicBundleAdjustment::Result &r) {
-    Eigen::MatrixXd C(P + 1, P + 1);
-    for (unsigned int a = 0; a <= P; ++a)
-      for (unsigned int b = 0; b <= P; ++b)
-        C(a, b) = r.covariance[a][b];
-    Eigen::VectorXd e(P + 1);
-    for (unsigned int i = 0; i < P; ++i)
-      e(i) = r.chain.getParameters()[id[i]] - exact.chain.getParameters()[id[i]];
-    e(P) = r.camera.get_px() - exact.camera.get_px();
-    return e.dot(C.ldlt().solve(e)) / (P + 1.0);
-  };
+  const std::vector<unsigned int> &id = ref.exact.identifiability.identified;
+  o.fixed = ref.fixed;
+  auto nees = [&](const vpKinematicBundleAdjustment::Result &r) { return ref.nees(r); };
   Random rng(46, 7);
   double n_model = 0, n_trust = 0, sigma0 = 0, joint_rms = 0;
   const unsigned int trials = 16;
@@ -838,31 +862,16 @@ TEST(KinematicBundleAdjustment, JointReadingNoiseIsModelledAndTheSdAreHonest)
 TEST(KinematicBundleAdjustment, ModelResidualIsModelledInTheFullMode)
 {
   const double pixel_sd = 0.2, sd_t = 1e-3, sd_r = 1e-3;
-  const vpSelfCalibSimulator sim = makeSim("viper850", 47, 0.0);
-  const vpSelfCalibDataset clean = sim.makeDataset(sim.generateConfigurations(15));
   vpKinematicBundleAdjustment::Options o;
   o.pixel_sd = pixel_sd;
+  const NoiseFreeReference ref(47, o);
+  ASSERT_EQ(ref.exact.status, vpKinematicBundleAdjustment::OK) << ref.exact.message;
+  const vpSelfCalibSimulator &sim = ref.sim;
+  const vpSelfCalibDataset &clean = ref.clean;
   const vpCameraParameters cam0 = sim.getCamera();
-  const auto exact = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam0, clean.views, clean.yardstick,
-                                                         sim.getScenePointsById(), o);
-  ASSERT_EQ(exact.status, vpKinematicBundleAdjustment::OK) << exact.message;
-  const std::vector<unsigned int> &id = exact.identifiability.identified;
-  const unsigned int P = static_cast<unsigned int>(id.size());
-  const std::vector<std::string> names = sim.getNominalChain().getParameterNames();
-  for (unsigned int i = 0; i < names.size(); ++i)
-    if (std::find(id.begin(), id.end(), i) == id.end())
-      o.fixed.push_back(names[i]);
-  auto nees = [&](const vpKinematicBundleAdjustment::Result &r) {
-    Eigen::MatrixXd C(P + 1, P + 1);
-    for (unsigned int a = 0; a <= P; ++a)
-      for (unsigned int b = 0; b <= P; ++b)
-        C(a, b) = r.covariance[a][b];
-    Eigen::VectorXd e(P + 1);
-    for (unsigned int i = 0; i < P; ++i)
-      e(i) = r.chain.getParameters()[id[i]] - exact.chain.getParameters()[id[i]];
-    e(P) = r.camera.get_px() - exact.camera.get_px();
-    return e.dot(C.ldlt().solve(e)) / (P + 1.0);
-  };
+  const std::vector<unsigned int> &id = ref.exact.identifiability.identified;
+  o.fixed = ref.fixed;
+  auto nees = [&](const vpKinematicBundleAdjustment::Result &r) { return ref.nees(r); };
   vpKinematicBundleAdjustment::Options om = o;
   om.pose_sd_translation = sd_t;
   om.pose_sd_rotation = sd_r;
