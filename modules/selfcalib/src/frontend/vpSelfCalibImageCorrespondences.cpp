@@ -42,6 +42,9 @@ vpFeatureFrontEnd::Options withPrior(const vpSelfCalibImageCorrespondences::Opti
                                      const vpSelfCalibDataset &dataset)
 {
   vpFeatureFrontEnd::Options fo = options.front_end;
+  // The yardstick's dots are looked for only when the dataset declares a yardstick: dots found in a
+  // scene that has none would be a false yardstick.
+  fo.yardstick = fo.yardstick && dataset.yardstick.length > 0;
   if (options.prior && fo.prior.empty() && fo.features) {
     const vpFeatureFrontEnd::Prior p = vpSelfCalibImageCorrespondences::makePrior(*options.prior, dataset);
     fo.prior.fMc = p.fMc;

@@ -41,7 +41,14 @@ TEST(ImageCorrespondences, FromImagesLeavesOutEmptyViews)
   for (bool b : r.front_end.yardstick_seen)
     seen += b;
   EXPECT_EQ(r.yardstick_images, seen);
+  EXPECT_GT(seen, 0u);
   EXPECT_EQ(r.method, vpRobotSelfCalibration::BUNDLE_ADJUSTMENT);
+  // A dataset that declares no yardstick: its dots are not looked for (the same images).
+  data = ds;
+  data.yardstick = vpSelfCalibDataset::Yardstick();
+  const vpSelfCalibImageCorrespondences::Result none = vpSelfCalibImageCorrespondences::fromImages(data, images, o);
+  EXPECT_EQ(none.yardstick_images, 0u);
+  EXPECT_FALSE(data.yardstick.isSet());
 
   o.method = vpRobotSelfCalibration::PAPER;
   data = ds;
