@@ -13,6 +13,7 @@
 
 #include <visp3/core/vpThetaUVector.h>
 #include <visp3/selfcalib/vpCalibrationVerifier.h>
+#include <visp3/selfcalib/vpPoseScale.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
@@ -47,6 +48,12 @@ struct PoseMeasurementErrors {
   std::vector<double> orientation; //!< rad
   std::vector<double> scale_ratio; //!< |(|t_i|/|t_1|) / (|t̄_i|/|t̄_1|) - 1| of eq. 21 (true vs nominal)
   std::vector<double> fx;          //!< |f - f_true| px: one per pair (per-pair mode) or one per run
+  // The position error of pair i split into its parts (m): |T_i| times the angle of the translation
+  // direction, |T_i| times the error of the eq. 21 ratio (with the true |T_1|), |T_i| times the
+  // relative error of the yardstick scale; and the Cramér-Rao bound of the direction part (f known).
+  std::vector<double> direction_part, ratio_part, scale_part, crb_direction;
+  double scale_error = NAN;        //!< relative error of the yardstick scale |k_1| (signed)
+  double scale_sd = NAN;           //!< its reported relative sd
   unsigned int pairs = 0;
   double seconds = 0;
 };
@@ -76,11 +83,50 @@ inline PoseMeasurementErrors poseMeasurementErrors(const vpSelfCalibSimulator &s
     if (i - 1 < r.ratios.size())
       e.scale_ratio.push_back(std::fabs((ti / t1_true) / r.ratios[i - 1] - 1));
   }
+  if (r.scale.status == vpPoseScale::OK && r.scale.scale > 0) {
+    e.scale_error = r.scale.scale / t1_true - 1;
+    e.scale_sd = r.scale.sd / r.scale.scale;
+  }
+  const double noise = sim.getOptions().pixel_noise_sd;
+  const vpCameraParameters cam = sim.getCamera();
   for (const vpKinematicIdentification::Measurement &m : r.measurements) {
     const vpHomogeneousMatrix T = truth.get_fMc(m.q).inverse() * truth.get_fMc(m.q_ref);
     e.position.push_back((m.M.getTranslationVector() - T.getTranslationVector()).frobeniusNorm());
     const vpThetaUVector tu((m.M.getRotationMatrix().t() * T.getRotationMatrix()));
     e.orientation.push_back(std::sqrt(tu.sumSquare()));
+    // The split: which pair is it?
+    size_t i = 1;
+    while (i < q.size() && !(q[i] == m.q))
+      ++i;
+    if (i >= q.size() || i - 1 >= r.ratios.size())
+      continue;
+    const vpTranslationVector tm = m.M.getTranslationVector(), tt = T.getTranslationVector();
+    const double nT = tt.frobeniusNorm();
+    const double c = std::max(-1.0, std::min(1.0, vpColVector::dotProd(vpColVector(tm), vpColVector(tt)) /
+                                                       (tm.frobeniusNorm() * nT)));
+    e.direction_part.push_back(nT * std::acos(c));
+    e.ratio_part.push_back(nT * std::fabs(r.ratios[i - 1] * t1_true / nT - 1));
+    e.scale_part.push_back(nT * std::fabs(e.scale_error));
+    // Cramér-Rao bound of the direction (f known) at the truth, noise-free correspondences.
+    if (noise > 0) {
+      const auto o0 = sim.observe(q[0], 0, 0), oi = sim.observe(q[i], static_cast<unsigned int>(i), 0);
+      std::map<int, vpImagePoint> second;
+      for (const auto &o : oi)
+        second[o.id] = o.ip;
+      std::vector<vpImagePoint> p1, p2;
+      for (const auto &o : o0)
+        if (second.count(o.id)) {
+          p1.push_back(o.ip);
+          p2.push_back(second[o.id]);
+        }
+      vpHomogeneousMatrix Tu = T;
+      for (unsigned int k = 0; k < 3; ++k)
+        Tu[k][3] /= nT;
+      const vpMatrix C = vpPoseScale::twoViewCovariance(Tu, p1, p2, cam.get_px(), cam.get_u0(), cam.get_v0(),
+                                                        cam.get_py() / cam.get_px(), noise);
+      if (C.getRows() == 5)
+        e.crb_direction.push_back(nT * std::sqrt(C[3][3] + C[4][4]));
+    }
   }
   if (mode == vpRobotSelfCalibration::FOCAL_PER_PAIR) {
     for (const auto &p : r.pairs)

@@ -100,6 +100,9 @@ bool scalePoses(const Context &c, Result &res)
   for (unsigned int i = 0; i < N; ++i)
     qcal.push_back(cal[i].q);
   res.ratios = vpPoseScale::nominalRatios(c.nominal, qcal);
+  // Expected accuracy of each view of the yardstick (weights): the eq. 21 ratio's error under the
+  // nominal model's default tolerance, and the pair's two-view covariance from its correspondences.
+  const std::vector<double> ratio_sd = vpPoseScale::nominalRatioSd(c.nominal, qcal);
 
   std::vector<vpPoseScale::YardstickView> yv;
   vpImagePoint a1, b1;
@@ -111,12 +114,22 @@ bool scalePoses(const Context &c, Result &res)
       continue;
     v.c2Mc1 = r.c2Mc1;
     v.ratio = res.ratios[i - 1];
+    v.ratio_sd = ratio_sd[i - 1];
     v.a1 = a1;
     v.b1 = b1;
+    std::vector<vpImagePoint> pa, pb;
+    correspondences(cal[0], cal[i], pa, pb);
+    for (size_t k = 0; k < pa.size(); ++k)
+      if (r.inliers.size() != pa.size() || r.inliers[k]) {
+        v.p1.push_back(pa[k]);
+        v.p2.push_back(pb[k]);
+      }
     yv.push_back(v);
   }
   if (res.fx > 0) {
-    res.scale = vpPoseScale::yardstick(yv, ys.length, res.fx, c.twoview.u0, c.twoview.v0, c.twoview.mu);
+    vpPoseScale::YardstickOptions yo;
+    yo.pixel_sd = c.options.pixel_sd;
+    res.scale = vpPoseScale::yardstick(yv, ys.length, res.fx, c.twoview.u0, c.twoview.v0, c.twoview.mu, yo);
   }
   if (res.scale.status != vpPoseScale::OK) {
     res.status = vpRobotSelfCalibration::SCALE_FAILED;

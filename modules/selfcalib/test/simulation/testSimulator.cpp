@@ -128,6 +128,50 @@ TEST(Simulator, ConfigurationsAreInLimitsAndSeeTheWholeScene)
   }
 }
 
+// Partial views (the paper scene): every configuration sees both yardstick ends and at least N
+// points through the true robot, the dataset has exactly the points in the image, and the views are
+// indeed partial. The reference scene is the default options.
+TEST(Simulator, PaperSceneHasPartialViewsWithTheYardstick)
+{
+  const vpSelfCalibSimulator::Options ref = vpSelfCalibSimulator::sceneOptions("reference"), def;
+  EXPECT_EQ(ref.px, def.px);
+  EXPECT_EQ(ref.num_points, def.num_points);
+  EXPECT_EQ(ref.min_visible_points, 0u);
+  EXPECT_EQ(ref.view_cone, def.view_cone);
+  EXPECT_THROW(vpSelfCalibSimulator::sceneOptions("nope"), vpSelfCalibException);
+  for (const char *robot : {"viper850", "puma560"}) {
+    vpSelfCalibSimulator::Options o = vpSelfCalibSimulator::sceneOptions("paper");
+    o.seed = 2;
+    const vpSelfCalibSimulator sim(vpKinematicChain::preset(robot), o);
+    const std::vector<vpColVector> q = sim.generateConfigurations(10);
+    const vpSelfCalibDataset ds = sim.makeDataset(q);
+    const vpSelfCalibDataset::Yardstick y = sim.getYardstick();
+    unsigned int partial = 0;
+    for (size_t k = 0; k < q.size(); ++k) {
+      EXPECT_TRUE(sim.isVisible(q[k]));
+      EXPECT_GE(sim.countVisible(q[k]), o.min_visible_points) << robot << " view " << k;
+      bool a = false, b = false;
+      for (const auto &ob : ds.views[k].points) {
+        a = a || ob.id == y.id_a;
+        b = b || ob.id == y.id_b;
+        EXPECT_GE(ob.ip.get_u(), 0);
+        EXPECT_LE(ob.ip.get_u(), o.width - 1);
+      }
+      EXPECT_TRUE(a && b) << robot << " view " << k << ": the yardstick";
+      if (ds.views[k].points.size() < o.num_points + 2)
+        ++partial;
+    }
+    EXPECT_GT(partial, 0u) << robot << ": the views should be partial";
+    // The planner's scene carries the same rule.
+    EXPECT_EQ(sim.getPlannerScene().min_visible, o.min_visible_points);
+    ASSERT_EQ(sim.getPlannerScene().required.size(), 2u);
+    EXPECT_EQ(sim.getPlannerScene().required[0], static_cast<unsigned int>(y.id_a));
+  }
+  vpSelfCalibSimulator::Options bad = vpSelfCalibSimulator::sceneOptions("paper");
+  bad.min_visible_points = bad.num_points + 3;
+  EXPECT_THROW(bad.check(), vpSelfCalibException);
+}
+
 TEST(Simulator, ObservationsAreTheTrueProjectionPlusNoiseOfTheRequestedSd)
 {
   const vpSelfCalibSimulator sim = makeSim("viper850", 5);
