@@ -100,9 +100,11 @@ bool scalePoses(const Context &c, Result &res)
   for (unsigned int i = 0; i < N; ++i)
     qcal.push_back(cal[i].q);
   res.ratios = vpPoseScale::nominalRatios(c.nominal, qcal);
-  // Expected accuracy of each view of the yardstick (weights): the eq. 21 ratio's error under the
-  // nominal model's default tolerance, and the pair's two-view covariance from its correspondences.
-  const std::vector<double> ratio_sd = vpPoseScale::nominalRatioSd(c.nominal, qcal);
+  // Expected accuracy of each view of the yardstick (weights): the error of the pair's own nominal
+  // norm under the nominal model's default tolerance (the |t_1| error common to every ratio cancels
+  // in ratio_i k_1, see vpPoseScale::nominalNormSd), and the pair's two-view covariance.
+  const std::vector<double> ratio_sd =
+      vpPoseScale::nominalNormSd(c.nominal, qcal, vpPoseScale::ModelTolerance());
 
   std::vector<vpPoseScale::YardstickView> yv;
   vpImagePoint a1, b1;
@@ -129,6 +131,8 @@ bool scalePoses(const Context &c, Result &res)
   if (res.fx > 0) {
     vpPoseScale::YardstickOptions yo;
     yo.pixel_sd = c.options.pixel_sd;
+    if (c.mode == vpRobotSelfCalibration::FOCAL_SHARED && std::isfinite(res.fx_sd))
+      yo.fx_sd = res.fx_sd;
     res.scale = vpPoseScale::yardstick(yv, ys.length, res.fx, c.twoview.u0, c.twoview.v0, c.twoview.mu, yo);
   }
   if (res.scale.status != vpPoseScale::OK) {

@@ -5,6 +5,7 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <cmath>
+#include <functional>
 
 #include <Eigen/Eigenvalues>
 
@@ -82,8 +83,9 @@ bool unitLength(const Eigen::Matrix3d &R, const Eigen::Vector3d &t, const double
 
 void vpPoseScale::YardstickOptions::check() const
 {
-  if (!(pixel_sd > 0 && std::isfinite(pixel_sd)))
-    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpPoseScale::YardstickOptions: pixel_sd must be > 0");
+  if (!(pixel_sd > 0 && std::isfinite(pixel_sd)) || !(fx_sd >= 0 && std::isfinite(fx_sd)))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpPoseScale::YardstickOptions: pixel_sd must be > 0 and fx_sd >= 0");
 }
 
 std::vector<double> vpPoseScale::nominalRatioSd(const vpKinematicChain &model, const std::vector<vpColVector> &q)
@@ -91,11 +93,24 @@ std::vector<double> vpPoseScale::nominalRatioSd(const vpKinematicChain &model, c
   return nominalRatioSd(model, q, ModelTolerance());
 }
 
-std::vector<double> vpPoseScale::nominalRatioSd(const vpKinematicChain &model, const std::vector<vpColVector> &q,
-                                                const ModelTolerance &tol)
+namespace
+{
+// |t_i| of c_iMc_0, i = 1..m-1.
+std::vector<double> norms(const vpKinematicChain &model, const std::vector<vpColVector> &q)
+{
+  const vpHomogeneousMatrix fMc0 = model.get_fMc(q[0]);
+  std::vector<double> n;
+  for (size_t i = 1; i < q.size(); ++i)
+    n.push_back((model.get_fMc(q[i]).inverse() * fMc0).getTranslationVector().frobeniusNorm());
+  return n;
+}
+
+// First-order sd of log f_i(model) under the tolerance (central differences over the parameters).
+std::vector<double> logSd(const vpKinematicChain &model, const vpPoseScale::ModelTolerance &tol,
+                          const std::function<std::vector<double>(const vpKinematicChain &)> &f)
 {
   vpKinematicChain chain = model.nominal();
-  const std::vector<double> r0 = nominalRatios(chain, q);
+  const std::vector<double> r0 = f(chain);
   std::vector<double> var(r0.size(), 0.0);
   const unsigned int np = chain.getNumParameters(), nblocks = np / 6;
   const double h = 1e-6;
@@ -109,10 +124,10 @@ std::vector<double> vpPoseScale::nominalRatioSd(const vpKinematicChain &model, c
     vpColVector p(np, 0.0);
     p[k] = h;
     chain.setParameters(p);
-    const std::vector<double> rp = nominalRatios(chain, q);
+    const std::vector<double> rp = f(chain);
     p[k] = -h;
     chain.setParameters(p);
-    const std::vector<double> rm = nominalRatios(chain, q);
+    const std::vector<double> rm = f(chain);
     for (size_t i = 0; i < r0.size(); ++i) {
       const double d = (std::log(rp[i]) - std::log(rm[i])) / (2 * h);
       var[i] += sd * sd * d * d;
@@ -122,6 +137,21 @@ std::vector<double> vpPoseScale::nominalRatioSd(const vpKinematicChain &model, c
   for (double v : var)
     sd.push_back(std::sqrt(v));
   return sd;
+}
+} // namespace
+
+std::vector<double> vpPoseScale::nominalRatioSd(const vpKinematicChain &model, const std::vector<vpColVector> &q,
+                                                const ModelTolerance &tol)
+{
+  nominalRatios(model, q); // argument checks
+  return logSd(model, tol, [&](const vpKinematicChain &c) { return nominalRatios(c, q); });
+}
+
+std::vector<double> vpPoseScale::nominalNormSd(const vpKinematicChain &model, const std::vector<vpColVector> &q,
+                                               const ModelTolerance &tol)
+{
+  nominalRatios(model, q); // argument checks
+  return logSd(model, tol, [&](const vpKinematicChain &c) { return norms(c, q); });
 }
 
 vpMatrix vpPoseScale::twoViewCovariance(const vpHomogeneousMatrix &c2Mc1, const std::vector<vpImagePoint> &p1,
@@ -212,7 +242,7 @@ vpPoseScale::Result vpPoseScale::yardstick(const std::vector<YardstickView> &vie
     return res;
   }
   const Intrinsics K{fx, u0, v0, mu};
-  std::vector<double> rel_var;
+  std::vector<double> rel_var, dlogl_df;
   for (size_t j = 0; j < views.size(); ++j) {
     const YardstickView &v = views[j];
     for (const vpImagePoint *p : {&v.a1, &v.b1, &v.a2, &v.b2})
@@ -277,6 +307,14 @@ vpPoseScale::Result vpPoseScale::yardstick(const std::vector<YardstickView> &vie
           Ce(r, c) = C[static_cast<unsigned int>(r)][static_cast<unsigned int>(c)];
       var += g.dot(Ce * g);
     }
+    // Sensitivity to the focal length (pose fixed): the common error of a self-calibrated f.
+    {
+      const double hf = 1e-3 * fx;
+      double lp = l, lm = l;
+      unitLength(R, t, px, Intrinsics{fx + hf, u0, v0, mu}, lp);
+      unitLength(R, t, px, Intrinsics{fx - hf, u0, v0, mu}, lm);
+      dlogl_df.push_back((std::log(lp) - std::log(lm)) / (2 * hf));
+    }
     rel_var.push_back(var / (l * l) + v.ratio_sd * v.ratio_sd);
     res.relative_sd.push_back(std::sqrt(rel_var.back()));
   }
@@ -307,6 +345,15 @@ vpPoseScale::Result vpPoseScale::yardstick(const std::vector<YardstickView> &vie
     res.predicted_sd = scale / std::sqrt(info);
     const double factor = n > 1 ? std::sqrt(2 * summary.final_cost / (n - 1)) : 1.0;
     res.sd = res.predicted_sd * std::max(1.0, factor);
+    if (options.fx_sd > 0) {
+      double g = 0;
+      for (size_t j = 0; j < n; ++j)
+        g += dlogl_df[j] / std::max(rel_var[j], 1e-30);
+      g /= info;
+      const double f_part = scale * g * options.fx_sd;
+      res.predicted_sd = std::sqrt(res.predicted_sd * res.predicted_sd + f_part * f_part);
+      res.sd = std::sqrt(res.sd * res.sd + f_part * f_part);
+    }
   } else if (n > 1) {
     // sd of the least-squares scale: sigma^2 (a^T a)^-1 with sigma^2 from the residuals.
     double aa = 0;

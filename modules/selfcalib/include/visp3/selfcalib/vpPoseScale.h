@@ -60,6 +60,14 @@ public:
   */
   static std::vector<double> nominalRatioSd(const vpKinematicChain &model, const std::vector<vpColVector> &q,
                                             const ModelTolerance &tolerance);
+  /*!
+    Expected relative error (sd) of the nominal norms |t_i| themselves (i = 1..m-1, pair 1 included),
+    first order as nominalRatioSd(). These are the yardstick's weights: every ratio shares the error
+    of |t_1|, which cancels in the scaled norms ratio_i k_1 (k_1 absorbs it), so only each pair's own
+    norm error spreads the per-view scales.
+  */
+  static std::vector<double> nominalNormSd(const vpKinematicChain &model, const std::vector<vpColVector> &q,
+                                           const ModelTolerance &tolerance);
   //! nominalRatioSd() with the default tolerance.
   static std::vector<double> nominalRatioSd(const vpKinematicChain &model, const std::vector<vpColVector> &q);
 
@@ -92,6 +100,9 @@ public:
     //! squares on L = scale ratio_j l_j (short-baseline pairs then dominate).
     bool weighted = true;
     double pixel_sd = 0.2; //!< px, image noise of the expected accuracies
+    //! px, sd of a self-calibrated focal length (0: known). Its error is common to every view: it
+    //! adds (scale g fx_sd)^2 to the variance, g the weighted mean of d log l_j / d fx.
+    double fx_sd = 0;
     void check() const;
   };
 
@@ -117,7 +128,8 @@ public:
     noise of the four ends and the pair's two-view covariance (twoViewCovariance(), from p1, p2) through
     the triangulation: a short baseline gives a large v_j. scale minimizes
     sum_j (scale ratio_j l_j / L - 1)^2 / v_j; predicted_sd = scale / sqrt(sum_j 1 / v_j) and
-    sd = predicted_sd max(1, sqrt(chi2 / (n - 1))) (a scatter larger than predicted widens it).
+    sd = predicted_sd max(1, sqrt(chi2 / (n - 1))) (a scatter larger than predicted widens it), and
+    options.fx_sd adds the focal length's common error to both.
     Unweighted: the paper's sum_j (scale ratio_j l_j - L)^2, sd from the residuals (0 with one view).
 
     One view (two images) is enough (the paper's minimum). A view whose ends do not triangulate
