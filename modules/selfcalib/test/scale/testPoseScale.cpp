@@ -161,7 +161,8 @@ TEST(PoseScale, TwoViewCovariancePredictsTheDirectionSpread)
   EXPECT_LT(d2 / trials, 2 * 1.8);
 }
 
-// nominalRatioSd predicts the spread of the eq. 21 ratio errors over robots drawn from the tolerance.
+// nominalRatioSd and nominalNormSd predict the spread of the eq. 21 ratio errors and of the nominal
+// norms' errors over robots drawn from the tolerance.
 TEST(PoseScale, RatioSdPredictsTheModelErrorOfTheRatios)
 {
   const vpSelfCalibSimulator sim(vpKinematicChain::preset("viper850"), vpSelfCalibSimulator::Options());
@@ -170,16 +171,29 @@ TEST(PoseScale, RatioSdPredictsTheModelErrorOfTheRatios)
   const std::vector<double> sd = vpPoseScale::nominalRatioSd(sim.getNominalChain(), q);
   ASSERT_EQ(sd.size(), nominal.size());
   EXPECT_EQ(sd[0], 0);
-  std::vector<double> sq(nominal.size(), 0);
+  const std::vector<double> nsd = vpPoseScale::nominalNormSd(sim.getNominalChain(), q, vpPoseScale::ModelTolerance());
+  ASSERT_EQ(nsd.size(), nominal.size());
+  std::vector<double> nominal_norms;
+  for (size_t i = 1; i < q.size(); ++i)
+    nominal_norms.push_back(tNorm(sim.getNominalChain(), q[i], q[0]));
+  std::vector<double> sq(nominal.size(), 0), sqn(nominal.size(), 0);
   const unsigned int robots = 40;
   for (uint64_t seed = 1; seed <= robots; ++seed) {
     vpSelfCalibSimulator::Options o;
     o.seed = seed;
     const vpSelfCalibSimulator other(vpKinematicChain::preset("viper850"), o);
     const std::vector<double> r = vpPoseScale::nominalRatios(other.getTrueChain(), q);
-    for (size_t i = 0; i < r.size(); ++i)
+    for (size_t i = 0; i < r.size(); ++i) {
       sq[i] += std::pow(std::log(r[i] / nominal[i]), 2);
+      sqn[i] += std::pow(std::log(tNorm(other.getTrueChain(), q[i + 1], q[0]) / nominal_norms[i]), 2);
+    }
   }
+  double ratio_n = 0;
+  for (size_t i = 0; i < sqn.size(); ++i)
+    ratio_n += std::sqrt(sqn[i] / robots) / nsd[i];
+  ratio_n /= sqn.size();
+  EXPECT_GT(ratio_n, 0.7);
+  EXPECT_LT(ratio_n, 1.3);
   double ratio = 0;
   for (size_t i = 1; i < sq.size(); ++i)
     ratio += std::sqrt(sq[i] / robots) / sd[i];
