@@ -6,7 +6,7 @@
  *
  *   bench-paper [--scene reference|paper] [--seeds N] [--noise 0,0.2,0.5] [--robots puma560,viper850]
  *               [--focal shared,known] [--trajectories random,smooth,optimal] [--start smooth|random]
- *               [--max-evaluations N] [--multistart N] [--figure6 FILE.png] [--csv FILE] [-h]
+ *               [--max-evaluations N] [--multistart N] [--figure6-step 3] [--figure6 FILE.png] [--csv FILE] [-h]
  *
  * For every robot and seed: 25 random feasible configurations ("initial (random)", the last 10 of
  * them are the verification poses of every trajectory), a smooth loop around the home configuration
@@ -18,7 +18,7 @@
  *   - Table 2: the 24 scaled pose measurements c_iMc_1 of the pairs (1, i) against the truth, with
  *     the position error split into its parts (translation direction, eq. 21 ratio, yardstick scale)
  *     beside the Cramér-Rao bound of the direction part; the yardstick scale's error and sd;
- *   - Figure 6: the model calibrated on the first n poses (n = 6..15), verified on the 10
+ *   - Figure 6: the model calibrated on the first n poses (n = 6, 9, 12, 15; --figure6-step 1: 6..15), verified on the 10
  *     verification poses (yardstick 3-D error, point-pair distances, held-out poses);
  *     --figure6 draws it (gnuplot, png, headless; the data beside it as FILE.dat);
  * and cond(J) of the first 15 poses of each trajectory. With noise 0 and the smooth and optimal
@@ -113,6 +113,10 @@ int main(int argc, char **argv)
         ->type_name("N")
         ->check(selfcalibCli::wholeNumber(1));
     app.add_option("--multistart", multistart, "planner: extra starts (default 2)")->type_name("N")->check(selfcalibCli::wholeNumber(0));
+    unsigned int figure6_step = 3;
+    app.add_option("--figure6-step", figure6_step, "Figure 6: every STEP-th n from 15 down to 6 (default 3: 6, 9, 12, 15)")
+        ->type_name("STEP")
+        ->check(selfcalibCli::wholeNumber(1));
     app.add_option("--figure6", figure_path, "draw Figure 6 (gnuplot, png; data in FILE.dat)")->type_name("FILE");
     app.add_option("--csv", csv_path, "one row per robot, noise, trajectory, focal mode, seed and experiment")
         ->type_name("FILE");
@@ -267,6 +271,8 @@ int main(int argc, char **argv)
                 c.f.add(f);
               // Figure 6: the first n poses of the trajectory, the 10 verification poses.
               for (unsigned int n = kMinCalibration; n <= kCalibration; ++n) {
+                if ((kCalibration - n) % figure6_step)
+                  continue;
                 const std::vector<vpColVector> cal(q.begin(), q.begin() + n);
                 const bench::CalibrationErrors ce = bench::calibrationErrors(sim, cal, verification, modes[fi]);
                 Figure6Cell &g = fig6[ri][ni][t][fi][n];
@@ -411,6 +417,8 @@ int main(int argc, char **argv)
             continue;
           for (size_t fi = 0; fi < F; ++fi)
             for (unsigned int n = kMinCalibration; n <= kCalibration; ++n) {
+              if ((kCalibration - n) % figure6_step)
+                continue;
               const Figure6Cell &g = fig6[ri][ni][t][fi][n];
               std::cout << "| " << robots[ri] << " | " << noiseName(noises[ni]) << " | " << trajectoryName(t) << " | "
                         << focals[fi] << " | " << n << " | " << bench::meanSd(g.yardstick, 1e3, 3) << " | "
@@ -436,6 +444,8 @@ int main(int argc, char **argv)
             titles.push_back(robots[ri] + ", " + noiseName(noises[ni]) + ", " + trajectoryName(t));
             out << "# " << titles.back() << "\n# n yardstick_3d_error_mm sd_mm\n";
             for (unsigned int n = kMinCalibration; n <= kCalibration; ++n) {
+              if ((kCalibration - n) % figure6_step)
+                continue;
               const Figure6Cell &g = fig6[ri][ni][t][0][n];
               out << n << " " << 1e3 * g.yardstick.mean() << " " << 1e3 * (g.yardstick.count() > 1 ? g.yardstick.sd() : 0)
                   << "\n";
