@@ -284,23 +284,19 @@ bool vpMeasurementPlanner::visibleWith(const vpKinematicChain &chain, const vpCo
       first << "point " << i << " projects at (" << u << ", " << v << ") px, outside the image with margin "
             << margin << " px";
   }
-  bool ok = true;
-  if (m_scene.min_visible == 0)
-    ok = std::all_of(in.begin(), in.end(), [](bool b) { return b; });
-  else {
+  if (m_scene.min_visible > 0) {
     for (unsigned int r : m_scene.required)
       if (!in[r]) {
-        ok = false;
         if (why)
           *why = "required point " + std::to_string(r) + " not in view";
         return false;
       }
     const size_t count = static_cast<size_t>(std::count(in.begin(), in.end(), true));
-    ok = count >= m_scene.min_visible;
-    if (!ok && why)
+    if (count < m_scene.min_visible && why)
       *why = std::to_string(count) + " points in view, " + std::to_string(m_scene.min_visible) + " needed";
-    return ok;
+    return count >= m_scene.min_visible;
   }
+  const bool ok = std::all_of(in.begin(), in.end(), [](bool b) { return b; });
   if (!ok && why)
     *why = first.str();
   return ok;

@@ -8,7 +8,7 @@
   seeded 6-D errors on every joint placement, the base and eMc), a pinhole camera, a cloud of
   scene points in a box in front of the robot, a yardstick (two extra scene points at a known
   distance), pixel noise, and a generator of joint configurations from which every scene point is
-  seen.
+  seen (or, with partial views, enough points and the yardstick); named scenes (sceneOptions()).
 */
 #ifndef VP_SELFCALIB_SIMULATOR_H
 #define VP_SELFCALIB_SIMULATOR_H
