@@ -112,7 +112,7 @@ int main(int argc, char **argv)
         if (start == "smooth") {
           const vpColVector home = vpSelfCalibSimulator::homeConfiguration(sim0.getNominalChain());
           initial = planner.smoothTrajectory(home, vpColVector(home.size(), 0.6), kPoses,
-                                             sim0.getPlannerScene().margin + po.planning_margin);
+                                             po.planning_margin < 0 ? -1.0 : sim0.getPlannerScene().margin + po.planning_margin);
           if (initial.empty()) {
             std::cerr << "\n" << robots[ri] << " seed " << seed << ": no smooth start fits\n";
             ++plan_failed[ri];

@@ -100,6 +100,11 @@ bool scalePoses(const Context &c, Result &res)
   for (unsigned int i = 0; i < N; ++i)
     qcal.push_back(cal[i].q);
   res.ratios = vpPoseScale::nominalRatios(c.nominal, qcal);
+  // Expected accuracy of each view of the yardstick (weights): the error of the pair's own nominal
+  // norm under the nominal model's default tolerance (the |t_1| error common to every ratio cancels
+  // in ratio_i k_1, see vpPoseScale::nominalNormSd), and the pair's two-view covariance.
+  const std::vector<double> ratio_sd =
+      vpPoseScale::nominalNormSd(c.nominal, qcal, vpPoseScale::ModelTolerance());
 
   std::vector<vpPoseScale::YardstickView> yv;
   vpImagePoint a1, b1;
@@ -111,12 +116,24 @@ bool scalePoses(const Context &c, Result &res)
       continue;
     v.c2Mc1 = r.c2Mc1;
     v.ratio = res.ratios[i - 1];
+    v.ratio_sd = ratio_sd[i - 1];
     v.a1 = a1;
     v.b1 = b1;
+    std::vector<vpImagePoint> pa, pb;
+    correspondences(cal[0], cal[i], pa, pb);
+    for (size_t k = 0; k < pa.size(); ++k)
+      if (r.inliers.size() != pa.size() || r.inliers[k]) {
+        v.p1.push_back(pa[k]);
+        v.p2.push_back(pb[k]);
+      }
     yv.push_back(v);
   }
   if (res.fx > 0) {
-    res.scale = vpPoseScale::yardstick(yv, ys.length, res.fx, c.twoview.u0, c.twoview.v0, c.twoview.mu);
+    vpPoseScale::YardstickOptions yo;
+    yo.pixel_sd = c.options.pixel_sd;
+    if (c.mode == vpRobotSelfCalibration::FOCAL_SHARED && std::isfinite(res.fx_sd))
+      yo.fx_sd = res.fx_sd;
+    res.scale = vpPoseScale::yardstick(yv, ys.length, res.fx, c.twoview.u0, c.twoview.v0, c.twoview.mu, yo);
   }
   if (res.scale.status != vpPoseScale::OK) {
     res.status = vpRobotSelfCalibration::SCALE_FAILED;

@@ -28,7 +28,8 @@ namespace
 using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 // Random streams of this file.
-const uint64_t kGenericConfigurations = 0x504c414e01ULL, kMultistart = 0x504c414e02ULL;
+const uint64_t kGenericConfigurations = 0x504c414e01ULL, kMultistart = 0x504c414e02ULL,
+               kModelSamples = 0x504c414e03ULL;
 // Central-difference step (rad) of the per-pair blocks with respect to the joints.
 const double kStep = 1e-6;
 // cond(J) used in the cost when J is rank deficient (finite, so the optimizer can move away).
@@ -166,9 +167,15 @@ void vpMeasurementPlanner::TrajectoryOptions::check() const
   };
   if (!(lambda >= 0 && std::isfinite(lambda)))
     bad("lambda must be >= 0");
-  if (!(multistart_sd >= 0) || !(planning_margin >= 0) || !(visibility_weight > 0) || !(min_joint_distance >= 0) ||
-      !(distinct_weight > 0))
-    bad("multistart_sd, planning_margin, min_joint_distance must be >= 0 and the penalty weights > 0");
+  if (!(multistart_sd >= 0) || !std::isfinite(planning_margin) || !(visibility_weight > 0) ||
+      !(min_joint_distance >= 0) || !(distinct_weight > 0))
+    bad("multistart_sd, min_joint_distance must be >= 0, planning_margin finite and the penalty weights > 0");
+  for (double v : {tolerance_translation, tolerance_rotation, tolerance_hand_eye_translation,
+                   tolerance_hand_eye_rotation})
+    if (!(v >= 0 && std::isfinite(v)))
+      bad("the model tolerances must be finite and >= 0");
+  if (!(robust_factor >= 1 && std::isfinite(robust_factor)))
+    bad("robust_factor must be >= 1");
   if (!(direction_sd > 0 && rotation_sd > 0))
     bad("direction_sd and rotation_sd must be positive");
   if (max_evaluations < 1 || !(relative_tolerance > 0))
@@ -203,6 +210,25 @@ vpMeasurementPlanner::vpMeasurementPlanner(const vpKinematicChain &nominal, cons
   for (vpColVector &P : m_scene.points)
     if (P.size() == 4)
       P = vpColVector({P[0] / P[3], P[1] / P[3], P[2] / P[3]});
+  if (scene.min_visible > scene.points.size())
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpMeasurementPlanner: min_visible exceeds the number of scene points");
+  for (unsigned int r : scene.required)
+    if (r >= scene.points.size())
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpMeasurementPlanner: required point " + std::to_string(r) + " is not a scene point");
+  if (scene.min_visible == 0)
+    m_constrained = m_scene.points;
+  else {
+    // Partial views: the required points and the centroid (which keeps the bulk of the scene in view).
+    vpColVector c(3, 0.0);
+    for (const vpColVector &P : m_scene.points)
+      c += P;
+    c /= static_cast<double>(m_scene.points.size());
+    for (unsigned int r : scene.required)
+      m_constrained.push_back(m_scene.points[r]);
+    m_constrained.push_back(c);
+  }
   m_chain.resetParameters();
 
   // The parameters identifiable from relative poses: structural, so taken at generic configurations.
@@ -229,28 +255,140 @@ void vpMeasurementPlanner::checkConfigurations(const std::vector<vpColVector> &q
 
 bool vpMeasurementPlanner::isVisible(const vpColVector &q, double margin) const
 {
-  const Rigid cMf = rigidFromVisp(m_chain.get_fMc(q)).inverse();
+  return visibleWith(m_chain, q, margin, nullptr);
+}
+
+bool vpMeasurementPlanner::isVisible(const vpKinematicChain &chain, const vpColVector &q, double margin) const
+{
+  return visibleWith(chain, q, margin, nullptr);
+}
+
+bool vpMeasurementPlanner::visibleWith(const vpKinematicChain &chain, const vpColVector &q, double margin,
+                                       std::string *why) const
+{
+  const Rigid cMf = rigidFromVisp(chain.get_fMc(q)).inverse();
   const CameraModel camera = CameraModel::fromVisp(m_scene.cam);
-  for (const vpColVector &P : m_scene.points) {
-    const Eigen::Vector3d X = cMf * vec3(P);
-    if (X.z() < m_scene.min_depth)
-      return false;
+  std::vector<bool> in(m_scene.points.size(), false);
+  std::ostringstream first;
+  for (size_t i = 0; i < m_scene.points.size(); ++i) {
+    const Eigen::Vector3d X = cMf * vec3(m_scene.points[i]);
+    if (X.z() < m_scene.min_depth) {
+      if (first.tellp() == 0)
+        first << "point " << i << " at depth " << X.z() << " m (minimum " << m_scene.min_depth << ")";
+      continue;
+    }
     const Eigen::Vector2d uv = camera.project(X);
     const double u = uv(0), v = uv(1);
-    if (u < margin || v < margin || u > m_scene.width - 1 - margin || v > m_scene.height - 1 - margin)
-      return false;
+    in[i] = !(u < margin || v < margin || u > m_scene.width - 1 - margin || v > m_scene.height - 1 - margin);
+    if (!in[i] && first.tellp() == 0)
+      first << "point " << i << " projects at (" << u << ", " << v << ") px, outside the image with margin "
+            << margin << " px";
   }
-  return true;
+  if (m_scene.min_visible > 0) {
+    for (unsigned int r : m_scene.required)
+      if (!in[r]) {
+        if (why)
+          *why = "required point " + std::to_string(r) + " not in view";
+        return false;
+      }
+    const size_t count = static_cast<size_t>(std::count(in.begin(), in.end(), true));
+    if (count < m_scene.min_visible && why)
+      *why = std::to_string(count) + " points in view, " + std::to_string(m_scene.min_visible) + " needed";
+    return count >= m_scene.min_visible;
+  }
+  const bool ok = std::all_of(in.begin(), in.end(), [](bool b) { return b; });
+  if (!ok && why)
+    *why = first.str();
+  return ok;
+}
+
+std::vector<vpKinematicChain> vpMeasurementPlanner::sampleModels(const TrajectoryOptions &o) const
+{
+  Random rng(o.seed, kModelSamples);
+  std::vector<vpKinematicChain> models;
+  const unsigned int nblocks = m_chain.getNumParameters() / 6;
+  for (unsigned int s = 0; s < o.robust_samples; ++s) {
+    vpKinematicChain c = m_chain;
+    vpColVector p(m_chain.getNumParameters(), 0.0);
+    for (unsigned int b = 0; b < nblocks; ++b) {
+      const bool eye = b == nblocks - 1;
+      for (unsigned int k = 0; k < 6; ++k)
+        p[6 * b + k] = rng.normal(k < 3 ? (eye ? o.tolerance_hand_eye_translation : o.tolerance_translation)
+                                        : (eye ? o.tolerance_hand_eye_rotation : o.tolerance_rotation));
+    }
+    c.setParameters(p);
+    models.push_back(c);
+  }
+  return models;
+}
+
+double vpMeasurementPlanner::robustMargin(const std::vector<vpColVector> &q, const TrajectoryOptions &o) const
+{
+  o.check();
+  checkConfigurations(q, "robustMargin", false);
+  const std::vector<vpKinematicChain> models = sampleModels(o);
+  const CameraModel camera = CameraModel::fromVisp(m_scene.cam);
+  double worst = 0;
+  for (const vpColVector &qk : q) {
+    const Rigid cMf = rigidFromVisp(m_chain.get_fMc(qk)).inverse();
+    for (const vpKinematicChain &model : models) {
+      const Rigid cMf_s = rigidFromVisp(model.get_fMc(qk)).inverse();
+      for (const vpColVector &P : m_constrained) {
+        const Eigen::Vector3d X = cMf * vec3(P), Xs = cMf_s * vec3(P);
+        if (X.z() < m_scene.min_depth || Xs.z() < m_scene.min_depth)
+          continue;
+        worst = std::max(worst, (camera.project(Xs) - camera.project(X)).lpNorm<Eigen::Infinity>());
+      }
+    }
+  }
+  return o.robust_factor * worst;
+}
+
+unsigned int vpMeasurementPlanner::robustFailures(const std::vector<vpColVector> &q, const TrajectoryOptions &o,
+                                                  std::string *why) const
+{
+  o.check();
+  checkConfigurations(q, "robustFailures", false);
+  const std::vector<vpKinematicChain> models = sampleModels(o);
+  unsigned int failures = 0;
+  for (size_t k = 0; k < q.size(); ++k)
+    for (size_t s = 0; s < models.size(); ++s) {
+      std::string w;
+      if (!visibleWith(models[s], q[k], m_scene.margin, why && failures == 0 ? &w : nullptr)) {
+        if (why && failures == 0)
+          *why = "configuration " + std::to_string(k) + " through sampled model " + std::to_string(s) + ": " + w;
+        ++failures;
+      }
+    }
+  return failures;
 }
 
 std::vector<vpColVector> vpMeasurementPlanner::smoothTrajectory(const vpColVector &centre, const vpColVector &amplitude,
-                                                                unsigned int m, double margin) const
+                                                                unsigned int m, double margin, std::string *why) const
 {
   const unsigned int n = m_chain.getNumJoints();
   if (centre.size() != n || amplitude.size() != n || m < 2)
     throw vpSelfCalibException(vpSelfCalibException::dimensionError,
                                "vpMeasurementPlanner::smoothTrajectory: centre and amplitude need one value per joint, "
                                "and m at least 2");
+  auto fail = [&](const std::string &w) {
+    if (why)
+      *why = w;
+    return std::vector<vpColVector>();
+  };
+  if (!m_chain.isInJointLimits(centre, 0))
+    return fail("the centre configuration is outside the joint limits");
+  if (margin < 0)
+    margin = m_scene.margin + robustMargin({centre}, TrajectoryOptions());
+  {
+    std::string w;
+    if (!visibleWith(m_chain, centre, margin, &w)) {
+      std::ostringstream os;
+      os << "the view at the centre configuration is not valid with a margin of " << margin << " px (" << w
+         << "): the scene does not fit in the image there; give a smaller margin or another centre";
+      return fail(os.str());
+    }
+  }
   // Each joint's amplitude first shrunk until moving that joint alone by +-a keeps the scene in view
   // (a shoulder turns the view far more than a wrist roll), then one common scale for the loop.
   vpColVector a = amplitude;
@@ -272,10 +410,14 @@ std::vector<vpColVector> vpMeasurementPlanner::smoothTrajectory(const vpColVecto
         q[k][j] += s * a[j] * std::sin(2 * M_PI * k / m + 2 * M_PI * j / n);
       ok = m_chain.isInJointLimits(q[k], 0) && isVisible(q[k], margin);
     }
-    if (ok)
+    if (ok) {
+      if (why)
+        why->clear();
       return q;
+    }
   }
-  return {};
+  return fail("no common scale (down to 1e-3) of the amplitudes keeps every configuration of the loop within the "
+              "limits and in view");
 }
 
 std::vector<vpColVector> vpMeasurementPlanner::ratioSensitivities(const std::vector<vpColVector> &q) const
@@ -466,7 +608,8 @@ void vpMeasurementPlanner::visibilityTerm(const std::vector<vpColVector> &q, con
   // Visibility: squared hinges in px on the image bounds (with the planning margin) and on depth.
   const vpCameraParameters &cam = m_scene.cam;
   const CameraModel camera = CameraModel::fromVisp(cam);
-  const double lo = m_scene.margin + o.planning_margin;
+  // A negative (derived) planning margin is resolved by planTrajectory(); here it counts as 0.
+  const double lo = m_scene.margin + std::max(0.0, o.planning_margin);
   const double hiU = m_scene.width - 1 - lo, hiV = m_scene.height - 1 - lo;
   for (size_t k = 0; k < m; ++k) {
     const Rigid &T = P[k].T;
@@ -476,7 +619,7 @@ void vpMeasurementPlanner::visibilityTerm(const std::vector<vpColVector> &q, con
       const vpMatrix Jv = m_chain.getJointJacobian(q[k]);
       Jq = Eigen::Map<const RowMajor>(Jv.data, Jv.getRows(), Jv.getCols());
     }
-    for (const vpColVector &Pf : m_scene.points) {
+    for (const vpColVector &Pf : m_constrained) {
       const Eigen::Vector3d a = vec3(Pf) - T.t;
       const Eigen::Vector3d X = Rt * a;
       // Hinges h >= 0 in px and their derivatives with respect to X.
@@ -593,13 +736,18 @@ vpMeasurementPlanner::Result vpMeasurementPlanner::planTrajectory(const std::vec
 }
 
 vpMeasurementPlanner::Result vpMeasurementPlanner::planTrajectory(const std::vector<vpColVector> &initial,
-                                                                  const TrajectoryOptions &o,
+                                                                  const TrajectoryOptions &given,
                                                                   const Progress &progress) const
 {
   const auto t0 = std::chrono::steady_clock::now();
-  o.check();
+  given.check();
   checkConfigurations(initial, "planTrajectory", true);
+  // The planning margin: given, or derived from the model's tolerance at the initial configurations.
+  TrajectoryOptions o = given;
+  if (o.planning_margin < 0)
+    o.planning_margin = robustMargin(initial, given);
   Result res;
+  res.planning_margin = o.planning_margin;
   res.configurations = initial;
   const size_t m = initial.size(), n = m_chain.getNumJoints();
   if (m < 2 || 6 * (m - 1) <= m_identified.size()) {
@@ -684,6 +832,8 @@ vpMeasurementPlanner::Result vpMeasurementPlanner::planTrajectory(const std::vec
     for (size_t k = 0; k < m && feasible; ++k)
       feasible = isVisible(q[k], m_scene.margin);
     feasible = feasible && t.distinct == 0;
+    // Robust: visible through every model sampled from the nominal model's tolerance.
+    feasible = feasible && robustFailures(q, o) == 0;
     // A feasible plan beats any infeasible one; among equals the lower cost wins.
     if (!have_any || (feasible && !have_feasible) || (feasible == have_feasible && t.total < best)) {
       best = t.total;
@@ -700,13 +850,23 @@ vpMeasurementPlanner::Result vpMeasurementPlanner::planTrajectory(const std::vec
     res.status = INFEASIBLE;
     const std::vector<vpColVector> q = toConfigurations(best_x);
     std::ostringstream os;
-    os << "no start ended with every scene point in the image (margin " << m_scene.margin
-       << " px) and in front of the camera at every configuration, and configurations "
-       << o.min_joint_distance << " rad apart; first violation at configuration ";
+    os << "no start ended with a valid view (margin " << m_scene.margin
+       << " px) at every configuration through the nominal model and the " << o.robust_samples
+       << " models sampled from its tolerance, and configurations " << o.min_joint_distance
+       << " rad apart; first violation at configuration ";
     size_t k = 0;
     while (k < m && isVisible(q[k], m_scene.margin))
       ++k;
-    os << (k < m ? std::to_string(k) : std::string("(joint distance)")) << " (the scene may be out of reach or wider than the field of view)";
+    std::string why;
+    res.robust_failures = robustFailures(q, o, &why);
+    if (k < m)
+      os << k;
+    else if (res.robust_failures)
+      os << "(sampled models: " << why << ")";
+    else
+      os << "(joint distance)";
+    os << " (the scene may be out of reach or wider than the field of view; planning margin "
+       << o.planning_margin << " px)";
     res.message = os.str();
   } else {
     res.status = OK;
@@ -715,7 +875,9 @@ vpMeasurementPlanner::Result vpMeasurementPlanner::planTrajectory(const std::vec
     res.observability_after = observability(res.configurations, o.direction_sd, o.rotation_sd);
     std::ostringstream os;
     os << "ok: ratio term " << res.before.ratio << " -> " << res.after.ratio << ", cond(J) " << res.before.condition
-       << " -> " << res.after.condition << " (" << res.starts << " starts, " << res.evaluations << " evaluations)";
+       << " -> " << res.after.condition << " (" << res.starts << " starts, " << res.evaluations
+       << " evaluations; planning margin " << o.planning_margin << " px, visible through " << o.robust_samples
+       << " sampled models)";
     res.message = os.str();
   }
   if (res.status != OK)

@@ -5,6 +5,9 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <cmath>
+#include <functional>
+
+#include <Eigen/Eigenvalues>
 
 #include <ceres/ceres.h>
 #include <opencv2/calib3d.hpp>
@@ -16,16 +19,191 @@ using namespace vpSelfCalib;
 
 namespace
 {
-// L = scale * ratio * l: one residual per yardstick view (m).
+// Weighted: (scale ratio l / L - 1) / sqrt(v), the relative misfit of one view in units of its sd.
+// Unweighted (the paper): scale ratio l - L (m).
 struct YardstickResidual {
-  double ratio_length, length;
+  double ratio_length, length, weight;
+  bool relative;
   template <typename T> bool operator()(const T *scale, T *r) const
   {
-    r[0] = scale[0] * T(ratio_length) - T(length);
+    if (relative)
+      r[0] = (scale[0] * T(ratio_length / length) - T(1)) * T(weight);
+    else
+      r[0] = scale[0] * T(ratio_length) - T(length);
     return true;
   }
 };
+
+// The pose moved by the 5 local coordinates (w, a, b): R <- exp([w]x) R, t <- normalize(t + a e1 + b e2).
+void perturbPose(const Rigid &M, const double *d, Eigen::Matrix3d &R, Eigen::Vector3d &t)
+{
+  const Eigen::Vector3d t0 = M.t.normalized(), e1 = t0.unitOrthogonal(), e2 = t0.cross(e1);
+  const Eigen::Vector3d w(d[0], d[1], d[2]);
+  R = (w.norm() > 0 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity()) *
+      M.R;
+  t = (t0 + d[3] * e1 + d[4] * e2).normalized();
+}
+
+struct Intrinsics {
+  double fx, u0, v0, mu;
+  Eigen::Matrix3d Kinv() const
+  {
+    Eigen::Matrix3d K;
+    K << fx, 0, u0, 0, mu * fx, v0, 0, 0, 1;
+    return K.inverse();
+  }
+  cv::Point2d normalize(double u, double v) const { return cv::Point2d((u - u0) / fx, (v - v0) / (mu * fx)); }
+};
+
+// Yardstick length with the unit translation, from ends (u, v) x 4 = a1, b1, a2, b2; false when the
+// ends do not triangulate in front of both cameras.
+bool unitLength(const Eigen::Matrix3d &R, const Eigen::Vector3d &t, const double *px, const Intrinsics &k, double &l)
+{
+  const std::vector<cv::Point2d> x1 = {k.normalize(px[0], px[1]), k.normalize(px[2], px[3])},
+                                 x2 = {k.normalize(px[4], px[5]), k.normalize(px[6], px[7])};
+  cv::Mat P1 = cv::Mat::eye(3, 4, CV_64F), P2(3, 4, CV_64F), X;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c)
+      P2.at<double>(r, c) = R(r, c);
+    P2.at<double>(r, 3) = t(r);
+  }
+  cv::triangulatePoints(P1, P2, x1, x2, X);
+  Eigen::Vector3d E[2];
+  bool front = true;
+  for (int e = 0; e < 2; ++e) {
+    const double w = X.at<double>(3, e);
+    E[e] = Eigen::Vector3d(X.at<double>(0, e), X.at<double>(1, e), X.at<double>(2, e)) / w;
+    const Eigen::Vector3d in2 = R * E[e] + t;
+    front = front && std::isfinite(E[e].z()) && E[e].z() > 0 && in2.z() > 0;
+  }
+  l = (E[0] - E[1]).norm();
+  return front && std::isfinite(l);
+}
 } // namespace
+
+void vpPoseScale::YardstickOptions::check() const
+{
+  if (!(pixel_sd > 0 && std::isfinite(pixel_sd)) || !(fx_sd >= 0 && std::isfinite(fx_sd)))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpPoseScale::YardstickOptions: pixel_sd must be > 0 and fx_sd >= 0");
+}
+
+std::vector<double> vpPoseScale::nominalRatioSd(const vpKinematicChain &model, const std::vector<vpColVector> &q)
+{
+  return nominalRatioSd(model, q, ModelTolerance());
+}
+
+namespace
+{
+// |t_i| of c_iMc_0, i = 1..m-1.
+std::vector<double> norms(const vpKinematicChain &model, const std::vector<vpColVector> &q)
+{
+  const vpHomogeneousMatrix fMc0 = model.get_fMc(q[0]);
+  std::vector<double> n;
+  for (size_t i = 1; i < q.size(); ++i)
+    n.push_back((model.get_fMc(q[i]).inverse() * fMc0).getTranslationVector().frobeniusNorm());
+  return n;
+}
+
+// First-order sd of log f_i(model) under the tolerance (central differences over the parameters).
+std::vector<double> logSd(const vpKinematicChain &model, const vpPoseScale::ModelTolerance &tol,
+                          const std::function<std::vector<double>(const vpKinematicChain &)> &f)
+{
+  vpKinematicChain chain = model.nominal();
+  const std::vector<double> r0 = f(chain);
+  std::vector<double> var(r0.size(), 0.0);
+  const unsigned int np = chain.getNumParameters(), nblocks = np / 6;
+  const double h = 1e-6;
+  for (unsigned int k = 0; k < np; ++k) {
+    const unsigned int b = k / 6;
+    const bool eye = b == nblocks - 1, rot = k % 6 >= 3;
+    const double sd = rot ? (eye ? tol.hand_eye_rotation : tol.rotation)
+                          : (eye ? tol.hand_eye_translation : tol.translation);
+    if (sd == 0)
+      continue;
+    vpColVector p(np, 0.0);
+    p[k] = h;
+    chain.setParameters(p);
+    const std::vector<double> rp = f(chain);
+    p[k] = -h;
+    chain.setParameters(p);
+    const std::vector<double> rm = f(chain);
+    for (size_t i = 0; i < r0.size(); ++i) {
+      const double d = (std::log(rp[i]) - std::log(rm[i])) / (2 * h);
+      var[i] += sd * sd * d * d;
+    }
+  }
+  std::vector<double> sd;
+  for (double v : var)
+    sd.push_back(std::sqrt(v));
+  return sd;
+}
+} // namespace
+
+std::vector<double> vpPoseScale::nominalRatioSd(const vpKinematicChain &model, const std::vector<vpColVector> &q,
+                                                const ModelTolerance &tol)
+{
+  nominalRatios(model, q); // argument checks
+  return logSd(model, tol, [&](const vpKinematicChain &c) { return nominalRatios(c, q); });
+}
+
+std::vector<double> vpPoseScale::nominalNormSd(const vpKinematicChain &model, const std::vector<vpColVector> &q,
+                                               const ModelTolerance &tol)
+{
+  nominalRatios(model, q); // argument checks
+  return logSd(model, tol, [&](const vpKinematicChain &c) { return norms(c, q); });
+}
+
+vpMatrix vpPoseScale::twoViewCovariance(const vpHomogeneousMatrix &c2Mc1, const std::vector<vpImagePoint> &p1,
+                                        const std::vector<vpImagePoint> &p2, double fx, double u0, double v0,
+                                        double mu, double pixel_sd)
+{
+  if (p1.size() != p2.size())
+    throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                               "vpPoseScale::twoViewCovariance: p1 and p2 must have the same size");
+  if (!(fx > 0 && mu > 0 && pixel_sd > 0))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpPoseScale::twoViewCovariance: fx, mu and pixel_sd must be positive");
+  if (p1.size() < 5)
+    return vpMatrix();
+  const Rigid M = rigidFromVisp(c2Mc1);
+  const Eigen::Matrix3d Kinv = Intrinsics{fx, u0, v0, mu}.Kinv();
+  // Sampson distance (px) of every correspondence at the pose moved by d.
+  auto sampson = [&](const double *d, Eigen::VectorXd &r) {
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t;
+    perturbPose(M, d, R, t);
+    const Eigen::Matrix3d F = Kinv.transpose() * skew(t) * R * Kinv;
+    r.resize(static_cast<Eigen::Index>(p1.size()));
+    for (size_t i = 0; i < p1.size(); ++i) {
+      const Eigen::Vector3d m1(p1[i].get_u(), p1[i].get_v(), 1), m2(p2[i].get_u(), p2[i].get_v(), 1);
+      const Eigen::Vector3d l2 = F * m1, l1 = F.transpose() * m2;
+      const double den = std::sqrt(l2(0) * l2(0) + l2(1) * l2(1) + l1(0) * l1(0) + l1(1) * l1(1));
+      r(static_cast<Eigen::Index>(i)) = den > 0 ? m2.dot(l2) / den : 0;
+    }
+  };
+  const double h = 1e-7;
+  Eigen::MatrixXd J(static_cast<Eigen::Index>(p1.size()), 5);
+  for (int c = 0; c < 5; ++c) {
+    double dp[5] = {0, 0, 0, 0, 0}, dm[5] = {0, 0, 0, 0, 0};
+    dp[c] = h;
+    dm[c] = -h;
+    Eigen::VectorXd rp, rm;
+    sampson(dp, rp);
+    sampson(dm, rm);
+    J.col(c) = (rp - rm) / (2 * h);
+  }
+  const Eigen::Matrix<double, 5, 5> A = J.transpose() * J;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 5, 5>> es(A);
+  if (!(es.eigenvalues()(0) > 1e-12 * es.eigenvalues()(4)))
+    return vpMatrix();
+  const Eigen::Matrix<double, 5, 5> C = pixel_sd * pixel_sd * A.inverse();
+  vpMatrix out(5, 5);
+  for (unsigned int r = 0; r < 5; ++r)
+    for (unsigned int c = 0; c < 5; ++c)
+      out[r][c] = C(r, c);
+  return out;
+}
 
 std::vector<double> vpPoseScale::nominalRatios(const vpKinematicChain &model, const std::vector<vpColVector> &q)
 {
@@ -47,68 +225,141 @@ std::vector<double> vpPoseScale::nominalRatios(const vpKinematicChain &model, co
 vpPoseScale::Result vpPoseScale::yardstick(const std::vector<YardstickView> &views, double length, double fx,
                                            double u0, double v0, double mu)
 {
+  return yardstick(views, length, fx, u0, v0, mu, YardstickOptions());
+}
+
+vpPoseScale::Result vpPoseScale::yardstick(const std::vector<YardstickView> &views, double length, double fx,
+                                           double u0, double v0, double mu, const YardstickOptions &options)
+{
   if (!(length > 0 && std::isfinite(length)) || !(fx > 0 && std::isfinite(fx)) || !(mu > 0) || !std::isfinite(u0) ||
       !std::isfinite(v0))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpPoseScale::yardstick: length, fx and mu must be positive, u0 and v0 finite");
+  options.check();
   Result res;
   if (views.empty()) {
     res.message = "no pair of images sees both yardstick ends; two views of the yardstick are needed";
     return res;
   }
-  double scale0 = 0;
-  ceres::Problem problem;
-  double scale = 0;
+  const Intrinsics K{fx, u0, v0, mu};
+  std::vector<double> rel_var, dlogl_df;
   for (size_t j = 0; j < views.size(); ++j) {
     const YardstickView &v = views[j];
     for (const vpImagePoint *p : {&v.a1, &v.b1, &v.a2, &v.b2})
       if (!std::isfinite(p->get_u()) || !std::isfinite(p->get_v()))
         throw vpSelfCalibException(vpSelfCalibException::badValue, "vpPoseScale::yardstick: non-finite pixel");
-    if (!(v.ratio > 0 && std::isfinite(v.ratio)))
-      throw vpSelfCalibException(vpSelfCalibException::badValue, "vpPoseScale::yardstick: ratios must be positive");
-    // Normalized coordinates; P1 = [I 0], P2 = [R t] with |t| = 1.
-    auto norm = [&](const vpImagePoint &p) { return cv::Point2d((p.get_u() - u0) / fx, (p.get_v() - v0) / (mu * fx)); };
-    const std::vector<cv::Point2d> x1 = {norm(v.a1), norm(v.b1)}, x2 = {norm(v.a2), norm(v.b2)};
-    cv::Mat P1 = cv::Mat::eye(3, 4, CV_64F), P2(3, 4, CV_64F), X;
+    if (!(v.ratio > 0 && std::isfinite(v.ratio)) || !(v.ratio_sd >= 0 && std::isfinite(v.ratio_sd)))
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpPoseScale::yardstick: ratios must be positive and their sd >= 0");
+    if (v.p1.size() != v.p2.size())
+      throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                                 "vpPoseScale::yardstick: p1 and p2 of a view must have the same size");
     const Rigid M = rigidFromVisp(v.c2Mc1);
-    const double tn = M.t.norm();
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c)
-        P2.at<double>(r, c) = M.R(r, c);
-      P2.at<double>(r, 3) = M.t(r) / tn;
-    }
-    cv::triangulatePoints(P1, P2, x1, x2, X);
-    Eigen::Vector3d E[2];
-    bool front = true;
-    for (int k = 0; k < 2; ++k) {
-      const double w = X.at<double>(3, k);
-      E[k] = Eigen::Vector3d(X.at<double>(0, k), X.at<double>(1, k), X.at<double>(2, k)) / w;
-      const Eigen::Vector3d in2 = M.R * E[k] + M.t / tn;
-      front = front && std::isfinite(E[k].z()) && E[k].z() > 0 && in2.z() > 0;
-    }
-    if (!front) {
+    const double zero[5] = {0, 0, 0, 0, 0};
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t;
+    perturbPose(M, zero, R, t);
+    double px[8] = {v.a1.get_u(), v.a1.get_v(), v.b1.get_u(), v.b1.get_v(),
+                    v.a2.get_u(), v.a2.get_v(), v.b2.get_u(), v.b2.get_v()};
+    double l = 0;
+    if (!unitLength(R, t, px, K, l)) {
       res.status = DEGENERATE;
       res.message = "yardstick view " + std::to_string(j) + ": the ends do not triangulate in front of both cameras";
       return res;
     }
-    const double l = (E[0] - E[1]).norm();
     res.lengths.push_back(l);
-    scale0 += length / (v.ratio * l);
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<YardstickResidual, 1, 1>(
-                                 new YardstickResidual{v.ratio * l, length}),
-                             nullptr, &scale);
+    if (!options.weighted)
+      continue;
+    // Expected accuracy of l: the ends' pixel noise and the pose's covariance, to first order.
+    double var = 0;
+    const double hp = 1e-3; // px
+    for (int c = 0; c < 8; ++c) {
+      double lp = 0, lm = 0;
+      const double keep = px[c];
+      px[c] = keep + hp;
+      const bool okp = unitLength(R, t, px, K, lp);
+      px[c] = keep - hp;
+      const bool okm = unitLength(R, t, px, K, lm);
+      px[c] = keep;
+      if (okp && okm)
+        var += std::pow(options.pixel_sd * (lp - lm) / (2 * hp), 2);
+    }
+    const vpMatrix C = twoViewCovariance(v.c2Mc1, v.p1, v.p2, fx, u0, v0, mu, options.pixel_sd);
+    if (C.getRows() == 5) {
+      Eigen::Matrix<double, 5, 1> g;
+      const double hq = 1e-7;
+      for (int c = 0; c < 5; ++c) {
+        double dp[5] = {0, 0, 0, 0, 0}, dm[5] = {0, 0, 0, 0, 0};
+        dp[c] = hq;
+        dm[c] = -hq;
+        Eigen::Matrix3d Rp, Rm;
+        Eigen::Vector3d tp, tm;
+        perturbPose(M, dp, Rp, tp);
+        perturbPose(M, dm, Rm, tm);
+        double lp = l, lm = l;
+        unitLength(Rp, tp, px, K, lp);
+        unitLength(Rm, tm, px, K, lm);
+        g(c) = (lp - lm) / (2 * hq);
+      }
+      Eigen::Matrix<double, 5, 5> Ce;
+      for (int r = 0; r < 5; ++r)
+        for (int c = 0; c < 5; ++c)
+          Ce(r, c) = C[static_cast<unsigned int>(r)][static_cast<unsigned int>(c)];
+      var += g.dot(Ce * g);
+    }
+    // Sensitivity to the focal length (pose fixed): the common error of a self-calibrated f.
+    {
+      const double hf = 1e-3 * fx;
+      double lp = l, lm = l;
+      unitLength(R, t, px, Intrinsics{fx + hf, u0, v0, mu}, lp);
+      unitLength(R, t, px, Intrinsics{fx - hf, u0, v0, mu}, lm);
+      dlogl_df.push_back((std::log(lp) - std::log(lm)) / (2 * hf));
+    }
+    rel_var.push_back(var / (l * l) + v.ratio_sd * v.ratio_sd);
+    res.relative_sd.push_back(std::sqrt(rel_var.back()));
   }
-  scale = scale0 / views.size();
+  // Start: the weighted (or plain) mean of the per-view scales.
+  double num = 0, den = 0;
+  for (size_t j = 0; j < views.size(); ++j) {
+    const double w = options.weighted ? 1 / std::max(rel_var[j], 1e-30) : 1;
+    num += w * length / (views[j].ratio * res.lengths[j]);
+    den += w;
+  }
+  double scale = num / den;
+  ceres::Problem problem;
+  for (size_t j = 0; j < views.size(); ++j)
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<YardstickResidual, 1, 1>(new YardstickResidual{
+                                 views[j].ratio * res.lengths[j], length,
+                                 options.weighted ? 1 / std::sqrt(std::max(rel_var[j], 1e-30)) : 1.0,
+                                 options.weighted}),
+                             nullptr, &scale);
   const ceres::Solver::Options so = solverOptions(50, true);
   ceres::Solver::Summary summary;
   vpSelfCalib::solve(so, &problem, &summary);
   res.scale = scale;
-  if (views.size() > 1) {
+  const size_t n = views.size();
+  if (options.weighted) {
+    double info = 0;
+    for (double v : rel_var)
+      info += 1 / std::max(v, 1e-30);
+    res.predicted_sd = scale / std::sqrt(info);
+    const double factor = n > 1 ? std::sqrt(2 * summary.final_cost / (n - 1)) : 1.0;
+    res.sd = res.predicted_sd * std::max(1.0, factor);
+    if (options.fx_sd > 0) {
+      double g = 0;
+      for (size_t j = 0; j < n; ++j)
+        g += dlogl_df[j] / std::max(rel_var[j], 1e-30);
+      g /= info;
+      const double f_part = scale * g * options.fx_sd;
+      res.predicted_sd = std::sqrt(res.predicted_sd * res.predicted_sd + f_part * f_part);
+      res.sd = std::sqrt(res.sd * res.sd + f_part * f_part);
+    }
+  } else if (n > 1) {
     // sd of the least-squares scale: sigma^2 (a^T a)^-1 with sigma^2 from the residuals.
     double aa = 0;
-    for (size_t j = 0; j < views.size(); ++j)
+    for (size_t j = 0; j < n; ++j)
       aa += std::pow(views[j].ratio * res.lengths[j], 2);
-    const double s2 = 2 * summary.final_cost / (views.size() - 1);
+    const double s2 = 2 * summary.final_cost / (n - 1);
     res.sd = std::sqrt(s2 / aa);
   }
   res.status = OK;

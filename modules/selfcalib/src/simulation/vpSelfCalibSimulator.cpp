@@ -4,6 +4,7 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -108,7 +109,34 @@ void vpSelfCalibSimulator::Options::check() const
           "image_margin must be >= 0 and leave part of the image");
   require(nonNegative(pixel_noise_sd), "pixel_noise_sd must be finite and >= 0");
   require(max_attempts >= 1, "max_attempts must be at least 1");
+  require(min_visible_points <= num_points + 2,
+          "min_visible_points must not exceed the number of scene points (num_points + 2 yardstick ends)");
 }
+
+vpSelfCalibSimulator::Options vpSelfCalibSimulator::sceneOptions(const std::string &name)
+{
+  Options o;
+  if (name == "reference")
+    return o;
+  if (name == "paper") {
+    // Wide lens (94 x 77 degree field of view), a large deep scene seen from wide views, partial views.
+    o.px = o.py = 300;
+    o.num_points = 250;
+    o.box_x = 0.8;
+    o.box_y = 0.9;
+    o.box_z = 0.5;
+    o.yardstick_length = 0.4;
+    o.distance_min = 0.6;
+    o.distance_max = 0.8;
+    o.view_cone = 60 * M_PI / 180.0;
+    o.min_visible_points = 40;
+    return o;
+  }
+  throw vpSelfCalibException(vpSelfCalibException::badValue,
+                             "vpSelfCalibSimulator::sceneOptions: unknown scene '" + name + "' (reference, paper)");
+}
+
+std::vector<std::string> vpSelfCalibSimulator::sceneNames() { return {"reference", "paper"}; }
 
 vpColVector vpSelfCalibSimulator::homeConfiguration(const vpKinematicChain &chain)
 {
@@ -225,21 +253,46 @@ bool vpSelfCalibSimulator::inverseKinematics(const vpHomogeneousMatrix &fMc, con
   return m_nominal.isInJointLimits(q);
 }
 
-bool vpSelfCalibSimulator::isVisible(const vpColVector &q) const
+namespace
 {
-  const Rigid cMf = rigidFromVisp(m_true.get_fMc(q)).inverse();
-  const double m = m_opt.image_margin;
-  const CameraModel camera = CameraModel::pinhole(m_opt.px, m_opt.py, m_opt.u0, m_opt.v0);
-  for (const vpColVector &X : m_points) {
-    const Eigen::Vector3d Xc = cMf * vec3(X);
+// Which scene points are inside the image (with the margin) and in front of the camera cMf.
+std::vector<bool> inView(const Rigid &cMf, const std::vector<vpColVector> &points, const CameraModel &camera,
+                         double m, unsigned int width, unsigned int height)
+{
+  std::vector<bool> in(points.size(), false);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d Xc = cMf * vec3(points[i]);
     if (!(Xc.z() > 1e-3))
-      return false;
+      continue;
     const Eigen::Vector2d uv = camera.project(Xc);
     const double u = uv(0), v = uv(1);
-    if (u < m || v < m || u > m_opt.width - 1 - m || v > m_opt.height - 1 - m)
-      return false;
+    in[i] = !(u < m || v < m || u > width - 1 - m || v > height - 1 - m);
   }
-  return true;
+  return in;
+}
+} // namespace
+
+bool vpSelfCalibSimulator::isVisible(const vpColVector &q) const { return isVisible(m_true, q); }
+
+bool vpSelfCalibSimulator::isVisible(const vpKinematicChain &chain, const vpColVector &q) const
+{
+  const Rigid cMf = rigidFromVisp(chain.get_fMc(q)).inverse();
+  const CameraModel camera = CameraModel::pinhole(m_opt.px, m_opt.py, m_opt.u0, m_opt.v0);
+  const std::vector<bool> in = inView(cMf, m_points, camera, m_opt.image_margin, m_opt.width, m_opt.height);
+  if (m_opt.min_visible_points == 0)
+    return std::all_of(in.begin(), in.end(), [](bool b) { return b; });
+  // Partial views: both yardstick ends (the last two points) and at least N points.
+  if (!in[m_opt.num_points] || !in[m_opt.num_points + 1])
+    return false;
+  return static_cast<unsigned int>(std::count(in.begin(), in.end(), true)) >= m_opt.min_visible_points;
+}
+
+unsigned int vpSelfCalibSimulator::countVisible(const vpColVector &q) const
+{
+  const Rigid cMf = rigidFromVisp(m_true.get_fMc(q)).inverse();
+  const CameraModel camera = CameraModel::pinhole(m_opt.px, m_opt.py, m_opt.u0, m_opt.v0);
+  const std::vector<bool> in = inView(cMf, m_points, camera, m_opt.image_margin, m_opt.width, m_opt.height);
+  return static_cast<unsigned int>(std::count(in.begin(), in.end(), true));
 }
 
 std::vector<vpColVector> vpSelfCalibSimulator::generateConfigurations(unsigned int m, const Progress &progress) const
@@ -363,5 +416,8 @@ vpPlannerScene vpSelfCalibSimulator::getPlannerScene() const
   scene.width = m_opt.width;
   scene.height = m_opt.height;
   scene.margin = m_opt.image_margin;
+  scene.min_visible = m_opt.min_visible_points;
+  if (m_opt.min_visible_points > 0)
+    scene.required = {m_opt.num_points, m_opt.num_points + 1};
   return scene;
 }

@@ -297,7 +297,15 @@ TEST(Scale, NominalRatiosAndYardstickAreExactOnExactData)
   const auto all = vpPoseScale::yardstick(views, ys.length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1.0);
   ASSERT_EQ(all.status, vpPoseScale::OK) << all.message;
   EXPECT_NEAR(all.scale, T1, 1e-9);
-  EXPECT_LT(all.sd, 1e-9);
+  // Weighted (default): the sd is predicted from the stated pixel noise, not from the (zero) residuals.
+  EXPECT_GT(all.predicted_sd, 0);
+  EXPECT_NEAR(all.sd, all.predicted_sd, 1e-12);
+  // The paper's plain least squares: sd from the residuals, zero here.
+  vpPoseScale::YardstickOptions plain;
+  plain.weighted = false;
+  const auto unweighted = vpPoseScale::yardstick(views, ys.length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1.0, plain);
+  EXPECT_NEAR(unweighted.scale, T1, 1e-9);
+  EXPECT_LT(unweighted.sd, 1e-9);
   // No view: a status; nonsense: an exception.
   EXPECT_EQ(vpPoseScale::yardstick({}, 0.1, 1500, 320, 240, 1).status, vpPoseScale::TOO_FEW_VIEWS);
   EXPECT_THROW(vpPoseScale::yardstick(views, -1, 1500, 320, 240, 1), vpSelfCalibException);

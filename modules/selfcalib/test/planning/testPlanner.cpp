@@ -183,6 +183,54 @@ TEST(Planner, SmoothInitialTrajectoryIsFeasibleAndPlanningImprovesIt)
   EXPECT_THROW(behind.smoothTrajectory(home, vpColVector(3, 0.3), 12, 10), vpSelfCalibException);
 }
 
+// The paper scene (partial views, f 300 px): the smooth loop works with the default margin (derived
+// from the model's tolerance); a plan reported OK is visible through every sampled model and through
+// the true robot; a centre that cannot see the scene says why.
+TEST(Planner, PaperSceneSmoothStartAndPlanAreRobustToTheModelError)
+{
+  for (const std::string robot : {"viper850", "puma560"}) {
+    vpSelfCalibSimulator::Options so = vpSelfCalibSimulator::sceneOptions("paper");
+    so.seed = 3;
+    const vpSelfCalibSimulator sim(vpKinematicChain::preset(robot), so);
+    const vpMeasurementPlanner planner(sim.getNominalChain(), sim.getPlannerScene());
+    const vpColVector home = vpSelfCalibSimulator::homeConfiguration(sim.getNominalChain());
+    std::string why;
+    const std::vector<vpColVector> q = planner.smoothTrajectory(home, vpColVector(home.size(), 0.6), 12, -1, &why);
+    ASSERT_EQ(q.size(), 12u) << robot << ": " << why;
+    vpMeasurementPlanner::TrajectoryOptions o;
+    o.multistart = 0;
+    o.max_evaluations = 400;
+    const double margin = planner.robustMargin(q, o);
+    EXPECT_GT(margin, 0) << robot;
+    EXPECT_LT(margin, 100) << robot;
+    const vpMeasurementPlanner::Result r = planner.planTrajectory(q, o);
+    EXPECT_EQ(r.planning_margin, margin);
+    if (r.status == vpMeasurementPlanner::OK) {
+      EXPECT_EQ(planner.robustFailures(r.configurations, o), 0u);
+      for (size_t k = 0; k < r.configurations.size(); ++k)
+        EXPECT_TRUE(sim.isVisible(r.configurations[k])) << robot << " pose " << k << ": the true robot must see it";
+      EXPECT_TRUE(std::isfinite(r.observability_after.condition_number));
+    } else
+      EXPECT_EQ(r.status, vpMeasurementPlanner::INFEASIBLE) << r.message;
+  }
+  // A margin larger than the image: the loop cannot start, and the reason names the centre.
+  const vpSelfCalibSimulator sim(vpKinematicChain::preset("viper850"), vpSelfCalibSimulator::sceneOptions("paper"));
+  const vpMeasurementPlanner planner(sim.getNominalChain(), sim.getPlannerScene());
+  const vpColVector home = vpSelfCalibSimulator::homeConfiguration(sim.getNominalChain());
+  std::string why;
+  EXPECT_TRUE(planner.smoothTrajectory(home, vpColVector(home.size(), 0.6), 12, 300, &why).empty());
+  EXPECT_NE(why.find("centre configuration"), std::string::npos) << why;
+  // Sampled models that are the nominal one (zero tolerance) never fail where the nominal view is valid.
+  vpMeasurementPlanner::TrajectoryOptions zero;
+  zero.tolerance_translation = zero.tolerance_rotation = zero.tolerance_hand_eye_translation =
+      zero.tolerance_hand_eye_rotation = 0;
+  EXPECT_EQ(planner.robustMargin({home}, zero), 0);
+  EXPECT_EQ(planner.robustFailures({home}, zero), 0u);
+  vpMeasurementPlanner::TrajectoryOptions bad;
+  bad.robust_factor = 0.5;
+  EXPECT_THROW(planner.robustMargin({home}, bad), vpSelfCalibException);
+}
+
 TEST(Planner, ImpossibleRequestsGiveAStatus)
 {
   const vpSelfCalibSimulator sim = makeSim("viper850", 4);

@@ -7,6 +7,7 @@
 
 #include <visp3/core/vpMeterPixelConversion.h>
 #include <visp3/core/vpPoint.h>
+#include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 #include <visp3/selfcalib/vpSelfCalibSimulatorViper850.h>
@@ -125,6 +126,70 @@ TEST(Simulator, ConfigurationsAreInLimitsAndSeeTheWholeScene)
       for (size_t j = 0; j < k; ++j)
         EXPECT_GT((q[k] - q[j]).frobeniusNorm(), 1e-3) << "configurations " << j << " and " << k << " coincide";
     }
+  }
+}
+
+// Partial views (the paper scene): every configuration sees both yardstick ends and at least N
+// points through the true robot, the dataset has exactly the points in the image, and the views are
+// indeed partial. The reference scene is the default options.
+TEST(Simulator, PaperSceneHasPartialViewsWithTheYardstick)
+{
+  const vpSelfCalibSimulator::Options ref = vpSelfCalibSimulator::sceneOptions("reference"), def;
+  EXPECT_EQ(ref.px, def.px);
+  EXPECT_EQ(ref.num_points, def.num_points);
+  EXPECT_EQ(ref.min_visible_points, 0u);
+  EXPECT_EQ(ref.view_cone, def.view_cone);
+  EXPECT_THROW(vpSelfCalibSimulator::sceneOptions("nope"), vpSelfCalibException);
+  for (const char *robot : {"viper850", "puma560"}) {
+    vpSelfCalibSimulator::Options o = vpSelfCalibSimulator::sceneOptions("paper");
+    o.seed = 2;
+    const vpSelfCalibSimulator sim(vpKinematicChain::preset(robot), o);
+    const std::vector<vpColVector> q = sim.generateConfigurations(10);
+    const vpSelfCalibDataset ds = sim.makeDataset(q);
+    const vpSelfCalibDataset::Yardstick y = sim.getYardstick();
+    unsigned int partial = 0;
+    for (size_t k = 0; k < q.size(); ++k) {
+      EXPECT_TRUE(sim.isVisible(q[k]));
+      EXPECT_GE(sim.countVisible(q[k]), o.min_visible_points) << robot << " view " << k;
+      bool a = false, b = false;
+      for (const auto &ob : ds.views[k].points) {
+        a = a || ob.id == y.id_a;
+        b = b || ob.id == y.id_b;
+        EXPECT_GE(ob.ip.get_u(), 0);
+        EXPECT_LE(ob.ip.get_u(), o.width - 1);
+      }
+      EXPECT_TRUE(a && b) << robot << " view " << k << ": the yardstick";
+      if (ds.views[k].points.size() < o.num_points + 2)
+        ++partial;
+    }
+    EXPECT_GT(partial, 0u) << robot << ": the views should be partial";
+    // The planner's scene carries the same rule.
+    EXPECT_EQ(sim.getPlannerScene().min_visible, o.min_visible_points);
+    ASSERT_EQ(sim.getPlannerScene().required.size(), 2u);
+    EXPECT_EQ(sim.getPlannerScene().required[0], static_cast<unsigned int>(y.id_a));
+  }
+  vpSelfCalibSimulator::Options bad = vpSelfCalibSimulator::sceneOptions("paper");
+  bad.min_visible_points = bad.num_points + 3;
+  EXPECT_THROW(bad.check(), vpSelfCalibException);
+}
+
+// The layers that consume simulated views take partial ones: both pipelines calibrate on the paper
+// scene without noise and leave a smaller 3-D error than the nominal model.
+TEST(Simulator, PipelinesCalibrateOnPartialViews)
+{
+  const vpSelfCalibSimulator sim(vpKinematicChain::preset("viper850"), vpSelfCalibSimulator::sceneOptions("paper"));
+  const std::vector<vpColVector> q = sim.generateConfigurations(14);
+  vpSelfCalibDataset ds = sim.makeDataset(q);
+  for (auto &v : ds.views)
+    v.points = sim.observe(v.q, static_cast<unsigned int>(&v - &ds.views[0]), 0.0);
+  for (auto method : {vpRobotSelfCalibration::PAPER, vpRobotSelfCalibration::BUNDLE_ADJUSTMENT}) {
+    vpRobotSelfCalibration::Options o;
+    o.method = method;
+    o.num_calibration_poses = 10;
+    const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
+    ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << vpRobotSelfCalibration::methodName(method) << ": " << r.message;
+    ASSERT_TRUE(r.verified);
+    EXPECT_LT(r.after.yardstick_error, r.before.yardstick_error) << vpRobotSelfCalibration::methodName(method);
   }
 }
 

@@ -11,6 +11,7 @@
 
 #include <visp3/selfcalib/vpSelfCalibExport.h>
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -47,8 +48,17 @@
 
   Constraints: joint limits are bounds; every scene point inside the image (with margin +
   planning_margin) and in front of the camera (depth >= min_depth), and configurations at least
-  min_joint_distance apart, are smooth penalties (squared hinges). The final configurations are
+  min_joint_distance apart, are smooth penalties (squared hinges). With partial views
+  (Scene::min_visible > 0) the hinges hold the required points (the yardstick ends) and the scene's
+  centroid only; the count of visible points is checked at the end. The final configurations are
   checked with the scene's margin (not the planning margin): a violation is the status INFEASIBLE.
+
+  <b>Robustness to the nominal model's error.</b> The true robot differs from the nominal model by
+  its stated tolerance (TrajectoryOptions::tolerance_*: the sd of a 6-D error on every joint
+  placement, the base and eMc). robust_samples models are drawn from it (seeded); the planning
+  margin is by default derived from them (robustMargin(): robust_factor times the largest pixel
+  displacement of the constrained points over the models and the initial configurations), and a plan
+  is OK only when every configuration is visible (scene margin) through every sampled model too.
 
   Gradient: exact chain rule through g_i, the singular values of J (dsigma = u^T dJ v), the
   projections and the joint distances; the only numerical derivative is that of the per-pair block
@@ -87,7 +97,17 @@ public:
     unsigned int multistart = 2;        //!< extra starts from the initial trajectory perturbed by multistart_sd
     double multistart_sd = 0.05;        //!< rad
     uint64_t seed = 1;                  //!< of the multistart perturbations
-    double planning_margin = 40;        //!< px added to Scene::margin inside the penalty (model errors)
+    //! px added to Scene::margin inside the penalty (model errors); < 0 (default): derived from the
+    //! model's tolerance by robustMargin() at the initial configurations.
+    double planning_margin = -1;
+    //! The nominal model's stated tolerance: sd of the 6-D error of every joint placement and of the
+    //! base (m, rad), and of eMc (the reference scenario's values).
+    double tolerance_translation = 1e-3;
+    double tolerance_rotation = 0.1 * M_PI / 180.0;
+    double tolerance_hand_eye_translation = 1e-3;
+    double tolerance_hand_eye_rotation = 0.2 * M_PI / 180.0;
+    unsigned int robust_samples = 30; //!< perturbed models of the margin and of the final check (0: no check)
+    double robust_factor = 1.5;       //!< derived margin = factor x largest displacement over the samples
     double visibility_weight = 1;       //!< per px^2 of violation
     double min_joint_distance = 0.05;   //!< rad, between any two configurations
     double distinct_weight = 1e6;       //!< per rad^2 of violation
@@ -120,7 +140,9 @@ public:
     std::string message;
     std::vector<vpColVector> configurations; //!< the plan (the initial ones when not OK)
     CostTerms before, after;
-    vpObservabilityIndices observability_before, observability_after;
+    vpObservabilityIndices observability_before, observability_after; //!< conditioning: condition_number
+    double planning_margin = 0;      //!< px, the planning margin used (given or derived)
+    unsigned int robust_failures = 0; //!< (configuration, sampled model) pairs of the returned plan not visible
     unsigned int evaluations = 0, starts = 0;
     double seconds = 0;
   };
@@ -159,19 +181,40 @@ public:
   vpObservabilityIndices observability(const std::vector<vpColVector> &q, double direction_sd = 5e-3,
                                        double rotation_sd = 5e-3) const;
 
-  //! Every scene point inside the image with the given margin and in front, from the nominal camera.
+  //! The scene's visibility rule (every point, or with partial views at least min_visible points and
+  //! the required ones) with the given margin, from the nominal camera.
   bool isVisible(const vpColVector &q, double margin) const;
+  //! The same rule through another model of the robot (e.g. a perturbed one).
+  bool isVisible(const vpKinematicChain &chain, const vpColVector &q, double margin) const;
+
+  //! options.robust_samples models drawn from the nominal model's tolerance (seeded by options.seed).
+  std::vector<vpKinematicChain> sampleModels(const TrajectoryOptions &options) const;
+  /*!
+    The planning margin derived from the model's tolerance: robust_factor times the largest pixel
+    displacement, between the nominal and the sampled models, of the constrained points (all points,
+    or the required ones and the centroid) at the configurations q. 0 with no samples.
+  */
+  double robustMargin(const std::vector<vpColVector> &q, const TrajectoryOptions &options) const;
+  /*!
+    Number of (configuration, sampled model) pairs whose view is not valid (scene margin); the first
+    one described in why when given.
+  */
+  unsigned int robustFailures(const std::vector<vpColVector> &q, const TrajectoryOptions &options,
+                              std::string *why = nullptr) const;
 
   /*!
     An initial smooth trajectory for planTrajectory: m configurations on a closed curve in joint
     space, q_k = centre + s a .* sin(2 pi k / m + 2 pi j / n) for joint j (n joints, so the joints
     are out of phase and the curve is a loop, not a line). a_j is amplitude_j halved until moving
     joint j alone by +-a_j keeps the scene in view and the joint within its limits; s is the largest
-    of {1, 0.8, 0.8^2, ...} (down to 1e-3) for which every configuration does. Empty when none does. Throws on sizes that do not match the chain
-    or m < 2.
+    of {1, 0.8, 0.8^2, ...} (down to 1e-3) for which every configuration does. Empty when none does,
+    and then `why` (when given) says why: the centre outside the limits, the view at the centre not
+    valid with this margin (which point, where), or the loop not fitting at any scale. margin < 0:
+    the scene margin plus robustMargin() at the centre with default TrajectoryOptions. Throws on
+    sizes that do not match the chain or m < 2.
   */
   std::vector<vpColVector> smoothTrajectory(const vpColVector &centre, const vpColVector &amplitude, unsigned int m,
-                                            double margin) const;
+                                            double margin = -1, std::string *why = nullptr) const;
 
   /*!
     The paper's optimal trajectory from an initial one (its size is m). Throws on a configuration
@@ -206,8 +249,11 @@ private:
                     std::vector<double> *gradient) const;
   void checkConfigurations(const std::vector<vpColVector> &q, const char *where, bool limits) const;
 
+  bool visibleWith(const vpKinematicChain &chain, const vpColVector &q, double margin, std::string *why) const;
+
   vpKinematicChain m_chain;
   Scene m_scene;
+  std::vector<vpColVector> m_constrained; //!< points held in view by the penalty
   std::vector<unsigned int> m_identified;
 };
 

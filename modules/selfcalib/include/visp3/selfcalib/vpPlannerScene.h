@@ -33,6 +33,13 @@ public:
   unsigned int width = 0, height = 0; //!< image size (px)
   double margin = 10;      //!< px kept free at the image border (acceptance)
   double min_depth = 0.05; //!< m, minimal depth of a point in the camera frame
+  /*!
+    Visibility rule. 0: every point inside the image (with the margin) and in front. N > 0 (partial
+    views): at least N points and every point listed in `required` (indices into points, e.g. the
+    yardstick ends); the planner then keeps the required points and the points' centroid in view.
+  */
+  unsigned int min_visible = 0;
+  std::vector<unsigned int> required; //!< indices into points that every view must see (partial views)
 };
 
 #endif

@@ -8,7 +8,7 @@
   seeded 6-D errors on every joint placement, the base and eMc), a pinhole camera, a cloud of
   scene points in a box in front of the robot, a yardstick (two extra scene points at a known
   distance), pixel noise, and a generator of joint configurations from which every scene point is
-  seen.
+  seen (or, with partial views, enough points and the yardstick); named scenes (sceneOptions()).
 */
 #ifndef VP_SELFCALIB_SIMULATOR_H
 #define VP_SELFCALIB_SIMULATOR_H
@@ -70,12 +70,30 @@ public:
     double roll_range = 30 * M_PI / 180.0;
     vpColVector home;            //!< home joints; empty: the preset's (see homeConfiguration())
     double image_margin = 10;    //!< px kept free at the image border
+    /*!
+      Visibility rule of a view (isVisible(), generateConfigurations(), the planner's scene).
+      0 (the reference scenario): every scene point in the image (with the margin) and in front.
+      N > 0 (partial views): at least N scene points (yardstick ends included) and both yardstick
+      ends in the image with the margin and in front; the other points may be outside.
+    */
+    unsigned int min_visible_points = 0;
     double pixel_noise_sd = 0.2; //!< px, Gaussian, on u and v
     unsigned int max_attempts = 100; //!< viewpoint draws per requested configuration
 
     //! Throws vpSelfCalibException on nonsense (negative sd, empty image, dmin > dmax...).
     void check() const;
   };
+
+  /*!
+    Named scenes: "reference" (the default Options: README, "Reference scenario") and "paper" (a
+    paper-like scene: wide lens f = 300 px, 250 points in a large deep box 0.8 x 0.9 x 0.5 m seen
+    from 0.6-0.8 m within a 60 degree cone, a 0.4 m yardstick, partial views with at least 40 points
+    and both yardstick ends). The seed and the noise keep their defaults. Throws
+    vpSelfCalibException on another name.
+  */
+  static Options sceneOptions(const std::string &name);
+  //! "reference", "paper".
+  static std::vector<std::string> sceneNames();
 
   //! Progress of long runs: (done, total).
   using Progress = std::function<void(unsigned int, unsigned int)>;
@@ -102,16 +120,21 @@ public:
 
   /*!
     Draws m joint configurations within the nominal chain's limits: a look-at viewpoint, numerical
-    IK on the nominal model (Ceres, joint limits as bounds), kept when every scene point projects
-    inside the image (with the margin) and in front of the camera through the true robot.
+    IK on the nominal model (Ceres, joint limits as bounds), kept when the view is valid through the
+    true robot (isVisible(): every scene point, or with partial views at least N and the yardstick).
     Throws vpSelfCalibException if a configuration cannot be found in max_attempts draws (the
     scene is out of reach or the options too tight).
   */
   std::vector<vpColVector> generateConfigurations(unsigned int m, const Progress &progress = Progress()) const;
 
-  //! True when every scene point is visible (inside the image with the margin, in front) from the
-  //! true camera at q.
+  //! True when the view from the true camera at q is valid under Options::min_visible_points
+  //! (every point, or at least N points and both yardstick ends, inside the image with the margin and
+  //! in front).
   bool isVisible(const vpColVector &q) const;
+  //! The same rule through another model of the robot (a nominal or perturbed chain).
+  bool isVisible(const vpKinematicChain &chain, const vpColVector &q) const;
+  //! Number of scene points inside the image with the margin and in front, from the true camera at q.
+  unsigned int countVisible(const vpColVector &q) const;
 
   /*!
     Image points of all visible scene points through the true robot at q. view_index selects the
