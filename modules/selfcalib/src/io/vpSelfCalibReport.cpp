@@ -137,18 +137,26 @@ bool hasData(const std::string &text)
 /*!
   Runs `program script` in `dir` with its output in dir/gnuplot.log: posix_spawnp with an argument
   vector, no shell (a path is never parsed as a command). Returns the exit status, or -1 with
-  `spawn_error` set (errno) when the program could not be started (not installed: ENOENT).
+  `spawn_error` set (errno) when the program could not be started (not installed: ENOENT), or -2
+  when the log cannot be created.
 */
 int runProgram(const std::string &program, const std::string &dir, const std::string &script, int &spawn_error)
 {
   spawn_error = 0;
+  // The log is opened here, so that a failure of the spawn itself (ENOENT) means the program is missing.
+  const std::string log = (std::filesystem::path(dir) / "gnuplot.log").string();
+  const int log_fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (log_fd < 0) {
+    spawn_error = errno;
+    return -2;
+  }
+  const std::string abs_dir = std::filesystem::absolute(dir).string();
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
-  const std::string log = (std::filesystem::path(dir) / "gnuplot.log").string();
-  posix_spawn_file_actions_addchdir_np(&actions, dir.c_str());
+  posix_spawn_file_actions_addchdir_np(&actions, abs_dir.c_str());
   posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0666);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, log_fd, STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, log_fd, STDERR_FILENO);
   std::vector<std::string> args = {program, script};
   std::vector<char *> argv;
   for (std::string &a : args)
@@ -157,6 +165,7 @@ int runProgram(const std::string &program, const std::string &dir, const std::st
   pid_t pid = 0;
   const int rc = posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
+  ::close(log_fd);
   if (rc != 0) {
     spawn_error = rc;
     return -1;
@@ -271,6 +280,8 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
     res.figures = rc_plot == 0 && bad.empty();
     if (rc_plot < 0 && spawn_error == ENOENT)
       res.message = "figures not drawn: '" + ro.gnuplot + "' is not installed (Debian package gnuplot-nox)" + no_data;
+    else if (rc_plot == -2)
+      res.message = "figures not drawn: cannot write gnuplot.log: " + errnoText(spawn_error) + no_data;
     else if (rc_plot < 0)
       res.message = "figures not drawn: cannot run '" + ro.gnuplot + "': " + errnoText(spawn_error) + no_data;
     else if (rc_plot != 0)
