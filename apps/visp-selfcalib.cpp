@@ -637,6 +637,11 @@ int calibrate(const CalibrateArgs &a)
   cv::setNumThreads(1);
   po.method = cr.method;
   const unsigned int m = static_cast<unsigned int>(ds.views.size());
+  if (a.calibration > m) {
+    std::cerr << "error: --calibration " << a.calibration << ": the dataset has " << m
+              << " views (the calibration uses the first N, the others verify)\n";
+    return 1;
+  }
   po.num_calibration_poses = a.calibration ? a.calibration : (m >= 17 ? 15 : std::max(3u, m > 2 ? m - 2 : m));
 
   const vpRobotSelfCalibration::Result r =

@@ -89,6 +89,7 @@ catalogue_case(predict-wrong-length 1 "expected 6 joint values, got 3" "predict:
 catalogue_case(predict-not-a-number 1 "'abc' is not a number" "predict: a joint value that is not a number" [=[echo '0 1 2 abc 4 5' | $APP predict puma560]=])
 catalogue_case(predict-huge-model 1 "expected a value from -10000 to 10000 m" "predict on a model with 1e308 links" [=[printf 'name: r\nconvention: dh\njoints:\n  - {a: 0, d: 1e308, alpha: 0, min: -1, max: 1}\n' > m.yaml && echo 0 | $APP predict m.yaml]=])
 catalogue_case(verify-no-yardstick 1 "has no yardstick to verify against" "verify on a dataset without a yardstick" [=[sed '/^yardstick/d' $G > ds.yaml && $APP verify viper850 ds.yaml]=])
+catalogue_case(calibrate-calibration-beyond-views 1 "--calibration 50: the dataset has 8 views" "calibrate --calibration 50 on 8 views" [=[$APP calibrate $G --out o --calibration 50]=])
 catalogue_case(simulate-joints-missing 1 "cannot open joints file 'none.txt'" "simulate --joints with a missing file" [=[$APP simulate x.yaml --joints none.txt]=])
 
 # Outputs (exit 1): never over an input, never a mix, nothing replaced without --force.
