@@ -62,6 +62,8 @@ namespace
 {
 const char *const kProgram = "visp-selfcalib";
 const char *const kModelHelp = "a preset (puma560, viper850, panda, ur5), a robot-model YAML or a URDF file";
+//! simulate --poses: more would take hours (each pose is searched for by inverse kinematics).
+constexpr unsigned long long kMaxSimulatedPoses = 10000;
 
 int info(const vpKinematicChain &c)
 {
@@ -177,15 +179,15 @@ void addSimulate(CLI::App &app, SimulateArgs &a)
   c->add_option("OUT.yaml", a.out, "the dataset file to write")->type_name("FILE")->required();
   addRobotOption(*c, a.robot);
   c->add_option("--seed", a.so.seed, "scenario seed (default 1)")->type_name("N")->check(selfcalibCli::wholeNumber());
-  CLI::Option *poses = c->add_option("--poses", a.poses, "random feasible poses, at least 3 (default 25)")
+  CLI::Option *poses = c->add_option("--poses", a.poses, "random feasible poses, 3 to 10000 (default 25)")
                            ->type_name("N")
-                           ->check(selfcalibCli::wholeNumber(3));
+                           ->check(selfcalibCli::wholeNumber(3, kMaxSimulatedPoses));
   c->add_option("--joints", a.joints_file, "the poses of a plan (visp-selfcalib plan) instead of random ones")
       ->type_name("FILE")
       ->excludes(poses);
   c->add_option("--noise", a.so.pixel_noise_sd, "image noise sd (default 0.2)")
       ->type_name("PX")
-      ->check(selfcalibCli::number(0));
+      ->check(selfcalibCli::number(0, false, 100));
   c->add_option("--focal", a.focal, "known (default: px, py in the file) or shared (f to be self-calibrated)")
       ->type_name("MODE")
       ->check(CLI::IsMember(focalNames({vpRobotSelfCalibration::FOCAL_KNOWN, vpRobotSelfCalibration::FOCAL_SHARED})));
@@ -280,7 +282,14 @@ int simulate(const SimulateArgs &a)
       std::ostringstream name;
       name << std::setw(4) << std::setfill('0') << k + 1 << ".png";
       const std::string file = (img_dir / name.str()).string();
-      vpImageIo::write(renderer.render(qs[k], static_cast<unsigned int>(k)), file);
+      // Encoded in memory and written atomically, every write checked (a full disk is an error
+      // naming the file and the reason, and the dataset that would point at it is not written).
+      try {
+        vpSelfCalibFileWriter::writeImage(file, renderer.render(qs[k], static_cast<unsigned int>(k)));
+      } catch (...) {
+        std::cerr << "\n"; // after the progress line
+        throw;
+      }
       ds.views[k].image = file;
       ds.views[k].points.clear();
       std::cerr << "rendered " << k + 1 << "/" << ds.views.size() << "\r" << std::flush;
@@ -405,6 +414,7 @@ struct CalibrateArgs {
   std::string board;
   bool board_geometry = false; //!< the board's layout as a prior on its points
   bool with_features = false;
+  bool force = false; //!< replace an earlier run's results in --out
 };
 
 //! "CxR": C columns, R rows of an asymmetric circle grid; false when it is not that.
@@ -416,9 +426,12 @@ bool parseDotGrid(const std::string &item, vpFeatureFrontEnd::DotGrid &g)
       item.substr(0, x).find_first_not_of(digits) != std::string::npos ||
       item.substr(x + 1).find_first_not_of(digits) != std::string::npos || item.size() > 12)
     return false;
-  g.cols = static_cast<unsigned int>(std::stoul(item.substr(0, x)));
-  g.rows = static_cast<unsigned int>(std::stoul(item.substr(x + 1)));
-  return g.cols > 0 && g.rows > 0;
+  const unsigned long cols = std::stoul(item.substr(0, x)), rows = std::stoul(item.substr(x + 1));
+  if (cols == 0 || rows == 0 || cols > 1000 || rows > 1000)
+    return false;
+  g.cols = static_cast<unsigned int>(cols);
+  g.rows = static_cast<unsigned int>(rows);
+  return true;
 }
 
 void addCalibrate(CLI::App &app, CalibrateArgs &a)
@@ -438,7 +451,7 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
       ->check(CLI::IsMember(methods));
   c->add_option("--calibration", a.calibration, "calibration views, at least 3 (default 15, or all but 2 when fewer)")
       ->type_name("N")
-      ->check(selfcalibCli::wholeNumber(3));
+      ->check(selfcalibCli::wholeNumber(3, 100000));
   c->add_option("--focal", a.focal, "auto (default: known when the dataset gives px, py), known, shared, per-pair")
       ->type_name("MODE")
       ->check(
@@ -446,7 +459,7 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
                                     vpRobotSelfCalibration::FOCAL_SHARED, vpRobotSelfCalibration::FOCAL_PER_PAIR})));
   c->add_option("--pixel-sd", a.pixel_sd, "image noise sd used as weight (default 0.2)")
       ->type_name("PX")
-      ->check(selfcalibCli::number(0, true));
+      ->check(selfcalibCli::number(0, true, 1000));
   c->add_option("--pose-sd", a.pose_sd,
                 "hand-eye: the controller poses' error, translation (m) and rotation (rad) sd,\n"
                 "e.g. 0.002,0.002: each pose gets a correction with that prior, and the sd are\n"
@@ -456,7 +469,7 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
       ->type_name("T,R")
       ->delimiter(',')
       ->expected(2)
-      ->check(selfcalibCli::number(0, true));
+      ->check(selfcalibCli::number(0, true, 10));
   c->add_option("--joint-sd", a.joint_sd,
                 "bundle-adjustment: the joint readings' error (rad), one value for every joint or one\n"
                 "per joint, e.g. 1e-4: each view gets joint corrections with that prior, and the sd are\n"
@@ -464,7 +477,7 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
                 "robot_error, else exact readings)")
       ->type_name("RAD[,RAD...]")
       ->delimiter(',')
-      ->check(selfcalibCli::number(0, true));
+      ->check(selfcalibCli::number(0, true, 1));
   c->add_option("--estimate", a.estimate,
                 "intrinsics estimated with the calibration besides f (--focal): aspect (p_y / p_x),\n"
                 "pp (principal point), distortion (OpenCV's k1, k2, p1, p2), k3 (and OpenCV's k3),\n"
@@ -475,7 +488,7 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
   c->add_option("--threads", a.threads,
                 "threads of the image front end (default: all cores); the results do not depend on it")
       ->type_name("N")
-      ->check(selfcalibCli::wholeNumber(1));
+      ->check(selfcalibCli::wholeNumber(1, 1024));
   c->add_option("--dot-grids", a.dot_grids,
                 "dot targets for the front end: asymmetric circle grids, C columns x R rows (R odd),\n"
                 "grid g numbered from 1000000 + 1000 g; their dots must differ in size")
@@ -512,10 +525,76 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
               "with --board: its layout is known (a 0.1 mm prior on its points, its pose estimated);\n"
               "without it the board's points are unknown scene points")
       ->needs(board);
+  c->add_flag("--force", a.force, "replace the results of an earlier run in DIR");
   c->footer("Self-calibrates on the first N views and verifies on the others. Writes DIR/model.yaml,\n"
-            "DIR/model.urdf, DIR/camera.xml, DIR/results.yaml and DIR/report/ (report.md, gnuplot figures),\n"
-            "each atomically, never over an input. The data check's findings are printed as warnings.\n"
+            "DIR/model.urdf, DIR/camera.xml, DIR/results.yaml and DIR/report/ (report.md, gnuplot figures)\n"
+            "as one set: written beside DIR, then moved into place at once, under a lock on DIR (a second run\n"
+            "into the same DIR is refused). DIR must not hold an input or files that are not results; an\n"
+            "earlier run's results are replaced only with --force. The data check's findings are printed\n"
+            "as warnings.\n"
             "Exit codes: 0 calibrated, 1 bad input, 2 bad usage, 3 failed or degenerate data (message on stderr).");
+}
+
+//! The files a calibration reads: the dataset, its robot model file, camera XML and images.
+std::vector<std::string> calibrationInputs(const std::string &dataset, const vpSelfCalibDataset &ds)
+{
+  std::vector<std::string> in = {dataset};
+  const std::vector<std::string> presets = vpKinematicChain::presetNames();
+  if (std::find(presets.begin(), presets.end(), ds.robot) == presets.end())
+    in.push_back(ds.robot);
+  for (const auto &v : ds.views)
+    if (!v.image.empty())
+      in.push_back(v.image);
+  // The camera XML's path is not kept in the dataset: read it from the file (already parsed once).
+  try {
+    const YAML::Node root = YAML::LoadFile(dataset);
+    if (root["camera_xml"] && root["camera_xml"]["file"]) {
+      fs::path xml = root["camera_xml"]["file"].as<std::string>();
+      if (xml.is_relative())
+        xml = fs::path(dataset).parent_path() / xml;
+      in.push_back(xml.string());
+    }
+  } catch (const YAML::Exception &) {
+  }
+  return in;
+}
+
+/*!
+  Refuses an output directory that holds an input of the run, files that are not an earlier run's
+  results (they would be lost with the earlier set), or an earlier run's results without --force.
+  Returns 0 when the run may go on, else the exit code (1) after the message.
+*/
+int checkOutputDirectory(const vpSelfCalibOutputDirectory &outdir, const std::string &out,
+                         const std::vector<std::string> &inputs, bool force)
+{
+  const std::string target = canonical(outdir.target());
+  if (!target.empty())
+    for (const std::string &in : inputs) {
+      const std::string c = canonical(in);
+      if (!c.empty() && (c == target || c.rfind(target + "/", 0) == 0)) {
+        std::cerr << "error: '" << in << "' is an input of this run and lies in the output directory '" << out
+                  << "', whose content is replaced: choose another --out\n";
+        return 1;
+      }
+    }
+  const std::vector<std::string> entries = outdir.existingEntries();
+  if (entries.empty())
+    return 0;
+  const std::vector<std::string> ours = {"model.yaml", "model.urdf", "camera.xml", "results.yaml", "report"};
+  std::string foreign;
+  for (const std::string &e : entries)
+    if (std::find(ours.begin(), ours.end(), e) == ours.end())
+      foreign += (foreign.empty() ? "'" : ", '") + e + "'";
+  if (!foreign.empty()) {
+    std::cerr << "error: the output directory '" << out << "' holds files that are not results of calibrate ("
+              << foreign << "); they would be lost: choose a new or empty --out\n";
+    return 1;
+  }
+  if (!force) {
+    std::cerr << "error: '" << out << "' holds the results of an earlier run; use --force to replace them\n";
+    return 1;
+  }
+  return 0;
 }
 
 int calibrate(const CalibrateArgs &a)
@@ -570,6 +649,11 @@ int calibrate(const CalibrateArgs &a)
   vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
   co.prior = nominal; // the front end's matching is guided by the nominal kinematics
+  // Outputs: a set written in a private directory beside --out, moved into place at once, under
+  // a lock on --out; never over an input, never over files that are not an earlier run's results.
+  vpSelfCalibOutputDirectory outdir(out);
+  if (const int refused = checkOutputDirectory(outdir, out, calibrationInputs(dataset, ds), a.force))
+    return refused;
   const size_t num_images = ds.views.size();
   if (vpSelfCalibImageCorrespondences::needsFrontEnd(ds))
     std::cerr << "... image front end (" << num_images << " images)\n";
@@ -598,22 +682,13 @@ int calibrate(const CalibrateArgs &a)
   cv::setNumThreads(1);
   po.method = cr.method;
   const unsigned int m = static_cast<unsigned int>(ds.views.size());
-  po.num_calibration_poses = a.calibration ? a.calibration : (m >= 17 ? 15 : std::max(3u, m > 2 ? m - 2 : m));
-
-  // Outputs: never over an input (the dataset or the robot model file).
-  if (!makeDirectory(out)) {
-    std::cerr << "error: cannot create the output directory '" << out << "'\n";
+  if (a.calibration > m) {
+    std::cerr << "error: --calibration " << a.calibration << ": the dataset has " << m
+              << " views (the calibration uses the first N, the others verify)\n";
     return 1;
   }
-  const std::string files[4] = {(fs::path(out) / "model.yaml").string(), (fs::path(out) / "camera.xml").string(),
-                                (fs::path(out) / "results.yaml").string(), (fs::path(out) / "model.urdf").string()};
-  for (const std::string &f : files) {
-    const std::string c = canonical(f);
-    if (!c.empty() && (c == canonical(dataset) || c == canonical(ds.robot))) {
-      std::cerr << "error: '" << f << "' is an input of this run; choose another --out\n";
-      return 1;
-    }
-  }
+  po.num_calibration_poses = a.calibration ? a.calibration : (m >= 17 ? 15 : std::max(3u, m > 2 ? m - 2 : m));
+
   const vpRobotSelfCalibration::Result r =
       vpRobotSelfCalibration::run(nominal, ds, po, [](const std::string &stage, unsigned int, unsigned int) {
         std::cerr << "... " << stage << "\n";
@@ -624,19 +699,23 @@ int calibrate(const CalibrateArgs &a)
   }
   for (const auto &f : r.findings)
     std::cerr << "warning: " << f.message << "\n";
+  const fs::path stage = outdir.staging();
   vpKinematicChain model = r.calibrated;
   model.setName(nominal.getName() + "-calibrated");
-  model.saveYaml(files[0]);
-  vpModelExport::saveURDF(model, files[3]);
-  vpSelfCalibFileWriter::writeWith(
-      files[1],
-      [&](const std::string &tmp) {
-        vpXmlParserCamera xml;
-        return xml.save(r.camera, tmp, "Camera", ds.width, ds.height, "self-calibrated by visp-selfcalib") ==
-               vpXmlParserCamera::SEQUENCE_OK;
-      },
-      "camera XML");
-  vpSelfCalibFileWriter::write(files[2], resultsYaml(r, nominal, dataset), "results");
+  model.saveYaml((stage / "model.yaml").string());
+  vpModelExport::saveURDF(model, (stage / "model.urdf").string());
+  vpSelfCalibFileWriter::writeCameraXml((stage / "camera.xml").string(), r.camera, "Camera", ds.width, ds.height,
+                                        "self-calibrated by visp-selfcalib");
+  vpSelfCalibFileWriter::write((stage / "results.yaml").string(), resultsYaml(r, nominal, dataset), "results");
+  std::cerr << "... report\n";
+  const vpSelfCalibPoseStudy::Result study = vpSelfCalibPoseStudy::run(nominal, ds, po); // Figure 6
+  const vpSelfCalibReport::Result rep =
+      vpSelfCalibReport::write((stage / "report").string(), nominal, ds, po, r,
+                               cr.front_end_ran ? &cr.front_end : nullptr, &study, vpSelfCalibReport::Options());
+  outdir.commit();
+
+  const std::string files[4] = {(fs::path(out) / "model.yaml").string(), (fs::path(out) / "camera.xml").string(),
+                                (fs::path(out) / "results.yaml").string(), (fs::path(out) / "model.urdf").string()};
   std::cout << "calibrated " << r.identifiability.identified.size() << " parameters on " << po.num_calibration_poses
             << " views (" << vpRobotSelfCalibration::methodName(r.method) << "), f_x " << std::setprecision(6)
             << r.camera.get_px() << " px";
@@ -671,12 +750,7 @@ int calibrate(const CalibrateArgs &a)
     std::cout << std::defaultfloat;
   }
   std::cout << "\nwrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
-  std::cerr << "... report\n";
-  const std::string report_dir = (fs::path(out) / "report").string();
-  const vpSelfCalibPoseStudy::Result study = vpSelfCalibPoseStudy::run(nominal, ds, po); // Figure 6
-  const vpSelfCalibReport::Result rep = vpSelfCalibReport::write(
-      report_dir, nominal, ds, po, r, cr.front_end_ran ? &cr.front_end : nullptr, &study, vpSelfCalibReport::Options());
-  std::cout << "report: " << report_dir << "/report.md (" << rep.message << ")\n";
+  std::cout << "report: " << (fs::path(out) / "report").string() << "/report.md (" << rep.message << ")\n";
   return 0;
 }
 
@@ -715,12 +789,12 @@ void addPlan(CLI::App &app, PlanArgs &a)
   c->add_option("OUT.txt", a.out, "the file to write")->type_name("FILE")->required();
   addRobotOption(*c, a.robot);
   c->add_option("--seed", a.so.seed, "scenario seed (default 1)")->type_name("N")->check(selfcalibCli::wholeNumber());
-  c->add_option("--poses", a.poses, "calibration poses, at least 6 (default 15)")
+  c->add_option("--poses", a.poses, "calibration poses, 6 to 1000 (default 15)")
       ->type_name("N")
-      ->check(selfcalibCli::wholeNumber(6));
-  c->add_option("--held-out", a.held_out, "held-out poses after them (default 10)")
+      ->check(selfcalibCli::wholeNumber(6, 1000));
+  c->add_option("--held-out", a.held_out, "held-out poses after them, at most 10000 (default 10)")
       ->type_name("N")
-      ->check(selfcalibCli::wholeNumber());
+      ->check(selfcalibCli::wholeNumber(0, 10000));
   c->add_option("--method", a.method,
                 "observability (default): O1-optimal choice from a pool; paper: the paper's\n"
                 "optimal trajectory (eqs. 22-39)")
@@ -873,6 +947,7 @@ int importData(const ImportArgs &a)
 
 struct ExportArgs {
   std::string model, urdf, dh, mdh;
+  bool force = false;
 };
 
 void addExport(CLI::App &app, ExportArgs &a)
@@ -886,6 +961,7 @@ void addExport(CLI::App &app, ExportArgs &a)
   g->add_option("--dh", a.dh, "a DH robot-model file")->type_name("OUT.yaml");
   g->add_option("--mdh", a.mdh, "a modified-DH robot-model file")->type_name("OUT.yaml");
   g->require_option(1);
+  c->add_flag("--force", a.force, "replace an existing output file");
 }
 
 int exportModel(const ExportArgs &a)
@@ -895,6 +971,10 @@ int exportModel(const ExportArgs &a)
   const vpKinematicChain model = vpKinematicChain::fromPresetOrFile(model_name);
   if (!canonical(out).empty() && canonical(out) == canonical(model_name)) {
     std::cerr << "error: '" << out << "' is the input model\n";
+    return 1;
+  }
+  if (!a.force && !canonical(out).empty()) {
+    std::cerr << "error: '" << out << "' exists; use --force to replace it\n";
     return 1;
   }
   if (!a.urdf.empty()) {
@@ -1015,8 +1095,12 @@ int main(int argc, char **argv)
   } catch (const vpException &e) {
     std::cerr << "error: " << e.getStringMessage() << "\n";
     return 1;
+  } catch (const std::bad_alloc &) {
+    std::cerr << "error: out of memory (an input too large for this machine?)\n";
+    return 1;
   } catch (const std::exception &e) {
-    std::cerr << "error: " << e.what() << "\n";
+    // Not one of the module's errors: a case its checks missed (please report it with the input).
+    std::cerr << "error: unexpected failure: " << e.what() << "\n";
     return 1;
   }
 }

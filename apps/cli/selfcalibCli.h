@@ -23,41 +23,49 @@ namespace selfcalibCli
 constexpr int kUsageError = 2;
 
 /*!
-  A whole number in decimal digits, at least `min`. CLI11 alone reads integers with strtoull in
-  base 0: "010" would be 8, "0x10" 16, and "-1" a huge unsigned 64-bit number.
+  A whole number in decimal digits, from `min` to `max`. CLI11 alone reads integers with strtoull
+  in base 0: "010" would be 8, "0x10" 16, and "-1" a huge unsigned 64-bit number; and a count
+  without an upper bound (--poses 4000000000) runs until killed.
 */
-inline CLI::Validator wholeNumber(unsigned long long min = 0)
+inline CLI::Validator wholeNumber(unsigned long long min = 0,
+                                  unsigned long long max = std::numeric_limits<unsigned long long>::max())
 {
   return CLI::Validator(
-      [min](std::string &value) -> std::string {
-        const std::string expected = "expected a whole number" +
-                                     (min > 0 ? " of at least " + std::to_string(min) : std::string()) + ", got '" +
-                                     value + "'";
+      [min, max](std::string &value) -> std::string {
+        const bool bounded = max != std::numeric_limits<unsigned long long>::max();
+        const std::string expected =
+            "expected a whole number" +
+            (bounded ? " from " + std::to_string(min) + " to " + std::to_string(max)
+                     : (min > 0 ? " of at least " + std::to_string(min) : std::string())) +
+            ", got '" + value + "'";
         if (value.empty() || value.find_first_not_of("0123456789") != std::string::npos)
           return expected;
         errno = 0;
         const unsigned long long v = std::strtoull(value.c_str(), nullptr, 10);
-        if (errno == ERANGE || v < min)
+        if (errno == ERANGE || v < min || v > max)
           return expected;
         return std::string();
       },
       std::string());
 }
 
-//! A finite number, at least `min` (or above it when `strict`).
-inline CLI::Validator number(double min = -std::numeric_limits<double>::infinity(), bool strict = false)
+//! A finite number, at least `min` (or above it when `strict`), and at most `max`.
+inline CLI::Validator number(double min = -std::numeric_limits<double>::infinity(), bool strict = false,
+                             double max = std::numeric_limits<double>::infinity())
 {
   return CLI::Validator(
-      [min, strict](std::string &value) -> std::string {
+      [min, strict, max](std::string &value) -> std::string {
         std::ostringstream expected;
         expected << "expected a number";
         if (std::isfinite(min))
           expected << (strict ? " above " : " of at least ") << min;
+        if (std::isfinite(max))
+          expected << (std::isfinite(min) ? " and" : "") << " at most " << max;
         expected << ", got '" << value << "'";
         char *end = nullptr;
         const double v = std::strtod(value.c_str(), &end);
         if (value.empty() || end != value.c_str() + value.size() || !std::isfinite(v) || v < min ||
-            (strict && v == min))
+            (strict && v == min) || v > max)
           return expected.str();
         return std::string();
       },

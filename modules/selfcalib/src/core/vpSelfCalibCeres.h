@@ -7,6 +7,8 @@
 #include <ceres/ceres.h>
 #include <glog/logging.h>
 
+#include <mutex>
+
 namespace vpSelfCalib
 {
 /*!
@@ -46,20 +48,45 @@ inline ceres::Covariance::Options covarianceOptions()
 /*!
   Ceres reports recoverable events (a rejected Levenberg-Marquardt step whose Cholesky factorization
   failed under a robust loss, a rank-deficient covariance) through glog warnings on stderr even with
-  logging_type SILENT, and the module never prints. While alive, this raises glog's minimum level to
-  FATAL and restores the caller's level afterwards. The outcome of those events reaches the caller
-  as a status.
+  logging_type SILENT, and the module never prints. While at least one QuietCeres is alive, glog's
+  minimum level is FATAL; when the last one ends, the level the caller had before the first one is
+  restored. glog's level is one global flag: the count and the saved level are guarded by a mutex,
+  so concurrent calibrations in several threads neither race on it nor leave it at FATAL (each
+  saving and restoring the flag on its own would, when their lifetimes interleave). The outcome of
+  those events reaches the caller as a status.
 */
 class QuietCeres
 {
 public:
-  QuietCeres() : m_saved(FLAGS_minloglevel) { FLAGS_minloglevel = google::GLOG_FATAL; }
-  ~QuietCeres() { FLAGS_minloglevel = m_saved; }
+  QuietCeres()
+  {
+    std::lock_guard<std::mutex> lock(state().mutex);
+    if (state().count++ == 0) {
+      state().saved = FLAGS_minloglevel;
+      FLAGS_minloglevel = google::GLOG_FATAL;
+    }
+  }
+  ~QuietCeres()
+  {
+    std::lock_guard<std::mutex> lock(state().mutex);
+    if (--state().count == 0)
+      FLAGS_minloglevel = state().saved;
+  }
   QuietCeres(const QuietCeres &) = delete;
   QuietCeres &operator=(const QuietCeres &) = delete;
 
 private:
-  int m_saved;
+  struct State {
+    std::mutex mutex;
+    unsigned int count = 0;
+    int saved = 0;
+  };
+  //! One state for the whole program (an inline function's static: one instance across translation units).
+  static State &state()
+  {
+    static State s;
+    return s;
+  }
 };
 
 //! ceres::Solve under QuietCeres: every solve of the module goes through here (the module never prints).

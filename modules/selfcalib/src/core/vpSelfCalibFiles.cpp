@@ -1,39 +1,139 @@
 /*
- * ViSP SelfCalib: atomic file writes through a temporary file beside the target.
+ * ViSP SelfCalib: atomic file writes through a temporary file beside the target, and result
+ * directories written as a set (POSIX and Linux system calls, every one checked).
  */
 #include "vpSelfCalibFiles.h"
 
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <random>
+#include <sstream>
 #include <system_error>
+#include <thread>
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 
 #include <visp3/selfcalib/vpSelfCalibException.h>
+
+namespace fs = std::filesystem;
 
 namespace vpSelfCalib
 {
 namespace
 {
-void removeQuietly(const std::filesystem::path &p)
+void removeQuietly(const fs::path &p)
 {
   std::error_code ec;
-  std::filesystem::remove(p, ec);
+  fs::remove(p, ec);
+}
+
+[[noreturn]] void fail(const std::string &what, const std::string &file, const std::string &action, int err)
+{
+  throw vpSelfCalibException(vpSelfCalibException::ioError,
+                             what + " '" + file + "': " + action + ": " + errnoText(err));
+}
+
+//! 8 hex digits, different in every call of every thread and process (file names only).
+std::string uniqueSuffix()
+{
+  static std::atomic<uint64_t> counter{0};
+  thread_local std::mt19937_64 rng(std::random_device{}() ^ (static_cast<uint64_t>(::getpid()) << 32) ^
+                                   std::hash<std::thread::id>{}(std::this_thread::get_id()));
+  const uint64_t v = rng() ^ (counter++ * 0x9E3779B97F4A7C15ULL);
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%08x", static_cast<unsigned int>(v ^ (v >> 32)));
+  return buf;
+}
+
+//! The directory of `p` ("." for a bare name).
+fs::path directoryOf(const fs::path &p) { return p.has_parent_path() ? p.parent_path() : fs::path("."); }
+
+//! fsync of a directory, so that a rename in it survives a crash; errors ignored (some file systems refuse).
+void syncDirectory(const fs::path &dir)
+{
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd >= 0) {
+    ::fsync(fd);
+    ::close(fd);
+  }
+}
+
+//! Flushes a file to disk; a delayed write error (a full disk on some file systems) shows here.
+void syncFile(const fs::path &file, const std::string &what, const std::string &target)
+{
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+  if (fd < 0)
+    fail(what, target, "cannot reopen '" + file.string() + "'", errno);
+  if (::fsync(fd) != 0 && errno != EINVAL) {
+    const int err = errno;
+    ::close(fd);
+    fail(what, target, "cannot flush '" + file.string() + "' to disk", err);
+  }
+  if (::close(fd) != 0)
+    fail(what, target, "cannot close '" + file.string() + "'", errno);
+}
+
+void renameIntoPlace(const fs::path &tmp, const std::string &filename, const std::string &what)
+{
+  if (::rename(tmp.c_str(), filename.c_str()) != 0) {
+    const int err = errno;
+    removeQuietly(tmp);
+    fail(what, filename, "cannot rename the temporary file into place", err);
+  }
+  syncDirectory(directoryOf(filename));
+}
+
+//! The process's umask, read without changing it (umask(2) would, for every thread).
+mode_t currentUmask()
+{
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("Umask:", 0) == 0)
+      return static_cast<mode_t>(std::stoul(line.substr(6), nullptr, 8));
+  return 022;
 }
 } // namespace
 
-std::filesystem::path temporaryFileFor(const std::filesystem::path &file)
+std::string errnoText(int err)
 {
-  std::filesystem::path tmp = file;
-  tmp += ".tmp";
-  return tmp;
+  std::error_code ec(err, std::generic_category());
+  return ec.message();
+}
+
+fs::path createTemporaryFileFor(const fs::path &file, const std::string &what)
+{
+  const fs::path dir = directoryOf(file);
+  const std::string stem = file.filename().stem().string(), ext = file.filename().extension().string();
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const fs::path tmp = dir / ("." + stem + ".tmp-" + uniqueSuffix() + ext);
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd >= 0) {
+      ::close(fd);
+      return tmp;
+    }
+    if (errno != EEXIST)
+      fail(what, file.string(), "cannot create a temporary file in '" + dir.string() + "'", errno);
+  }
+  fail(what, file.string(), "cannot create a temporary file in '" + dir.string() + "'", EEXIST);
 }
 
 void writeFileAtomicallyWith(const std::string &filename, const std::function<bool(const std::string &)> &fill,
                              const std::string &what)
 {
-  const std::filesystem::path tmp = temporaryFileFor(filename);
-  removeQuietly(tmp);
+  const fs::path tmp = createTemporaryFileFor(filename, what);
   bool written = false;
   try {
     written = fill(tmp.string());
+    if (written)
+      syncFile(tmp, what, filename);
   } catch (...) {
     removeQuietly(tmp);
     throw;
@@ -43,30 +143,166 @@ void writeFileAtomicallyWith(const std::string &filename, const std::function<bo
     throw vpSelfCalibException(vpSelfCalibException::ioError,
                                what + " '" + filename + "': cannot write '" + tmp.string() + "'");
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, filename, ec);
-  if (ec) {
-    removeQuietly(tmp);
-    throw vpSelfCalibException(vpSelfCalibException::ioError,
-                               what + " '" + filename + "': cannot rename the temporary file into place");
-  }
+  renameIntoPlace(tmp, filename, what);
 }
 
 void writeFileAtomically(const std::string &filename, const std::string &content, const std::string &what)
 {
-  writeFileAtomicallyWith(
-      filename,
-      [&](const std::string &tmp) {
-        std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
-        if (!os)
-          throw vpSelfCalibException(vpSelfCalibException::ioError,
-                                     what + " '" + filename + "': cannot open '" + tmp + "' for writing");
-        os << content;
-        os.flush();
-        if (!os)
-          throw vpSelfCalibException(vpSelfCalibException::ioError, what + " '" + filename + "': write failed");
-        return true;
-      },
-      what);
+  const fs::path tmp = createTemporaryFileFor(filename, what);
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_TRUNC | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) {
+    const int err = errno;
+    removeQuietly(tmp);
+    fail(what, filename, "cannot open '" + tmp.string() + "' for writing", err);
+  }
+  int err = 0;
+  for (size_t done = 0; done < content.size() && !err;) {
+    const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
+    if (n < 0 && errno != EINTR)
+      err = errno;
+    else if (n > 0)
+      done += static_cast<size_t>(n);
+  }
+  if (!err && ::fsync(fd) != 0 && errno != EINVAL)
+    err = errno;
+  if (::close(fd) != 0 && !err)
+    err = errno;
+  if (err) {
+    removeQuietly(tmp);
+    fail(what, filename, "cannot write '" + tmp.string() + "'", err);
+  }
+  renameIntoPlace(tmp, filename, what);
+}
+
+// ---------------------------------------------------------------------------------------------
+// OutputDirectory
+
+OutputDirectory::OutputDirectory(const std::string &target)
+{
+  fs::path t = fs::absolute(target).lexically_normal();
+  if (!t.has_filename())
+    t = t.parent_path(); // "out/" or "."
+  m_target = t.string();
+  const std::string what = "output directory";
+  if (t == t.root_path())
+    throw vpSelfCalibException(vpSelfCalibException::ioError, what + " '" + target + "': the root cannot be replaced");
+  const fs::path parent = t.parent_path(), name = t.filename();
+  struct stat st;
+  if (::stat(parent.c_str(), &st) != 0)
+    fail(what, target, "its parent '" + parent.string() + "' is not there", errno);
+  if (::lstat(t.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               what + " '" + target + "': exists and is not a directory");
+
+  // The lock: a file beside the target (the target itself is replaced by the commit).
+  m_lock_file = (parent / ("." + name.string() + ".lock")).string();
+  for (int attempt = 0;; ++attempt) {
+    const int fd = ::open(m_lock_file.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd < 0)
+      fail(what, target, "cannot create the lock file '" + m_lock_file + "'", errno);
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      const int err = errno;
+      ::close(fd);
+      if (err == EWOULDBLOCK)
+        throw vpSelfCalibException(vpSelfCalibException::ioError,
+                                   what + " '" + target + "' is being written by another run (it holds the lock '" +
+                                       m_lock_file + "'): wait for it to end, or choose another directory");
+      fail(what, target, "cannot lock '" + m_lock_file + "'", err);
+    }
+    // The lock file may have been removed by the run that held it: lock the file that is there.
+    struct stat a, b;
+    if (::fstat(fd, &a) == 0 && ::stat(m_lock_file.c_str(), &b) == 0 && a.st_ino == b.st_ino && a.st_dev == b.st_dev) {
+      m_lock_fd = fd;
+      break;
+    }
+    ::close(fd);
+    if (attempt > 100)
+      fail(what, target, "cannot lock '" + m_lock_file + "'", EAGAIN);
+  }
+
+  // Leftovers of killed runs: no live run owns them, since this one holds the lock.
+  const std::string prefix = "." + name.string() + ".tmp-";
+  std::error_code ec;
+  for (const fs::directory_entry &e : fs::directory_iterator(parent, ec)) {
+    const std::string n = e.path().filename().string();
+    if (n.rfind(prefix, 0) == 0 && e.is_directory(ec) && !e.is_symlink(ec))
+      fs::remove_all(e.path(), ec);
+  }
+
+  char tmpl[4096];
+  const std::string pattern = (parent / (prefix + "XXXXXX")).string();
+  if (pattern.size() >= sizeof tmpl)
+    throw vpSelfCalibException(vpSelfCalibException::ioError, what + " '" + target + "': path too long");
+  std::memcpy(tmpl, pattern.c_str(), pattern.size() + 1);
+  if (!::mkdtemp(tmpl)) {
+    const int err = errno;
+    ::unlink(m_lock_file.c_str());
+    ::close(m_lock_fd);
+    fail(what, target, "cannot create a temporary directory in '" + parent.string() + "'", err);
+  }
+  m_staging = tmpl;
+}
+
+OutputDirectory::~OutputDirectory()
+{
+  if (!m_committed && !m_staging.empty()) {
+    std::error_code ec;
+    fs::remove_all(m_staging, ec);
+  }
+  if (m_lock_fd >= 0) {
+    ::unlink(m_lock_file.c_str()); // while still locked: see the constructor's inode check
+    ::close(m_lock_fd);
+  }
+}
+
+std::vector<std::string> OutputDirectory::existingEntries() const
+{
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const fs::directory_entry &e : fs::directory_iterator(m_target, ec))
+    names.push_back(e.path().filename().string());
+  return names;
+}
+
+void OutputDirectory::commit()
+{
+  const std::string what = "output directory";
+  // The temporary directory was private (0700); the results get the usual permissions.
+  if (::chmod(m_staging.c_str(), 0777 & ~currentUmask()) != 0)
+    fail(what, m_target, "cannot set the permissions of '" + m_staging + "'", errno);
+  syncDirectory(m_staging);
+  const fs::path parent = fs::path(m_target).parent_path();
+  if (::rename(m_staging.c_str(), m_target.c_str()) == 0) { // no target, or an empty one
+    m_committed = true;
+    syncDirectory(parent);
+    return;
+  }
+  if (errno != ENOTEMPTY && errno != EEXIST)
+    fail(what, m_target, "cannot move the results into place", errno);
+  // An earlier set: exchanged with the new one in one step, then removed.
+  if (::syscall(SYS_renameat2, AT_FDCWD, m_staging.c_str(), AT_FDCWD, m_target.c_str(), 2 /* RENAME_EXCHANGE */) ==
+      0) {
+    m_committed = true;
+    syncDirectory(parent);
+    std::error_code ec;
+    fs::remove_all(m_staging, ec); // now the earlier set; a leftover is removed by the next run
+    return;
+  }
+  if (errno != EINVAL && errno != ENOSYS)
+    fail(what, m_target, "cannot move the results into place", errno);
+  // A file system without exchange: the earlier set moves aside first (never a mix, but for a
+  // moment no set at all).
+  const std::string aside = m_staging + "-old";
+  if (::rename(m_target.c_str(), aside.c_str()) != 0)
+    fail(what, m_target, "cannot move the earlier results aside", errno);
+  if (::rename(m_staging.c_str(), m_target.c_str()) != 0) {
+    const int err = errno;
+    ::rename(aside.c_str(), m_target.c_str());
+    fail(what, m_target, "cannot move the results into place", err);
+  }
+  m_committed = true;
+  syncDirectory(parent);
+  std::error_code ec;
+  fs::remove_all(aside, ec);
 }
 } // namespace vpSelfCalib

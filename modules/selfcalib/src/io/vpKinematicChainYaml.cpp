@@ -19,6 +19,7 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -63,6 +64,7 @@ vpKinematicChain parse(const YAML::Node &root, const std::string &source)
       r.fail("joints", "missing; expected a list of joints {a, d, alpha, theta_offset, min, max}");
     if (!jn.IsSequence() || jn.size() == 0)
       r.fail("joints", "expected a non-empty list of joints, got " + Reader::show(jn));
+    r.atMost(jn, kMaxJoints, "joints", "joints");
     std::vector<vpKinematicChain::Joint> joints;
     for (size_t i = 0; i < jn.size(); ++i) {
       const std::string k = "joints[" + std::to_string(i) + "]";
@@ -70,12 +72,14 @@ vpKinematicChain parse(const YAML::Node &root, const std::string &source)
         r.fail(k, "expected a map {a, d, alpha, theta_offset, min, max}, got " + Reader::show(jn[i]));
       r.onlyKeys(jn[i], {"a", "d", "alpha", "theta_offset", "min", "max"}, k);
       vpKinematicChain::Joint j;
-      j.a = r.number(jn[i]["a"], k + ".a");
-      j.d = r.number(jn[i]["d"], k + ".d");
-      j.alpha = r.number(jn[i]["alpha"], k + ".alpha");
-      j.theta_offset = jn[i]["theta_offset"] ? r.number(jn[i]["theta_offset"], k + ".theta_offset") : 0.0;
-      j.min = r.number(jn[i]["min"], k + ".min");
-      j.max = r.number(jn[i]["max"], k + ".max");
+      j.a = r.bounded(jn[i]["a"], k + ".a", -kMaxLength, kMaxLength, "m");
+      j.d = r.bounded(jn[i]["d"], k + ".d", -kMaxLength, kMaxLength, "m");
+      j.alpha = r.bounded(jn[i]["alpha"], k + ".alpha", -kMaxAngle, kMaxAngle, "rad");
+      j.theta_offset =
+          jn[i]["theta_offset"] ? r.bounded(jn[i]["theta_offset"], k + ".theta_offset", -kMaxAngle, kMaxAngle, "rad")
+                                : 0.0;
+      j.min = r.bounded(jn[i]["min"], k + ".min", -kMaxAngle, kMaxAngle, "rad");
+      j.max = r.bounded(jn[i]["max"], k + ".max", -kMaxAngle, kMaxAngle, "rad");
       if (j.min > j.max)
         r.fail(k + ".min", "joint limit min (" + std::to_string(j.min) + ") is greater than max (" +
                                std::to_string(j.max) + ")");
@@ -93,13 +97,19 @@ vpKinematicChain parse(const YAML::Node &root, const std::string &source)
     if (!corr.IsMap())
       r.fail("corrections", "expected a map 'parameter name: value', got " + Reader::show(corr));
     const std::vector<std::string> names = chain.getParameterNames();
+    std::set<std::string> seen;
     for (const auto &kv : corr) {
       const std::string name = r.keyName(kv.first, "corrections");
       const std::string key = "corrections." + name;
+      if (!seen.insert(name).second)
+        r.fail(key, "given twice (which one is meant?)");
       if (std::find(names.begin(), names.end(), name) == names.end())
         r.fail(key, "unknown parameter (expected base.*, j1.* .. j" + std::to_string(chain.getNumJoints()) +
                         ".* or eMc.*, with * one of tx ty tz rx ry rz)");
-      chain.setParameter(name, r.number(kv.second, key));
+      // Translations in m, rotations in rad (the name's last letter: tx.. or rx..).
+      const bool rotation = name.size() >= 2 && name[name.size() - 2] == 'r';
+      chain.setParameter(name, rotation ? r.bounded(kv.second, key, -2 * M_PI, 2 * M_PI, "rad")
+                                        : r.bounded(kv.second, key, -kMaxLength, kMaxLength, "m"));
     }
   }
   return chain;
@@ -121,20 +131,23 @@ vpKinematicChain vpKinematicChain::fromYamlString(const std::string &yaml, const
 
 vpKinematicChain vpKinematicChain::loadYaml(const std::string &filename)
 {
-  std::ifstream in(filename, std::ios::binary);
-  if (!in)
-    throw vpSelfCalibException(vpSelfCalibException::ioError,
-                               "robot model '" + filename + "': cannot open the file for reading");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return fromYamlString(ss.str(), "'" + filename + "'");
+  // The system's reason when it cannot be read (no such file, permission denied...), a size limit.
+  return fromYamlString(readTextFile(filename, "robot model"), "'" + filename + "'");
 }
 
 vpKinematicChain vpKinematicChain::fromPresetOrFile(const std::string &name_or_file)
 {
-  for (const std::string &p : presetNames())
+  std::string presets;
+  for (const std::string &p : presetNames()) {
     if (p == name_or_file)
       return preset(p);
+    presets += (presets.empty() ? "" : ", ") + p;
+  }
+  std::error_code ec;
+  if (!std::filesystem::exists(name_or_file, ec) && name_or_file.find_first_of("/.") == std::string::npos)
+    throw vpSelfCalibException(vpSelfCalibException::ioError, "robot model '" + name_or_file +
+                                                                  "': neither a preset (" + presets +
+                                                                  ") nor a file (no such file)");
   if (vpKinematicChainUrdf::isUrdfFile(name_or_file))
     return vpKinematicChainUrdf::load(name_or_file);
   return loadYaml(name_or_file);

@@ -69,13 +69,33 @@ void parseCamera(const Reader &r, const YAML::Node &root, const std::string &bas
     if (readCameraXml(file, name, vpCameraParameters::perspectiveProjWithDistortion, xml)) {
       has_distortion = xml.cam.get_kud() != 0 || xml.cam.get_kdu() != 0;
       distorted = xml.cam;
-    } else if (!readCameraXml(file, name, vpCameraParameters::perspectiveProjWithoutDistortion, xml))
-      r.fail("camera_xml", "no camera named '" + name + "' in '" + file + "'");
+    } else if (!readCameraXml(file, name, vpCameraParameters::perspectiveProjWithoutDistortion, xml)) {
+      // Say which it is: a file that is not a camera XML, a camera that is not there, or one that
+      // ViSP cannot read.
+      const std::vector<std::string> names = cameraXmlNames(file);
+      std::string list;
+      for (const std::string &n : names)
+        list += (list.empty() ? "'" : ", '") + n + "'";
+      if (names.empty())
+        r.fail("camera_xml", "'" + file + "' is not a ViSP camera XML file, or is broken (no <camera> element read)");
+      if (std::find(names.begin(), names.end(), name) == names.end())
+        r.fail("camera_xml", "no camera named '" + name + "' in '" + file + "' (it has " + list + ")");
+      r.fail("camera_xml", "'" + file + "': ViSP cannot read camera '" + name +
+                               "' (broken XML, or a projection model without the expected parameters)");
+    }
     const vpCameraParameters &cam = xml.cam;
     ds.width = xml.width;
     ds.height = xml.height;
     if (ds.width == 0 || ds.height == 0)
       r.fail("camera_xml", "'" + file + "' gives no image_width / image_height for camera '" + name + "'");
+    if (ds.width > kMaxPixels || ds.height > kMaxPixels ||
+        static_cast<double>(ds.width) * ds.height > kMaxImagePixels)
+      r.fail("camera_xml", "'" + file + "': an image of " + std::to_string(ds.width) + " x " +
+                               std::to_string(ds.height) + " px is beyond what is read (250 Mpx)");
+    if (!(std::isfinite(cam.get_px()) && std::isfinite(cam.get_py()) && cam.get_px() > 0 && cam.get_py() > 0 &&
+          cam.get_px() <= kMaxPixels && cam.get_py() <= kMaxPixels && std::abs(cam.get_u0()) <= kMaxPixels &&
+          std::abs(cam.get_v0()) <= kMaxPixels))
+      r.fail("camera_xml", "'" + file + "': camera '" + name + "' has px, py, u0 or v0 outside (0, 1e6] px");
     ds.cam.initPersProjWithoutDistortion(cam.get_px(), cam.get_py(), cam.get_u0(), cam.get_v0());
     ds.focal_known = true;
     return;
@@ -100,11 +120,16 @@ void parseCamera(const Reader &r, const YAML::Node &root, const std::string &bas
     }
   }
   const double w = r.number(c["width"], "camera.width"), h = r.number(c["height"], "camera.height");
-  if (!(w >= 1 && h >= 1 && w <= 1e6 && h <= 1e6 && w == std::floor(w) && h == std::floor(h)))
+  if (!(w >= 1 && h >= 1 && w <= kMaxPixels && h <= kMaxPixels && w == std::floor(w) && h == std::floor(h)))
     r.fail("camera", "width and height must be whole numbers of pixels from 1 to 1000000");
+  if (w * h > kMaxImagePixels)
+    r.fail("camera", "an image of " + std::to_string(static_cast<long long>(w)) + " x " +
+                         std::to_string(static_cast<long long>(h)) + " px is beyond what is read (250 Mpx)");
   ds.width = static_cast<unsigned int>(w);
   ds.height = static_cast<unsigned int>(h);
-  const double u0 = r.number(c["u0"], "camera.u0"), v0 = r.number(c["v0"], "camera.v0");
+  // The principal point within the image, give or take an image: beyond, it is a mistake.
+  const double u0 = r.bounded(c["u0"], "camera.u0", -w, 2 * w, "px"),
+               v0 = r.bounded(c["v0"], "camera.v0", -h, 2 * h, "px");
   const bool has_px = c["px"].IsDefined(), has_py = c["py"].IsDefined();
   if (has_px != has_py)
     r.fail(has_px ? "camera.py" : "camera.px", "give both px and py (f known) or neither (f self-calibrated)");
@@ -114,12 +139,16 @@ void parseCamera(const Reader &r, const YAML::Node &root, const std::string &bas
     const double px = r.number(c["px"], "camera.px"), py = r.number(c["py"], "camera.py");
     if (!(px > 0 && py > 0))
       r.fail("camera", "px and py must be positive");
+    r.bounded(c["px"], "camera.px", 0, kMaxPixels, "px");
+    r.bounded(c["py"], "camera.py", 0, kMaxPixels, "px");
     ds.cam.initPersProjWithoutDistortion(px, py, u0, v0);
     ds.focal_known = true;
   } else {
     const double f = c["f_guess"] ? r.number(c["f_guess"], "camera.f_guess") : w;
     if (!(f > 0))
       r.fail("camera.f_guess", "must be positive");
+    if (c["f_guess"])
+      r.bounded(c["f_guess"], "camera.f_guess", 0, kMaxPixels, "px");
     ds.cam.initPersProjWithoutDistortion(f, f, u0, v0);
     ds.focal_known = false;
   }
@@ -176,6 +205,20 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
     r.fail("poses", "missing; expected a list of poses {joints or fMe, image, points}");
   if (!poses.IsSequence())
     r.fail("poses", "expected a list, got " + Reader::show(poses));
+  r.atMost(poses, kMaxPoses, "poses", "poses");
+  // The observations counted before any is read: YAML aliases let a small file name millions.
+  size_t num_observations = 0;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    const YAML::Node p = poses[k];
+    if (p.IsMap()) {
+      const YAML::Node pts = p["points"];
+      if (pts && pts.IsSequence())
+        num_observations += pts.size();
+    }
+  }
+  if (num_observations > kMaxObservations)
+    r.fail("poses", std::to_string(num_observations) + " observations (YAML aliases expand to that many?): at most " +
+                        std::to_string(kMaxObservations) + " are read");
   int num_joints = -1;
   for (size_t k = 0; k < poses.size(); ++k) {
     const std::string key = "poses[" + std::to_string(k) + "]";
@@ -186,23 +229,32 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
     vpSelfCalibDataset::View v;
     if (!p["joints"] && !p["fMe"])
       r.fail(key, "needs joints (rad) or fMe (a controller pose vector)");
+    if (p["joints"] && p["fMe"])
+      r.fail(key, "gives both joints and fMe: give one (joints when the robot model is to be calibrated, fMe for "
+                  "the controller's poses)");
     if (p["joints"]) {
       const YAML::Node j = p["joints"];
       if (!j.IsSequence() || j.size() == 0)
         r.fail(key + ".joints", "expected a list of joint values (rad), got " + Reader::show(j));
+      r.atMost(j, kMaxJoints, key + ".joints", "joint values");
       if (num_joints >= 0 && static_cast<int>(j.size()) != num_joints)
         r.fail(key + ".joints", std::to_string(j.size()) + " values, earlier poses have " + std::to_string(num_joints));
       num_joints = static_cast<int>(j.size());
       v.q.resize(static_cast<unsigned int>(j.size()));
       for (size_t i = 0; i < j.size(); ++i)
-        v.q[static_cast<unsigned int>(i)] = r.number(j[i], key + ".joints[" + std::to_string(i) + "]");
+        v.q[static_cast<unsigned int>(i)] =
+            r.bounded(j[i], key + ".joints[" + std::to_string(i) + "]", -kMaxAngle, kMaxAngle, "rad");
     }
     if (p["fMe"]) {
       v.fMe = vpHomogeneousMatrix(r.pose(p["fMe"], key + ".fMe"));
       v.has_fMe = true;
     }
-    if (p["image"])
+    if (p["image"]) {
       v.image = resolve(base_dir, r.text(p["image"], key + ".image"));
+      // Image readers choose the format by the extension (ViSP's throws a bare substr error without one).
+      if (std::filesystem::path(v.image).extension().string().size() < 2)
+        r.fail(key + ".image", "'" + v.image + "' has no extension: expected an image file (.png, .jpg, .pgm...)");
+    }
     if (p["points"]) {
       const YAML::Node pts = p["points"];
       if (!pts.IsSequence())
@@ -219,7 +271,8 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
         o.id = static_cast<int>(id);
         if (!ids.insert(o.id).second)
           r.fail(pk, "point id " + std::to_string(o.id) + " appears twice in this pose");
-        const double u = r.number(pts[i][1], pk + "[1]"), vv = r.number(pts[i][2], pk + "[2]");
+        const double u = r.bounded(pts[i][1], pk + "[1]", -kMaxPixels, kMaxPixels, "px"),
+                     vv = r.bounded(pts[i][2], pk + "[2]", -kMaxPixels, kMaxPixels, "px");
         if (has_distortion) {
           // Undistorted pixel: the camera model's exact inverse of k_ud (ViSP's separately fitted
           // k_du, a first-order inverse, is not used), then the pinhole.
@@ -237,7 +290,7 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
     if (!y.IsMap())
       r.fail("yardstick", "expected a map {length, ends: [id_a, id_b]}, got " + Reader::show(y));
     r.onlyKeys(y, {"length", "ends"}, "yardstick");
-    ds.yardstick.length = r.number(y["length"], "yardstick.length");
+    ds.yardstick.length = r.bounded(y["length"], "yardstick.length", 0, kMaxLength, "m");
     if (!(ds.yardstick.length > 0))
       r.fail("yardstick.length", "must be positive (m)");
     // Without ends: the front end finds the yardstick's dots in the images.

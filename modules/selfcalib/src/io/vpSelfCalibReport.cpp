@@ -4,13 +4,20 @@
 #include <visp3/selfcalib/vpSelfCalibReport.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
+#include <cerrno>
+#include <cstring>
 #include <cmath>
 #include <filesystem>
-#include <cstdlib>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <opencv2/imgcodecs.hpp>
 
 #include "../core/vpSelfCalibCamera.h"
 #include "vpSelfCalibYaml.h"
@@ -60,10 +67,18 @@ std::string mm(double m, int precision = 3)
   return os.str();
 }
 
-const char *kPlots = R"(# Figures of the ViSP SelfCalib report: gnuplot plots.gp (in this directory)
-set terminal pngcairo size 800,600
-set grid
-set output 'trajectory.png'
+//! One figure of plots.gp: its name (name.png from name.dat) and its gnuplot commands.
+struct Figure {
+  const char *name;
+  const char *commands;
+};
+
+const char *kPlotsHeader = "# Figures of the ViSP SelfCalib report: gnuplot plots.gp (in this directory)\n"
+                           "set terminal pngcairo size 800,600\n"
+                           "set grid\n";
+
+const Figure kFigures[] = {
+    {"trajectory", R"(set output 'trajectory.png'
 set title 'Camera positions (calibrated model), m'
 set xlabel 'x'
 set ylabel 'y'
@@ -72,12 +87,14 @@ set format xy '%.2f'
 splot 'trajectory.dat' index 0 using 1:2:3 with linespoints title 'calibration views', \
       '' index 1 using 1:2:3 with points pt 7 title 'held-out views'
 set format xy '%g'
-set output 'position_norms.png'
+)"},
+    {"position_norms", R"(set output 'position_norms.png'
 set title 'Norm of the position vector |t_i| of c_i M c_1 (calibrated model)'
 set xlabel 'pose i'
 set ylabel '|t_i| (m)'
 plot 'position_norms.dat' using 1:2 with linespoints notitle
-set output 'residuals.png'
+)"},
+    {"residuals", R"(set output 'residuals.png'
 set title 'Reprojection residuals on the calibration views'
 set xlabel 'residual (px)'
 set ylabel 'observations'
@@ -86,20 +103,81 @@ bin(x) = binwidth * floor(x / binwidth) + binwidth / 2
 set boxwidth binwidth
 set style fill solid 0.5
 plot 'residuals.dat' using (bin($1)):(1.0) smooth freq with boxes notitle
-set output 'verification.png'
+)"},
+    {"verification", R"(set output 'verification.png'
 set title 'Reprojection RMS of each held-out view (points triangulated on the held-out views)'
 set xlabel 'held-out view'
 set ylabel 'RMS (px)'
 set style fill solid 0.5
 set boxwidth 0.6
 plot 'verification.dat' using 1:2 with boxes notitle
-set output 'errors_vs_poses.png'
+)"},
+    {"errors_vs_poses", R"(set output 'errors_vs_poses.png'
 set title '3-D yardstick error on the held-out views against the number of calibration poses'
 set xlabel 'calibration poses'
 set ylabel 'error (mm)'
 plot 'errors_vs_poses.dat' using 1:2 with linespoints title 'calibrated', \
      '' using 1:3 with lines dt 2 title 'nominal'
-)";
+)"},
+};
+
+//! True when a data file has a data line (not a comment, not blank).
+bool hasData(const std::string &text)
+{
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    const size_t c = line.find_first_not_of(" \t");
+    if (c != std::string::npos && line[c] != '#')
+      return true;
+  }
+  return false;
+}
+
+/*!
+  Runs `program script` in `dir` with its output in dir/gnuplot.log: posix_spawnp with an argument
+  vector, no shell (a path is never parsed as a command). Returns the exit status, or -1 with
+  `spawn_error` set (errno) when the program could not be started (not installed: ENOENT), or -2
+  when the log cannot be created.
+*/
+int runProgram(const std::string &program, const std::string &dir, const std::string &script, int &spawn_error)
+{
+  spawn_error = 0;
+  // The log is opened here, so that a failure of the spawn itself (ENOENT) means the program is missing.
+  const std::string log = (std::filesystem::path(dir) / "gnuplot.log").string();
+  const int log_fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (log_fd < 0) {
+    spawn_error = errno;
+    return -2;
+  }
+  const std::string abs_dir = std::filesystem::absolute(dir).string();
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addchdir_np(&actions, abs_dir.c_str());
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_adddup2(&actions, log_fd, STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, log_fd, STDERR_FILENO);
+  std::vector<std::string> args = {program, script};
+  std::vector<char *> argv;
+  for (std::string &a : args)
+    argv.push_back(&a[0]);
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int rc = posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  ::close(log_fd);
+  if (rc != 0) {
+    spawn_error = rc;
+    return -1;
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) {
+      spawn_error = errno;
+      return -1;
+    }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
 } // namespace
 
 vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const vpKinematicChain &nominal,
@@ -160,26 +238,61 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
   if (study)
     for (const vpSelfCalibPoseStudy::Point &p : study->points)
       curve << p.poses << " " << 1e3 * p.yardstick_error << " " << 1e3 * study->nominal_error << "\n";
-  writeText(dir + "/trajectory.dat", traj.str(), res.files);
-  writeText(dir + "/position_norms.dat", norms.str(), res.files);
-  writeText(dir + "/residuals.dat", resid.str(), res.files);
-  writeText(dir + "/verification.dat", verif.str(), res.files);
-  writeText(dir + "/errors_vs_poses.dat", curve.str(), res.files);
-  writeText(dir + "/plots.gp", kPlots, res.files);
+  const std::string data[] = {traj.str(), norms.str(), resid.str(), verif.str(), curve.str()};
+  // plots.gp draws the figures that have data; the others are named in the message.
+  std::string plots = kPlotsHeader;
+  std::vector<std::string> drawable, empty;
+  for (size_t i = 0; i < 5; ++i) {
+    writeText(dir + "/" + kFigures[i].name + ".dat", data[i], res.files);
+    if (hasData(data[i])) {
+      plots += kFigures[i].commands;
+      drawable.push_back(kFigures[i].name);
+    } else
+      empty.push_back(kFigures[i].name);
+  }
+  writeText(dir + "/plots.gp", plots, res.files);
 
-  // Figures.
-  if (!ro.gnuplot.empty()) {
-    const std::string cmd = "cd '" + dir + "' && " + ro.gnuplot + " plots.gp > gnuplot.log 2>&1";
-    const int rc_plot = std::system(cmd.c_str());
-    res.figures = rc_plot == 0;
-    res.message = res.figures ? "figures drawn with " + ro.gnuplot
-                              : "figures not drawn: '" + ro.gnuplot + "' failed or is missing (Debian package "
-                                                                      "gnuplot-nox); see gnuplot.log";
-    if (res.figures)
-      for (const char *f : {"trajectory", "position_norms", "residuals", "verification", "errors_vs_poses"})
-        res.files.push_back(dir + "/" + f + ".png");
-  } else
+  // Figures: gnuplot run without a shell; each cause of a missing figure said as it is.
+  std::string no_data;
+  for (const std::string &n : empty)
+    no_data += (no_data.empty() ? "" : ", ") + n;
+  if (!no_data.empty())
+    no_data = "; not drawn, no data: " + no_data;
+  if (ro.gnuplot.empty())
     res.message = "figures not requested";
+  else if (drawable.empty())
+    res.message = "figures not drawn: no figure has data" + no_data;
+  else {
+    int spawn_error = 0;
+    const int rc_plot = runProgram(ro.gnuplot, dir, "plots.gp", spawn_error);
+    std::vector<std::string> bad;
+    if (rc_plot == 0)
+      for (const std::string &n : drawable) {
+        // A figure is kept only when it decodes (gnuplot does not always report a failed write).
+        const std::string png = dir + "/" + n + ".png";
+        if (cv::imread(png, cv::IMREAD_UNCHANGED).empty()) {
+          bad.push_back(n);
+          std::error_code ec;
+          std::filesystem::remove(png, ec);
+        } else
+          res.files.push_back(png);
+      }
+    res.figures = rc_plot == 0 && bad.empty();
+    if (rc_plot < 0 && spawn_error == ENOENT)
+      res.message = "figures not drawn: '" + ro.gnuplot + "' is not installed (Debian package gnuplot-nox)" + no_data;
+    else if (rc_plot == -2)
+      res.message = "figures not drawn: cannot write gnuplot.log: " + errnoText(spawn_error) + no_data;
+    else if (rc_plot < 0)
+      res.message = "figures not drawn: cannot run '" + ro.gnuplot + "': " + errnoText(spawn_error) + no_data;
+    else if (rc_plot != 0)
+      res.message = "figures not drawn: '" + ro.gnuplot + "' failed (exit " + std::to_string(rc_plot) +
+                    "); see gnuplot.log" + no_data;
+    else if (!bad.empty())
+      res.message = "figures drawn with " + ro.gnuplot + " except " + std::to_string(bad.size()) +
+                    " that did not write completely (disk full?)" + no_data;
+    else
+      res.message = "figures drawn with " + ro.gnuplot + no_data;
+  }
 
   // report.md
   std::ostringstream md;

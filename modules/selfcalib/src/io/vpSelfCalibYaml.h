@@ -4,7 +4,9 @@
 #ifndef VP_SELFCALIB_YAML_H
 #define VP_SELFCALIB_YAML_H
 
+#include <cerrno>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -18,6 +20,16 @@
 
 namespace vpSelfCalib
 {
+//! Plausibility limits of the files' numbers (beyond them a value is a mistake, and the solvers overflow).
+constexpr double kMaxLength = 1e4;        //!< m: links, offsets, translations (a DH fit can need 150 m)
+constexpr double kMaxAngle = 1e3;         //!< rad: joint values and limits
+constexpr double kMaxPixels = 1e6;        //!< px: focal lengths, image coordinates
+constexpr double kMaxImagePixels = 2.5e8; //!< width x height of an image
+constexpr size_t kMaxPoses = 100000;      //!< poses in a dataset
+constexpr size_t kMaxJoints = 64;         //!< joints of a robot or of a pose
+constexpr size_t kMaxObservations = 5000000; //!< observations in a dataset (alias bombs expand to more)
+constexpr size_t kMaxFileBytes = size_t(256) << 20; //!< bytes of a YAML file
+
 //! Typed access to YAML nodes; every error names the file kind, the source, the key and what was expected.
 class Reader
 {
@@ -115,6 +127,12 @@ public:
     for (unsigned int i = 0; i < 6; ++i)
       p[i] = number(n[i], key + "[" + std::to_string(i) + "]");
     checkRotation(p, key);
+    for (unsigned int i = 0; i < 3; ++i)
+      if (!(std::abs(p[i]) <= kMaxLength)) {
+        std::ostringstream os;
+        os << "a translation of " << p[i] << " m: expected at most " << kMaxLength << " m";
+        fail(key + "[" + std::to_string(i) + "]", os.str());
+      }
     return p;
   }
 
@@ -138,10 +156,37 @@ public:
     return key.Scalar();
   }
 
+  //! A number within [lo, hi]: finite and plausible (1e200 px or a link of 1e308 m are mistakes,
+  //! and would overflow the solvers); the message names the key, the range and the unit.
+  double bounded(const YAML::Node &n, const std::string &key, double lo, double hi, const char *unit) const
+  {
+    const double v = number(n, key);
+    if (!(v >= lo && v <= hi)) {
+      std::ostringstream os;
+      os << "expected a value from " << lo << " to " << hi << " " << unit << ", got " << show(n);
+      fail(key, os.str());
+    }
+    return v;
+  }
+
+  //! A list of at most `max` entries (an alias-expanded YAML file can hold millions).
+  void atMost(const YAML::Node &list, size_t max, const std::string &key, const std::string &what) const
+  {
+    if (list.size() > max)
+      fail(key, std::to_string(list.size()) + " " + what + ": at most " + std::to_string(max) + " are read");
+  }
+
+  /*!
+    Unknown keys are errors (they are usually typos), and so is a key given twice: YAML forbids
+    it, yaml-cpp keeps the first silently, and the file's author may have meant the second.
+  */
   void onlyKeys(const YAML::Node &map, const std::set<std::string> &allowed, const std::string &where) const
   {
+    std::set<std::string> seen;
     for (const auto &kv : map) {
       const std::string k = keyName(kv.first, where);
+      if (!seen.insert(k).second)
+        fail(where.empty() ? k : where + "." + k, "given twice (which one is meant?)");
       if (!allowed.count(k)) {
         std::string list;
         for (const std::string &a : allowed)
@@ -159,11 +204,27 @@ private:
 //! file) and the file when it cannot be read.
 inline std::string readTextFile(const std::string &filename, const std::string &what)
 {
+  std::error_code ec;
+  if (std::filesystem::is_directory(filename, ec))
+    throw vpSelfCalibException(vpSelfCalibException::ioError, what + " '" + filename + "': cannot read: " +
+                                                                  errnoText(EISDIR));
+  errno = 0;
   std::ifstream in(filename, std::ios::binary);
   if (!in)
-    throw vpSelfCalibException(vpSelfCalibException::ioError, what + " '" + filename + "': cannot read");
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               what + " '" + filename + "': cannot read" + (errno ? ": " + errnoText(errno) : ""));
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  if (size > static_cast<std::streamoff>(kMaxFileBytes))
+    throw vpSelfCalibException(vpSelfCalibException::ioError, what + " '" + filename + "': " + std::to_string(size) +
+                                                                  " bytes, more than the " +
+                                                                  std::to_string(kMaxFileBytes >> 20) + " MiB read");
+  in.seekg(0, std::ios::beg);
   std::ostringstream os;
   os << in.rdbuf();
+  if (in.bad())
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               what + " '" + filename + "': read error" + (errno ? ": " + errnoText(errno) : ""));
   return os.str();
 }
 

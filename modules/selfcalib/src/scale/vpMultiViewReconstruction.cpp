@@ -587,6 +587,9 @@ bool resectUnexplainedViews(State &s)
     cv::Mat rvec, tvec;
     std::vector<int> pnp_inliers;
     const cv::Matx33d K(s.f, 0, s.u0, 0, s.mu * s.f, s.v0, 0, 0, 1);
+    // Reproducible and thread-safe without a seed: solvePnPRansac's classic RANSAC draws from a
+    // generator created in each call with a fixed seed (RNG((uint64)-1), calib3d's ptsetreg.cpp),
+    // not from the global cv::theRNG(); there is no seed to pass (twoview.ransac.seed seeds ours).
     const bool ok = P3.size() >= 6 && cv::solvePnPRansac(P3, P2, K, cv::noArray(), rvec, tvec, false, 200, thr, 0.999,
                                                          pnp_inliers, cv::SOLVEPNP_EPNP);
     const bool was_posed = s.res.posed[k];

@@ -24,8 +24,10 @@ vpSelfCalibDataset simulated(bool focal_known)
   ds.focal_known = focal_known;
   if (!focal_known)
     ds.cam.initPersProjWithoutDistortion(1400, 1400, ds.cam.get_u0(), ds.cam.get_v0());
+  // A controller pose instead of joints (a pose with both is refused as ambiguous).
   ds.views[1].has_fMe = true;
   ds.views[1].fMe = sim.getNominalChain().get_fMe(ds.views[1].q);
+  ds.views[1].q = vpColVector();
   return ds;
 }
 

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibFileWriter.h>
@@ -31,16 +32,13 @@ TEST(FileWriter, WritesAndLeavesNoTemporary)
   vpSelfCalibFileWriter::write(file, "first\n");
   vpSelfCalibFileWriter::write(file, "second\n");
   EXPECT_EQ(readAll(file), "second\n");
-  EXPECT_FALSE(std::filesystem::exists(file + ".tmp"));
 
-  // A writer that fills the file itself; a stale temporary file is not appended to.
-  std::ofstream(file + ".tmp") << "stale";
+  // A writer that fills the file itself gets a new empty file.
   vpSelfCalibFileWriter::writeWith(file, [](const std::string &tmp) {
     std::ofstream(tmp, std::ios::app) << "third\n";
     return true;
   });
   EXPECT_EQ(readAll(file), "third\n");
-  EXPECT_FALSE(std::filesystem::exists(file + ".tmp"));
 
   // Failures: the target is left as it was, and no temporary file stays.
   EXPECT_THROW(vpSelfCalibFileWriter::writeWith(file,
@@ -56,7 +54,20 @@ TEST(FileWriter, WritesAndLeavesNoTemporary)
                                                 }),
                std::runtime_error);
   EXPECT_EQ(readAll(file), "third\n");
-  EXPECT_FALSE(std::filesystem::exists(file + ".tmp"));
+  for (const auto &e : std::filesystem::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string(), "a.txt") << "left behind: " << e.path();
+
+  // Files planted where the old fixed temporary names were (a.txt.tmp), a symbolic link among
+  // them, are neither written through nor removed.
+  const std::filesystem::path victim = dir / "victim.txt";
+  std::ofstream(victim) << "victim";
+  std::filesystem::create_symlink(victim, file + ".tmp");
+  vpSelfCalibFileWriter::write(file, "fourth\n");
+  EXPECT_EQ(readAll(file), "fourth\n");
+  EXPECT_EQ(readAll(victim), "victim");
+  EXPECT_TRUE(std::filesystem::is_symlink(file + ".tmp"));
+  std::filesystem::remove(file + ".tmp");
+  std::filesystem::remove(victim);
   try {
     vpSelfCalibFileWriter::write((dir / "missing" / "b.txt").string(), "x", "results");
     FAIL();
@@ -64,5 +75,58 @@ TEST(FileWriter, WritesAndLeavesNoTemporary)
     EXPECT_NE(e.getStringMessage().find("results '"), std::string::npos) << e.getStringMessage();
     EXPECT_NE(e.getStringMessage().find("b.txt"), std::string::npos) << e.getStringMessage();
   }
+  std::filesystem::remove_all(dir);
+}
+
+// A write that fails says why, with the system's text (here a full device: /dev/full's directory
+// is not writable, so the failure is the temporary file's creation; the write itself through
+// the output directory's set is tested by app-output-set-full-disk).
+TEST(FileWriter, ErrorsCarryTheSystemsReason)
+{
+  try {
+    vpSelfCalibFileWriter::write("/nonexistent-dir/x.txt", "x", "results");
+    FAIL();
+  } catch (const vpSelfCalibException &e) {
+    EXPECT_NE(e.getStringMessage().find("No such file or directory"), std::string::npos) << e.getStringMessage();
+  }
+}
+
+// The output directory: a second holder of the lock is refused, the set appears at commit only,
+// an earlier set is exchanged whole, and nothing is left beside the target.
+TEST(OutputDirectory, LockStagingAndCommit)
+{
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "selfcalib-output-directory";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string target = (dir / "out").string();
+  {
+    vpSelfCalibOutputDirectory a(target);
+    EXPECT_THROW(vpSelfCalibOutputDirectory b(target), vpSelfCalibException);
+    vpSelfCalibFileWriter::write(a.staging() + "/r.txt", "one\n");
+    EXPECT_FALSE(std::filesystem::exists(target));
+    a.commit();
+  }
+  EXPECT_EQ(readAll(dir / "out" / "r.txt"), "one\n");
+  {
+    vpSelfCalibOutputDirectory a(target);
+    EXPECT_EQ(a.existingEntries(), std::vector<std::string>{"r.txt"});
+    vpSelfCalibFileWriter::write(a.staging() + "/s.txt", "two\n");
+    a.commit();
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "r.txt")); // the earlier set went as a whole
+  EXPECT_EQ(readAll(dir / "out" / "s.txt"), "two\n");
+  {
+    vpSelfCalibOutputDirectory a(target); // not committed: the target stays as it was
+    vpSelfCalibFileWriter::write(a.staging() + "/t.txt", "three\n");
+  }
+  EXPECT_EQ(readAll(dir / "out" / "s.txt"), "two\n");
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "t.txt"));
+  // A leftover of a killed run is removed by the next one.
+  std::filesystem::create_directories(dir / ".out.tmp-Killed");
+  { vpSelfCalibOutputDirectory a(target); }
+  std::vector<std::string> left;
+  for (const auto &e : std::filesystem::directory_iterator(dir))
+    left.push_back(e.path().filename().string());
+  EXPECT_EQ(left, std::vector<std::string>{"out"});
   std::filesystem::remove_all(dir);
 }

@@ -35,7 +35,10 @@
   each held-out view), errors_vs_poses.png (3-D yardstick error on the held-out views against
   the number of calibration poses, the paper's Figure 6, from a vpSelfCalibPoseStudy result; its
   data file is empty without one).
-  Without gnuplot the data files and report.md are still written and the result says so.
+  Without gnuplot the data files and report.md are still written and the result says so. gnuplot
+  runs without a shell (posix_spawnp with an argument vector, in the report's directory), so no
+  path is ever parsed as a command; the message tells apart gnuplot missing, gnuplot failing, a
+  figure without data (not drawn) and a figure that did not write completely.
 
   Writing a report presents results and computes nothing long: it never runs a calibration.
 */
@@ -43,7 +46,7 @@ class VISP_SELFCALIB_EXPORT vpSelfCalibReport
 {
 public:
   struct Options {
-    std::string gnuplot = "gnuplot"; //!< the program; empty: no figures
+    std::string gnuplot = "gnuplot"; //!< the program (found in PATH); empty: no figures
   };
   struct Result {
     bool figures = false; //!< the PNG files were drawn

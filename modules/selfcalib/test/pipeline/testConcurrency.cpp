@@ -1,0 +1,105 @@
+/*
+ * Thread safety: the library runs concurrent calibrations (README "Reliability"). Two calibrations
+ * in two threads give the results of two sequential runs bit for bit, and glog's global level,
+ * which the solvers raise while they run, is the caller's again afterwards.
+ */
+#include <gtest/gtest.h>
+
+#include <thread>
+#include <vector>
+
+#include <glog/logging.h>
+
+#include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibSimulator.h>
+
+#include "../testCommon.h"
+#include "core/vpSelfCalibCeres.h"
+
+using namespace selfcalib_test;
+
+namespace
+{
+using Result = vpRobotSelfCalibration::Result;
+
+struct Job {
+  vpSelfCalibSimulator sim;
+  vpSelfCalibDataset ds;
+  vpRobotSelfCalibration::Options options;
+};
+
+Job makeJob(const std::string &robot, uint64_t seed, vpRobotSelfCalibration::Method method, bool focal_known)
+{
+  Job j{makeSim(robot, seed), vpSelfCalibDataset(), vpRobotSelfCalibration::Options()};
+  j.ds = j.sim.makeDataset(j.sim.generateConfigurations(12));
+  if (!focal_known) {
+    j.ds.focal_known = false;
+    j.ds.cam.initPersProjWithoutDistortion(1400, 1400, 320, 240);
+  }
+  j.options.method = method;
+  j.options.num_calibration_poses = 10;
+  return j;
+}
+
+Result run(const Job &j) { return vpRobotSelfCalibration::run(j.sim.getNominalChain(), j.ds, j.options); }
+
+//! Every number of the results that the tool writes, compared bit for bit.
+void expectIdentical(const Result &a, const Result &b, const std::string &what)
+{
+  ASSERT_EQ(a.status, b.status) << what;
+  EXPECT_EQ(a.message, b.message) << what;
+  const vpColVector pa = a.calibrated.getParameters(), pb = b.calibrated.getParameters();
+  ASSERT_EQ(pa.size(), pb.size()) << what;
+  for (unsigned int i = 0; i < pa.size(); ++i)
+    EXPECT_EQ(pa[i], pb[i]) << what << " parameter " << i;
+  ASSERT_EQ(a.parameter_sd.size(), b.parameter_sd.size()) << what;
+  for (unsigned int i = 0; i < a.parameter_sd.size(); ++i)
+    EXPECT_EQ(a.parameter_sd[i], b.parameter_sd[i]) << what << " sd " << i;
+  EXPECT_EQ(a.camera.get_px(), b.camera.get_px()) << what;
+  EXPECT_EQ(a.fx_sd, b.fx_sd) << what;
+  EXPECT_EQ(a.bundle.rms, b.bundle.rms) << what;
+  EXPECT_EQ(a.bundle.sigma0, b.bundle.sigma0) << what;
+  EXPECT_EQ(a.after.yardstick_error, b.after.yardstick_error) << what;
+}
+} // namespace
+
+TEST(Concurrency, TwoCalibrationsInTwoThreadsEqualTwoSequentialRuns)
+{
+  // Two different problems (robots, seeds, methods, f known and self-calibrated), so that the
+  // threads are in different stages at the same time.
+  const Job a = makeJob("viper850", 21, vpRobotSelfCalibration::BUNDLE_ADJUSTMENT, false);
+  const Job b = makeJob("puma560", 22, vpRobotSelfCalibration::PAPER, true);
+  const int caller_level = 1; // the caller's glog level: WARNING shown, INFO not
+  FLAGS_minloglevel = caller_level;
+  const Result sa = run(a), sb = run(b);
+  ASSERT_EQ(sa.status, vpRobotSelfCalibration::OK) << sa.message;
+  ASSERT_EQ(sb.status, vpRobotSelfCalibration::OK) << sb.message;
+  for (int round = 0; round < 2; ++round) {
+    Result ta, tb;
+    std::thread first([&] { ta = run(a); });
+    std::thread second([&] { tb = run(b); });
+    first.join();
+    second.join();
+    expectIdentical(sa, ta, "viper850 bundle, round " + std::to_string(round));
+    expectIdentical(sb, tb, "puma560 paper, round " + std::to_string(round));
+  }
+  EXPECT_EQ(FLAGS_minloglevel, caller_level);
+}
+
+TEST(Concurrency, QuietCeresRestoresTheCallersLevelWhateverTheInterleaving)
+{
+  FLAGS_minloglevel = 2;
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 8; ++t)
+    threads.emplace_back([] {
+      for (int k = 0; k < 20000; ++k) {
+        const vpSelfCalib::QuietCeres quiet;
+        // While any is alive the level is FATAL.
+        if (FLAGS_minloglevel != google::GLOG_FATAL)
+          ADD_FAILURE() << "glog level " << FLAGS_minloglevel << " inside QuietCeres";
+      }
+    });
+  for (std::thread &t : threads)
+    t.join();
+  EXPECT_EQ(FLAGS_minloglevel, 2);
+}
