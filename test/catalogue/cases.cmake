@@ -17,7 +17,7 @@ catalogue_case(simulate-seed-overflow 2 "--seed: expected a whole number, got '9
 catalogue_case(simulate-noise-negative 2 "--noise: expected a number of at least 0 and at most 100, got '-0.1'" "simulate --noise -0.1" [=[$APP simulate x.yaml --noise -0.1]=])
 catalogue_case(simulate-noise-huge 2 "--noise: expected a number of at least 0 and at most 100, got '1e300'" "simulate --noise 1e300" [=[$APP simulate x.yaml --noise 1e300]=])
 catalogue_case(simulate-noise-nan 2 "--noise: expected a number of at least 0 and at most 100, got 'nan'" "simulate --noise nan" [=[$APP simulate x.yaml --noise nan]=])
-catalogue_case(simulate-robot-unknown 2 "--robot: foo not in" "simulate --robot foo" [=[$APP simulate x.yaml --robot foo]=])
+catalogue_case(simulate-robot-unknown 2 "--robot: .foo not in .*File does not exist: foo" "simulate --robot foo" [=[$APP simulate x.yaml --robot foo]=])
 catalogue_case(simulate-dots-without-images 2 "--target: dots renders images: add --images" "simulate --target dots without --images" [=[$APP simulate x.yaml --target dots]=])
 catalogue_case(calibrate-calibration-negative 2 "--calibration: expected a whole number from 3 to 100000, got '-1'" "calibrate --calibration -1" [=[$APP calibrate $G --out o --calibration -1]=])
 catalogue_case(calibrate-calibration-fraction 2 "--calibration: expected a whole number from 3 to 100000, got '2.5'" "calibrate --calibration 2.5" [=[$APP calibrate $G --out o --calibration 2.5]=])
