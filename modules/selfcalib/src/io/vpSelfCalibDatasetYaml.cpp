@@ -154,6 +154,40 @@ void parseCamera(const Reader &r, const YAML::Node &root, const std::string &bas
   }
 }
 
+//! The robot's expected pose error (robot_error: {pose_sd: [m, rad], joint_sd: [rad, ...]}), when given.
+void parseRobotError(const Reader &r, const YAML::Node &root, vpSelfCalibDataset &ds)
+{
+  if (!root["robot_error"])
+    return;
+  // The expected error of the robot's poses (controller poses, joint readings).
+  const YAML::Node e = root["robot_error"];
+  if (!e.IsMap())
+    r.fail("robot_error", "expected a map {pose_sd: [m, rad], joint_sd: [rad, ...]}, got " + Reader::show(e));
+  r.onlyKeys(e, {"pose_sd", "joint_sd"}, "robot_error");
+  if (e["pose_sd"]) {
+    const YAML::Node p = e["pose_sd"];
+    if (!p.IsSequence() || p.size() != 2)
+      r.fail("robot_error.pose_sd", "expected [translation m, rotation rad], got " + Reader::show(p));
+    ds.pose_sd_translation = r.number(p[0], "robot_error.pose_sd[0]");
+    ds.pose_sd_rotation = r.number(p[1], "robot_error.pose_sd[1]");
+    if (!(ds.pose_sd_translation > 0 && ds.pose_sd_translation < 1 && ds.pose_sd_rotation > 0 &&
+          ds.pose_sd_rotation < 1))
+      r.fail("robot_error.pose_sd", "both positive, below 1 m and 1 rad");
+  }
+  if (e["joint_sd"]) {
+    const YAML::Node j = e["joint_sd"];
+    if (!j.IsSequence() || j.size() == 0)
+      r.fail("robot_error.joint_sd", "expected a list of joint sd (rad): one for every joint, or one per joint, got " +
+                                         Reader::show(j));
+    for (size_t i = 0; i < j.size(); ++i) {
+      const double v = r.number(j[i], "robot_error.joint_sd[" + std::to_string(i) + "]");
+      if (!(v > 0 && v < 1))
+        r.fail("robot_error.joint_sd[" + std::to_string(i) + "]", "positive, below 1 rad");
+      ds.joint_sd.push_back(v);
+    }
+  }
+}
+
 vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, const std::string &base_dir)
 {
   const Reader r(kWhat, source);
@@ -164,35 +198,7 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
   vpSelfCalibDataset ds;
   vpCameraParameters distorted;
   bool has_distortion = false;
-  if (root["robot_error"]) {
-    // The expected error of the robot's poses (controller poses, joint readings).
-    const YAML::Node e = root["robot_error"];
-    if (!e.IsMap())
-      r.fail("robot_error", "expected a map {pose_sd: [m, rad], joint_sd: [rad, ...]}, got " + Reader::show(e));
-    r.onlyKeys(e, {"pose_sd", "joint_sd"}, "robot_error");
-    if (e["pose_sd"]) {
-      const YAML::Node p = e["pose_sd"];
-      if (!p.IsSequence() || p.size() != 2)
-        r.fail("robot_error.pose_sd", "expected [translation m, rotation rad], got " + Reader::show(p));
-      ds.pose_sd_translation = r.number(p[0], "robot_error.pose_sd[0]");
-      ds.pose_sd_rotation = r.number(p[1], "robot_error.pose_sd[1]");
-      if (!(ds.pose_sd_translation > 0 && ds.pose_sd_translation < 1 && ds.pose_sd_rotation > 0 &&
-            ds.pose_sd_rotation < 1))
-        r.fail("robot_error.pose_sd", "both positive, below 1 m and 1 rad");
-    }
-    if (e["joint_sd"]) {
-      const YAML::Node j = e["joint_sd"];
-      if (!j.IsSequence() || j.size() == 0)
-        r.fail("robot_error.joint_sd", "expected a list of joint sd (rad): one for every joint, or one per joint, got " +
-                                           Reader::show(j));
-      for (size_t i = 0; i < j.size(); ++i) {
-        const double v = r.number(j[i], "robot_error.joint_sd[" + std::to_string(i) + "]");
-        if (!(v > 0 && v < 1))
-          r.fail("robot_error.joint_sd[" + std::to_string(i) + "]", "positive, below 1 rad");
-        ds.joint_sd.push_back(v);
-      }
-    }
-  }
+  parseRobotError(r, root, ds);
   parseCamera(r, root, base_dir, ds, distorted, has_distortion);
   const vpSelfCalib::CameraModel camera = vpSelfCalib::CameraModel::fromVisp(distorted);
 
