@@ -729,6 +729,18 @@ std::vector<std::pair<size_t, size_t>> selectPairs(const std::vector<std::vector
   return std::vector<std::pair<size_t, size_t>>(sel.begin(), sel.end());
 }
 
+//! The least-squares (8-point) fundamental matrix of matched points, as an Eigen matrix; false when OpenCV gives none.
+bool eightPointF(const std::vector<cv::Point2f> &a, const std::vector<cv::Point2f> &b, Eigen::Matrix3d &F)
+{
+  const cv::Mat Fcv = cv::findFundamentalMat(a, b, cv::FM_8POINT);
+  if (Fcv.rows != 3 || Fcv.cols != 3)
+    return false;
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 3; ++x)
+      F(y, x) = Fcv.at<double>(y, x);
+  return true;
+}
+
 // Step 3: tracks. The verified matches join their features' tracks pair by pair in the given
 // order, unless the two tracks already hold features of a same image; then the tracks of two or
 // more images are numbered 0, 1, ... into res.observations.
@@ -772,14 +784,9 @@ void buildTracks(const Features &f, const std::vector<std::pair<size_t, size_t>>
       a.push_back(f.kp[pairs[p].first][mt.first].pt);
       b.push_back(f.kp[pairs[p].second][mt.second].pt);
     }
-    const cv::Mat Fcv = cv::findFundamentalMat(a, b, cv::FM_8POINT);
-    if (Fcv.rows != 3 || Fcv.cols != 3)
-      continue;
     Eigen::Matrix3d E;
-    for (int y = 0; y < 3; ++y)
-      for (int x = 0; x < 3; ++x)
-        E(y, x) = Fcv.at<double>(y, x);
-    F[pairs[p]] = E;
+    if (eightPointF(a, b, E))
+      F[pairs[p]] = E;
   }
   // The pairs of images that were not matched but share tracks: their F from the shared tracks'
   // features (USAC, then least squares on the inliers), so that the check below sees them too.
@@ -823,14 +830,9 @@ void buildTracks(const Features &f, const std::vector<std::pair<size_t, size_t>>
         }
       if (a.size() < 20)
         continue;
-      const cv::Mat Fcv = cv::findFundamentalMat(a, b, cv::FM_8POINT);
-      if (Fcv.rows != 3 || Fcv.cols != 3)
-        continue;
       Eigen::Matrix3d E;
-      for (int y = 0; y < 3; ++y)
-        for (int x = 0; x < 3; ++x)
-          E(y, x) = Fcv.at<double>(y, x);
-      F[sp.first] = E;
+      if (eightPointF(a, b, E))
+        F[sp.first] = E;
     }
   }
   res.observations.assign(m, {});
