@@ -21,14 +21,15 @@ void runBundle(const Context &c, Result &res)
   // 1. Scale-consistent poses and points of the calibration views, one focal length.
   if (!multiView(c, res)) {
     // No two-view geometry (a plane seen with f self-calibrated, too few matches per pair): the
-    // points triangulated from the camera poses the nominal model predicts, with the focal length
-    // where their rays meet best; the bundle adjustment from there (its information decides).
+    // points triangulated from the camera poses the nominal model predicts, at the dataset's focal
+    // length (run() measured it where these rays meet best when f is self-calibrated); the bundle
+    // adjustment from there (its information decides).
     const Result failed = res;
     std::vector<Rigid> fMc;
     for (const View &v : cal)
       fMc.push_back(rigidFromVisp(c.nominal.get_fMc(v.q)));
     const PredictedStart p =
-        predictedStart(cal, fMc, lensOf(c.dataset), c.mode == vpRobotSelfCalibration::FOCAL_KNOWN);
+        predictedStart(cal, fMc, lensOf(c.dataset), true); // the dataset's f: measured by run() when self-calibrated
     res.stage_seconds.push_back({"start from the nominal model's poses", seconds(ts)});
     if (!p.ok)
       return;

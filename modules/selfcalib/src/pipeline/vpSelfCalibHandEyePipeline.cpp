@@ -85,8 +85,9 @@ bool better(const Result &a, const Result &b)
 
 /*
   Two starts, both adjusted, the better kept (better()): (1) the points triangulated from the camera
-  poses the controller poses and the model's eMc predict, with the focal length where their rays meet
-  best (no two-view geometry: works on planes and with f self-calibrated); (2) the multi-view
+  poses the controller poses and the model's eMc predict, at the dataset's focal length (run()
+  measured it where these rays meet best when f is self-calibrated; no two-view geometry: works on
+  planes); (2) the multi-view
   reconstruction and Tsai's closed form (works when the model's eMc is far off).
 */
 void runHandEye(const Context &c, Result &res)
@@ -113,7 +114,7 @@ void runHandEye(const Context &c, Result &res)
     for (const Rigid &M : fMe)
       fMc.push_back(M * eMc0);
     const PredictedStart p =
-        predictedStart(cal, fMc, lensOf(c.dataset), c.mode == vpRobotSelfCalibration::FOCAL_KNOWN);
+        predictedStart(cal, fMc, lensOf(c.dataset), true); // the dataset's f: measured by run() when self-calibrated
     predicted.stage_seconds.push_back({"start from the robot's poses", seconds(ts)});
     if (p.ok && bundleFrom(c, c.nominal, p.points, p.fx, views, c.bundle, "hand-eye bundle adjustment", predicted))
       predicted.message = "start from the controller poses; " + predicted.message;
