@@ -36,7 +36,9 @@ concurrent)
   "$APP" calibrate ds.yaml --out ref --calibration 7 > /dev/null 2>&1 || fail "reference run"
   "$APP" calibrate ds.yaml --out out --calibration 7 > a.log 2>&1 &
   pid=$!
-  i=0; while [ ! -e .out.lock ] && [ $i -lt 200 ]; do sleep 0.01; i=$((i + 1)); done
+  # Wait for the first run to hold the lock (a loaded machine can take seconds to get there).
+  i=0; while [ ! -e .out.lock ] && kill -0 $pid 2> /dev/null && [ $i -lt 6000 ]; do sleep 0.01; i=$((i + 1)); done
+  [ -e .out.lock ] || fail "the first run never held the lock (exited or took over 60 s)"
   sleep 0.05
   "$APP" calibrate ds.yaml --out out --calibration 6 --force > b.log 2>&1
   b=$?
