@@ -4,7 +4,10 @@
 #include <visp3/selfcalib/vpCalibrationVerifier.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <set>
 
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
@@ -22,39 +25,107 @@ vpHomogeneousMatrix vpCalibrationVerifier::cameraPose(const vpKinematicChain &mo
   return v.fMe * model.get_eMc_corrected();
 }
 
-std::map<int, vpColVector> vpCalibrationVerifier::triangulate(const vpKinematicChain &model,
-                                                              const vpCameraParameters &cam,
-                                                              const std::vector<vpSelfCalibDataset::View> &views)
+namespace
 {
-  // Each point: the midpoint of its rays through the camera model (distortion included), refined on
-  // its reprojection error; a point the rays place behind a camera is left out.
+struct Seen {
+  std::vector<Ray> rays;
+  std::vector<Rigid> cMf;
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<size_t> view;
+};
+
+// The point of the rays: midpoint, then reprojection error minimized; false behind a camera.
+bool pointOf(const CameraModel &camera, const Seen &s, Eigen::Vector3d &X)
+{
+  return s.rays.size() >= 2 && triangulateMidpoint(s.rays, X) && refineTriangulation(camera, s.cMf, s.uv, X);
+}
+
+// Largest coordinate error of each observation of a point.
+std::vector<double> errorsOf(const CameraModel &camera, const Seen &s, const Eigen::Vector3d &X)
+{
+  std::vector<double> e;
+  for (size_t k = 0; k < s.uv.size(); ++k) {
+    Eigen::Vector2d uv;
+    e.push_back(camera.project(s.cMf[k] * X, uv, nullptr, nullptr) ? (uv - s.uv[k]).cwiseAbs().maxCoeff()
+                                                                     : std::numeric_limits<double>::infinity());
+  }
+  return e;
+}
+
+/*
+  Every point seen in two or more views, triangulated; then, robustly against wrong matches among
+  the views, an observation whose error exceeds 5 times the robust sd of all errors (1.4826 x their
+  median) is left out of a point seen three times or more, and the point triangulated again.
+  rejected: (view, id) of the observations left out.
+*/
+std::map<int, vpColVector> robustTriangulation(const vpKinematicChain &model, const vpCameraParameters &cam,
+                                               const std::vector<vpSelfCalibDataset::View> &views,
+                                               std::set<std::pair<size_t, int>> &rejected)
+{
   const CameraModel camera = CameraModel::fromVisp(cam);
-  struct Seen {
-    std::vector<Ray> rays;
-    std::vector<Rigid> cMf;
-    std::vector<Eigen::Vector2d> uv;
-  };
   std::map<int, Seen> seen;
   for (size_t k = 0; k < views.size(); ++k) {
     if (views[k].q.size() != model.getNumJoints() && !views[k].has_fMe)
       throw vpSelfCalibException(vpSelfCalibException::dimensionError,
                                  "vpCalibrationVerifier: view " + std::to_string(k) + " has no joint vector of size " +
                                      std::to_string(model.getNumJoints()) + " and no fMe");
-    const Rigid fMc = rigidFromVisp(cameraPose(model, views[k]));
+    const Rigid fMc = rigidFromVisp(vpCalibrationVerifier::cameraPose(model, views[k]));
     for (const auto &o : views[k].points) {
       Seen &s = seen[o.id];
       s.uv.emplace_back(o.ip.get_u(), o.ip.get_v());
       s.rays.push_back(rayThrough(fMc, camera, s.uv.back()));
       s.cMf.push_back(fMc.inverse());
+      s.view.push_back(k);
+    }
+  }
+  std::map<int, Eigen::Vector3d> X;
+  std::vector<double> all;
+  for (const auto &kv : seen) {
+    Eigen::Vector3d P;
+    if (!pointOf(camera, kv.second, P))
+      continue;
+    X[kv.first] = P;
+    for (double e : errorsOf(camera, kv.second, P))
+      if (std::isfinite(e))
+        all.push_back(e);
+  }
+  if (!all.empty()) {
+    const auto mid = all.begin() + static_cast<std::ptrdiff_t>(all.size() / 2);
+    std::nth_element(all.begin(), mid, all.end());
+    // The median of the largest coordinate error of 2 Gaussian coordinates is about 1.0 sd.
+    const double threshold = std::max(5.0 * *mid, 0.01); // px: below, no match is wrong
+    for (auto &kv : X) {
+      const Seen &s = seen[kv.first];
+      if (s.uv.size() < 3)
+        continue;
+      const std::vector<double> e = errorsOf(camera, s, kv.second);
+      Seen kept;
+      for (size_t k = 0; k < e.size(); ++k) {
+        if (e[k] <= threshold) {
+          kept.rays.push_back(s.rays[k]);
+          kept.cMf.push_back(s.cMf[k]);
+          kept.uv.push_back(s.uv[k]);
+          kept.view.push_back(s.view[k]);
+        } else
+          rejected.insert({s.view[k], kv.first});
+      }
+      if (kept.uv.size() < s.uv.size() && kept.uv.size() >= 2)
+        pointOf(camera, kept, kv.second);
     }
   }
   std::map<int, vpColVector> out;
-  for (const auto &kv : seen) {
-    Eigen::Vector3d X;
-    if (triangulateMidpoint(kv.second.rays, X) && refineTriangulation(camera, kv.second.cMf, kv.second.uv, X))
-      out[kv.first] = vpColVector({X.x(), X.y(), X.z()});
-  }
+  for (const auto &kv : X)
+    out[kv.first] = vpColVector({kv.second.x(), kv.second.y(), kv.second.z()});
   return out;
+}
+} // namespace
+
+std::map<int, vpColVector> vpCalibrationVerifier::triangulate(const vpKinematicChain &model,
+                                                              const vpCameraParameters &cam,
+                                                              const std::vector<vpSelfCalibDataset::View> &views)
+{
+  std::set<std::pair<size_t, int>> rejected;
+  return robustTriangulation(model, cam, views, rejected);
 }
 
 vpCalibrationVerifier::Result vpCalibrationVerifier::verify(const vpKinematicChain &model, const vpCameraParameters &cam,
@@ -69,12 +140,34 @@ vpCalibrationVerifier::Result vpCalibrationVerifier::verify(const vpKinematicCha
     throw vpSelfCalibException(vpSelfCalibException::dimensionError,
                                "vpCalibrationVerifier: true_fMc must have one pose per view");
   Result res;
-  res.points = triangulate(model, cam, views);
+  std::set<std::pair<size_t, int>> rejected;
+  res.points = robustTriangulation(model, cam, views, rejected);
+  res.num_rejected = static_cast<unsigned int>(rejected.size());
   auto pa = res.points.find(yardstick.id_a), pb = res.points.find(yardstick.id_b);
   if (yardstick.isSet() && pa != res.points.end() && pb != res.points.end()) {
     res.has_yardstick = true;
     res.yardstick_length = (pa->second - pb->second).frobeniusNorm();
     res.yardstick_error = std::fabs(res.yardstick_length - yardstick.length);
+  }
+  const CameraModel camera = CameraModel::fromVisp(cam);
+  double sum = 0;
+  for (size_t k = 0; k < views.size(); ++k) {
+    const Rigid cMf = rigidFromVisp(cameraPose(model, views[k])).inverse();
+    for (const auto &o : views[k].points) {
+      const auto X = res.points.find(o.id);
+      if (X == res.points.end() || rejected.count({k, o.id}))
+        continue;
+      const Eigen::Vector3d Xc = cMf * Eigen::Vector3d(X->second[0], X->second[1], X->second[2]);
+      Eigen::Vector2d uv;
+      if (!camera.project(Xc, uv, nullptr, nullptr))
+        continue;
+      sum += (uv - Eigen::Vector2d(o.ip.get_u(), o.ip.get_v())).squaredNorm();
+      ++res.num_observations;
+    }
+  }
+  if (res.num_observations) {
+    res.reprojection_rms = std::sqrt(sum / (2.0 * res.num_observations));
+    res.reprojection_dof = 2.0 * res.num_observations - 3.0 * static_cast<double>(res.points.size());
   }
   if (!true_points.empty()) {
     std::vector<std::pair<vpColVector, vpColVector>> both;
