@@ -602,7 +602,7 @@ struct Adjustment {
   std::unique_ptr<ceres::Manifold> subset; //!< the intrinsics held constant (none when all or none are)
   std::vector<double> rho0;
   Eigen::VectorXd scale_dir;
-  bool scale_covariance = false;
+  bool scale_covariance = false, scale_covariance_chi2 = false;
   bool has_yardstick = false;
   int P = 0;
   //! Known geometry (Options::known_points): the object's pose (t, theta u) in f, when used.
@@ -799,9 +799,15 @@ void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::
     res.opencv_distortion.assign(a.in + 4, a.in + 9);
   std::set<int> kept;
   double sum = 0;
+  std::vector<double> abs_residuals; // every observation that projects, for the robust noise level
   for (size_t n = 0; n < a.obs.size(); ++n) {
     double uv[2];
-    if (!a.inlier[n] || !a.reproject(n, uv)) {
+    const bool projects = a.reproject(n, uv);
+    if (projects) {
+      abs_residuals.push_back(std::fabs(uv[0] - a.obs[n].u));
+      abs_residuals.push_back(std::fabs(uv[1] - a.obs[n].v));
+    }
+    if (!a.inlier[n] || !projects) {
       a.inlier[n] = false;
       ++res.num_outliers;
       continue;
@@ -814,6 +820,12 @@ void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::
   // The pose priors add as many residuals as unknowns: the degrees of freedom are the pixels'.
   const double dof = 2.0 * res.num_observations - static_cast<double>(a.P + a.free_in.size() + 3 * kept.size());
   res.sigma0 = dof > 0 ? res.rms / opt.pixel_sd * std::sqrt(2.0 * res.num_observations / dof) : 0;
+  if (dof > 0 && !abs_residuals.empty()) {
+    const auto mid = abs_residuals.begin() + static_cast<std::ptrdiff_t>(abs_residuals.size() / 2);
+    std::nth_element(abs_residuals.begin(), mid, abs_residuals.end());
+    res.pixel_sd_measured = 1.4826 * *mid * std::sqrt(2.0 * res.num_observations / dof);
+    vpSelfCalib::sigma0Interval(dof, res.sigma0_low, res.sigma0_high);
+  }
   if (!a.state.delta.empty()) {
     double chi2 = sum / (opt.pixel_sd * opt.pixel_sd), st = 0, sr = 0;
     for (const auto &d : a.state.delta) {
@@ -921,8 +933,11 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
     return false;
   }
   // The a posteriori variance factor: the stated noise is too small for the residuals.
-  const double factor = a.scale_covariance && res.sigma0 > 1 ? res.sigma0 * res.sigma0 : 1.0;
-  res.covariance_scaled = factor > 1;
+  const double s2 = res.sigma0 * res.sigma0;
+  const double factor = a.scale_covariance_chi2 ? (res.sigma0 < res.sigma0_low || res.sigma0 > res.sigma0_high ? s2 : 1.0)
+                        : a.scale_covariance && res.sigma0 > 1 ? s2
+                                                               : 1.0;
+  res.covariance_scaled = factor != 1.0;
   res.covariance.resize(N, N);
   for (int r = 0; r < N; ++r)
     for (int c = 0; c < N; ++c)
@@ -1005,6 +1020,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   a.state.model = lensModel(opt);
   a.free_in = estimatedIntrinsics(camera, opt, a.in);
   a.scale_covariance = opt.scale_covariance;
+  a.scale_covariance_chi2 = opt.scale_covariance_chi2;
   const bool distortion = (opt.intrinsics & KBA::DISTORTION) || a.in[4] != 0;
   const size_t unknowns = a.P + a.free_in.size() + 3 * a.X.size();
   if (a.P == 0 || 2 * a.obs.size() <= unknowns) {

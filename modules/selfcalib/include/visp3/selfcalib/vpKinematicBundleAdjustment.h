@@ -132,6 +132,13 @@ public:
     */
     bool scale_covariance = false;
     /*!
+      Scale the covariance by sigma0^2 whenever sigma0 is outside the two-sided 99.9 % interval of
+      sqrt(chi2(dof) / dof): the residuals contradict the stated noise in either direction (too
+      small a pixel_sd gives too small standard deviations, too large a pixel_sd too large ones).
+      Takes precedence over scale_covariance. Off by default.
+    */
+    bool scale_covariance_chi2 = false;
+    /*!
       Scene points of known geometry (a calibration board's layout): id -> coordinates (3-vector, m)
       in the object's own frame. The object's pose in f (6 parameters) is estimated with the rest,
       and each of these points observed gets the prior residual (X_j - fMo L_j) / known_points_sd.
@@ -175,6 +182,15 @@ public:
     double rms = 0;                          //!< px, reprojection RMS over the kept observations
     double sigma0 = 0;                       //!< sqrt(2 cost / dof): about 1 when pixel_sd is right
     bool covariance_scaled = false;          //!< the covariance was multiplied by sigma0^2 (scale_covariance)
+    /*!
+      px, the image noise the residuals measure, robustly: 1.4826 x the median absolute residual
+      coordinate over every observation that projects (the rejected ones included, so that a too
+      small pixel_sd does not hide the noise), times sqrt(observations / dof) for the estimated
+      unknowns. Independent of pixel_sd; 0 without observations.
+    */
+    double pixel_sd_measured = 0;
+    //! The two-sided 99.9 % interval of sigma0 for the degrees of freedom of the solution.
+    double sigma0_low = 0, sigma0_high = 0;
     /*!
       With robot pose error modelled (pose_sd_*): the estimated correction delta_k of each view's
       controller pose (hand-eye) or camera pose (full mode) (t, theta u; empty otherwise), and the RMS
