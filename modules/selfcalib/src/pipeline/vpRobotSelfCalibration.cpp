@@ -4,10 +4,13 @@
  * (vpSelfCalibPaperPipeline.cpp, vpSelfCalibBundlePipeline.cpp, vpSelfCalibHandEyePipeline.cpp).
  */
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
+
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "vpSelfCalibPipelines.h"
@@ -56,6 +59,8 @@ const char *vpRobotSelfCalibration::statusName(Status s)
     return "identification failed";
   case DEGENERATE_DATA:
     return "degenerate data";
+  case DOUBTFUL:
+    return "doubtful";
   }
   return "unknown";
 }
@@ -91,6 +96,12 @@ void vpRobotSelfCalibration::Options::check() const
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpRobotSelfCalibration: outlier_warning, min_posed_fraction and max_outlier_fraction "
                                "must be fractions in (0, 1]");
+  const double tolerances[] = {tolerance_translation, tolerance_rotation, tolerance_hand_eye_translation,
+                               tolerance_hand_eye_rotation, max_pixel_noise};
+  for (double t : tolerances)
+    if (!(t > 0) || !std::isfinite(t))
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpRobotSelfCalibration: the tolerances and max_pixel_noise must be positive and finite");
   identification.check();
   bundle.check();
   data_check.check();
@@ -162,6 +173,8 @@ vpKinematicBundleAdjustment::Options vpRobotSelfCalibration::bundleOptions(const
     bo.intrinsics &= ~FX;
   bo.hand_eye_only =
       derived(opt.bundle.hand_eye_only, def.hand_eye_only, opt.method == HAND_EYE, "bundle.hand_eye_only", "method");
+  // The standard deviations follow the residuals when they contradict the stated noise (either way).
+  bo.scale_covariance_chi2 = true;
   // The robot's pose error as the dataset states it, unless the caller states it: controller poses
   // (hand-eye) or joint readings (full kinematics), with the sd widened by sigma0 when the residuals
   // say the noise is larger.
@@ -194,6 +207,19 @@ vpSelfCalibDataCheck::Options vpRobotSelfCalibration::dataCheckOptions(const Opt
 
 namespace
 {
+// The method's pipeline; the noise level it used and the one its residuals measure.
+void runMethod(const vpSelfCalibPipeline::Context &c, vpRobotSelfCalibration::Result &res)
+{
+  if (c.options.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT)
+    vpSelfCalibPipeline::runBundle(c, res);
+  else if (c.options.method == vpRobotSelfCalibration::HAND_EYE)
+    vpSelfCalibPipeline::runHandEye(c, res);
+  else
+    vpSelfCalibPipeline::runPaper(c, res);
+  res.pixel_sd = c.options.pixel_sd;
+  res.pixel_sd_measured = c.options.method == vpRobotSelfCalibration::PAPER ? 0.0 : res.bundle.pixel_sd_measured;
+}
+
 // The caller mistakes of run() (see its documentation); returns the number of calibration views.
 unsigned int checkInputs(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds,
                          const vpRobotSelfCalibration::Options &opt)
@@ -280,13 +306,30 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
     res.seconds = seconds(t0);
     return res;
   }
-  if (opt.method == BUNDLE_ADJUSTMENT)
-    vpSelfCalibPipeline::runBundle(context, res);
-  else if (opt.method == HAND_EYE)
-    vpSelfCalibPipeline::runHandEye(context, res);
-  else
-    vpSelfCalibPipeline::runPaper(context, res);
-  vpSelfCalibPipeline::checkResult(context, res);
+  const std::vector<vpSelfCalibDataCheck::Finding> data_findings = res.findings;
+  runMethod(context, res);
+  // The image noise measured: a second run with the level the residuals give, when it differs.
+  Options measured = opt;
+  std::optional<vpSelfCalibPipeline::Context> again;
+  if (opt.estimate_pixel_sd && opt.method != PAPER && res.status == OK &&
+      vpSelfCalibPipeline::measuredNoiseDiffers(opt.pixel_sd, res.pixel_sd_measured)) {
+    measured.pixel_sd = res.pixel_sd_measured;
+    measured.bundle.pixel_sd = measured.multiview.pixel_sd = measured.data_check.pixel_sd = measured.pixel_sd;
+    again.emplace(nominal, data, measured, N, progress);
+    Result second;
+    second.method = opt.method;
+    second.calibrated = nominal;
+    second.camera = data.cam;
+    second.findings = data_findings;
+    runMethod(*again, second);
+    if (second.status == OK) {
+      second.stage_seconds.insert(second.stage_seconds.begin(), res.stage_seconds.begin(), res.stage_seconds.end());
+      res = second;
+    } else
+      again.reset();
+  }
+  const vpSelfCalibPipeline::Context &used = again ? *again : context;
+  vpSelfCalibPipeline::checkResult(used, res);
   if (res.status != OK) {
     // What the checks found often explains the failure: say it with the failure.
     for (const auto &f : res.findings)
@@ -294,7 +337,8 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
     res.seconds = seconds(t0);
     return res;
   }
-  vpSelfCalibPipeline::verify(context, res);
+  vpSelfCalibPipeline::verify(used, res);
+  vpSelfCalibPipeline::assess(used, res);
   res.seconds = seconds(t0);
   return res;
 }

@@ -14,6 +14,19 @@
 
 using namespace vpSelfCalib;
 
+const char *vpSelfCalibDataCheck::severityName(Severity s)
+{
+  switch (s) {
+  case WARNING:
+    return "warning";
+  case DEGENERATE:
+    return "degenerate";
+  case DOUBT:
+    return "doubt";
+  }
+  return "unknown";
+}
+
 namespace
 {
 std::string fmt(double v, int precision = 2)

@@ -118,6 +118,15 @@ void handEyeWithSd(Result &result, const vpMatrix &covariance, const std::vector
 void checkResult(const Context &context, Result &result);
 //! Step 5: the yardstick 3-D error on the verification views, nominal and calibrated (2 views or more).
 void verify(const Context &context, Result &result);
+//! True when a measured image noise (px, 0.01 or more) differs from the stated one by more than 25 %.
+bool measuredNoiseDiffers(double stated, double measured);
+/*!
+  The checks of an OK run's own word (vpSelfCalibAssessment.cpp): corrections and sds against the
+  nominal model's tolerance, the calibration views and the held-out views explained better than by
+  the nominal model, the yardstick reproduced on the held-out views, the measured image noise.
+  Findings of severity DOUBT make the status DOUBTFUL; a noise mismatch is a warning.
+*/
+void assess(const Context &context, Result &result);
 } // namespace vpSelfCalibPipeline
 
 #endif

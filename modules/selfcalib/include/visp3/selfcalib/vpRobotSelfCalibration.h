@@ -134,6 +134,30 @@ public:
     double min_posed_fraction = 0.5;
     double max_outlier_fraction = 0.5;
     /*!
+      The image noise measured, not assumed (calibrate's default, --pixel-sd auto). BUNDLE_ADJUSTMENT
+      and HAND_EYE: after the method's run, when the noise level its residuals measure
+      (vpKinematicBundleAdjustment::Result::pixel_sd_measured, robust) differs from pixel_sd by more
+      than 25 % and is at least 0.01 px (below, the data are exact to the level that matters), the
+      method runs again with that value as pixel_sd: outlier thresholds, robust loss and weights
+      follow the real noise. Result::pixel_sd says which value was used. PAPER (no pixel residuals
+      in its estimate) ignores it. In every mode the covariance is scaled by sigma0^2 when sigma0 is
+      outside its 99.9 % chi-square interval, with a "noise-mismatch" finding naming both values.
+    */
+    bool estimate_pixel_sd = false;
+    /*!
+      The nominal model's stated tolerance: the largest error expected of a joint placement or the
+      base (m, rad), and of the hand-eye transform eMc (a guess, often rough). An estimated
+      correction beyond it, or an sd above it (the views determine the parameter worse than the
+      nominal model knows it), makes the run DOUBTFUL. HAND_EYE does not check eMc (it is what is
+      calibrated, from any start).
+    */
+    double tolerance_translation = 0.01;
+    double tolerance_rotation = 0.05;
+    double tolerance_hand_eye_translation = 0.1;
+    double tolerance_hand_eye_rotation = 0.5;
+    //! px: a calibration whose residuals measure more image noise than this does not explain its images (DOUBTFUL).
+    double max_pixel_noise = 3.0;
+    /*!
       Throws vpSelfCalibException on nonsense values, and on a derived field that conflicts with its
       source without the dataset: multiview.pixel_sd, bundle.pixel_sd or data_check.pixel_sd neither
       at its default nor equal to pixel_sd; bundle.hand_eye_only set with another method than
@@ -148,7 +172,15 @@ public:
     TWO_VIEW_FAILED,
     SCALE_FAILED,
     IDENTIFICATION_FAILED,
-    DEGENERATE_DATA //!< the data check found data that cannot determine the calibration (message: what to do)
+    DEGENERATE_DATA, //!< the data check found data that cannot determine the calibration (message: what to do)
+    /*!
+      A model was estimated but fails a check of its own word (findings of severity DOUBT: what is
+      wrong and what to do): corrections or sds beyond the nominal model's tolerance, the
+      calibrated model explaining its calibration views or the held-out views no better than the
+      nominal one, the yardstick not reproduced on the held-out views, residuals far above any
+      plausible image noise. Every field is filled as for OK; use the model with care.
+    */
+    DOUBTFUL
   };
   static const char *statusName(Status s);
 
@@ -178,6 +210,16 @@ public:
     vpColVector eMc_sd;
     vpKinematicChain calibrated;           //!< the nominal model with the identified corrections
     vpCameraParameters camera;             //!< with the focal length used
+    //! px: the image noise sd the final run used (Options::pixel_sd, or the measured one with
+    //! estimate_pixel_sd), and the one its residuals measure (0 for PAPER).
+    double pixel_sd = 0, pixel_sd_measured = 0;
+    /*!
+      How well each model explains the calibration views (BUNDLE_ADJUSTMENT, HAND_EYE): the
+      reprojection RMS (px) of the points triangulated from these views through the nominal model
+      (the dataset's camera) and through the calibrated one (its camera), the same rule for both
+      (vpCalibrationVerifier). 0 when not computed.
+    */
+    double fit_nominal_rms = 0, fit_calibrated_rms = 0;
     double fx = 0, fx_sd = 0;
     std::vector<vpTwoViewEstimator::Result> pairs;      //!< pair (1, i + 2) at index i
     std::vector<double> ratios;                         //!< PAPER: eq. 21 ratios, one per pair

@@ -42,8 +42,12 @@ class VISP_SELFCALIB_EXPORT vpSelfCalibDataCheck
 public:
   enum Severity {
     WARNING,   //!< calibration runs; part of the result is weak or missing
-    DEGENERATE //!< the data cannot determine the calibration: it is not attempted
+    DEGENERATE, //!< the data cannot determine the calibration: it is not attempted
+    DOUBT       //!< after a run: the answer fails one of its checks (vpRobotSelfCalibration::DOUBTFUL)
   };
+
+  //! "warning", "degenerate" or "doubt".
+  static const char *severityName(Severity s);
 
   struct Finding {
     Severity severity = WARNING;

@@ -1,0 +1,205 @@
+/*
+ * ViSP SelfCalib: the checks of a run's own word (vpRobotSelfCalibration::DOUBTFUL): a model is
+ * called ok only when it is plausible against the nominal model's tolerance, explains its
+ * calibration views and the held-out views better than the nominal model, reproduces the
+ * yardstick, and its residuals measure a plausible image noise.
+ */
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "vpSelfCalibPipelines.h"
+
+namespace vpSelfCalibPipeline
+{
+namespace
+{
+using Finding = vpSelfCalibDataCheck::Finding;
+
+void add(Result &res, vpSelfCalibDataCheck::Severity severity, const std::string &code, const std::string &message)
+{
+  Finding f;
+  f.severity = severity;
+  f.code = code;
+  f.message = message;
+  res.findings.push_back(f);
+}
+
+std::string fixed(double v, int digits)
+{
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  os.precision(digits);
+  os << v;
+  return os.str();
+}
+
+/*
+  The held-out yardstick: a calibrated model measuring it more than 3 % off (and worse than twice the
+  nominal model) has a wrong scale or geometry. Good calibrations of the reference scenario measure
+  it 0.01-1.3 % off at 0.2-0.5 px (two to ten held-out views; the figure is one distance between two
+  triangulated points, noisy), the paper's method on doubtful runs 5-10 %.
+*/
+constexpr double kYardstickTolerance = 0.03;
+
+bool isTranslation(const std::string &name) { return name.size() > 3 && name[name.size() - 2] == 't'; }
+
+// Corrections and sds against the nominal model's stated tolerance.
+void checkTolerance(const Context &c, Result &res)
+{
+  const vpRobotSelfCalibration::Options &o = c.options;
+  const std::vector<std::string> names = res.calibrated.getParameterNames();
+  const vpColVector &cal = res.calibrated.getParameters(), &nom = c.nominal.getParameters();
+  std::string beyond, loose;
+  unsigned int num_beyond = 0, num_loose = 0;
+  for (unsigned int i : res.identifiability.identified) {
+    const std::string &n = names[i];
+    const bool hand_eye = n.rfind("eMc.", 0) == 0;
+    if (hand_eye && o.method == vpRobotSelfCalibration::HAND_EYE)
+      continue; // the quantity calibrated, from any start
+    const bool t = isTranslation(n);
+    const double tol = hand_eye ? (t ? o.tolerance_hand_eye_translation : o.tolerance_hand_eye_rotation)
+                                : (t ? o.tolerance_translation : o.tolerance_rotation);
+    const double scale = 1e3, corr = cal[i] - nom[i]; // mm or mrad
+    const double sd = i < res.parameter_sd.size() ? res.parameter_sd[i] : 0.0;
+    const std::string unit = t ? " mm" : " mrad";
+    // Beyond the tolerance by more than its own uncertainty (3 sd): a poorly determined correction
+    // is the next check's business.
+    if (std::fabs(corr) - 3.0 * sd > tol && num_beyond++ < 4)
+      beyond += (beyond.empty() ? "" : ", ") + n + " " + fixed(scale * corr, 1) + " +- " + fixed(scale * sd, 1) + unit +
+                " (tolerance " + fixed(scale * tol, 1) + unit + ")";
+    if (sd > tol && num_loose++ < 4)
+      loose += (loose.empty() ? "" : ", ") + n + " +- " + fixed(scale * sd, 1) + unit;
+  }
+  if (num_beyond)
+    add(res, vpSelfCalibDataCheck::DOUBT, "correction-beyond-tolerance",
+        std::to_string(num_beyond) + " correction(s) exceed the nominal model's tolerance: " + beyond +
+            (num_beyond > 4 ? ", ..." : "") +
+            ". A correction that large is more likely a wrong input (u and v swapped, joints that do not "
+            "belong to their image, a wrong robot model or camera) than the robot's real error; if the nominal "
+            "model is really that far off, state a larger tolerance (calibrate --tolerance)");
+  if (num_loose)
+    add(res, vpSelfCalibDataCheck::DOUBT, "poorly-determined",
+        std::to_string(num_loose) + " parameter(s) are determined by these views less well than the nominal model's "
+            "tolerance states them: " + loose + (num_loose > 4 ? ", ..." : "") +
+            ". Calibrating them may make the model worse: add views (more, and more varied, configurations; "
+            "visp-selfcalib plan) or a yardstick");
+}
+
+/*
+  A model's reprojection RMS on views exceeds a reference model's beyond what the image noise sigma
+  explains, and by 5 % or more. Each mean square is (systematic)^2 plus noise; with n coordinates its
+  variance is about (4 sigma^2 systematic^2 + 2 sigma^4) / n, so the difference of the two mean
+  squares is tested at 3.29 of its sd (99.9 %, one-sided 99.95 %).
+*/
+bool worse(const vpCalibrationVerifier::Result &model, const vpCalibrationVerifier::Result &reference, double sigma)
+{
+  if (model.num_observations < 2 || reference.num_observations < 2)
+    return false;
+  const double n = 2.0 * std::min(model.num_observations, reference.num_observations);
+  const double a2 = model.reprojection_rms * model.reprojection_rms;
+  const double b2 = reference.reprojection_rms * reference.reprojection_rms;
+  const double s2 = sigma * sigma;
+  const double sd = std::sqrt((4.0 * s2 * (a2 + b2) + 4.0 * s2 * s2) / n);
+  return a2 - b2 > 3.29 * sd && model.reprojection_rms > 1.05 * reference.reprojection_rms;
+}
+
+// The image noise the checks assume: the measured one, else the stated one.
+double noiseOf(const Context &c, const Result &res)
+{
+  return res.pixel_sd_measured > 0 ? res.pixel_sd_measured : c.options.pixel_sd;
+}
+
+// How well the calibrated and the nominal model explain the calibration views (same rule for both).
+void checkFit(const Context &c, Result &res)
+{
+  if (c.options.method == vpRobotSelfCalibration::PAPER || c.calibration.size() < 2)
+    return;
+  const bool opencv = !res.bundle.opencv_distortion.empty();
+  const bool lens = !c.dataset.opencv_distortion.empty();
+  const vpCalibrationVerifier::Result nominal = vpCalibrationVerifier::verify(
+      c.nominal, c.dataset.cam, lens ? undistorted(c.calibration, lensOf(c.dataset)) : c.calibration,
+      c.dataset.yardstick);
+  const vpCalibrationVerifier::Result calibrated = vpCalibrationVerifier::verify(
+      res.calibrated, res.camera,
+      opencv ? undistorted(c.calibration, lensOf(res.camera, res.bundle.opencv_distortion)) : c.calibration,
+      c.dataset.yardstick);
+  res.fit_nominal_rms = nominal.reprojection_rms;
+  res.fit_calibrated_rms = calibrated.reprojection_rms;
+  if (worse(calibrated, nominal, noiseOf(c, res)))
+    add(res, vpSelfCalibDataCheck::DOUBT, "fit-worse-than-nominal",
+        "the calibrated model explains its own calibration views worse than the nominal model (reprojection " +
+            fixed(calibrated.reprojection_rms, 3) + " px against " + fixed(nominal.reprojection_rms, 3) +
+            " px, points triangulated through each model): the estimate did not converge to the data; check the "
+            "robot model, the camera and the pairing of joints and images");
+}
+
+// The held-out views: the calibrated model must explain them and measure the yardstick as the nominal one does, or better.
+void checkHeldOut(const Context &c, Result &res)
+{
+  if (!res.verified)
+    return;
+  if (worse(res.after, res.before, noiseOf(c, res)))
+    add(res, vpSelfCalibDataCheck::DOUBT, "held-out-worse-than-nominal",
+        "the calibrated model explains the " + std::to_string(c.verification.size()) +
+            " held-out views worse than the nominal model (reprojection " + fixed(res.after.reprojection_rms, 3) +
+            " px against " + fixed(res.before.reprojection_rms, 3) +
+            " px): it fits the calibration views but does not generalise; add calibration views or estimate fewer "
+            "parameters");
+  const double L = c.dataset.yardstick.length;
+  if (res.after.has_yardstick && res.before.has_yardstick &&
+      res.after.yardstick_error > std::max(2.0 * res.before.yardstick_error, kYardstickTolerance * L))
+    add(res, vpSelfCalibDataCheck::DOUBT, "yardstick-not-reproduced",
+        "the calibrated model measures the yardstick on the held-out views " +
+            fixed(1e3 * res.after.yardstick_error, 2) + " mm off (" +
+            fixed(100.0 * res.after.yardstick_error / L, 2) + " % of its length; the nominal model: " +
+            fixed(1e3 * res.before.yardstick_error, 2) +
+            " mm): the scale or the model is wrong; check the yardstick's length and end ids");
+}
+
+// The residuals' noise level: stated against measured.
+void checkNoise(const Context &c, Result &res)
+{
+  if (c.options.method == vpRobotSelfCalibration::PAPER)
+    return;
+  const vpKinematicBundleAdjustment::Result &b = res.bundle;
+  if (res.pixel_sd_measured > c.options.max_pixel_noise)
+    add(res, vpSelfCalibDataCheck::DOUBT, "residuals-too-large",
+        "the residuals measure an image noise of " + fixed(res.pixel_sd_measured, 2) + " px, above " +
+            fixed(c.options.max_pixel_noise, 2) +
+            " px: the model does not explain the images (a wrong robot model or camera, joints that do not belong "
+            "to their images, a moving scene, or wrong matches)");
+  else if (b.covariance_scaled &&
+           (!c.options.estimate_pixel_sd || measuredNoiseDiffers(res.pixel_sd, res.pixel_sd_measured)))
+    add(res, vpSelfCalibDataCheck::WARNING, "noise-mismatch",
+        "the residuals contradict the stated noise: sigma0 " + fixed(b.sigma0, 2) + " is outside its 99.9 % interval [" +
+            fixed(b.sigma0_low, 2) + ", " + fixed(b.sigma0_high, 2) + "]; the image noise is " +
+            fixed(res.pixel_sd_measured, 3) + " px where " + fixed(res.pixel_sd, 3) +
+            " px was stated: the standard deviations are scaled by sigma0" +
+            (c.options.estimate_pixel_sd ? std::string() : " (calibrate --pixel-sd auto measures the noise)"));
+}
+} // namespace
+
+bool measuredNoiseDiffers(double stated, double measured)
+{
+  return measured >= 0.01 && (measured > 1.25 * stated || measured < 0.8 * stated);
+}
+
+void assess(const Context &c, Result &res)
+{
+  if (res.status != vpRobotSelfCalibration::OK)
+    return;
+  checkTolerance(c, res);
+  checkFit(c, res);
+  checkHeldOut(c, res);
+  checkNoise(c, res);
+  std::string doubts;
+  for (const Finding &f : res.findings)
+    if (f.severity == vpSelfCalibDataCheck::DOUBT)
+      doubts += (doubts.empty() ? "" : "; ") + f.message;
+  if (!doubts.empty()) {
+    res.status = vpRobotSelfCalibration::DOUBTFUL;
+    res.message += "; doubtful: " + doubts;
+  }
+}
+} // namespace vpSelfCalibPipeline
