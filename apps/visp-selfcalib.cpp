@@ -330,7 +330,7 @@ std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinemat
     out << YAML::Comment(findings_comment) << YAML::Value << YAML::BeginSeq;
   for (const auto &f : r.findings)
     out << YAML::Flow << YAML::BeginMap << YAML::Key << "code" << YAML::Value << f.code << YAML::Key << "severity"
-        << YAML::Value << (f.severity == vpSelfCalibDataCheck::DEGENERATE ? "degenerate" : "warning") << YAML::Key
+        << YAML::Value << vpSelfCalibDataCheck::severityName(f.severity) << YAML::Key
         << "message" << YAML::Value << YAML::DoubleQuoted << f.message << YAML::EndMap;
   if (!r.findings.empty())
     out << YAML::EndSeq;
@@ -379,6 +379,14 @@ std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinemat
       out << YAML::Key << "sd_scaled_by_sigma0" << YAML::Value << true;
     out << YAML::EndMap;
   }
+  if (r.method != vpRobotSelfCalibration::PAPER) {
+    out << YAML::Key << "noise" << YAML::Comment("px: image noise sd used, and measured by the residuals (robust)")
+        << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "pixel_sd" << YAML::Value << r.pixel_sd
+        << YAML::Key << "measured" << YAML::Value << r.pixel_sd_measured << YAML::EndMap;
+    out << YAML::Key << "fit" << YAML::Comment("px: reprojection RMS on the calibration views, nominal and calibrated model")
+        << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "nominal" << YAML::Value << r.fit_nominal_rms
+        << YAML::Key << "calibrated" << YAML::Value << r.fit_calibrated_rms << YAML::EndMap;
+  }
   const std::vector<std::string> names = nominal.getParameterNames();
   out << YAML::Key << "estimated" << YAML::Comment("per parameter: value and sd (m or rad)") << YAML::Value
       << YAML::BeginMap;
@@ -395,6 +403,9 @@ std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinemat
         << YAML::Value << YAML::BeginMap;
     out << YAML::Key << "yardstick_error_nominal" << YAML::Value << r.before.yardstick_error;
     out << YAML::Key << "yardstick_error_calibrated" << YAML::Value << r.after.yardstick_error;
+    out << YAML::Key << "reprojection_rms_nominal" << YAML::Comment("px, points triangulated from these views")
+        << YAML::Value << r.before.reprojection_rms;
+    out << YAML::Key << "reprojection_rms_calibrated" << YAML::Value << r.after.reprojection_rms;
     out << YAML::EndMap;
   }
   out << YAML::EndMap;
@@ -404,7 +415,8 @@ std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinemat
 struct CalibrateArgs {
   std::string dataset, out, method, focal = "auto";
   unsigned int calibration = 0;
-  double pixel_sd = 0.2;
+  std::string pixel_sd = "auto";
+  std::vector<double> tolerance; //!< links (m, rad), then optionally eMc (m, rad)
   std::vector<double> pose_sd; //!< robot pose error (m, rad) of controller poses; empty: exact
   std::vector<double> joint_sd; //!< joint-reading noise (rad), one or one per joint; empty: exact
   std::vector<std::string> estimate; //!< intrinsics estimated beside f: aspect, pp, distortion
@@ -457,9 +469,20 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
       ->check(
           CLI::IsMember(focalNames({vpRobotSelfCalibration::FOCAL_AUTO, vpRobotSelfCalibration::FOCAL_KNOWN,
                                     vpRobotSelfCalibration::FOCAL_SHARED, vpRobotSelfCalibration::FOCAL_PER_PAIR})));
-  c->add_option("--pixel-sd", a.pixel_sd, "image noise sd used as weight (default 0.2)")
-      ->type_name("PX")
-      ->check(selfcalibCli::number(0, true, 1000));
+  c->add_option("--pixel-sd", a.pixel_sd,
+                "image noise sd (px): auto (default) measures it from the residuals (a second run\n"
+                "with the measured value when it differs from 0.2 px by more than 25 %); a number is\n"
+                "used as stated, and the sd are scaled when the residuals contradict it")
+      ->type_name("auto|PX")
+      ->check(selfcalibCli::wordOrNumber("auto", 0, true, 1000));
+  c->add_option("--tolerance", a.tolerance,
+                "the nominal model's tolerance: largest error of a joint placement (m, rad), then\n"
+                "optionally of eMc (m, rad); a correction or an sd beyond it makes the run doubtful\n"
+                "(default 0.01,0.05,0.1,0.5; hand-eye does not check eMc)")
+      ->type_name("T,R[,TE,RE]")
+      ->delimiter(',')
+      ->expected(2, 4)
+      ->check(selfcalibCli::number(0, true, 100));
   c->add_option("--pose-sd", a.pose_sd,
                 "hand-eye: the controller poses' error, translation (m) and rotation (rad) sd,\n"
                 "e.g. 0.002,0.002: each pose gets a correction with that prior, and the sd are\n"
@@ -616,7 +639,20 @@ int calibrate(const CalibrateArgs &a)
     co.method = vpRobotSelfCalibration::methodFromName(a.method);
   vpRobotSelfCalibration::Options po;
   po.focal_mode = vpRobotSelfCalibration::focalModeFromName(a.focal);
-  po.pixel_sd = a.pixel_sd;
+  if (a.pixel_sd == "auto")
+    po.estimate_pixel_sd = true; // from 0.2 px
+  else
+    po.pixel_sd = std::stod(a.pixel_sd);
+  if (a.tolerance.size() == 3)
+    throw CLI::ValidationError("--tolerance", "give 2 values (joint placements) or 4 (and eMc), not 3");
+  if (a.tolerance.size() >= 2) {
+    po.tolerance_translation = a.tolerance[0];
+    po.tolerance_rotation = a.tolerance[1];
+  }
+  if (a.tolerance.size() == 4) {
+    po.tolerance_hand_eye_translation = a.tolerance[2];
+    po.tolerance_hand_eye_rotation = a.tolerance[3];
+  }
   if (a.board_geometry)
     po.bundle.known_points = vpBoardDetector(*co.board).getLayout();
   for (const std::string &e : a.estimate) {
@@ -693,15 +729,18 @@ int calibrate(const CalibrateArgs &a)
       vpRobotSelfCalibration::run(nominal, ds, po, [](const std::string &stage, unsigned int, unsigned int) {
         std::cerr << "... " << stage << "\n";
       });
-  if (r.status != vpRobotSelfCalibration::OK) {
+  const bool doubtful = r.status == vpRobotSelfCalibration::DOUBTFUL;
+  if (r.status != vpRobotSelfCalibration::OK && !doubtful) {
     std::cerr << "calibration failed: " << vpRobotSelfCalibration::statusName(r.status) << ": " << r.message << "\n";
     return 3;
   }
   for (const auto &f : r.findings)
-    std::cerr << "warning: " << f.message << "\n";
+    std::cerr << (f.severity == vpSelfCalibDataCheck::DOUBT ? "doubt: " : "warning: ") << f.message << "\n";
+  // A doubtful model is written all the same, marked so (its name, results.yaml's status, the report).
+
   const fs::path stage = outdir.staging();
   vpKinematicChain model = r.calibrated;
-  model.setName(nominal.getName() + "-calibrated");
+  model.setName(nominal.getName() + (doubtful ? "-calibrated-DOUBTFUL" : "-calibrated"));
   model.saveYaml((stage / "model.yaml").string());
   vpModelExport::saveURDF(model, (stage / "model.urdf").string());
   vpSelfCalibFileWriter::writeCameraXml((stage / "camera.xml").string(), r.camera, "Camera", ds.width, ds.height,
@@ -751,6 +790,11 @@ int calibrate(const CalibrateArgs &a)
   }
   std::cout << "\nwrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
   std::cout << "report: " << (fs::path(out) / "report").string() << "/report.md (" << rep.message << ")\n";
+  if (doubtful) {
+    std::cerr << "calibration doubtful: the model is written (marked so) but failed the checks above; "
+                 "see results.yaml's findings of severity doubt\n";
+    return 3;
+  }
   return 0;
 }
 

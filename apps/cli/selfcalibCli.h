@@ -72,6 +72,21 @@ inline CLI::Validator number(double min = -std::numeric_limits<double>::infinity
       std::string());
 }
 
+//! The word `word`, or a number as number(min, strict, max) checks it (its message).
+inline CLI::Validator wordOrNumber(const std::string &word, double min, bool strict, double max)
+{
+  const CLI::Validator n = number(min, strict, max);
+  return CLI::Validator(
+      [word, n](std::string &value) -> std::string {
+        if (value == word)
+          return std::string();
+        std::string v = value;
+        const std::string err = n(v);
+        return err.empty() ? err : "expected '" + word + "' or a" + err.substr(std::string("expected a").size());
+      },
+      std::string());
+}
+
 /*!
   Parses the command line. Returns -1 when the program is to go on; otherwise its exit code: 0
   after printing the help (--help), kUsageError after printing a usage error on stderr.

@@ -40,7 +40,7 @@ concurrent)
   i=0; while [ ! -e .out.lock ] && kill -0 $pid 2> /dev/null && [ $i -lt 6000 ]; do sleep 0.01; i=$((i + 1)); done
   [ -e .out.lock ] || fail "the first run never held the lock (exited or took over 60 s)"
   sleep 0.05
-  "$APP" calibrate ds.yaml --out out --calibration 6 --force > b.log 2>&1
+  "$APP" calibrate ds.yaml --out out --calibration 8 --force > b.log 2>&1
   b=$?
   wait $pid; a=$?
   [ $a -eq 0 ] || { cat a.log; fail "first run exit $a"; }
@@ -53,7 +53,7 @@ concurrent)
 kill)
   "$APP" calibrate ds.yaml --out old --calibration 7 > /dev/null 2>&1 || fail "old"
   t0=$(date +%s%N)
-  "$APP" calibrate ds.yaml --out new --calibration 6 > /dev/null 2>&1 || fail "new"
+  "$APP" calibrate ds.yaml --out new --calibration 8 > /dev/null 2>&1 || fail "new"
   ms=$(( ($(date +%s%N) - t0) / 1000000 )) # a run's duration: the kills sweep its second half densely
   cmp -s old/results.yaml new/results.yaml && fail "old and new sets should differ"
   cp -r old out
@@ -62,7 +62,7 @@ kill)
     delays="$delays $(awk -v ms=$ms -v k=$k 'BEGIN { printf "%.3f", ms * k / 20000 }')"
   done
   for delay in $delays; do
-    "$APP" calibrate ds.yaml --out out --calibration 6 --force > /dev/null 2>&1 &
+    "$APP" calibrate ds.yaml --out out --calibration 8 --force > /dev/null 2>&1 &
     pid=$!
     sleep $delay
     kill -9 $pid 2> /dev/null
@@ -71,7 +71,7 @@ kill)
     echo "killed at $delay s: $state set"
     rm -rf out && cp -r old out
   done
-  "$APP" calibrate ds.yaml --out out --calibration 6 --force > /dev/null 2>&1 || fail "run after the kills"
+  "$APP" calibrate ds.yaml --out out --calibration 8 --force > /dev/null 2>&1 || fail "run after the kills"
   same_set out new || fail "the run after the kills"
   ls -a | grep -q '\.tmp-\|\.lock' && fail "temporaries left: $(ls -a)"
   echo "kill-ok"

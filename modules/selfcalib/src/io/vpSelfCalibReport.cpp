@@ -196,7 +196,7 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
   const unsigned int N = std::min<unsigned int>(po.num_calibration_poses, static_cast<unsigned int>(ds.views.size()));
   const std::vector<vpSelfCalibDataset::View> cal(ds.views.begin(), ds.views.begin() + N),
       ver(ds.views.begin() + N, ds.views.end());
-  const bool ok = r.status == vpRobotSelfCalibration::OK;
+  const bool ok = r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL;
   const vpKinematicChain &model = ok ? r.calibrated : nominal;
 
   // Data files.
@@ -309,13 +309,24 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
        << "| bundle adjustment | " << r.bundle.num_observations << " observations (" << r.bundle.num_outliers
        << " dropped as outliers), reprojection RMS " << std::setprecision(3) << r.bundle.rms << " px, sigma0 "
        << r.bundle.sigma0 << " |\n";
+  if (r.method != vpRobotSelfCalibration::PAPER && r.fit_calibrated_rms > 0)
+    md << "| image noise | " << std::setprecision(3) << r.pixel_sd << " px used, " << r.pixel_sd_measured
+       << " px measured by the residuals |\n"
+       << "| calibration views explained | reprojection RMS " << r.fit_nominal_rms << " px (nominal model) -> "
+       << r.fit_calibrated_rms << " px (calibrated) |\n";
+  if (r.verified && r.after.num_observations)
+    md << "| held-out views explained | reprojection RMS " << std::setprecision(3) << r.before.reprojection_rms
+       << " px (nominal model) -> " << r.after.reprojection_rms << " px (calibrated) |\n";
+  if (r.status == vpRobotSelfCalibration::DOUBTFUL)
+    md << "\n**DOUBTFUL: the calibrated model was written, but it failed the checks marked `doubt` below; "
+          "use it with care.**\n";
   md << "\nMessage: " << r.message << "\n";
   md << "\n## Data check\n\n";
   if (r.findings.empty())
     md << "Nothing to report: the poses move every joint, the camera rotates and translates, the scene has "
           "relief, the yardstick is seen.\n";
   for (const auto &f : r.findings)
-    md << "- **" << (f.severity == vpSelfCalibDataCheck::DEGENERATE ? "degenerate" : "warning") << "** (" << f.code
+    md << "- **" << vpSelfCalibDataCheck::severityName(f.severity) << "** (" << f.code
        << "): " << f.message << "\n";
   md << "\n## Stage times\n\n| stage | s |\n|---|---|\n";
   for (const auto &s : r.stage_seconds)

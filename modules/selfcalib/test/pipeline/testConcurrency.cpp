@@ -73,7 +73,9 @@ TEST(Concurrency, TwoCalibrationsInTwoThreadsEqualTwoSequentialRuns)
   FLAGS_minloglevel = caller_level;
   const Result sa = run(a), sb = run(b);
   ASSERT_EQ(sa.status, vpRobotSelfCalibration::OK) << sa.message;
-  ASSERT_EQ(sb.status, vpRobotSelfCalibration::OK) << sb.message;
+  // The paper's method on 10 poses at 0.2 px gives a model that explains the held-out views worse
+  // than the nominal one (doubtful): a full result all the same, compared as such.
+  ASSERT_TRUE(sb.status == vpRobotSelfCalibration::OK || sb.status == vpRobotSelfCalibration::DOUBTFUL) << sb.message;
   for (int round = 0; round < 2; ++round) {
     Result ta, tb;
     std::thread first([&] { ta = run(a); });

@@ -313,7 +313,10 @@ TEST(DataCheck, ParallelAxesWarnAndSayWhatIsLost)
   ASSERT_EQ(qs.size(), 18u);
   vpSelfCalibDataset ds = sim.makeDataset(qs);
   Result r = calibrate(sim, ds);
-  EXPECT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
+  // What these poses estimate is weakly determined (eMc.tx about +-0.1 m): a model is returned, and
+  // not called ok.
+  EXPECT_EQ(r.status, vpRobotSelfCalibration::DOUBTFUL) << r.message;
+  ASSERT_NE(finding(r, "poorly-determined"), nullptr) << codes(r);
   ASSERT_NE(finding(r, "joints-barely-move"), nullptr) << codes(r);
   EXPECT_EQ(finding(r, "joints-barely-move")->message.find("joints 1, 4 and 6 barely move"), 0u);
   ASSERT_NE(finding(r, "identifiability-lost"), nullptr) << codes(r);
