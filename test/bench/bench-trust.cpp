@@ -2,7 +2,7 @@
  * bench-trust: can a run's result be trusted, and compared with another run's? (issue 20)
  *
  *   bench-trust [--seeds N] [--draws K] [--robots ur5,puma-mdh] [--noise 0.2,0.5]
- *               [--methods bundle,paper] [--focal known,shared] [--sd-factors 1,2.5,0.4] [--csv FILE]
+ *               [--methods bundle[,paper]] [--focal known,shared] [--sd-factors 1,2.5,0.4] [--csv FILE]
  *
  * The hidden-robot style of check: a UR5 (preset, home as in bench-robots) and a modified-DH PUMA 560
  * (the preset refitted as an MDH table, vpModelExport::fitDH), camera 800 x 600, f 1200 px, the
@@ -165,7 +165,7 @@ int main(int argc, char **argv)
     unsigned int seeds = 3, draws = 30;
     std::vector<std::string> robots = {"ur5", "puma-mdh"};
     std::vector<double> noises = {0.2, 0.5};
-    std::vector<std::string> methods = {"bundle", "paper"};
+    std::vector<std::string> methods = {"bundle"};
     std::vector<std::string> focals = {"known", "shared"};
     std::vector<double> factors = {1, 2.5, 0.4};
     std::string csv_path;
@@ -181,7 +181,7 @@ int main(int argc, char **argv)
         ->delimiter(',')
         ->check(CLI::IsMember({"ur5", "puma-mdh"}));
     selfcalibCli::addNoiseLevels(app, noises, "true pixel noise levels, above 0 (default 0.2,0.5)", true);
-    app.add_option("--methods", methods, "methods (default bundle,paper)")
+    app.add_option("--methods", methods, "methods: bundle, paper (default bundle)")
         ->type_name("LIST")
         ->delimiter(',')
         ->check(CLI::IsMember({"bundle", "paper"}));
@@ -354,7 +354,7 @@ int main(int argc, char **argv)
                 << std::flush;
     }
     std::cout << "\nselection margins (new direction of a column: smallest estimated / largest dependent; threshold "
-              << vpKinematicIdentification::Options().rank_tolerance << "):";
+              << std::scientific << std::setprecision(0) << vpKinematicIdentification::Options().rank_tolerance << "):";
     for (const auto &m : margins)
       std::cout << " " << m.first << " " << std::scientific << std::setprecision(1) << m.second.first << " / "
                 << m.second.second << ";";
