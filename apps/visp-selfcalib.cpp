@@ -398,6 +398,32 @@ std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinemat
   for (const auto &u : r.identifiability.unidentifiable)
     out << YAML::Key << u.name << YAML::Value << YAML::DoubleQuoted << u.reason;
   out << YAML::EndMap;
+  // How the set was chosen (vpKinematicIdentification): the same robot and poses give the same set.
+  const auto &ident = r.identifiability;
+  if (!ident.order.empty()) {
+    out << YAML::Key << "estimated_set"
+        << YAML::Comment("fixed preference order at the nominal model and the calibration joints (README, "
+                         "\"The estimated set\")")
+        << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "rule" << YAML::Value << YAML::DoubleQuoted
+        << "walk the order; estimate a parameter when its column of the relative-pose Jacobian (nominal model, "
+           "joints only, 1 m = 1 rad) adds a new direction above the threshold";
+    out << YAML::Key << "count" << YAML::Value << ident.identified.size();
+    out << YAML::Key << "order" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+    for (unsigned int k : ident.order)
+      out << names[k];
+    out << YAML::EndSeq;
+    out << YAML::Key << "new_direction" << YAML::Comment("of each estimated parameter, in the order") << YAML::Value
+        << YAML::Flow << YAML::BeginMap;
+    for (unsigned int k : ident.order)
+      if (std::binary_search(ident.identified.begin(), ident.identified.end(), k) && k < ident.new_direction.size())
+      {
+        std::ostringstream v;
+        v << std::setprecision(3) << ident.new_direction[k];
+        out << YAML::Key << names[k] << YAML::Value << v.str();
+      }
+    out << YAML::EndMap << YAML::EndMap;
+  }
   if (r.verified) {
     out << YAML::Key << "verification" << YAML::Comment("the paper's 3-D yardstick error on the held-out views (m)")
         << YAML::Value << YAML::BeginMap;

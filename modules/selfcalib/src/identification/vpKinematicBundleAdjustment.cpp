@@ -527,8 +527,9 @@ std::map<int, Eigen::Vector3d> startPoints(const std::map<int, vpColVector> &poi
 
 /*
   Stage 2, the estimated corrections: hand-eye-only, the eMc correction but for the components the
-  caller fixes (the kinematics are trusted); else the set independent for the relative poses of the
-  views at the start model.
+  caller fixes (the kinematics are trusted; a degenerate motion is a status, not a smaller set); else
+  the module's one rule (vpKinematicIdentification::analyseConfigurations): the preference-order
+  selection for the relative poses of the views' joints at the NOMINAL model, whatever the start.
 */
 vpKinematicIdentification::Identifiability estimatedSet(const vpKinematicChain &start,
                                                         const std::vector<vpColVector> &q, const KBA::Options &opt)

@@ -1,6 +1,6 @@
 /*
- * ViSP SelfCalib: pose-based kinematic identification (paper eq. 6) with Ceres, identifiability by
- * QR with column pivoting, covariance and observability.
+ * ViSP SelfCalib: pose-based kinematic identification (paper eq. 6) with Ceres, the estimated set
+ * (a fixed preference order at the nominal model), covariance and observability.
  */
 #include <visp3/selfcalib/vpKinematicIdentification.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include <Eigen/QR>
+#include <Eigen/Householder>
 #include <ceres/ceres.h>
 
 #include "../core/vpSelfCalibCeres.h"
@@ -259,6 +260,23 @@ std::vector<vpColVector> vpKinematicIdentification::randomConfigurations(const v
   return q;
 }
 
+std::vector<unsigned int> vpKinematicIdentification::preferenceOrder(const vpKinematicChain &chain)
+{
+  // See the class description for why this order. Components inside a block: tx ty tz rx ry rz = 0..5.
+  const unsigned int B = vpKinematicChain::kBlockSize, n = chain.getNumJoints();
+  const unsigned int eMc = B * (n + 1);
+  std::vector<unsigned int> order;
+  for (unsigned int k = 0; k < B; ++k)
+    order.push_back(eMc + k);
+  for (unsigned int k = 0; k < B; ++k)
+    order.push_back(k);
+  const unsigned int joint_order[6] = {5, 2, 0, 3, 4, 1}; // rz tz tx rx ry ty
+  for (unsigned int j = 1; j <= n; ++j)
+    for (unsigned int k : joint_order)
+      order.push_back(B * j + k);
+  return order;
+}
+
 vpKinematicIdentification::Identifiability vpKinematicIdentification::analyse(const vpKinematicChain &chain,
                                                                               const std::vector<Measurement> &ms,
                                                                               const Options &opt)
@@ -266,76 +284,82 @@ vpKinematicIdentification::Identifiability vpKinematicIdentification::analyse(co
   opt.check();
   if (ms.empty())
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicIdentification: no measurement");
+  checkMeasurements(chain, ms);
   const std::vector<std::string> names = chain.getParameterNames();
-  std::vector<bool> fixed(names.size(), false);
+  const unsigned int N = chain.getNumParameters();
+  std::vector<bool> fixed(N, false);
   for (const std::string &f : opt.fixed)
     fixed[chain.getParameterIndex(f)] = true;
-  const Eigen::MatrixXd J = toEigen(fullJacobian(chain, ms, true));
+
+  // The design Jacobian: predictions at the NOMINAL model and the measurements' joints only, rows in
+  // SI units unweighted (sd 1 m and 1 rad), at zero residual (the measured values play no part).
+  const vpKinematicChain nominal = chain.nominal();
+  std::vector<Measurement> design = ms;
+  for (Measurement &m : design) {
+    m.M = m.isRelative() ? nominal.get_fMc(m.q).inverse() * nominal.get_fMc(m.q_ref) : nominal.get_fMc(m.q);
+    m.sd_position = 1;
+    m.sd_rotation = 1;
+  }
+  const Eigen::MatrixXd J = toEigen(fullJacobian(nominal, design, true));
   const bool relative = ms[0].isRelative();
 
-  // Candidate columns (not fixed), scaled to unit norm; vanishing columns are set aside first.
   Identifiability out;
-  const double max_norm = J.colwise().norm().maxCoeff();
-  std::vector<unsigned int> candidates;
-  for (unsigned int c = 0; c < J.cols(); ++c) {
-    if (fixed[c])
-      out.unidentifiable.push_back({c, names[c], "fixed by the caller"});
-    else if (!(J.col(c).norm() > 1e-12 * max_norm) || max_norm == 0)
-      out.unidentifiable.push_back({c, names[c],
-                                    relative ? "no effect on relative poses: it moves the whole arm rigidly (a base "
-                                               "motion, or one along or about joint 1's axis), which cancels in "
-                                               "c_i M c_ref"
-                                             : "no effect on the measured poses"});
-    else
-      candidates.push_back(c);
-  }
-  if (candidates.empty())
-    return out;
-  Eigen::MatrixXd Jn(J.rows(), candidates.size());
-  for (size_t k = 0; k < candidates.size(); ++k)
-    Jn.col(k) = J.col(candidates[k]) / J.col(candidates[k]).norm();
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Jn);
-  const Eigen::MatrixXd R = qr.matrixR().triangularView<Eigen::Upper>();
-  const double r11 = std::fabs(R(0, 0));
-  const Eigen::Index kmax = std::min(R.rows(), R.cols());
-  for (Eigen::Index k = 0; k < kmax; ++k) {
-    const double v = std::fabs(R(k, k)) / r11;
-    out.pivots.push_back(v);
-    if (v > opt.rank_tolerance)
-      ++out.rank;
-  }
-  const auto perm = qr.colsPermutation().indices();
-  std::vector<unsigned int> kept, dropped;
-  for (Eigen::Index k = 0; k < perm.size(); ++k)
-    (k < static_cast<Eigen::Index>(out.rank) ? kept : dropped).push_back(candidates[perm(k)]);
-  std::sort(kept.begin(), kept.end());
-  out.identified = kept;
-
-  // Reasons: each dependent column as a combination of the identified ones (SI units).
-  Eigen::MatrixXd Jk(J.rows(), kept.size());
-  for (size_t k = 0; k < kept.size(); ++k)
-    Jk.col(k) = J.col(kept[k]);
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qk(Jk);
-  for (unsigned int c : dropped) {
-    const Eigen::VectorXd a = kept.empty() ? Eigen::VectorXd() : Eigen::VectorXd(qk.solve(J.col(c)));
-    std::vector<std::pair<double, unsigned int>> terms;
-    for (Eigen::Index k = 0; k < a.size(); ++k)
-      if (std::fabs(a(k)) > 1e-3)
-        terms.push_back({std::fabs(a(k)), static_cast<unsigned int>(k)});
+  out.order = preferenceOrder(chain);
+  out.new_direction.assign(N, 0.0);
+  const Eigen::VectorXd norms = J.colwise().norm();
+  const double max_norm = norms.maxCoeff();
+  std::vector<std::string> reason(N);
+  std::vector<unsigned int> kept; // in preference order
+  Eigen::MatrixXd A(J.rows(), 0); // the kept columns, unit norm
+  for (unsigned int c : out.order) {
+    if (fixed[c]) {
+      reason[c] = "fixed by the caller";
+      continue;
+    }
+    if (!(max_norm > 0) || !(norms(c) > 1e-10 * max_norm)) {
+      reason[c] = relative ? "no effect on relative poses: it moves the whole arm rigidly (a base motion, or one "
+                             "along or about joint 1's axis), which cancels in c_i M c_ref"
+                           : "no effect on the measured poses";
+      continue;
+    }
+    const Eigen::VectorXd a = J.col(c) / norms(c);
+    // ||(I - P) a|| for unit a: |R_kk| of the QR of [A a] (Eigen's Householder QR, no pivoting).
+    Eigen::MatrixXd Aa(J.rows(), A.cols() + 1);
+    Aa << A, a;
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(Aa);
+    const double d = A.cols() < J.rows() ? std::fabs(qr.matrixQR()(A.cols(), A.cols())) : 0.0;
+    out.new_direction[c] = d;
+    if (d > opt.rank_tolerance) {
+      kept.push_back(c);
+      A = Aa;
+      continue;
+    }
+    // Dependent: the estimated parameters whose columns combine into this one (SI coefficients:
+    // a change of this parameter acts as coefficient times that change of each of them).
+    const Eigen::VectorXd x = A.householderQr().solve(a);
+    std::vector<std::pair<double, size_t>> terms;
+    for (Eigen::Index k = 0; k < x.size(); ++k)
+      if (std::fabs(x(k)) > 1e-3)
+        terms.push_back({std::fabs(x(k)), static_cast<size_t>(k)});
     std::sort(terms.rbegin(), terms.rend());
     std::ostringstream os;
-    os << "acts on the measurements as a combination of identified parameters:";
+    os.precision(3);
+    os << "depends on parameters estimated before it in the preference order (new direction " << d << " <= "
+       << opt.rank_tolerance << "): acts on the measurements as";
     for (size_t t = 0; t < terms.size() && t < 4; ++t) {
-      os << (t ? "," : "") << " " << names[kept[terms[t].second]] << " (";
-      os.precision(3);
-      os << a(terms[t].second) << ")";
+      const unsigned int k = kept[terms[t].second];
+      os << (t ? "," : "") << " " << names[k] << " (" << x(terms[t].second) * norms(c) / norms(k) << ")";
     }
     if (terms.size() > 4)
       os << ", ...";
-    out.unidentifiable.push_back({c, names[c], os.str()});
+    reason[c] = os.str();
   }
-  std::sort(out.unidentifiable.begin(), out.unidentifiable.end(),
-            [](const Unidentifiable &x, const Unidentifiable &y) { return x.index < y.index; });
+  out.rank = static_cast<unsigned int>(kept.size());
+  out.identified = kept;
+  std::sort(out.identified.begin(), out.identified.end());
+  for (unsigned int c = 0; c < N; ++c)
+    if (!reason[c].empty())
+      out.unidentifiable.push_back({c, names[c], reason[c]});
   return out;
 }
 
@@ -355,7 +379,53 @@ vpKinematicIdentification::Result vpKinematicIdentification::identify(const vpKi
     res.message = "all measurement configurations are equal: no kinematic parameter can be identified";
     return res;
   }
-  res.identifiability = analyse(start, ms, opt);
+  return identify(start, ms, opt, analyse(start, ms, opt));
+}
+
+vpKinematicIdentification::Result vpKinematicIdentification::identify(const vpKinematicChain &start,
+                                                                      const std::vector<Measurement> &ms,
+                                                                      const Options &opt,
+                                                                      const Identifiability &estimated)
+{
+  opt.check();
+  if (ms.empty())
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicIdentification: no measurement");
+  checkMeasurements(start, ms);
+  const unsigned int N = start.getNumParameters();
+  for (size_t k = 0; k < estimated.identified.size(); ++k)
+    if (estimated.identified[k] >= N || (k > 0 && estimated.identified[k] <= estimated.identified[k - 1]))
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpKinematicIdentification::identify: the estimated set must hold increasing indices "
+                                 "below " + std::to_string(N));
+  Result res;
+  res.chain = start;
+  res.sd.resize(N);
+  if (allConfigurationsEqual(ms)) {
+    res.status = RANK_DEFICIENT;
+    res.message = "all measurement configurations are equal: no kinematic parameter can be identified";
+    return res;
+  }
+  res.identifiability = estimated;
+  {
+    // Do these measurements determine every parameter of the set? The same rule restricted to it.
+    Options only = opt;
+    only.fixed.clear();
+    const std::vector<std::string> names = start.getParameterNames();
+    for (unsigned int i = 0; i < N; ++i)
+      if (!std::binary_search(estimated.identified.begin(), estimated.identified.end(), i))
+        only.fixed.push_back(names[i]);
+    const Identifiability here = analyse(start, ms, only);
+    if (here.identified != estimated.identified) {
+      std::string missing;
+      for (unsigned int i : estimated.identified)
+        if (!std::binary_search(here.identified.begin(), here.identified.end(), i))
+          missing += (missing.empty() ? "" : ", ") + names[i];
+      res.status = RANK_DEFICIENT;
+      res.message = "these " + std::to_string(ms.size()) + " measurements do not determine " + missing +
+                    " of the estimated set (pose measurements lost?)";
+      return res;
+    }
+  }
   const std::vector<unsigned int> &id = res.identifiability.identified;
   const size_t p = id.size();
   if (p == 0) {

@@ -61,27 +61,20 @@ void runBundle(const Context &c, Result &res)
     res.measurements.push_back(poseMeasurement(cal[k].q, cal[0].q, toVisp(M), M.t.norm(), c.options));
   }
   c.report("identification from the multi-view poses", 0, 1);
-  res.identification = vpKinematicIdentification::identify(c.nominal, res.measurements, c.options.identification);
+  // With the bundle adjustment's fixed parameters too, so that its set contains this one.
+  vpKinematicIdentification::Options io = c.options.identification;
+  for (const std::string &f : c.bundle.fixed)
+    if (std::find(io.fixed.begin(), io.fixed.end(), f) == io.fixed.end())
+      io.fixed.push_back(f);
+  res.identification = vpKinematicIdentification::identify(c.nominal, res.measurements, io);
   const vpKinematicChain start =
       res.identification.status == vpKinematicIdentification::OK ? res.identification.chain : c.nominal;
   res.stage_seconds.push_back({"identification", seconds(ts)});
 
-  // 3. Kinematic bundle adjustment, points moved to f through the start model.
-  vpKinematicBundleAdjustment::Options bo = c.bundle;
-  // The same estimated set as the identification that gave the start (the others are still at the
-  // nominal values); QR pivoting at the start model could pick another, equivalent set, and the
-  // parameters left out would then keep the identification's values.
-  if (res.identification.status == vpKinematicIdentification::OK)
-    for (const auto &u : res.identification.identifiability.unidentifiable)
-      if (std::find(bo.fixed.begin(), bo.fixed.end(), u.name) == bo.fixed.end())
-        bo.fixed.push_back(u.name);
-  if (!bundle(c, start, start.get_fMc(cal[0].q), s, cal, bo, "kinematic bundle adjustment", res))
+  // 3. Kinematic bundle adjustment, points moved to f through the start model. It estimates the set
+  // selected from every calibration view's joints at the nominal model; the identification above
+  // (same rule, its posed views only) estimated a subset of it, the rest being still nominal.
+  if (!bundle(c, start, start.get_fMc(cal[0].q), s, cal, c.bundle, "kinematic bundle adjustment", res))
     return;
-  // The parameters fixed above because the identification found them dependent keep its reason.
-  const std::vector<std::string> &caller_fixed = c.bundle.fixed;
-  for (auto &u : res.identifiability.unidentifiable)
-    for (const auto &v : res.identification.identifiability.unidentifiable)
-      if (u.name == v.name && std::find(caller_fixed.begin(), caller_fixed.end(), u.name) == caller_fixed.end())
-        u.reason = v.reason;
 }
 } // namespace vpSelfCalibPipeline

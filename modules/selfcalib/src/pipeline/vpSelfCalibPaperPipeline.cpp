@@ -176,7 +176,11 @@ void runPaper(const Context &c, Result &res)
 
   // Identification from the nominal model (the paper's step 3, on metric measurements: see the class).
   c.report("identification", 0, 1);
-  res.identification = vpKinematicIdentification::identify(c.nominal, res.measurements, c.options.identification);
+  // The estimated set from every calibration configuration at the nominal model (one rule for every
+  // method): a pair lost to noise cannot change it; if the remaining pairs do not determine it, the
+  // identification says so (RANK_DEFICIENT).
+  res.identification =
+      vpKinematicIdentification::identify(c.nominal, res.measurements, c.options.identification, estimatedSet(c));
   res.calibrated = res.identification.chain;
   res.stage_seconds.push_back({"identification", seconds(ts)});
   if (res.identification.status != vpKinematicIdentification::OK) {

@@ -100,6 +100,18 @@ void Context::report(const std::string &stage, unsigned int done, unsigned int t
     progress(stage, done, total);
 }
 
+vpKinematicIdentification::Identifiability estimatedSet(const Context &c)
+{
+  std::vector<vpColVector> q;
+  for (const View &v : c.calibration)
+    q.push_back(v.q);
+  vpKinematicIdentification::Options io = c.options.identification;
+  for (const std::string &f : c.bundle.fixed)
+    if (std::find(io.fixed.begin(), io.fixed.end(), f) == io.fixed.end())
+      io.fixed.push_back(f);
+  return vpKinematicIdentification::analyseConfigurations(c.nominal, q, io);
+}
+
 double seconds(const std::chrono::steady_clock::time_point &since)
 {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();

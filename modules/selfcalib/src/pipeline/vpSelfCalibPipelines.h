@@ -63,6 +63,13 @@ vpSelfCalib::CameraModel lensOf(const vpCameraParameters &cam, const std::vector
 //! The views with their pixels through the inverse of the lens distortion (the views themselves without).
 std::vector<View> undistorted(const std::vector<View> &views, const vpSelfCalib::CameraModel &lens);
 
+/*!
+  The estimated set of every method but HAND_EYE: vpKinematicIdentification::analyseConfigurations()
+  on the calibration views' joint configurations at the nominal model, minus the caller's fixed
+  parameters (options.identification.fixed and options.bundle.fixed). Depends on no measured value.
+*/
+vpKinematicIdentification::Identifiability estimatedSet(const Context &context);
+
 //! Wall time since a point (s).
 double seconds(const std::chrono::steady_clock::time_point &since);
 //! Observations (image points) of views.

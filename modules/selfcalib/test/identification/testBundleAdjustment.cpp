@@ -743,8 +743,8 @@ namespace
 /*
   The noise-free full-mode adjustment of 15 simulated views (the truth in the estimated
   coordinates) and the NEES of another estimate against it: corrections and f, with the estimate's
-  own covariance. fixed: the parameters outside the noise-free estimated set, so that noisy runs
-  estimate the same set (the trust issue's stable set is not there yet).
+  own covariance. fixed: the parameters outside the noise-free estimated set (a guard only: the
+  estimated set depends on the nominal model and the joints, so noisy runs estimate the same set).
 */
 struct NoiseFreeReference {
   vpSelfCalibSimulator sim;

@@ -46,9 +46,12 @@
   Gauge, fixed explicitly:
   - the base frame: moving every point with the base leaves the images unchanged, so the base
     correction and the joint-1 placement are not estimated (they cancel as in relative pose
-    measurements). The estimated set is the one vpKinematicIdentification::analyse() finds
-    independent for the relative poses c_kMc_0 of the views at the start model (24 for a 6-joint
-    arm), minus Options::fixed; the others stay at their start values and are listed with the reason.
+    measurements). The estimated set is the one vpKinematicIdentification::analyseConfigurations()
+    selects for the relative poses c_kMc_0 of the views' joint configurations at the NOMINAL model
+    (the start's corrections, the images and the noise play no part: the same robot and poses give
+    the same set; 24 for a 6-joint arm), minus Options::fixed; the others stay at their start values
+    and are listed with the reason. Hand-eye-only mode: eMc's six minus Options::fixed, whatever the
+    motion (a degenerate motion is RANK_DEFICIENT, not a smaller set).
   - the scale: scaling every length of the robot and the scene leaves the images unchanged. With a
     yardstick (both ends observed) the residual (|X_a - X_b| - L) / yardstick_sd fixes it
     (SCALE_YARDSTICK). Without, the component of rho along the scale direction (the least-squares
@@ -91,7 +94,7 @@ public:
     vpMultiViewReconstruction::Loss loss = vpMultiViewReconstruction::LOSS_CAUCHY;
     double loss_scale = 3;             //!< in units of pixel_sd
     double outlier_threshold = 5;      //!< in units of pixel_sd; 0 keeps every observation
-    double rank_tolerance = 1e-6;      //!< identifiability (vpKinematicIdentification::analyse)
+    double rank_tolerance = 1e-6;      //!< estimated-set threshold (vpKinematicIdentification::Options)
     unsigned int max_iterations = 100;
     bool tight = false;                //!< tolerances 1e-15 (exact recovery on noise-free data)
     bool covariance = true;            //!< compute the covariance

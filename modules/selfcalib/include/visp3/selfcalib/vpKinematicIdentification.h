@@ -39,13 +39,33 @@
   each divided by its standard deviation. The Jacobian is analytic, from
   vpKinematicChain::getJacobian() (with the inverse left Jacobian of SO(3) on e_r).
 
-  Identifiability: QR with column pivoting (Eigen ColPivHouseholderQR) of the weighted Jacobian at
-  the start, columns scaled to unit norm, rank where |R_kk| < rank_tolerance |R_11|. The pivoted-in
-  columns are identified, the others stay at their start value and are reported with the reason:
-  "no effect" when their column vanishes (relative poses cancel everything before the first joint
-  rotation: the base and the placement of joint 1), otherwise the identified parameters whose columns
-  combine into theirs (for example j6.tz with eMc.tz: a slide along the last axis is a hand-eye
-  translation).
+  Identifiability (the estimated set; one rule for every estimator of the module: this class, the
+  kinematic bundle adjustment and the pipelines): a deterministic greedy selection that depends only
+  on the robot's NOMINAL model and the joint configurations, never on measured values, noise, weights
+  or a start estimate, so the same robot and poses always give the same set, whatever the noise.
+  - Design Jacobian: the identification Jacobian of the predictions (relative c_i M c_ref or
+    absolute fMc) at the nominal model (all corrections zero) and the measurements' joint vectors,
+    rows in SI units unweighted (1 m of position error weighs as 1 rad of rotation error), columns in
+    the physical unit of their parameter (1 m or 1 rad). The test below is invariant to the scale of
+    each column; the columns are normalised to unit norm for the numerics only.
+  - Preference order (preferenceOrder()): eMc first (tx ty tz rx ry rz), then the base (tx ty tz rx
+    ry rz), then the joint placements base to tip, each in the order rz tz tx rx ry ty. Why: the
+    hand-eye transform is the least known part of the model (a rough guess) and, with a camera on
+    the flange, the last joint's offset (j6.rz) and slide (j6.tz) are indistinguishable from it, so
+    eMc is kept whole (as the hand-eye-only mode estimates it) and they are folded into it; within a
+    joint, the joint offset (rz, DH's theta), the slide along the axis (tz, DH's d), then tx and rx
+    (DH's a and alpha when the frames are DH frames), then ry (Hayati's beta for parallel axes) and
+    ty last: for standard DH frames the kept set is the DH error parameters of each joint, and for
+    nominally parallel consecutive axes Hayati's (theta, a, alpha, beta).
+  - Walk: a parameter is estimated when its column adds a new direction to the span of those
+    already estimated: ||(I - P) a|| / ||a|| > Options::rank_tolerance (default 1e-6: exact
+    dependences sit at 1e-13..1e-16, real identifiability at 1e-3 or more; the README gives the
+    figures for the presets). A column below 1e-10 of the largest is "no effect" (relative poses
+    cancel everything before the first joint rotation: the base and the placement of joint 1); a
+    dependent column is reported with the estimated parameters its column is a combination of
+    (for example j6.tz with eMc.tz: a slide along the last axis is a hand-eye translation).
+  The previous rule (QR with column pivoting of the noise-weighted Jacobian at the start model) chose
+  among nearly tied columns by their noisy norms, so the set changed from run to run; it is gone.
 
   Uncertainty: covariance (J^T J)^-1 of the identified parameters at the solution (Ceres), so the
   standard deviations are those implied by the given measurement noise; sigma0 = sqrt(2 cost / dof)
@@ -64,7 +84,7 @@ public:
   };
 
   struct Options {
-    double rank_tolerance = 1e-6;     //!< relative |R_kk| below which a column is dependent
+    double rank_tolerance = 1e-6;     //!< relative new-direction norm below which a column is dependent (see the class)
     double correlation_threshold = 0.95; //!< |correlation| listed above this
     unsigned int max_iterations = 200;
     bool tight = true;                //!< tolerances 1e-15 (exact recovery on noise-free data)
@@ -80,9 +100,15 @@ public:
 
   struct Identifiability {
     std::vector<unsigned int> identified;        //!< parameter indices, in chain order
-    std::vector<Unidentifiable> unidentifiable;  //!< the others, with their reason
+    std::vector<Unidentifiable> unidentifiable;  //!< the others, with their reason, in chain order
     unsigned int rank = 0;
-    std::vector<double> pivots;                  //!< |R_kk| / |R_11| in pivot order
+    std::vector<unsigned int> order;             //!< the preference order walked (preferenceOrder())
+    /*!
+      Per parameter (chain order): the relative norm of the new direction its column added when it
+      was walked, ||(I - P) a|| / ||a|| (1 for the first; 0 when fixed or without effect). Estimated
+      parameters are above the threshold, dependent ones far below.
+    */
+    std::vector<double> new_direction;
   };
 
   struct Correlation {
@@ -116,15 +142,23 @@ public:
   */
   static vpMatrix jacobian(const vpKinematicChain &chain, const std::vector<Measurement> &measurements);
 
-  //! Identifiability analysis at the chain's current parameters.
+  /*!
+    The fixed preference order of the estimated-set selection (see the class): eMc (tx ty tz rx ry
+    rz), base (tx ty tz rx ry rz), then j1 .. jn each as rz tz tx rx ry ty; parameter indices.
+  */
+  static std::vector<unsigned int> preferenceOrder(const vpKinematicChain &chain);
+
+  /*!
+    The estimated set (see the class) for the measurements' joint configurations, at the chain's
+    NOMINAL model (its corrections are ignored, as are the measured values and their sd).
+  */
   static Identifiability analyse(const vpKinematicChain &chain, const std::vector<Measurement> &measurements,
                                  const Options &options);
 
   /*!
     The identifiable set of a list of configurations: analyse() on the relative poses
     c_kMc_0 = fMc(q_k)^-1 fMc(q_0) of configurations 1.. against configuration 0, at the chain's
-    current parameters (the measurement values do not matter: the analysis uses the Jacobian of the
-    prediction). Throws vpSelfCalibException with fewer than 2 configurations.
+    nominal model. Throws vpSelfCalibException with fewer than 2 configurations.
   */
   static Identifiability analyseConfigurations(const vpKinematicChain &chain, const std::vector<vpColVector> &q,
                                                const Options &options);
@@ -144,6 +178,15 @@ public:
   */
   static Result identify(const vpKinematicChain &start, const std::vector<Measurement> &measurements,
                          const Options &options);
+
+  /*!
+    Identification of a set the caller decided (normally analyseConfigurations() on every planned
+    configuration, so that a pose measurement lost to noise cannot change the set). When these
+    measurements do not determine every parameter of the set, the status is RANK_DEFICIENT and the
+    message names those parameters. Throws as identify() and on a set of another chain's size.
+  */
+  static Result identify(const vpKinematicChain &start, const std::vector<Measurement> &measurements,
+                         const Options &options, const Identifiability &estimated);
 };
 
 #endif

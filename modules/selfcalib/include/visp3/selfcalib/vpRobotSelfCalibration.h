@@ -291,8 +291,10 @@ public:
       other flags are the caller's);
     - hand_eye_only true for HAND_EYE.
 
-    At run time BUNDLE_ADJUSTMENT adds to `fixed` the parameters that the identification giving its
-    start could not identify (so that the bundle adjustment estimates the same set). Throws
+    Every method estimates the set vpKinematicIdentification::analyseConfigurations() selects from the
+    calibration views' joint configurations at the nominal model (PAPER passes it to its
+    identification; BUNDLE_ADJUSTMENT's start identification estimates a subset of it, the bundle
+    adjustment all of it), so it does not depend on the noise. Throws
     vpSelfCalibException when options.bundle sets a derived field to a value other than its default
     and the derived one (FX cleared while the focal length is estimated; hand_eye_only with another
     method), and as resolveFocalMode().
