@@ -8,6 +8,7 @@
 
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
+#include "vpSelfCalibPipelines.h"
 
 using namespace vpSelfCalib;
 
@@ -28,32 +29,17 @@ std::map<int, vpColVector> vpCalibrationVerifier::triangulate(const vpKinematicC
 {
   // Each point: the midpoint of its rays through the camera model (distortion included), refined on
   // its reprojection error; a point the rays place behind a camera is left out.
-  const CameraModel camera = CameraModel::fromVisp(cam);
-  struct Seen {
-    std::vector<Ray> rays;
-    std::vector<Rigid> cMf;
-    std::vector<Eigen::Vector2d> uv;
-  };
-  std::map<int, Seen> seen;
+  std::vector<Rigid> fMc;
   for (size_t k = 0; k < views.size(); ++k) {
     if (views[k].q.size() != model.getNumJoints() && !views[k].has_fMe)
       throw vpSelfCalibException(vpSelfCalibException::dimensionError,
                                  "vpCalibrationVerifier: view " + std::to_string(k) + " has no joint vector of size " +
                                      std::to_string(model.getNumJoints()) + " and no fMe");
-    const Rigid fMc = rigidFromVisp(cameraPose(model, views[k]));
-    for (const auto &o : views[k].points) {
-      Seen &s = seen[o.id];
-      s.uv.emplace_back(o.ip.get_u(), o.ip.get_v());
-      s.rays.push_back(rayThrough(fMc, camera, s.uv.back()));
-      s.cMf.push_back(fMc.inverse());
-    }
+    fMc.push_back(rigidFromVisp(cameraPose(model, views[k])));
   }
   std::map<int, vpColVector> out;
-  for (const auto &kv : seen) {
-    Eigen::Vector3d X;
-    if (triangulateMidpoint(kv.second.rays, X) && refineTriangulation(camera, kv.second.cMf, kv.second.uv, X))
-      out[kv.first] = vpColVector({X.x(), X.y(), X.z()});
-  }
+  for (const auto &kv : vpSelfCalibPipeline::triangulateViews(views, fMc, CameraModel::fromVisp(cam)))
+    out[kv.first] = vpColVector({kv.second.x(), kv.second.y(), kv.second.z()});
   return out;
 }
 
