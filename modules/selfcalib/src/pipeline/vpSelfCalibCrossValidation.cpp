@@ -205,13 +205,12 @@ vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinem
   if (res.num_ok == 0)
     os << "no fold measured (" << res.num_failed << " of " << cv.folds << " calibrations failed)";
   else {
-    os << cv.folds << "-fold cross-validation, held-out reprojection RMS " << res.calibrated_rms.mean << " px (sd "
-       << res.calibrated_rms.sd << ", " << res.calibrated_rms.min << " to " << res.calibrated_rms.max
-       << ") calibrated vs " << res.nominal_rms.mean << " px (sd " << res.nominal_rms.sd << ") nominal, median "
-       << res.calibrated_median.mean << " vs " << res.nominal_median.mean << " px";
-    if (res.num_ok < cv.folds)
-      os << "; " << cv.folds - res.num_ok << " of " << cv.folds << " folds not measured (" << res.num_failed
-         << " failed)";
+    os << "held-out reprojection RMS " << res.calibrated_rms.mean << " px (sd " << res.calibrated_rms.sd << ", "
+       << res.calibrated_rms.min << " to " << res.calibrated_rms.max << ") calibrated vs " << res.nominal_rms.mean
+       << " px (sd " << res.nominal_rms.sd << ") nominal, median " << res.calibrated_median.mean << " vs "
+       << res.nominal_median.mean << " px; " << res.num_ok << " of " << cv.folds << " folds measured";
+    if (res.num_failed)
+      os << ", " << res.num_failed << " failed";
   }
   res.message = os.str();
   res.seconds = vpSelfCalibPipeline::seconds(t0);

@@ -1,17 +1,23 @@
 /*
  * Tests of vpSelfCalibCrossValidation: the folds, exact recovery of the held-out views on
  * noise-free data (bundle adjustment and hand-eye), a statistical bound at 0.2 px over seeds,
- * failed folds counted, a second dataset verified, bad inputs.
+ * failed folds counted, a second dataset verified, bad inputs, the report's section.
  */
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <iterator>
 #include <set>
+#include <sstream>
 #include <vector>
 
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibCrossValidation.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibReport.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
 #include "../testCommon.h"
@@ -253,4 +259,36 @@ TEST(CrossValidation, BadInputsThrow)
   EXPECT_THROW(CV::reprojection(sim.getNominalChain(), ds.cam, {}, false, bad.views, ds.views), vpSelfCalibException);
   cvo.folds = 2;
   EXPECT_THROW(CV::run(sim.getNominalChain(), bad, vpRobotSelfCalibration::Options(), cvo), vpSelfCalibException);
+}
+
+// The report of a run on every view with its cross-validation: no held-out view, so no figure of
+// the held-out views is linked and report.md says why; the cross-validation section has one row
+// per fold with the figures of the result.
+TEST(CrossValidation, ReportHasTheFoldsAndNoEmptyFigure)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 27, 0.2);
+  const vpSelfCalibDataset ds = simulated(sim, 9);
+  vpRobotSelfCalibration::Options o;
+  o.num_calibration_poses = 9;
+  const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
+  ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
+  CV::Options cvo;
+  cvo.folds = 3;
+  const CV::Result cv = CV::run(sim.getNominalChain(), ds, o, cvo);
+  ASSERT_EQ(cv.num_ok, 3u) << cv.message;
+  char dir[] = "/tmp/selfcalib-cv-report-XXXXXX";
+  ASSERT_NE(mkdtemp(dir), nullptr);
+  vpSelfCalibReport::Options ro;
+  ro.gnuplot = "/nonexistent/gnuplot";
+  vpSelfCalibReport::write(dir, sim.getNominalChain(), ds, o, r, nullptr, nullptr, ro, &cv);
+  std::ifstream md(std::string(dir) + "/report.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("No view was held out: all 9 views calibrate"), std::string::npos) << text;
+  EXPECT_EQ(text.find("](verification.png)"), std::string::npos);
+  EXPECT_EQ(text.find("](errors_vs_poses.png)"), std::string::npos);
+  EXPECT_NE(text.find("## Cross-validation"), std::string::npos);
+  std::ostringstream row;
+  row << "| 2 | 2 5 8 | ok | " << std::fixed << std::setprecision(3) << cv.fold[1].fx << " | "
+      << cv.fold[1].calibrated.rms << " | " << cv.fold[1].nominal.rms << " |";
+  EXPECT_NE(text.find(row.str()), std::string::npos) << row.str() << "\n" << text;
 }
