@@ -22,6 +22,11 @@ catalogue_case(simulate-dots-without-images 2 "--target: dots renders images: ad
 catalogue_case(calibrate-calibration-negative 2 "--calibration: expected a whole number from 3 to 100000, got '-1'" "calibrate --calibration -1" [=[$APP calibrate $G --out o --calibration -1]=])
 catalogue_case(calibrate-calibration-fraction 2 "--calibration: expected a whole number from 3 to 100000, got '2.5'" "calibrate --calibration 2.5" [=[$APP calibrate $G --out o --calibration 2.5]=])
 catalogue_case(calibrate-method-unknown 2 "--method: foo not in [{]bundle,paper,hand-eye[}]" "calibrate --method foo" [=[$APP calibrate $G --out o --method foo]=])
+catalogue_case(calibrate-holdout-one 2 "--holdout: expected a whole number from 2 to 100000, got '1'" "calibrate --holdout 1" [=[$APP calibrate $G --out o --holdout 1]=])
+catalogue_case(calibrate-holdout-negative 2 "--holdout: expected a whole number from 2 to 100000, got '-2'" "calibrate --holdout -2" [=[$APP calibrate $G --out o --holdout -2]=])
+catalogue_case(calibrate-folds-one 2 "--folds: expected 0 or a whole number from 2 to 100, got '1'" "calibrate --folds 1" [=[$APP calibrate $G --out o --folds 1]=])
+catalogue_case(calibrate-folds-huge 2 "--folds: expected 0 or a whole number from 2 to 100, got '101'" "calibrate --folds 101" [=[$APP calibrate $G --out o --folds 101]=])
+catalogue_case(calibrate-folds-fraction 2 "--folds: expected 0 or a whole number from 2 to 100, got '2.5'" "calibrate --folds 2.5" [=[$APP calibrate $G --out o --folds 2.5]=])
 catalogue_case(calibrate-focal-unknown 2 "--focal: zoom not in" "calibrate --focal zoom" [=[$APP calibrate $G --out o --focal zoom]=])
 catalogue_case(calibrate-pixel-sd-zero 2 "--pixel-sd: expected a number above 0 and at most 1000, got '0'" "calibrate --pixel-sd 0" [=[$APP calibrate $G --out o --pixel-sd 0]=])
 catalogue_case(calibrate-pixel-sd-inf 2 "--pixel-sd: expected a number above 0 and at most 1000, got 'inf'" "calibrate --pixel-sd inf" [=[$APP calibrate $G --out o --pixel-sd inf]=])
@@ -90,6 +95,11 @@ catalogue_case(predict-not-a-number 1 "'abc' is not a number" "predict: a joint 
 catalogue_case(predict-huge-model 1 "expected a value from -10000 to 10000 m" "predict on a model with 1e308 links" [=[printf 'name: r\nconvention: dh\njoints:\n  - {a: 0, d: 1e308, alpha: 0, min: -1, max: 1}\n' > m.yaml && echo 0 | $APP predict m.yaml]=])
 catalogue_case(verify-no-yardstick 1 "has no yardstick to verify against" "verify on a dataset without a yardstick" [=[sed '/^yardstick/d' $G > ds.yaml && $APP verify viper850 ds.yaml]=])
 catalogue_case(calibrate-calibration-beyond-views 1 "--calibration 50: the dataset has 8 views" "calibrate --calibration 50 on 8 views" [=[$APP calibrate $G --out o --calibration 50]=])
+catalogue_case(calibrate-holdout-beyond-views 1 "--holdout 6: the dataset has 8 views. at least 3 must remain to calibrate" "calibrate --holdout 6 on 8 views" [=[$APP calibrate $G --out o --holdout 6]=])
+catalogue_case(calibrate-calibration-holdout-disagree 1 "--calibration 5 and --holdout 2 disagree: the dataset has 8 views, not 7. give one of them" "calibrate --calibration 5 --holdout 2 on 8 views" [=[$APP calibrate $G --out o --calibration 5 --holdout 2]=])
+catalogue_case(calibrate-folds-beyond-views 1 "--folds 9: vpSelfCalibCrossValidation: 9 folds of 8 views: at most one fold per view" "calibrate --folds 9 on 8 views" [=[$APP calibrate $G --out o --folds 9]=])
+catalogue_case(calibrate-folds-small-training 1 "--folds 2: vpSelfCalibCrossValidation: 2 folds of 5 views hold out up to 3 views, leaving 2 to calibrate: at least 3 are needed" "calibrate --calibration 5 --folds 2 (training sets of 2 views)" [=[$APP calibrate $G --out o --calibration 5 --folds 2]=])
+catalogue_case(calibrate-heldout-missing 1 "dataset 'none.yaml': cannot read: No such file or directory" "calibrate --heldout with a missing file" [=[$APP calibrate $G --out o --heldout none.yaml]=])
 catalogue_case(simulate-joints-missing 1 "cannot open joints file 'none.txt'" "simulate --joints with a missing file" [=[$APP simulate x.yaml --joints none.txt]=])
 
 # Outputs (exit 1): never over an input, never a mix, nothing replaced without --force.
