@@ -779,6 +779,10 @@ void runProtocol(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, 
                   << vpRobotSelfCalibration::statusName(p.cv->fold[f].status) << ": " << p.cv->fold[f].message << "\n";
   }
   if (!p.heldout_file.empty()) {
+    if (p.heldout.robot != ds.robot || p.heldout.width != ds.width || p.heldout.height != ds.height)
+      std::cerr << "warning: --heldout " << p.heldout_file << ": its robot (" << p.heldout.robot << ") or image size ("
+                << p.heldout.width << " x " << p.heldout.height << ") is not the dataset's (" << ds.robot << ", "
+                << ds.width << " x " << ds.height << "): the verification assumes the same robot and camera\n";
     if (vpSelfCalibImageCorrespondences::needsFrontEnd(p.heldout)) {
       std::cerr << "... image front end of the held-out dataset (" << p.heldout.views.size() << " images)\n";
       cv::setNumThreads(threads);
