@@ -190,8 +190,8 @@ std::string px(double v)
 void crossValidationSection(std::ostream &md, const vpSelfCalibCrossValidation::Result &cv)
 {
   md << "\n## Cross-validation\n\n"
-     << cv.folds << " folds over the " << cv.views << " views (view i held out in fold i mod " << cv.folds
-     << "): each fold calibrates on the others and predicts the held-out views' pixels from the scene "
+     << cv.folds << " folds over the " << cv.views << " views (views numbered from 1: view n is held out in fold "
+     << "((n - 1) mod " << cv.folds << ") + 1): each fold calibrates on the others and predicts the held-out views' pixels from the scene "
         "the training views triangulate, through the calibrated model and camera, and through the nominal "
         "model with the dataset's camera. No true pose is needed: this is the figure to trust on real data. "
         "Image noise alone gives an RMS of sqrt(2) times the pixel sd.\n\n";
