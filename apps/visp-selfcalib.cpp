@@ -750,6 +750,11 @@ int prepareProtocol(const CalibrateArgs &a, unsigned int m, vpRobotSelfCalibrati
   if (!a.heldout.empty()) {
     p.heldout_file = a.heldout;
     p.heldout = vpSelfCalibDataset::loadYaml(a.heldout);
+    if (p.heldout.views.size() < 2) {
+      std::cerr << "error: --heldout " << a.heldout << ": " << p.heldout.views.size()
+                << " view(s); at least 2 are needed to verify on\n";
+      return 1;
+    }
   }
   return 0;
 }

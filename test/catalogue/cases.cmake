@@ -100,6 +100,7 @@ catalogue_case(calibrate-calibration-holdout-disagree 1 "--calibration 5 and --h
 catalogue_case(calibrate-folds-beyond-views 1 "--folds 9: vpSelfCalibCrossValidation: 9 folds of 8 views: at most one fold per view" "calibrate --folds 9 on 8 views" [=[$APP calibrate $G --out o --folds 9]=])
 catalogue_case(calibrate-folds-small-training 1 "--folds 2: vpSelfCalibCrossValidation: 2 folds of 5 views hold out up to 3 views, leaving 2 to calibrate: at least 3 are needed" "calibrate --calibration 5 --folds 2 (training sets of 2 views)" [=[$APP calibrate $G --out o --calibration 5 --folds 2]=])
 catalogue_case(calibrate-heldout-missing 1 "dataset 'none.yaml': cannot read: No such file or directory" "calibrate --heldout with a missing file" [=[$APP calibrate $G --out o --heldout none.yaml]=])
+catalogue_case(calibrate-heldout-one-view 1 "--heldout h.yaml: 1 view.s.. at least 2 are needed to verify on" "calibrate --heldout with a dataset of one view" [=[awk '/^poses:/{n=0} /- joints:/{n++} n<2' $G > h.yaml && $APP calibrate $G --out o --heldout h.yaml]=])
 catalogue_case(simulate-joints-missing 1 "cannot open joints file 'none.txt'" "simulate --joints with a missing file" [=[$APP simulate x.yaml --joints none.txt]=])
 
 # Outputs (exit 1): never over an input, never a mix, nothing replaced without --force.
