@@ -26,6 +26,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -44,6 +45,7 @@
 #include <visp3/selfcalib/vpMeasurementPlanner.h>
 #include <visp3/selfcalib/vpModelExport.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibCrossValidation.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibFileWriter.h>
@@ -311,9 +313,87 @@ int simulate(const SimulateArgs &a)
 // ---------------------------------------------------------------------------------------------
 // calibrate
 
+/*!
+  The protocol of a calibrate run (README "calibrate"): by default every view calibrates and a k-fold
+  cross-validation measures the model on views it was not calibrated on; --holdout N (or
+  --calibration) keeps the paper's split, the last views verifying; --heldout FILE verifies the
+  model on a second dataset.
+*/
+struct Protocol {
+  unsigned int calibration = 0, held_out = 0; //!< views calibrating, views after them verifying
+  unsigned int folds = 0;                     //!< 0: no cross-validation
+  std::string note;                           //!< why there is no cross-validation, when it was not asked for
+  std::string heldout_file;
+  vpSelfCalibDataset heldout;                 //!< --heldout's dataset (views empty without)
+  std::optional<vpSelfCalibCrossValidation::Result> cv;
+  std::optional<vpSelfCalibCrossValidation::HeldOut> verified;
+};
+
+//! The protocol's part of results.yaml: the split, the cross_validation block, the held-out dataset.
+void protocolYaml(YAML::Emitter &out, const Protocol &p)
+{
+  using CV = vpSelfCalibCrossValidation;
+  out << YAML::Key << "protocol" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "calibration_views"
+      << YAML::Value << p.calibration << YAML::Key << "held_out_views" << YAML::Value << p.held_out << YAML::Key
+      << "folds" << YAML::Value << p.folds << YAML::EndMap;
+  auto spread = [&out](const char *key, const CV::Spread &s) {
+    out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "mean" << YAML::Value
+        << s.mean << YAML::Key << "sd" << YAML::Value << s.sd << YAML::Key << "min" << YAML::Value << s.min
+        << YAML::Key << "max" << YAML::Value << s.max << YAML::EndMap;
+  };
+  if (p.cv) {
+    const CV::Result &cv = *p.cv;
+    out << YAML::Key << "cross_validation"
+        << YAML::Comment("held-out views' reprojection error (px), scene from the training views; view i in fold i mod k")
+        << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "folds" << YAML::Value << cv.folds << YAML::Key << "views" << YAML::Value << cv.views
+        << YAML::Key << "measured" << YAML::Value << cv.num_ok << YAML::Key << "failed" << YAML::Value
+        << cv.num_failed;
+    out << YAML::Key << "rms_px" << YAML::Value << YAML::BeginMap;
+    spread("calibrated", cv.calibrated_rms);
+    spread("nominal", cv.nominal_rms);
+    out << YAML::EndMap << YAML::Key << "median_px" << YAML::Value << YAML::BeginMap;
+    spread("calibrated", cv.calibrated_median);
+    spread("nominal", cv.nominal_median);
+    out << YAML::EndMap << YAML::Key << "per_fold" << YAML::Value << YAML::BeginSeq;
+    for (const CV::Fold &f : cv.fold) {
+      out << YAML::Flow << YAML::BeginMap << YAML::Key << "held_out" << YAML::Value << YAML::Flow << f.held_out
+          << YAML::Key << "status" << YAML::Value << vpRobotSelfCalibration::statusName(f.status);
+      if (f.status == vpRobotSelfCalibration::OK)
+        out << YAML::Key << "fx" << YAML::Value << f.fx << YAML::Key << "rms_calibrated" << YAML::Value
+            << f.calibrated.rms << YAML::Key << "median_calibrated" << YAML::Value << f.calibrated.median;
+      else
+        out << YAML::Key << "message" << YAML::Value << YAML::DoubleQuoted << f.message;
+      out << YAML::Key << "rms_nominal" << YAML::Value << f.nominal.rms << YAML::Key << "median_nominal"
+          << YAML::Value << f.nominal.median << YAML::Key << "observations" << YAML::Value << f.nominal.observations;
+      if (f.verified)
+        out << YAML::Key << "yardstick_error_calibrated" << YAML::Value << f.yardstick_error_calibrated << YAML::Key
+            << "yardstick_error_nominal" << YAML::Value << f.yardstick_error_nominal;
+      out << YAML::EndMap;
+    }
+    out << YAML::EndSeq << YAML::EndMap;
+  }
+  if (p.verified) {
+    const CV::HeldOut &h = *p.verified;
+    out << YAML::Key << "heldout_dataset"
+        << YAML::Comment("the calibrated model on a second dataset: its views' reprojection error (px), scene "
+                         "from these views; yardstick 3-D error (m)")
+        << YAML::Value << YAML::BeginMap << YAML::Key << "file" << YAML::Value << p.heldout_file << YAML::Key
+        << "views" << YAML::Value << h.views << YAML::Key << "rms_px" << YAML::Value << YAML::Flow << YAML::BeginMap
+        << YAML::Key << "calibrated" << YAML::Value << h.calibrated.rms << YAML::Key << "nominal" << YAML::Value
+        << h.nominal.rms << YAML::EndMap << YAML::Key << "median_px" << YAML::Value << YAML::Flow << YAML::BeginMap
+        << YAML::Key << "calibrated" << YAML::Value << h.calibrated.median << YAML::Key << "nominal" << YAML::Value
+        << h.nominal.median << YAML::EndMap << YAML::Key << "observations" << YAML::Value << h.calibrated.observations;
+    if (h.has_yardstick)
+      out << YAML::Key << "yardstick_error_nominal" << YAML::Value << h.yardstick_error_nominal << YAML::Key
+          << "yardstick_error_calibrated" << YAML::Value << h.yardstick_error_calibrated;
+    out << YAML::EndMap;
+  }
+}
+
 //! results.yaml: what the run found, without wall times (the same dataset gives the same file).
 std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinematicChain &nominal,
-                        const std::string &dataset)
+                        const std::string &dataset, const Protocol &protocol)
 {
   YAML::Emitter out;
   out.SetDoublePrecision(17);
@@ -434,6 +514,7 @@ std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinemat
     out << YAML::Key << "reprojection_rms_calibrated" << YAML::Value << r.after.reprojection_rms;
     out << YAML::EndMap;
   }
+  protocolYaml(out, protocol);
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
@@ -443,6 +524,10 @@ struct CalibrateArgs {
   unsigned int calibration = 0;
   std::string pixel_sd = "auto";
   std::vector<double> tolerance; //!< links (m, rad), then optionally eMc (m, rad)
+  unsigned int holdout = 0;       //!< --holdout N: the last N views verify (0: none)
+  unsigned int folds = 5;         //!< --folds K: k-fold cross-validation (0: none)
+  bool folds_given = false;
+  std::string heldout;            //!< --heldout FILE: a second dataset to verify on
   std::vector<double> pose_sd; //!< robot pose error (m, rad) of controller poses; empty: exact
   std::vector<double> joint_sd; //!< joint-reading noise (rad), one or one per joint; empty: exact
   std::vector<std::string> estimate; //!< intrinsics estimated beside f: aspect, pp, distortion
@@ -487,9 +572,32 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
                 "hand-eye: kinematics trusted, eMc, f and points estimated")
       ->type_name("M")
       ->check(CLI::IsMember(methods));
-  c->add_option("--calibration", a.calibration, "calibration views, at least 3 (default 15, or all but 2 when fewer)")
+  c->add_option("--calibration", a.calibration,
+                "the paper's split: the first N views calibrate, the others verify (3-D yardstick\n"
+                "error); at least 3 (default: every view calibrates)")
       ->type_name("N")
       ->check(selfcalibCli::wholeNumber(3, 100000));
+  c->add_option("--holdout", a.holdout,
+                "the paper's split counted from the end: the last N views verify, the others\n"
+                "calibrate; 2 to 100000 (the yardstick error needs two views; with --calibration,\n"
+                "the two must add up to the views)")
+      ->type_name("N")
+      ->check(selfcalibCli::wholeNumber(2, 100000));
+  CLI::Option *folds =
+      c->add_option("--folds", a.folds,
+                    "K-fold cross-validation (view i held out in fold i mod K), 0 or 2 to 100: the\n"
+                    "held-out views' reprojection error through the calibrated model vs the nominal\n"
+                    "one, the figure to trust on real data (default 5 when every view calibrates,\n"
+                    "skipped with a note under 6 views; with --holdout / --calibration none unless\n"
+                    "given: then over the calibration views); 0: none")
+          ->type_name("K")
+          ->check(selfcalibCli::zeroOrWholeNumber(2, 100));
+  folds->each([&a](const std::string &) { a.folds_given = true; });
+  c->add_option("--heldout", a.heldout,
+                "a second dataset of the same robot and camera, not used to calibrate: the model is\n"
+                "verified on it (3-D yardstick error when it has one; its views' reprojection error,\n"
+                "calibrated vs nominal, the scene triangulated from them)")
+      ->type_name("FILE");
   c->add_option("--focal", a.focal, "auto (default: known when the dataset gives px, py), known, shared, per-pair")
       ->type_name("MODE")
       ->check(
@@ -575,7 +683,8 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
               "without it the board's points are unknown scene points")
       ->needs(board);
   c->add_flag("--force", a.force, "replace the results of an earlier run in DIR");
-  c->footer("Self-calibrates on the first N views and verifies on the others. Writes DIR/model.yaml,\n"
+  c->footer("Self-calibrates on every view and cross-validates (--folds), or on the first views and\n"
+            "verifies on the last ones (--holdout, --calibration). Writes DIR/model.yaml,\n"
             "DIR/model.urdf, DIR/camera.xml, DIR/results.yaml and DIR/report/ (report.md, gnuplot figures)\n"
             "as one set: written beside DIR, then moved into place at once, under a lock on DIR (a second run\n"
             "into the same DIR is refused). DIR must not hold an input or files that are not results; an\n"
@@ -644,6 +753,116 @@ int checkOutputDirectory(const vpSelfCalibOutputDirectory &outdir, const std::st
     return 1;
   }
   return 0;
+}
+
+/*!
+  The split of the m views (po.num_calibration_poses) and the folds from --calibration, --holdout and
+  --folds, and --heldout's dataset read (its front end runs after the calibration). Returns 0, or the
+  exit code (1) after the message.
+*/
+int prepareProtocol(const CalibrateArgs &a, unsigned int m, vpRobotSelfCalibration::Options &po, Protocol &p)
+{
+  if (a.calibration > m) {
+    std::cerr << "error: --calibration " << a.calibration << ": the dataset has " << m
+              << " views (the calibration uses the first N, the others verify)\n";
+    return 1;
+  }
+  if (a.holdout && a.calibration && a.calibration + a.holdout != m) {
+    std::cerr << "error: --calibration " << a.calibration << " and --holdout " << a.holdout << " disagree: the dataset has "
+              << m << " views, not " << a.calibration + a.holdout << "; give one of them\n";
+    return 1;
+  }
+  if (a.holdout && (a.holdout >= m || m - a.holdout < 3)) {
+    std::cerr << "error: --holdout " << a.holdout << ": the dataset has " << m
+              << " views; at least 3 must remain to calibrate\n";
+    return 1;
+  }
+  const bool split = a.calibration || a.holdout;
+  p.calibration = a.calibration ? a.calibration : m - a.holdout;
+  p.held_out = m - p.calibration;
+  po.num_calibration_poses = std::max(3u, p.calibration);
+  // Cross-validation: by default when every view calibrates, over the calibration views otherwise.
+  p.folds = split && !a.folds_given ? 0 : a.folds;
+  if (p.folds && !a.folds_given && p.calibration < 6) {
+    p.note = "cross-validation skipped: " + std::to_string(p.calibration) +
+             " views, fewer than 6 (each fold would calibrate on 4 views or fewer); --folds K asks for it";
+    p.folds = 0;
+  }
+  if (p.folds) {
+    try {
+      vpSelfCalibCrossValidation::folds(p.calibration, p.folds);
+    } catch (const vpSelfCalibException &e) {
+      std::cerr << "error: --folds " << p.folds << ": " << e.getStringMessage() << "\n";
+      return 1;
+    }
+  }
+  if (!a.heldout.empty()) {
+    p.heldout_file = a.heldout;
+    p.heldout = vpSelfCalibDataset::loadYaml(a.heldout);
+    if (p.heldout.views.size() < 2) {
+      std::cerr << "error: --heldout " << a.heldout << ": " << p.heldout.views.size()
+                << " view(s); at least 2 are needed to verify on\n";
+      return 1;
+    }
+  }
+  return 0;
+}
+
+/*!
+  After a calibration: the k-fold cross-validation over the calibration views and the verification on
+  --heldout's dataset (the front end run on its images with the calibration's options).
+*/
+void runProtocol(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, const vpRobotSelfCalibration::Options &po,
+                 const vpRobotSelfCalibration::Result &r, const vpSelfCalibImageCorrespondences::Options &co,
+                 int threads, Protocol &p)
+{
+  if (!p.note.empty())
+    std::cerr << "note: " << p.note << "\n";
+  if (p.folds) {
+    vpSelfCalibDataset cal = ds;
+    cal.views.resize(p.calibration);
+    vpSelfCalibCrossValidation::Options cvo;
+    cvo.folds = p.folds;
+    p.cv = vpSelfCalibCrossValidation::run(nominal, cal, po, cvo,
+                                           [](const std::string &stage, unsigned int, unsigned int) {
+                                             std::cerr << "... " << stage << "\n";
+                                           });
+    for (size_t f = 0; f < p.cv->fold.size(); ++f)
+      if (p.cv->fold[f].status != vpRobotSelfCalibration::OK)
+        std::cerr << "warning: cross-validation fold " << f + 1 << " failed: "
+                  << vpRobotSelfCalibration::statusName(p.cv->fold[f].status) << ": " << p.cv->fold[f].message << "\n";
+  }
+  if (!p.heldout_file.empty()) {
+    if (p.heldout.robot != ds.robot || p.heldout.width != ds.width || p.heldout.height != ds.height)
+      std::cerr << "warning: --heldout " << p.heldout_file << ": its robot (" << p.heldout.robot << ") or image size ("
+                << p.heldout.width << " x " << p.heldout.height << ") is not the dataset's (" << ds.robot << ", "
+                << ds.width << " x " << ds.height << "): the verification assumes the same robot and camera\n";
+    if (vpSelfCalibImageCorrespondences::needsFrontEnd(p.heldout)) {
+      std::cerr << "... image front end of the held-out dataset (" << p.heldout.views.size() << " images)\n";
+      cv::setNumThreads(threads);
+      vpSelfCalibImageCorrespondences::fromDatasetImages(p.heldout, co);
+      cv::setNumThreads(1);
+    }
+    p.verified = vpSelfCalibCrossValidation::verifyHeldOut(nominal, ds, po, r, p.heldout);
+  }
+}
+
+//! The protocol's figures on stdout, one line each.
+void printProtocol(const Protocol &p)
+{
+  if (p.cv)
+    std::cout << "cross-validation (" << p.cv->folds << " folds of " << p.cv->views << " views): " << p.cv->message
+              << "\n";
+  if (p.verified) {
+    const vpSelfCalibCrossValidation::HeldOut &h = *p.verified;
+    std::cout << std::setprecision(3) << "held-out dataset " << p.heldout_file << " (" << h.views
+              << " views): reprojection RMS " << h.calibrated.rms << " px calibrated vs " << h.nominal.rms
+              << " px nominal";
+    if (h.has_yardstick)
+      std::cout << ", yardstick 3-D error " << 1e3 * h.yardstick_error_nominal << " mm (nominal) -> "
+                << 1e3 * h.yardstick_error_calibrated << " mm";
+    std::cout << std::defaultfloat << "\n";
+  }
 }
 
 int calibrate(const CalibrateArgs &a)
@@ -743,13 +962,9 @@ int calibrate(const CalibrateArgs &a)
   }
   cv::setNumThreads(1);
   po.method = cr.method;
-  const unsigned int m = static_cast<unsigned int>(ds.views.size());
-  if (a.calibration > m) {
-    std::cerr << "error: --calibration " << a.calibration << ": the dataset has " << m
-              << " views (the calibration uses the first N, the others verify)\n";
-    return 1;
-  }
-  po.num_calibration_poses = a.calibration ? a.calibration : (m >= 17 ? 15 : std::max(3u, m > 2 ? m - 2 : m));
+  Protocol protocol;
+  if (const int bad = prepareProtocol(a, static_cast<unsigned int>(ds.views.size()), po, protocol))
+    return bad;
 
   const vpRobotSelfCalibration::Result r =
       vpRobotSelfCalibration::run(nominal, ds, po, [](const std::string &stage, unsigned int, unsigned int) {
@@ -763,7 +978,7 @@ int calibrate(const CalibrateArgs &a)
   for (const auto &f : r.findings)
     std::cerr << (f.severity == vpSelfCalibDataCheck::DOUBT ? "doubt: " : "warning: ") << f.message << "\n";
   // A doubtful model is written all the same, marked so (its name, results.yaml's status, the report).
-
+  runProtocol(nominal, ds, po, r, co, a.threads, protocol);
   const fs::path stage = outdir.staging();
   vpKinematicChain model = r.calibrated;
   model.setName(nominal.getName() + (doubtful ? "-calibrated-DOUBTFUL" : "-calibrated"));
@@ -771,12 +986,13 @@ int calibrate(const CalibrateArgs &a)
   vpModelExport::saveURDF(model, (stage / "model.urdf").string());
   vpSelfCalibFileWriter::writeCameraXml((stage / "camera.xml").string(), r.camera, "Camera", ds.width, ds.height,
                                         "self-calibrated by visp-selfcalib");
-  vpSelfCalibFileWriter::write((stage / "results.yaml").string(), resultsYaml(r, nominal, dataset), "results");
+  vpSelfCalibFileWriter::write((stage / "results.yaml").string(), resultsYaml(r, nominal, dataset, protocol), "results");
   std::cerr << "... report\n";
   const vpSelfCalibPoseStudy::Result study = vpSelfCalibPoseStudy::run(nominal, ds, po); // Figure 6
   const vpSelfCalibReport::Result rep =
       vpSelfCalibReport::write((stage / "report").string(), nominal, ds, po, r,
-                               cr.front_end_ran ? &cr.front_end : nullptr, &study, vpSelfCalibReport::Options());
+                               cr.front_end_ran ? &cr.front_end : nullptr, &study, vpSelfCalibReport::Options(),
+                               protocol.cv ? &*protocol.cv : nullptr, protocol.verified ? &*protocol.verified : nullptr);
   outdir.commit();
 
   const std::string files[4] = {(fs::path(out) / "model.yaml").string(), (fs::path(out) / "camera.xml").string(),
@@ -814,7 +1030,9 @@ int calibrate(const CalibrateArgs &a)
                 << " +- " << std::setprecision(2) << r.bundle.intrinsics_sd[i];
     std::cout << std::defaultfloat;
   }
-  std::cout << "\nwrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
+  std::cout << "\n";
+  printProtocol(protocol);
+  std::cout << "wrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
   std::cout << "report: " << (fs::path(out) / "report").string() << "/report.md (" << rep.message << ")\n";
   if (doubtful) {
     std::cerr << "calibration doubtful: the model is written (marked so) but failed the checks above; "

@@ -49,6 +49,27 @@ inline CLI::Validator wholeNumber(unsigned long long min = 0,
       std::string());
 }
 
+/*!
+  0 (the feature off) or a whole number from `min` to `max`, in decimal digits (as wholeNumber()):
+  for counts where the values between 0 and min mean nothing (--folds 1).
+*/
+inline CLI::Validator zeroOrWholeNumber(unsigned long long min, unsigned long long max)
+{
+  return CLI::Validator(
+      [min, max](std::string &value) -> std::string {
+        const std::string expected = "expected 0 or a whole number from " + std::to_string(min) + " to " +
+                                     std::to_string(max) + ", got '" + value + "'";
+        if (value.empty() || value.find_first_not_of("0123456789") != std::string::npos)
+          return expected;
+        errno = 0;
+        const unsigned long long v = std::strtoull(value.c_str(), nullptr, 10);
+        if (errno == ERANGE || (v != 0 && (v < min || v > max)))
+          return expected;
+        return std::string();
+      },
+      std::string());
+}
+
 //! A finite number, at least `min` (or above it when `strict`), and at most `max`.
 inline CLI::Validator number(double min = -std::numeric_limits<double>::infinity(), bool strict = false,
                              double max = std::numeric_limits<double>::infinity())

@@ -4,6 +4,7 @@
 #include <visp3/selfcalib/vpSelfCalibReport.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <cmath>
@@ -178,6 +179,65 @@ int runProgram(const std::string &program, const std::string &dir, const std::st
     }
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
+std::string px(double v)
+{
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(3) << v;
+  return os.str();
+}
+
+// The k-fold cross-validation: the figure, then one row per fold (failed folds with their status).
+void crossValidationSection(std::ostream &md, const vpSelfCalibCrossValidation::Result &cv)
+{
+  md << "\n## Cross-validation\n\n"
+     << cv.folds << " folds over the " << cv.views << " views (views numbered from 1: view n is held out in fold "
+     << "((n - 1) mod " << cv.folds << ") + 1): each fold calibrates on the others and predicts the held-out views' pixels from the scene "
+        "the training views triangulate, through the calibrated model and camera, and through the nominal "
+        "model with the dataset's camera. No true pose is needed: this is the figure to trust on real data. "
+        "Image noise alone gives an RMS of sqrt(2) times the pixel sd.\n\n";
+  if (cv.num_ok > 0)
+    md << "Held-out reprojection RMS: calibrated **" << px(cv.calibrated_rms.mean) << " px** (sd "
+       << px(cv.calibrated_rms.sd) << ", " << px(cv.calibrated_rms.min) << " to " << px(cv.calibrated_rms.max)
+       << "), nominal " << px(cv.nominal_rms.mean) << " px (sd " << px(cv.nominal_rms.sd) << ", "
+       << px(cv.nominal_rms.min) << " to " << px(cv.nominal_rms.max) << "); median " << px(cv.calibrated_median.mean)
+       << " px calibrated, " << px(cv.nominal_median.mean) << " px nominal; over " << cv.num_ok << " of " << cv.folds
+       << " folds.\n\n";
+  else
+    md << "No fold measured: " << cv.message << ".\n\n";
+  md << "| fold | held-out views | status | f_x (px) | RMS calibrated (px) | RMS nominal (px) | median calibrated "
+        "(px) | median nominal (px) | observations | yardstick error calibrated / nominal (mm) |\n"
+        "|---|---|---|---|---|---|---|---|---|---|\n";
+  for (size_t f = 0; f < cv.fold.size(); ++f) {
+    const vpSelfCalibCrossValidation::Fold &d = cv.fold[f];
+    std::string views;
+    for (unsigned int i : d.held_out)
+      views += (views.empty() ? "" : " ") + std::to_string(i + 1);
+    const bool ok = d.status == vpRobotSelfCalibration::OK;
+    md << "| " << f + 1 << " | " << views << " | " << vpRobotSelfCalibration::statusName(d.status)
+       << (ok ? "" : ": " + d.message) << " | " << (ok ? px(d.fx) : "-") << " | "
+       << (ok ? px(d.calibrated.rms) : "-") << " | " << px(d.nominal.rms) << " | "
+       << (ok ? px(d.calibrated.median) : "-") << " | " << px(d.nominal.median) << " | " << d.nominal.observations
+       << " | "
+       << (d.verified ? mm(d.yardstick_error_calibrated) + " / " + mm(d.yardstick_error_nominal) : std::string("-"))
+       << " |\n";
+  }
+}
+
+// The calibration verified on a second dataset.
+void heldOutSection(std::ostream &md, const vpSelfCalibCrossValidation::HeldOut &h)
+{
+  md << "\n## Held-out dataset\n\n"
+     << "The calibrated model on a second dataset of " << h.views
+     << " views (not used to calibrate). Reprojection error of its views, the scene triangulated from "
+        "these views themselves: calibrated "
+     << px(h.calibrated.rms) << " px RMS (median " << px(h.calibrated.median) << ", " << h.calibrated.observations
+     << " observations), nominal " << px(h.nominal.rms) << " px RMS (median " << px(h.nominal.median) << ").\n";
+  if (h.has_yardstick)
+    md << "\n3-D yardstick error (the paper's): nominal " << mm(h.yardstick_error_nominal) << " mm, calibrated "
+       << mm(h.yardstick_error_calibrated) << " mm.\n";
+  else
+    md << "\nNo yardstick seen in two of its views: no 3-D error.\n";
+}
 } // namespace
 
 vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const vpKinematicChain &nominal,
@@ -185,7 +245,9 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
                                                    const vpRobotSelfCalibration::Options &po,
                                                    const vpRobotSelfCalibration::Result &r,
                                                    const vpFeatureFrontEnd::Result *fe,
-                                                   const vpSelfCalibPoseStudy::Result *study, const Options &ro)
+                                                   const vpSelfCalibPoseStudy::Result *study, const Options &ro,
+                                                   const vpSelfCalibCrossValidation::Result *cv,
+                                                   const vpSelfCalibCrossValidation::HeldOut *held)
 {
   std::error_code ec;
   std::filesystem::create_directory(dir, ec);
@@ -294,6 +356,16 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
       res.message = "figures drawn with " + ro.gnuplot + no_data;
   }
 
+  // A figure's link when it was drawn; otherwise why it is not there (no data: the reason given).
+  auto figure = [&](const std::string &name, const std::string &alt, const std::string &no_data_reason) {
+    const std::string png = dir + "/" + name + ".png";
+    if (std::find(res.files.begin(), res.files.end(), png) != res.files.end())
+      return "![" + alt + "](" + name + ".png)";
+    if (std::find(empty.begin(), empty.end(), name) != empty.end())
+      return "(figure " + name + ".png not drawn, no data: " + no_data_reason + ")";
+    return "(figure " + name + ".png not drawn: " + res.message + ")";
+  };
+
   // report.md
   std::ostringstream md;
   md << "# ViSP SelfCalib report\n\n"
@@ -353,16 +425,31 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
     md << "| " << u.name << " | " << u.reason << " |\n";
   md << "\n## Residuals\n\nReprojection RMS on the calibration views (points triangulated with the calibrated model): "
      << std::setprecision(3) << (count ? std::sqrt(sum2 / count) : 0.0) << " px over " << count
-     << " observations.\n\n![residuals](residuals.png)\n";
+     << " observations.\n\n" << figure("residuals", "residuals", "no residual") << "\n";
   md << "\n## Verification on the held-out views\n\n";
-  if (r.verified)
-    md << "3-D yardstick error (the paper's): nominal " << mm(r.before.yardstick_error) << " mm, calibrated "
-       << mm(r.after.yardstick_error) << " mm.\n\n";
-  md << "| held-out view | reprojection RMS (px) |\n|---|---|\n";
-  for (size_t k = 0; k < ver_rms.size(); ++k)
-    md << "| " << k + 1 << " | " << std::setprecision(3) << ver_rms[k] << " |\n";
-  md << "\n![verification](verification.png)\n\n![errors against poses](errors_vs_poses.png)\n\n"
-     << "## Trajectory\n\n![trajectory](trajectory.png)\n\n![position norms](position_norms.png)\n\n"
+  if (ver.empty())
+    md << "No view was held out: all " << N << " views calibrate, so there is no 3-D yardstick error on "
+       << "held-out views and neither the per-view figure nor the figure of that error against the number of "
+       << "calibration poses is drawn (they would be empty)."
+       << (cv ? " The cross-validation below measures the model on views it was not calibrated on." : "") << "\n";
+  else {
+    if (r.verified)
+      md << "3-D yardstick error (the paper's): nominal " << mm(r.before.yardstick_error) << " mm, calibrated "
+         << mm(r.after.yardstick_error) << " mm.\n\n";
+    md << "| held-out view | reprojection RMS (px) |\n|---|---|\n";
+    for (size_t k = 0; k < ver_rms.size(); ++k)
+      md << "| " << k + 1 << " | " << std::setprecision(3) << ver_rms[k] << " |\n";
+    md << "\n" << figure("verification", "verification", "fewer than 2 held-out views") << "\n\n"
+       << figure("errors_vs_poses", "errors against poses",
+                 study ? study->message : std::string("no study of the errors against the number of poses was run"))
+       << "\n";
+  }
+  if (cv)
+    crossValidationSection(md, *cv);
+  if (held)
+    heldOutSection(md, *held);
+  md << "\n## Trajectory\n\n" << figure("trajectory", "trajectory", "no view") << "\n\n"
+     << figure("position_norms", "position norms", "one calibration view") << "\n\n"
      << "Figures: " << res.message << ". Data files beside them; `gnuplot plots.gp` redraws them.\n";
   writeText(dir + "/report.md", md.str(), res.files);
   return res;

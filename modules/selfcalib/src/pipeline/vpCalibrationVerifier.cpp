@@ -11,6 +11,7 @@
 
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
+#include "vpSelfCalibPipelines.h"
 
 using namespace vpSelfCalib;
 

@@ -401,6 +401,31 @@ PredictedStart predictedStart(const std::vector<View> &views, const std::vector<
   return out;
 }
 
+std::map<int, Eigen::Vector3d> triangulateViews(const std::vector<View> &views, const std::vector<Rigid> &fMc,
+                                                const CameraModel &camera)
+{
+  struct Seen {
+    std::vector<Ray> rays;
+    std::vector<Rigid> cMf;
+    std::vector<Eigen::Vector2d> uv;
+  };
+  std::map<int, Seen> seen;
+  for (size_t k = 0; k < views.size(); ++k)
+    for (const auto &o : views[k].points) {
+      Seen &s = seen[o.id];
+      s.uv.emplace_back(o.ip.get_u(), o.ip.get_v());
+      s.rays.push_back(rayThrough(fMc[k], camera, s.uv.back()));
+      s.cMf.push_back(fMc[k].inverse());
+    }
+  std::map<int, Eigen::Vector3d> out;
+  for (const auto &kv : seen) {
+    Eigen::Vector3d X;
+    if (triangulateMidpoint(kv.second.rays, X) && refineTriangulation(camera, kv.second.cMf, kv.second.uv, X))
+      out[kv.first] = X;
+  }
+  return out;
+}
+
 void checkResult(const Context &c, Result &res)
 {
   findOutliers(c, res);

@@ -121,6 +121,15 @@ PredictedStart predictedStart(const std::vector<View> &views, const std::vector<
 */
 void handEyeWithSd(Result &result, const vpMatrix &covariance, const std::vector<std::string> &covariance_names);
 
+/*!
+  Every id seen in two or more of the views triangulated from cameras at fMc (one per view, frame f)
+  through camera, its lens included: the multi-ray midpoint, refined on its reprojection error
+  (Ceres); an id whose rays do not meet in front of every camera is left out. The one triangulation
+  of vpCalibrationVerifier and vpSelfCalibCrossValidation.
+*/
+std::map<int, Eigen::Vector3d> triangulateViews(const std::vector<View> &views, const std::vector<vpSelfCalib::Rigid> &fMc,
+                                                const vpSelfCalib::CameraModel &camera);
+
 //! Findings after a run: many outliers, an unused yardstick, parameters a richer trajectory would identify.
 void checkResult(const Context &context, Result &result);
 //! Step 5: the yardstick 3-D error on the verification views, nominal and calibrated (2 views or more).

@@ -265,7 +265,8 @@ TEST(EstimatedSet, PipelinesEstimateOneSetUnderPixelAndJointNoise)
       po.pixel_sd = 0.5;
       po.num_calibration_poses = 15;
       const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, po);
-      if (r.status != vpRobotSelfCalibration::OK)
+      // A doubtful run (the paper's method here: its two-view poses at 0.5 px) still has an estimate.
+      if (r.status != vpRobotSelfCalibration::OK && r.status != vpRobotSelfCalibration::DOUBTFUL)
         continue;
       ++ok;
       EXPECT_EQ(r.identifiability.identified, expected.identified)

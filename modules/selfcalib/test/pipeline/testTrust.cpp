@@ -194,8 +194,9 @@ TEST(Trust, PixelNoiseMeasured)
 }
 
 // The reported sds against the spread over noise draws of one geometry, with the pixel sd stated
-// 2.5x too small and 2.5x too large (no auto): within 0.6-1.6x (12 draws: the spread's own
-// relative sd is about 20 %), measured on eMc's x and y translation and f.
+// 2.5x too small and 2.5x too large (no auto): within 0.55-1.8x (20 draws: the spread's own
+// relative sd is about 16 %; 40 draws measured 0.72-1.30; without the scaling the ratios would be
+// about 0.4 and 2.5), measured on eMc's x and y translation and f.
 TEST(Trust, SdsFollowTheResidualsWhenTheStatedNoiseIsWrong)
 {
   vpSelfCalibSimulator::Options so;
@@ -205,7 +206,7 @@ TEST(Trust, SdsFollowTheResidualsWhenTheStatedNoiseIsWrong)
   vpSelfCalibDataset exact = sim.makeDataset(sim.generateConfigurations(25));
   exact.focal_known = false;
   for (double stated : {0.2, 1.25}) {
-    const unsigned int draws = 12;
+    const unsigned int draws = 20;
     std::vector<std::vector<double>> values(3);
     std::vector<double> sd_sum(3, 0.0);
     for (unsigned int d = 0; d < draws; ++d) {
@@ -227,8 +228,8 @@ TEST(Trust, SdsFollowTheResidualsWhenTheStatedNoiseIsWrong)
       for (double v : values[k])
         var += (v - mean) * (v - mean) / (draws - 1);
       const double ratio = (sd_sum[k] / draws) / std::sqrt(var);
-      EXPECT_GT(ratio, 0.6) << "stated " << stated << ", component " << k;
-      EXPECT_LT(ratio, 1.6) << "stated " << stated << ", component " << k;
+      EXPECT_GT(ratio, 0.55) << "stated " << stated << ", component " << k;
+      EXPECT_LT(ratio, 1.8) << "stated " << stated << ", component " << k;
     }
   }
 }

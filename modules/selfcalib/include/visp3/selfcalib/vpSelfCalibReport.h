@@ -17,6 +17,7 @@
 
 #include <visp3/selfcalib/vpFeatureFrontEnd.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibCrossValidation.h>
 #include <visp3/selfcalib/vpSelfCalibPoseStudy.h>
 
 /*!
@@ -35,6 +36,11 @@
   each held-out view), errors_vs_poses.png (3-D yardstick error on the held-out views against
   the number of calibration poses, the paper's Figure 6, from a vpSelfCalibPoseStudy result; its
   data file is empty without one).
+  With a vpSelfCalibCrossValidation result, a section "Cross-validation" with the figure and a
+  per-fold table (held-out views, status, reprojection RMS and median calibrated and nominal, the
+  yardstick error when the fold verified it); with a vpSelfCalibCrossValidation::HeldOut, a section
+  "Held-out dataset". A figure without data (no held-out view: every view calibrates) is neither
+  drawn nor linked: report.md says why in its place.
   Without gnuplot the data files and report.md are still written and the result says so. gnuplot
   runs without a shell (posix_spawnp with an argument vector, in the report's directory), so no
   path is ever parsed as a command; the message tells apart gnuplot missing, gnuplot failing, a
@@ -56,13 +62,16 @@ public:
   /*!
     Writes the report of `result` (run with `options` on `dataset`) into `directory` (created if
     missing). front_end and errors_vs_poses (vpSelfCalibPoseStudy::run() on the same dataset and
-    options) may be null. Throws vpSelfCalibException when the directory cannot be written; a
+    options), cross_validation and held_out (the caller's, computed apart: writing a report never
+    calibrates) may be null. Throws vpSelfCalibException when the directory cannot be written; a
     missing or failing gnuplot is reported in the result.
   */
   static Result write(const std::string &directory, const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
                       const vpRobotSelfCalibration::Options &options, const vpRobotSelfCalibration::Result &result,
                       const vpFeatureFrontEnd::Result *front_end, const vpSelfCalibPoseStudy::Result *errors_vs_poses,
-                      const Options &report_options);
+                      const Options &report_options,
+                      const vpSelfCalibCrossValidation::Result *cross_validation = nullptr,
+                      const vpSelfCalibCrossValidation::HeldOut *held_out = nullptr);
 };
 
 #endif

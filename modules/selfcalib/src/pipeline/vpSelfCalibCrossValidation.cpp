@@ -1,0 +1,249 @@
+/*
+ * ViSP SelfCalib: k-fold cross-validation of a self-calibration (the held-out views' reprojection
+ * error, calibrated against nominal) and the verification of a calibration on a second dataset.
+ */
+#include <visp3/selfcalib/vpCalibrationVerifier.h>
+#include <visp3/selfcalib/vpSelfCalibCrossValidation.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+#include "../core/vpSelfCalibCamera.h"
+#include "../core/vpSelfCalibMath.h"
+#include "vpSelfCalibPipelines.h"
+
+using namespace vpSelfCalib;
+
+namespace
+{
+using View = vpSelfCalibDataset::View;
+
+// A view's camera pose through a model (see reprojection()).
+Rigid predictedCamera(const vpKinematicChain &model, const View &v, bool controller_poses, size_t index)
+{
+  if (controller_poses && v.has_fMe)
+    return rigidFromVisp(v.fMe * model.get_eMc_corrected());
+  if (v.q.size() == model.getNumJoints())
+    return rigidFromVisp(model.get_fMc(v.q));
+  if (v.has_fMe)
+    return rigidFromVisp(v.fMe * model.get_eMc_corrected());
+  throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                             "vpSelfCalibCrossValidation: view " + std::to_string(index) +
+                                 " has no joint vector of size " + std::to_string(model.getNumJoints()) +
+                                 " and no fMe");
+}
+
+vpSelfCalibCrossValidation::Spread spread(const std::vector<double> &x)
+{
+  vpSelfCalibCrossValidation::Spread s;
+  s.count = static_cast<unsigned int>(x.size());
+  if (x.empty())
+    return s;
+  double sum = 0;
+  for (double v : x)
+    sum += v;
+  s.mean = sum / x.size();
+  double ss = 0;
+  for (double v : x)
+    ss += (v - s.mean) * (v - s.mean);
+  s.sd = x.size() > 1 ? std::sqrt(ss / (x.size() - 1)) : 0.0;
+  s.min = *std::min_element(x.begin(), x.end());
+  s.max = *std::max_element(x.begin(), x.end());
+  return s;
+}
+} // namespace
+
+void vpSelfCalibCrossValidation::Options::check() const
+{
+  if (folds < 2)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpSelfCalibCrossValidation: folds must be at least 2, got " + std::to_string(folds));
+}
+
+std::vector<std::vector<unsigned int>> vpSelfCalibCrossValidation::folds(unsigned int n, unsigned int k)
+{
+  Options o;
+  o.folds = k;
+  o.check();
+  if (k > n)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpSelfCalibCrossValidation: " + std::to_string(k) + " folds of " + std::to_string(n) +
+                                   " views: at most one fold per view");
+  const unsigned int largest = (n + k - 1) / k;
+  if (n - largest < 3)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpSelfCalibCrossValidation: " + std::to_string(k) + " folds of " + std::to_string(n) +
+                                   " views hold out up to " + std::to_string(largest) + " views, leaving " +
+                                   std::to_string(n - largest) +
+                                   " to calibrate: at least 3 are needed (more views, or more folds)");
+  std::vector<std::vector<unsigned int>> out(k);
+  for (unsigned int i = 0; i < n; ++i)
+    out[i % k].push_back(i);
+  return out;
+}
+
+vpSelfCalibCrossValidation::Reprojection
+vpSelfCalibCrossValidation::reprojection(const vpKinematicChain &model, const vpCameraParameters &cam,
+                                         const std::vector<double> &opencv_distortion, bool controller_poses,
+                                         const std::vector<View> &scene_views, const std::vector<View> &test_views)
+{
+  const CameraModel camera = vpSelfCalibPipeline::lensOf(cam, opencv_distortion);
+  std::vector<Rigid> fMc;
+  for (size_t k = 0; k < scene_views.size(); ++k)
+    fMc.push_back(predictedCamera(model, scene_views[k], controller_poses, k));
+  std::vector<Rigid> cMf;
+  for (size_t k = 0; k < test_views.size(); ++k)
+    cMf.push_back(predictedCamera(model, test_views[k], controller_poses, k).inverse());
+  const std::map<int, Eigen::Vector3d> X = vpSelfCalibPipeline::triangulateViews(scene_views, fMc, camera);
+  Reprojection r;
+  r.points = static_cast<unsigned int>(X.size());
+  std::vector<double> errors;
+  for (size_t k = 0; k < test_views.size(); ++k)
+    for (const auto &o : test_views[k].points) {
+      const auto it = X.find(o.id);
+      if (it == X.end())
+        continue;
+      const Eigen::Vector3d Xc = cMf[k] * it->second;
+      if (!inFront(Xc)) {
+        ++r.behind;
+        continue;
+      }
+      errors.push_back((camera.project(Xc) - Eigen::Vector2d(o.ip.get_u(), o.ip.get_v())).norm());
+    }
+  r.observations = static_cast<unsigned int>(errors.size());
+  if (errors.empty())
+    return r;
+  double sum2 = 0;
+  for (double e : errors)
+    sum2 += e * e;
+  r.rms = std::sqrt(sum2 / errors.size());
+  std::sort(errors.begin(), errors.end());
+  const size_t m = errors.size();
+  r.median = m % 2 ? errors[m / 2] : 0.5 * (errors[m / 2 - 1] + errors[m / 2]);
+  return r;
+}
+
+std::vector<double> vpSelfCalibCrossValidation::calibratedDistortion(const vpRobotSelfCalibration::Result &result,
+                                                                     const vpSelfCalibDataset &dataset)
+{
+  return result.bundle.opencv_distortion.empty() ? dataset.opencv_distortion : result.bundle.opencv_distortion;
+}
+
+vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinematicChain &nominal,
+                                                                   const vpSelfCalibDataset &ds,
+                                                                   const vpRobotSelfCalibration::Options &options,
+                                                                   const Options &cv, const Progress &progress)
+{
+  const auto t0 = std::chrono::steady_clock::now();
+  cv.check();
+  const unsigned int n = static_cast<unsigned int>(ds.views.size());
+  const std::vector<std::vector<unsigned int>> held = folds(n, cv.folds);
+  const bool controller_poses = options.method == vpRobotSelfCalibration::HAND_EYE;
+  Result res;
+  res.views = n;
+  res.folds = cv.folds;
+  std::vector<double> cal_rms, nom_rms, cal_median, nom_median;
+  for (unsigned int f = 0; f < cv.folds; ++f) {
+    const auto tf = std::chrono::steady_clock::now();
+    const std::string label = "cross-validation fold " + std::to_string(f + 1) + " of " + std::to_string(cv.folds);
+    if (progress)
+      progress(label, f, cv.folds);
+    // The training views first (calibration), then the held-out ones (run()'s verification).
+    std::vector<View> train, test;
+    for (unsigned int i = 0; i < n; ++i)
+      (std::find(held[f].begin(), held[f].end(), i) == held[f].end() ? train : test).push_back(ds.views[i]);
+    vpSelfCalibDataset sub = ds;
+    sub.views = train;
+    sub.views.insert(sub.views.end(), test.begin(), test.end());
+    vpRobotSelfCalibration::Options o = options;
+    o.num_calibration_poses = static_cast<unsigned int>(train.size());
+    const vpRobotSelfCalibration::Progress inner =
+        progress ? vpRobotSelfCalibration::Progress([&](const std::string &stage, unsigned int, unsigned int) {
+          progress(label + ": " + stage, f, cv.folds);
+        })
+                 : vpRobotSelfCalibration::Progress();
+    const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(nominal, sub, o, inner);
+    Fold fold;
+    fold.held_out = held[f];
+    fold.status = r.status;
+    fold.message = r.message;
+    fold.nominal = reprojection(nominal, ds.cam, ds.opencv_distortion, controller_poses, train, test);
+    if (r.status == vpRobotSelfCalibration::OK) {
+      fold.fx = r.camera.get_px();
+      fold.calibrated =
+          reprojection(r.calibrated, r.camera, calibratedDistortion(r, ds), controller_poses, train, test);
+      if (r.verified && r.before.has_yardstick && r.after.has_yardstick) {
+        fold.verified = true;
+        fold.yardstick_error_nominal = r.before.yardstick_error;
+        fold.yardstick_error_calibrated = r.after.yardstick_error;
+      }
+      if (fold.calibrated.observations > 0 && fold.nominal.observations > 0) {
+        ++res.num_ok;
+        cal_rms.push_back(fold.calibrated.rms);
+        nom_rms.push_back(fold.nominal.rms);
+        cal_median.push_back(fold.calibrated.median);
+        nom_median.push_back(fold.nominal.median);
+      } else
+        fold.message += "; no held-out observation of a point the training views triangulate";
+    } else
+      ++res.num_failed;
+    fold.seconds = vpSelfCalibPipeline::seconds(tf);
+    res.fold.push_back(fold);
+  }
+  if (progress)
+    progress("cross-validation", cv.folds, cv.folds);
+  res.calibrated_rms = spread(cal_rms);
+  res.nominal_rms = spread(nom_rms);
+  res.calibrated_median = spread(cal_median);
+  res.nominal_median = spread(nom_median);
+  std::ostringstream os;
+  os << std::setprecision(3);
+  if (res.num_ok == 0)
+    os << "no fold measured (" << res.num_failed << " of " << cv.folds << " calibrations failed)";
+  else {
+    os << "held-out reprojection RMS " << res.calibrated_rms.mean << " px (sd " << res.calibrated_rms.sd << ", "
+       << res.calibrated_rms.min << " to " << res.calibrated_rms.max << ") calibrated vs " << res.nominal_rms.mean
+       << " px (sd " << res.nominal_rms.sd << ") nominal, median " << res.calibrated_median.mean << " vs "
+       << res.nominal_median.mean << " px; " << res.num_ok << " of " << cv.folds << " folds measured";
+    if (res.num_failed)
+      os << ", " << res.num_failed << " failed";
+  }
+  res.message = os.str();
+  res.seconds = vpSelfCalibPipeline::seconds(t0);
+  return res;
+}
+
+vpSelfCalibCrossValidation::HeldOut vpSelfCalibCrossValidation::verifyHeldOut(
+    const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, const vpRobotSelfCalibration::Options &options,
+    const vpRobotSelfCalibration::Result &r, const vpSelfCalibDataset &h)
+{
+  if (h.views.size() < 2)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpSelfCalibCrossValidation: the held-out dataset has " +
+                                   std::to_string(h.views.size()) + " views; at least 2 are needed to verify on");
+  const bool controller_poses = options.method == vpRobotSelfCalibration::HAND_EYE;
+  HeldOut out;
+  out.views = static_cast<unsigned int>(h.views.size());
+  const std::vector<double> lens = calibratedDistortion(r, ds);
+  out.calibrated = reprojection(r.calibrated, r.camera, lens, controller_poses, h.views, h.views);
+  out.nominal = reprojection(nominal, h.cam, h.opencv_distortion, controller_poses, h.views, h.views);
+  if (h.yardstick.isSet()) {
+    // vpCalibrationVerifier's camera holds no OpenCV lens: the pixels through its inverse first.
+    auto pinhole = [&h](const vpCameraParameters &cam, const std::vector<double> &opencv) {
+      return opencv.empty() ? h.views : vpSelfCalibPipeline::undistorted(h.views, vpSelfCalibPipeline::lensOf(cam, opencv));
+    };
+    const auto before =
+        vpCalibrationVerifier::verify(nominal, h.cam, pinhole(h.cam, h.opencv_distortion), h.yardstick);
+    const auto after = vpCalibrationVerifier::verify(r.calibrated, r.camera, pinhole(r.camera, lens), h.yardstick);
+    if (before.has_yardstick && after.has_yardstick) {
+      out.has_yardstick = true;
+      out.yardstick_error_nominal = before.yardstick_error;
+      out.yardstick_error_calibrated = after.yardstick_error;
+    }
+  }
+  return out;
+}

@@ -1,0 +1,294 @@
+/*
+ * Tests of vpSelfCalibCrossValidation: the folds, exact recovery of the held-out views on
+ * noise-free data (bundle adjustment and hand-eye), a statistical bound at 0.2 px over seeds,
+ * failed folds counted, a second dataset verified, bad inputs, the report's section.
+ */
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <iterator>
+#include <set>
+#include <sstream>
+#include <vector>
+
+#include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibCrossValidation.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibReport.h>
+#include <visp3/selfcalib/vpSelfCalibSimulator.h>
+
+#include "../testCommon.h"
+
+using namespace selfcalib_test;
+using CV = vpSelfCalibCrossValidation;
+
+namespace
+{
+// A simulated dataset of the reference scenario: m views, the given noise (px).
+vpSelfCalibDataset simulated(const vpSelfCalibSimulator &sim, unsigned int m)
+{
+  return sim.makeDataset(sim.generateConfigurations(m));
+}
+
+// The same views with controller poses (the true flange pose) and no joints.
+vpSelfCalibDataset withControllerPoses(const vpSelfCalibSimulator &sim, vpSelfCalibDataset ds)
+{
+  for (auto &v : ds.views) {
+    v.has_fMe = true;
+    v.fMe = sim.getTrueChain().get_fMe(v.q);
+    v.q = vpColVector();
+  }
+  return ds;
+}
+} // namespace
+
+// View i in fold i mod k: every view held out exactly once, the same folds every call, the
+// bounds of k and of the training sets enforced.
+TEST(CrossValidation, FoldsAreInterleavedDeterministicAndBounded)
+{
+  const auto f = CV::folds(10, 3);
+  ASSERT_EQ(f.size(), 3u);
+  EXPECT_EQ(f[0], (std::vector<unsigned int>{0, 3, 6, 9}));
+  EXPECT_EQ(f[1], (std::vector<unsigned int>{1, 4, 7}));
+  EXPECT_EQ(f[2], (std::vector<unsigned int>{2, 5, 8}));
+  EXPECT_EQ(CV::folds(10, 3), f);
+  for (unsigned int n : {4u, 7u, 12u, 25u})
+    for (unsigned int k = 2; k <= n; ++k) {
+      if (n - (n + k - 1) / k < 3) {
+        EXPECT_THROW(CV::folds(n, k), vpSelfCalibException) << n << " views, " << k << " folds";
+        continue;
+      }
+      std::multiset<unsigned int> all;
+      for (const auto &fold : CV::folds(n, k)) {
+        EXPECT_FALSE(fold.empty());
+        all.insert(fold.begin(), fold.end());
+      }
+      ASSERT_EQ(all.size(), n);
+      for (unsigned int i = 0; i < n; ++i)
+        EXPECT_EQ(all.count(i), 1u);
+    }
+  EXPECT_THROW(CV::folds(10, 1), vpSelfCalibException);
+  EXPECT_THROW(CV::folds(10, 0), vpSelfCalibException);
+  EXPECT_THROW(CV::folds(4, 5), vpSelfCalibException);
+  EXPECT_THROW(CV::folds(5, 2), vpSelfCalibException); // holds out 3, leaves 2
+  EXPECT_NO_THROW(CV::folds(4, 4));                    // holds out 1, leaves 3
+  CV::Options o;
+  o.folds = 1;
+  EXPECT_THROW(o.check(), vpSelfCalibException);
+}
+
+// Noise-free, f known: each fold recovers the true robot from its training views, so the
+// held-out views are predicted exactly (below 1e-6 px), while the nominal model misses them by
+// pixels. The yardstick 3-D error of run()'s verification on the held-out views vanishes too.
+TEST(CrossValidation, NoiseFreeBundleAdjustmentPredictsTheHeldOutViewsExactly)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 21, 0.0);
+  const vpSelfCalibDataset ds = simulated(sim, 15);
+  unsigned int stages = 0;
+  CV::Options cvo;
+  cvo.folds = 3;
+  const CV::Result r = CV::run(sim.getNominalChain(), ds, vpRobotSelfCalibration::Options(), cvo,
+                               [&](const std::string &, unsigned int, unsigned int) { ++stages; });
+  EXPECT_GT(stages, 3u);
+  ASSERT_EQ(r.fold.size(), 3u);
+  EXPECT_EQ(r.views, 15u);
+  EXPECT_EQ(r.num_ok, 3u);
+  EXPECT_EQ(r.num_failed, 0u);
+  for (const auto &f : r.fold) {
+    ASSERT_EQ(f.status, vpRobotSelfCalibration::OK) << f.message;
+    EXPECT_EQ(f.held_out.size(), 5u);
+    // Every held-out observation compared: all 82 points are seen in every view.
+    EXPECT_EQ(f.calibrated.observations, 5u * 82u);
+    EXPECT_EQ(f.nominal.observations, 5u * 82u);
+    EXPECT_LT(f.calibrated.rms, 1e-6);
+    EXPECT_GT(f.nominal.rms, 1.0);
+    EXPECT_TRUE(f.verified);
+    EXPECT_LT(f.yardstick_error_calibrated, 1e-9);
+  }
+  EXPECT_LT(r.calibrated_rms.max, 1e-6);
+  EXPECT_GT(r.nominal_rms.min, 1.0);
+  EXPECT_EQ(r.calibrated_rms.count, 3u);
+  EXPECT_LE(r.calibrated_rms.min, r.calibrated_rms.mean);
+  EXPECT_GE(r.calibrated_rms.max, r.calibrated_rms.mean);
+}
+
+// Hand-eye on controller poses, noise-free, f self-calibrated: the predicted cameras are
+// fMe eMc with the calibrated eMc and f, exact; the nominal eMc is 1 mm and 0.2 deg off.
+TEST(CrossValidation, NoiseFreeHandEyePredictsTheHeldOutViewsExactly)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 22, 0.0);
+  vpSelfCalibDataset ds = withControllerPoses(sim, simulated(sim, 10));
+  ds.focal_known = false;
+  vpRobotSelfCalibration::Options o;
+  o.method = vpRobotSelfCalibration::HAND_EYE;
+  CV::Options cvo;
+  cvo.folds = 2;
+  const CV::Result r = CV::run(sim.getNominalChain(), ds, o, cvo);
+  ASSERT_EQ(r.num_ok, 2u) << r.message << " / " << r.fold[0].message << " / " << r.fold[1].message;
+  for (const auto &f : r.fold) {
+    EXPECT_NEAR(f.fx, 1500, 1e-6);
+    EXPECT_LT(f.calibrated.rms, 1e-6);
+    EXPECT_GT(f.nominal.rms, 1.0);
+  }
+}
+
+/*
+  0.2 px of noise per coordinate, three seeds, 25 views in 5 folds (20 training views). A held-out
+  pixel's error is its own noise (2-D RMS sqrt(2) 0.2 = 0.283 px) plus the error of its point,
+  triangulated from 20 training views (its projection about sqrt(2) 0.2 / sqrt(20): RMS factor
+  sqrt(1 + 1/20), 0.290 px), plus the calibrated model's error on views it did not see. The true
+  robot on the same folds (the oracle) measures the first two: the calibrated model may add little
+  to it, at most 10 % (a model error of 0.46 times the rest would fail). Over 5 x 82 observations
+  per fold the RMS has a relative sd of about 1 / sqrt(2 x 410) = 3.5 %: the calibrated RMS lies
+  between 0.9 and 1.2 times the noise's 0.283 px, its sd over folds below 10 % of it; the median of
+  a 2-D Gaussian error's norm is sqrt(2 ln 2) 0.2 = 0.235 px: between 0.85 and 1.2 times that. The
+  nominal model is pixels off: the calibrated RMS is below half of it. (With 10 training views the
+  model's own error shows: 0.32-0.39 px.)
+*/
+TEST(CrossValidation, NoisyHeldOutErrorIsTheNoiseLevel)
+{
+  const double sigma = 0.2, rms_noise = std::sqrt(2.0) * sigma, median_noise = std::sqrt(2 * std::log(2.0)) * sigma;
+  const unsigned int m = 25, k = 5;
+  for (uint64_t seed : {31u, 32u, 33u}) {
+    const vpSelfCalibSimulator sim = makeSim("viper850", seed, sigma);
+    const vpSelfCalibDataset ds = simulated(sim, m);
+    CV::Options cvo;
+    cvo.folds = k;
+    const CV::Result r = CV::run(sim.getNominalChain(), ds, vpRobotSelfCalibration::Options(), cvo);
+    ASSERT_EQ(r.num_ok, k) << "seed " << seed << ": " << r.message;
+    for (unsigned int f = 0; f < k; ++f) {
+      const CV::Fold &fold = r.fold[f];
+      std::vector<vpSelfCalibDataset::View> train, test;
+      for (unsigned int i = 0; i < m; ++i)
+        (i % k == f ? test : train).push_back(ds.views[i]);
+      const CV::Reprojection oracle = CV::reprojection(sim.getTrueChain(), ds.cam, {}, false, train, test);
+      EXPECT_GT(fold.calibrated.rms, 0.9 * rms_noise) << "seed " << seed;
+      EXPECT_LT(fold.calibrated.rms, 1.2 * rms_noise) << "seed " << seed;
+      EXPECT_LT(fold.calibrated.rms, 1.1 * oracle.rms) << "seed " << seed;
+      EXPECT_GT(fold.calibrated.median, 0.85 * median_noise) << "seed " << seed;
+      EXPECT_LT(fold.calibrated.median, 1.2 * median_noise) << "seed " << seed;
+      EXPECT_LT(fold.calibrated.rms, 0.5 * fold.nominal.rms) << "seed " << seed;
+    }
+    EXPECT_GT(r.calibrated_rms.sd, 0.0);
+    EXPECT_LT(r.calibrated_rms.sd, 0.1 * rms_noise);
+  }
+}
+
+// The paper's procedure in every fold, noise-free with f known: its only error is the eq. 21
+// approximation of the scale ratios (and 10 training views), so the held-out views are not exact,
+// but every fold is closer than the nominal model, and on average by more than half.
+TEST(CrossValidation, PaperMethodBeatsTheNominalModel)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 26, 0.0);
+  const vpSelfCalibDataset ds = simulated(sim, 15);
+  vpRobotSelfCalibration::Options o;
+  o.method = vpRobotSelfCalibration::PAPER;
+  CV::Options cvo;
+  cvo.folds = 3;
+  const CV::Result r = CV::run(sim.getNominalChain(), ds, o, cvo);
+  ASSERT_EQ(r.num_ok, 3u) << r.message;
+  for (const auto &f : r.fold)
+    EXPECT_LT(f.calibrated.rms, f.nominal.rms);
+  // Measured: 1.1 to 5.1 px against 9 to 12 px.
+  EXPECT_LT(r.calibrated_rms.mean, 0.5 * r.nominal_rms.mean) << r.message;
+}
+
+// Folds that cannot calibrate (every pose the same: degenerate data) are counted with their
+// status, not hidden, and no figure is made from them.
+TEST(CrossValidation, FailedFoldsAreCountedWithTheirStatus)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 23, 0.2);
+  vpSelfCalibDataset ds = simulated(sim, 8);
+  for (auto &v : ds.views)
+    v.q = ds.views[0].q;
+  CV::Options cvo;
+  cvo.folds = 2;
+  const CV::Result r = CV::run(sim.getNominalChain(), ds, vpRobotSelfCalibration::Options(), cvo);
+  ASSERT_EQ(r.fold.size(), 2u);
+  EXPECT_EQ(r.num_failed, 2u);
+  EXPECT_EQ(r.num_ok, 0u);
+  EXPECT_EQ(r.calibrated_rms.count, 0u);
+  for (const auto &f : r.fold) {
+    EXPECT_EQ(f.status, vpRobotSelfCalibration::DEGENERATE_DATA);
+    EXPECT_FALSE(f.message.empty());
+  }
+  EXPECT_NE(r.message.find("2 of 2 calibrations failed"), std::string::npos) << r.message;
+}
+
+// A calibration checked on a second dataset of the same robot: exact with the calibrated model
+// (noise-free), not with the nominal one; the yardstick 3-D error vanishes.
+TEST(CrossValidation, SecondDatasetVerifiesTheCalibration)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 24, 0.0);
+  const std::vector<vpColVector> q = sim.generateConfigurations(16);
+  const vpSelfCalibDataset all = sim.makeDataset(q);
+  vpSelfCalibDataset cal = all, held = all;
+  cal.views.assign(all.views.begin(), all.views.begin() + 12);
+  held.views.assign(all.views.begin() + 12, all.views.end());
+  vpRobotSelfCalibration::Options o;
+  o.num_calibration_poses = 12;
+  const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), cal, o);
+  ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
+  const CV::HeldOut h = CV::verifyHeldOut(sim.getNominalChain(), cal, o, r, held);
+  EXPECT_EQ(h.views, 4u);
+  EXPECT_EQ(h.calibrated.observations, 4u * 82u);
+  EXPECT_LT(h.calibrated.rms, 1e-6);
+  EXPECT_GT(h.nominal.rms, 0.01);
+  ASSERT_TRUE(h.has_yardstick);
+  EXPECT_LT(h.yardstick_error_calibrated, 1e-9);
+  EXPECT_GT(h.yardstick_error_nominal, 1e-6);
+  held.views.resize(1);
+  EXPECT_THROW(CV::verifyHeldOut(sim.getNominalChain(), cal, o, r, held), vpSelfCalibException);
+}
+
+// Caller mistakes throw before any work: too few views for k, a view the model cannot place.
+TEST(CrossValidation, BadInputsThrow)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 25, 0.2);
+  vpSelfCalibDataset ds = simulated(sim, 6);
+  CV::Options cvo;
+  cvo.folds = 7;
+  EXPECT_THROW(CV::run(sim.getNominalChain(), ds, vpRobotSelfCalibration::Options(), cvo), vpSelfCalibException);
+  cvo.folds = 1;
+  EXPECT_THROW(CV::run(sim.getNominalChain(), ds, vpRobotSelfCalibration::Options(), cvo), vpSelfCalibException);
+  vpSelfCalibDataset bad = ds;
+  bad.views[2].q = vpColVector(3);
+  EXPECT_THROW(CV::reprojection(sim.getNominalChain(), ds.cam, {}, false, bad.views, ds.views), vpSelfCalibException);
+  cvo.folds = 2;
+  EXPECT_THROW(CV::run(sim.getNominalChain(), bad, vpRobotSelfCalibration::Options(), cvo), vpSelfCalibException);
+}
+
+// The report of a run on every view with its cross-validation: no held-out view, so no figure of
+// the held-out views is linked and report.md says why; the cross-validation section has one row
+// per fold with the figures of the result.
+TEST(CrossValidation, ReportHasTheFoldsAndNoEmptyFigure)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 27, 0.2);
+  const vpSelfCalibDataset ds = simulated(sim, 9);
+  vpRobotSelfCalibration::Options o;
+  o.num_calibration_poses = 9;
+  const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
+  ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
+  CV::Options cvo;
+  cvo.folds = 3;
+  const CV::Result cv = CV::run(sim.getNominalChain(), ds, o, cvo);
+  ASSERT_EQ(cv.num_ok, 3u) << cv.message;
+  char dir[] = "/tmp/selfcalib-cv-report-XXXXXX";
+  ASSERT_NE(mkdtemp(dir), nullptr);
+  vpSelfCalibReport::Options ro;
+  ro.gnuplot = "/nonexistent/gnuplot";
+  vpSelfCalibReport::write(dir, sim.getNominalChain(), ds, o, r, nullptr, nullptr, ro, &cv);
+  std::ifstream md(std::string(dir) + "/report.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("No view was held out: all 9 views calibrate"), std::string::npos) << text;
+  EXPECT_EQ(text.find("](verification.png)"), std::string::npos);
+  EXPECT_EQ(text.find("](errors_vs_poses.png)"), std::string::npos);
+  EXPECT_NE(text.find("## Cross-validation"), std::string::npos);
+  std::ostringstream row;
+  row << "| 2 | 2 5 8 | ok | " << std::fixed << std::setprecision(3) << cv.fold[1].fx << " | "
+      << cv.fold[1].calibrated.rms << " | " << cv.fold[1].nominal.rms << " |";
+  EXPECT_NE(text.find(row.str()), std::string::npos) << row.str() << "\n" << text;
+}
