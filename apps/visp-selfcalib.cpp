@@ -828,7 +828,7 @@ void runProtocol(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, 
                                              std::cerr << "... " << stage << "\n";
                                            });
     for (size_t f = 0; f < p.cv->fold.size(); ++f)
-      if (p.cv->fold[f].status != vpRobotSelfCalibration::OK)
+      if (p.cv->fold[f].status != vpRobotSelfCalibration::OK && p.cv->fold[f].status != vpRobotSelfCalibration::DOUBTFUL)
         std::cerr << "warning: cross-validation fold " << f + 1 << " failed: "
                   << vpRobotSelfCalibration::statusName(p.cv->fold[f].status) << ": " << p.cv->fold[f].message << "\n";
   }
@@ -845,6 +845,37 @@ void runProtocol(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, 
     }
     p.verified = vpSelfCalibCrossValidation::verifyHeldOut(nominal, ds, po, r, p.heldout);
   }
+}
+
+/*!
+  The cross-validation's word on the model: when the calibrated model predicts the held-out views
+  worse than the nominal model in most folds and by 5 % or more on average, the calibration does not
+  generalise (too many parameters for the views, or a wrong input): a DOUBT finding, status DOUBTFUL.
+*/
+void crossValidationCheck(const Protocol &p, vpRobotSelfCalibration::Result &r)
+{
+  if (!p.cv || p.cv->num_ok < 2)
+    return;
+  unsigned int worse = 0, compared = 0;
+  for (const auto &f : p.cv->fold)
+    if (f.calibrated.observations > 0 && f.nominal.observations > 0) {
+      ++compared;
+      worse += f.calibrated.rms > f.nominal.rms;
+    }
+  if (2 * worse <= compared || !(p.cv->calibrated_rms.mean > 1.05 * p.cv->nominal_rms.mean))
+    return;
+  std::ostringstream os;
+  os << std::setprecision(3) << "the cross-validation's calibrated models predict the held-out views worse than the "
+     << "nominal model (reprojection RMS " << p.cv->calibrated_rms.mean << " px against " << p.cv->nominal_rms.mean
+     << " px; worse in " << worse << " of " << compared
+     << " folds): the calibration does not generalise; add views or estimate fewer parameters";
+  vpSelfCalibDataCheck::Finding f;
+  f.severity = vpSelfCalibDataCheck::DOUBT;
+  f.code = "cross-validation-worse-than-nominal";
+  f.message = os.str();
+  r.findings.push_back(f);
+  r.status = vpRobotSelfCalibration::DOUBTFUL;
+  r.message += "; doubtful: " + f.message;
 }
 
 //! The protocol's figures on stdout, one line each.
@@ -966,19 +997,20 @@ int calibrate(const CalibrateArgs &a)
   if (const int bad = prepareProtocol(a, static_cast<unsigned int>(ds.views.size()), po, protocol))
     return bad;
 
-  const vpRobotSelfCalibration::Result r =
+  vpRobotSelfCalibration::Result r =
       vpRobotSelfCalibration::run(nominal, ds, po, [](const std::string &stage, unsigned int, unsigned int) {
         std::cerr << "... " << stage << "\n";
       });
-  const bool doubtful = r.status == vpRobotSelfCalibration::DOUBTFUL;
-  if (r.status != vpRobotSelfCalibration::OK && !doubtful) {
+  if (r.status != vpRobotSelfCalibration::OK && r.status != vpRobotSelfCalibration::DOUBTFUL) {
     std::cerr << "calibration failed: " << vpRobotSelfCalibration::statusName(r.status) << ": " << r.message << "\n";
     return 3;
   }
-  for (const auto &f : r.findings)
-    std::cerr << (f.severity == vpSelfCalibDataCheck::DOUBT ? "doubt: " : "warning: ") << f.message << "\n";
-  // A doubtful model is written all the same, marked so (its name, results.yaml's status, the report).
   runProtocol(nominal, ds, po, r, co, a.threads, protocol);
+  crossValidationCheck(protocol, r);
+  for (const auto &f : r.findings)
+    std::cerr << vpSelfCalibDataCheck::severityName(f.severity) << ": " << f.message << "\n";
+  // A doubtful model is written all the same, marked so (its name, results.yaml's status, the report).
+  const bool doubtful = r.status == vpRobotSelfCalibration::DOUBTFUL;
   const fs::path stage = outdir.staging();
   vpKinematicChain model = r.calibrated;
   model.setName(nominal.getName() + (doubtful ? "-calibrated-DOUBTFUL" : "-calibrated"));

@@ -2,7 +2,7 @@
  * bench-trust: can a run's result be trusted, and compared with another run's? (issue 20)
  *
  *   bench-trust [--seeds N] [--draws K] [--robots ur5,puma-mdh] [--noise 0.2,0.5]
- *               [--methods bundle[,paper]] [--focal known,shared] [--sd-factors 1,2.5,0.4] [--csv FILE]
+ *               [--methods bundle[,paper]] [--focal known,shared] [--sd-factors 1,2.5,0.4] [--auto] [--csv FILE]
  *
  * The hidden-robot style of check: a UR5 (preset, home as in bench-robots) and a modified-DH PUMA 560
  * (the preset refitted as an MDH table, vpModelExport::fitDH), camera 800 x 600, f 1200 px, the
@@ -14,7 +14,7 @@
  *   - runs and their statuses (vpRobotSelfCalibration::statusName, so new statuses show);
  *   - sets: the largest number of distinct estimated sets over one seed's draws (target 1);
  *   - sd ratios: the reported sd (RMS over the draws) over the empirical spread of the estimate over
- *     the draws (sample sd), for f (self-calibrated rows) and for the hand-eye translation eMc.t
+ *     the draws (sample sd; every run with an estimate, ok or doubtful), for f (self-calibrated rows) and for the hand-eye translation eMc.t
  *     (pooled over tx, ty, tz); the range over the seeds (target 0.7-1.4 for each seed);
  *   - held-out position error: the RMS over the held-out pairs (c_0, c_k) of the error of the
  *     predicted relative position against the simulator's true poses (bench::verifyAgainstTruth);
@@ -168,6 +168,7 @@ int main(int argc, char **argv)
     std::vector<std::string> methods = {"bundle"};
     std::vector<std::string> focals = {"known", "shared"};
     std::vector<double> factors = {1, 2.5, 0.4};
+    bool auto_noise = false;
     std::string csv_path;
     CLI::App app("bench-trust: the same set in every noise draw, honest sd and no trusted-but-wrong result, on a\n"
                  "UR5 and a modified-DH PUMA with the pixel sd given right and wrong on purpose (issue 20).",
@@ -194,6 +195,9 @@ int main(int argc, char **argv)
         ->type_name("LIST")
         ->delimiter(',')
         ->check(selfcalibCli::number(0, true));
+    app.add_flag("--auto", auto_noise,
+                 "measure the pixel noise from the residuals (calibrate's default, --pixel-sd auto),\n"
+                 "starting from the given value; without it the given value is used as stated");
     app.add_option("--csv", csv_path, "one row per robot, seed, focal mode, noise, draw, method and sd factor")
         ->type_name("FILE");
     const int parsed = selfcalibCli::parse(app, argc, argv);
@@ -204,7 +208,8 @@ int main(int argc, char **argv)
                              "heldout_rms_m,nominal_rms_m,predicted_rms_m");
     std::cout << "bench-trust: " << seeds << " seeds x " << draws << " noise draws, camera 800 x 600 f 1200, "
               << kCalibration << " calibration + " << (kPoses - kCalibration)
-              << " held-out poses, 80 points + yardstick; the given pixel sd is the true one times the factor\n\n";
+              << " held-out poses, 80 points + yardstick; the given pixel sd is the true one times the factor"
+              << (auto_noise ? " (the start of --pixel-sd auto)" : " (used as stated)") << "\n\n";
     const auto t_start = std::chrono::steady_clock::now();
     std::vector<Row> rows;
     auto rowOf = [&](const std::string &robot, const std::string &method, const std::string &focal, double noise,
@@ -277,6 +282,7 @@ int main(int argc, char **argv)
                   po.focal_mode = mode;
                   po.num_calibration_poses = kCalibration;
                   po.pixel_sd = factor * noise;
+                  po.estimate_pixel_sd = auto_noise; // calibrate --pixel-sd auto, from the given value
                   const auto r = vpRobotSelfCalibration::run(clean.getNominalChain(), dd, po);
                   ++row.runs;
                   ++row.statuses[vpRobotSelfCalibration::statusName(r.status)];
@@ -309,6 +315,10 @@ int main(int argc, char **argv)
                       ++row.above_nominal;
                     if (!(err <= 5 * pred))
                       ++row.above_predicted;
+                  }
+                  // The sd ratios over every run with an estimate (a doubtful one included: leaving
+                  // it out would bias the spread).
+                  if (r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL) {
                     if (mode != vpRobotSelfCalibration::FOCAL_KNOWN) {
                       row.f.push_back(r.fx);
                       row.f_sd.push_back(r.fx_sd);

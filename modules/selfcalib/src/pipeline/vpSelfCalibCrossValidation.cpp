@@ -172,7 +172,8 @@ vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinem
     fold.status = r.status;
     fold.message = r.message;
     fold.nominal = reprojection(nominal, ds.cam, ds.opencv_distortion, controller_poses, train, test);
-    if (r.status == vpRobotSelfCalibration::OK) {
+    // A doubtful fold has a model (the one calibrate would write, marked): it is cross-validated too.
+    if (r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL) {
       fold.fx = r.camera.get_px();
       fold.calibrated =
           reprojection(r.calibrated, r.camera, calibratedDistortion(r, ds), controller_poses, train, test);

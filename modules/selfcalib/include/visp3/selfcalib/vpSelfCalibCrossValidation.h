@@ -76,7 +76,7 @@ public:
     std::vector<unsigned int> held_out; //!< dataset indices of the held-out views
     vpRobotSelfCalibration::Status status = vpRobotSelfCalibration::TWO_VIEW_FAILED;
     std::string message;                //!< the calibration's message
-    double fx = 0;                      //!< px, the fold's focal length (OK folds)
+    double fx = 0;                      //!< px, the fold's focal length (OK and DOUBTFUL folds)
     Reprojection calibrated, nominal;   //!< the held-out views' reprojection error
     //! The yardstick 3-D error (m) on the held-out views, when two of them see its ends.
     bool verified = false;
@@ -93,7 +93,7 @@ public:
   struct Result {
     unsigned int views = 0, folds = 0;
     std::vector<Fold> fold;
-    unsigned int num_ok = 0;     //!< folds calibrated (status OK) with held-out observations compared
+    unsigned int num_ok = 0;     //!< folds calibrated (status OK or DOUBTFUL) with held-out observations compared
     unsigned int num_failed = 0; //!< folds whose calibration failed (their status in fold)
     //! Over the num_ok folds: the held-out reprojection RMS and median (px), calibrated and nominal.
     Spread calibrated_rms, nominal_rms, calibrated_median, nominal_median;
