@@ -934,10 +934,14 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
     return false;
   }
   // The a posteriori variance factor: the stated noise is too small for the residuals.
+  // With robot pose corrections the pose priors take up what the pixels do not: a sigma0 below 1
+  // then says the priors were loose, not that the estimate is better, and is not used to shrink.
   const double s2 = res.sigma0 * res.sigma0;
-  const double factor = a.scale_covariance_chi2 ? (res.sigma0 < res.sigma0_low || res.sigma0 > res.sigma0_high ? s2 : 1.0)
-                        : a.scale_covariance && res.sigma0 > 1 ? s2
-                                                               : 1.0;
+  const bool pose_priors = !a.state.delta.empty() || !a.state.dq.empty();
+  const double factor =
+      a.scale_covariance_chi2 && !pose_priors ? (res.sigma0 < res.sigma0_low || res.sigma0 > res.sigma0_high ? s2 : 1.0)
+      : (a.scale_covariance || a.scale_covariance_chi2) && res.sigma0 > 1 ? s2
+                                                                          : 1.0;
   res.covariance_scaled = factor != 1.0;
   res.covariance.resize(N, N);
   for (int r = 0; r < N; ++r)

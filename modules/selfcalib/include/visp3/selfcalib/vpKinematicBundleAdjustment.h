@@ -138,7 +138,10 @@ public:
       Scale the covariance by sigma0^2 whenever sigma0 is outside the two-sided 99.9 % interval of
       sqrt(chi2(dof) / dof): the residuals contradict the stated noise in either direction (too
       small a pixel_sd gives too small standard deviations, too large a pixel_sd too large ones).
-      Takes precedence over scale_covariance. Off by default.
+      With robot pose or joint corrections (pose_sd_*, joint_sd) only a sigma0 above 1 scales (as
+      scale_covariance): their priors absorb what the pixels leave, and a sigma0 below 1 then says
+      the priors were loose, not that the estimate is better. Takes precedence over
+      scale_covariance. Off by default.
     */
     bool scale_covariance_chi2 = false;
     /*!
