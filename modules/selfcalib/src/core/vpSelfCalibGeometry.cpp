@@ -10,6 +10,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "vpSelfCalibCeres.h"
+#include "vpSelfCalibRandom.h"
 
 namespace vpSelfCalib
 {
@@ -97,7 +98,7 @@ void relativePoseJacobian(const Rigid &A, const Eigen::MatrixXd &JA, const Rigid
 
 bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eigen::Vector2d> &b,
                    double ransac_threshold, int max_iterations, double confidence, Eigen::Matrix3d &H,
-                   std::vector<bool> &inliers, int64_t seed)
+                   std::vector<bool> &inliers, uint64_t seed, uint64_t stream)
 {
   if (a.size() != b.size() || a.size() < 4)
     return false;
@@ -106,11 +107,19 @@ bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eige
     ca.emplace_back(a[i](0), a[i](1));
     cb.emplace_back(b[i](0), b[i](1));
   }
-  if (seed >= 0)
-    cv::setRNGSeed(static_cast<int>(seed & 0x7fffffff));
-  cv::Mat mask;
-  const cv::Mat Hc = cv::findHomography(ca, cb, cv::RANSAC, ransac_threshold, mask, max_iterations, confidence);
-  if (Hc.empty())
+  cv::UsacParams p;
+  p.threshold = ransac_threshold;
+  p.confidence = confidence;
+  p.maxIterations = std::max(1, max_iterations);
+  p.randomGeneratorState = usacSeed(seed, stream);
+  p.isParallel = false;
+  cv::Mat mask, Hc;
+  try {
+    Hc = cv::findHomography(ca, cb, mask, p);
+  } catch (const cv::Exception &) {
+    return false; // degenerate sample set: no model
+  }
+  if (Hc.empty() || mask.total() != a.size())
     return false;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)

@@ -53,14 +53,19 @@ void relativePoseJacobian(const Rigid &A, const Eigen::MatrixXd &JA, const Rigid
                           Eigen::MatrixXd &Jt, Eigen::MatrixXd &Jr);
 
 /*!
-  The homography of matched pixels a -> b by OpenCV's RANSAC (findHomography) with the given
-  inlier threshold (px), sample cap and confidence; inliers: its RANSAC mask. False when OpenCV
-  finds none (fewer than 4 points, or a degenerate sample set). seed >= 0: OpenCV's random generator
-  (cv::theRNG, per thread) is seeded with it first; -1 leaves it as it is.
+  The homography of matched pixels a -> b by OpenCV's USAC (findHomography with cv::UsacParams:
+  uniform sampling, MSAC score, inner local optimisation, final least squares on the inliers) with
+  the given inlier threshold (px, forward transfer error), sample cap and confidence; inliers: its
+  mask. False when OpenCV finds none (fewer than 4 points, or a degenerate sample set).
+  seed: USAC's random generator state (usacSeed(seed, stream), vpSelfCalibRandom.h), so that the
+  same seed gives the same homography bit for bit and another seed another sample sequence. USAC
+  runs sequentially (isParallel false): the result does not depend on the thread count. (OpenCV's
+  classic cv::RANSAC draws from a generator it seeds with a constant in each call, RNG((uint64)-1)
+  in calib3d's ptsetreg.cpp: reproducible but not seedable, and cv::setRNGSeed has no effect on it.)
 */
 bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eigen::Vector2d> &b,
                    double ransac_threshold, int max_iterations, double confidence, Eigen::Matrix3d &H,
-                   std::vector<bool> &inliers, int64_t seed = -1);
+                   std::vector<bool> &inliers, uint64_t seed, uint64_t stream = 0);
 
 /*!
   Covariance of the `kept` blocks (in order, tangent coordinates) with the 3-D `eliminated` blocks

@@ -277,13 +277,11 @@ void checkParallax(const vpKinematicChain &nominal, const std::vector<View> &cal
     // extrapolates poorly), then every point against the refined homography. 200 samples find a
     // homography that explains 90% of the points with probability 1 - (1 - 0.9^4)^200; a scene
     // with relief leaves RANSAC at that cap (2000 made the check cost 40 ms per pair).
-    // Reproducible and thread-safe without a seed: OpenCV's cv::RANSAC (findHomography) draws its
-    // samples from a generator it creates in each call with a fixed seed (RNG((uint64)-1) in
-    // calib3d's ptsetreg.cpp), not from the global cv::theRNG(); there is no seed to pass.
+    // OpenCV's USAC, seeded from Options::seed with the pair's own stream, sequential.
     Eigen::Matrix3d H;
     std::vector<bool> ransac_inliers;
     ++pairs;
-    if (!fitHomography(a, b, 3 * threshold, 200, 0.999, H, ransac_inliers))
+    if (!fitHomography(a, b, 3 * threshold, 200, 0.999, H, ransac_inliers, opt.seed, k))
       continue;
     unsigned int explained = 0;
     for (size_t i = 0; i < a.size(); ++i)

@@ -21,6 +21,7 @@
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibObservations.h"
+#include "../core/vpSelfCalibRandom.h"
 
 using namespace vpSelfCalib;
 
@@ -587,11 +588,23 @@ bool resectUnexplainedViews(State &s)
     cv::Mat rvec, tvec;
     std::vector<int> pnp_inliers;
     const cv::Matx33d K(s.f, 0, s.u0, 0, s.mu * s.f, s.v0, 0, 0, 1);
-    // Reproducible and thread-safe without a seed: solvePnPRansac's classic RANSAC draws from a
-    // generator created in each call with a fixed seed (RNG((uint64)-1), calib3d's ptsetreg.cpp),
-    // not from the global cv::theRNG(); there is no seed to pass (twoview.ransac.seed seeds ours).
-    const bool ok = P3.size() >= 6 && cv::solvePnPRansac(P3, P2, K, cv::noArray(), rvec, tvec, false, 200, thr, 0.999,
-                                                         pnp_inliers, cv::SOLVEPNP_EPNP);
+    // OpenCV's USAC PnP (P3P minimal solver), seeded from twoview.ransac.seed with the view's
+    // own stream, sequential: the same seed gives the same poses whatever the thread count.
+    bool ok = false;
+    if (P3.size() >= 6) {
+      cv::UsacParams up;
+      up.threshold = thr;
+      up.confidence = 0.999;
+      up.maxIterations = 200;
+      up.randomGeneratorState = usacSeed(s.opt.twoview.ransac.seed, 1000 + k);
+      up.isParallel = false;
+      cv::Mat Kc(K);
+      try {
+        ok = cv::solvePnPRansac(P3, P2, Kc, cv::noArray(), rvec, tvec, pnp_inliers, up);
+      } catch (const cv::Exception &) {
+        ok = false;
+      }
+    }
     const bool was_posed = s.res.posed[k];
     if (ok && pnp_inliers.size() >= needed && pnp_inliers.size() > good) {
       const Eigen::Vector3d r(rvec.at<double>(0), rvec.at<double>(1), rvec.at<double>(2));
