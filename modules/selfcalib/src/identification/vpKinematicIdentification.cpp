@@ -17,6 +17,7 @@
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibRandom.h"
+#include "../core/vpSelfCalibRange.h"
 
 using namespace vpSelfCalib;
 
@@ -264,6 +265,7 @@ vpKinematicIdentification::Identifiability vpKinematicIdentification::analyse(co
                                                                               const Options &opt)
 {
   opt.check();
+  vpSelfCalib::checkChain(chain, "vpKinematicIdentification::analyse: the model '" + chain.getName() + "'");
   if (ms.empty())
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicIdentification: no measurement");
   const std::vector<std::string> names = chain.getParameterNames();
@@ -344,6 +346,7 @@ vpKinematicIdentification::Result vpKinematicIdentification::identify(const vpKi
                                                                       const Options &opt)
 {
   opt.check();
+  vpSelfCalib::checkChain(start, "vpKinematicIdentification::identify: the model '" + start.getName() + "'");
   if (ms.empty())
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicIdentification: no measurement");
   checkMeasurements(start, ms);

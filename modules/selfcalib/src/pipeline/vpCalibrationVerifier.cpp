@@ -8,6 +8,7 @@
 
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
+#include "../core/vpSelfCalibRange.h"
 
 using namespace vpSelfCalib;
 
@@ -26,6 +27,8 @@ std::map<int, vpColVector> vpCalibrationVerifier::triangulate(const vpKinematicC
                                                               const vpCameraParameters &cam,
                                                               const std::vector<vpSelfCalibDataset::View> &views)
 {
+  vpSelfCalib::checkCamera(cam, "vpCalibrationVerifier::triangulate: the camera");
+  vpSelfCalib::checkChain(model, "vpCalibrationVerifier::triangulate: the model '" + model.getName() + "'");
   // Each point: the midpoint of its rays through the camera model (distortion included), refined on
   // its reprojection error; a point the rays place behind a camera is left out.
   const CameraModel camera = CameraModel::fromVisp(cam);
@@ -63,6 +66,8 @@ vpCalibrationVerifier::Result vpCalibrationVerifier::verify(const vpKinematicCha
                                                             const std::map<int, vpColVector> &true_points,
                                                             const std::vector<vpHomogeneousMatrix> &true_fMc)
 {
+  vpSelfCalib::checkCamera(cam, "vpCalibrationVerifier::verify: the camera");
+  vpSelfCalib::checkChain(model, "vpCalibrationVerifier::verify: the model '" + model.getName() + "'");
   if (views.size() < 2)
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpCalibrationVerifier: at least 2 views are needed");
   if (!true_fMc.empty() && true_fMc.size() != views.size())

@@ -20,6 +20,7 @@
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibRandom.h"
+#include "../core/vpSelfCalibRange.h"
 
 using namespace vpSelfCalib;
 
@@ -192,6 +193,8 @@ void vpMeasurementPlanner::SelectionOptions::check() const
 vpMeasurementPlanner::vpMeasurementPlanner(const vpKinematicChain &nominal, const Scene &scene)
   : m_chain(nominal), m_scene(scene)
 {
+  vpSelfCalib::checkChain(nominal, "vpMeasurementPlanner: the nominal model '" + nominal.getName() + "'");
+  vpSelfCalib::checkCamera(scene.cam, "vpMeasurementPlanner: the scene's camera");
   if (scene.points.empty())
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpMeasurementPlanner: the scene has no point");
   for (size_t i = 0; i < scene.points.size(); ++i) {

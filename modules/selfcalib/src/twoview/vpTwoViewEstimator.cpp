@@ -16,6 +16,7 @@
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibRandom.h"
+#include "../core/vpSelfCalibRange.h"
 
 using namespace vpSelfCalib;
 
@@ -123,6 +124,7 @@ void vpTwoViewEstimator::Options::check() const
   if (!(std::isfinite(fx) && fx > 0 && std::isfinite(mu) && mu > 0 && std::isfinite(u0) && std::isfinite(v0)))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpTwoViewEstimator: fx and mu must be positive, u0 and v0 finite");
+  vpSelfCalib::checkIntrinsics(fx, mu * fx, u0, v0, "vpTwoViewEstimator: the camera (fx, mu fx, u0, v0)");
   if (!(planar_ratio > 0 && planar_ratio <= 1) || !(min_coplanarity >= 0) || !(rotation_tolerance > 0) ||
       !(huber >= 0 && std::isfinite(huber)) || !(max_fx_relative_sd > 0))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
