@@ -208,9 +208,25 @@ Eigen::Vector2d residual(const State &s, const Observation &o, const Eigen::Vect
   return r;
 }
 
-//! Whitened reprojection error (in noise sd) of observation o against point X.
+//! Depth of point X (frame of view 0) in the camera of observation o's view, current pose.
+double depthInView(const State &s, const Observation &o, const Eigen::Vector3d &X)
+{
+  if (o.view == 0)
+    return X.z();
+  const Eigen::Vector4d &q = s.quat[o.view];
+  return (Eigen::Quaterniond(q(3), q(0), q(1), q(2)) * X + s.trans[o.view]).z();
+}
+
+/*
+  Whitened reprojection error (in noise sd) of observation o against point X; infinite when X is
+  not in front of o's camera (cheirality): the pinhole formula projects X and its mirror image -X
+  through the centre to the same pixel, so the reprojection error alone cannot see a point behind
+  a camera, and such an observation is never an inlier.
+*/
 double whitened(const State &s, const Observation &o, const Eigen::Vector3d &X)
 {
+  if (!(depthInView(s, o, X) > 0))
+    return std::numeric_limits<double>::infinity();
   const Eigen::Vector2d r = residual(s, o, X, s.opt.pixel_sd);
   return std::hypot(r(0), r(1));
 }
@@ -833,6 +849,12 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
     s.res.status = status;
     return std::move(s.res);
   }
+  // Cheirality after the last solve: an observation of a point behind its camera is an outlier
+  // (the points left with fewer than two observations are dropped).
+  for (size_t n = 0; n < s.obs.size(); ++n)
+    if (s.inlier[n] && !(depthInView(s, s.obs[n], (*s.X)[s.obs[n].id]) > 0))
+      s.inlier[n] = false;
+  dropPoorlyObservedPoints(s.obs, s.inlier);
   triangulateLeftOutPoints(s);
   scaleAndExport(s, statistics(s));
   return std::move(s.res);
