@@ -10,7 +10,6 @@
 #include <opencv2/calib3d.hpp>
 
 #include "vpSelfCalibCeres.h"
-#include "vpSelfCalibRandom.h"
 
 namespace vpSelfCalib
 {
@@ -98,7 +97,7 @@ void relativePoseJacobian(const Rigid &A, const Eigen::MatrixXd &JA, const Rigid
 
 bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eigen::Vector2d> &b,
                    double ransac_threshold, int max_iterations, double confidence, Eigen::Matrix3d &H,
-                   std::vector<bool> &inliers, uint64_t seed, uint64_t stream)
+                   std::vector<bool> &inliers)
 {
   if (a.size() != b.size() || a.size() < 4)
     return false;
@@ -107,15 +106,10 @@ bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eige
     ca.emplace_back(a[i](0), a[i](1));
     cb.emplace_back(b[i](0), b[i](1));
   }
-  cv::UsacParams p;
-  p.threshold = ransac_threshold;
-  p.confidence = confidence;
-  p.maxIterations = std::max(1, max_iterations);
-  p.randomGeneratorState = usacSeed(seed, stream);
-  p.isParallel = false;
+  // Classic RANSAC, not USAC: see the header.
   cv::Mat mask, Hc;
   try {
-    Hc = cv::findHomography(ca, cb, mask, p);
+    Hc = cv::findHomography(ca, cb, cv::RANSAC, ransac_threshold, mask, std::max(1, max_iterations), confidence);
   } catch (const cv::Exception &) {
     return false; // degenerate sample set: no model
   }

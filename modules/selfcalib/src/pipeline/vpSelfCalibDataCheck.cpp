@@ -291,11 +291,12 @@ void checkParallax(const vpKinematicChain &nominal, const std::vector<View> &cal
     // extrapolates poorly), then every point against the refined homography. 200 samples find a
     // homography that explains 90% of the points with probability 1 - (1 - 0.9^4)^200; a scene
     // with relief leaves RANSAC at that cap (2000 made the check cost 40 ms per pair).
-    // OpenCV's USAC, seeded from Options::seed with the pair's own stream, sequential.
+    // Deterministic without a seed: OpenCV's classic RANSAC (fitHomography, core), which seeds its
+    // own generator with a constant in each call (see fitHomography for why not USAC).
     Eigen::Matrix3d H;
     std::vector<bool> ransac_inliers;
     ++pairs;
-    if (!fitHomography(a, b, 3 * threshold, 200, 0.999, H, ransac_inliers, opt.seed, k))
+    if (!fitHomography(a, b, 3 * threshold, 200, 0.999, H, ransac_inliers))
       continue;
     unsigned int explained = 0;
     for (size_t i = 0; i < a.size(); ++i)

@@ -77,7 +77,7 @@ bool homographyExplains(const std::vector<vpImagePoint> &p1, const std::vector<v
   }
   Eigen::Matrix3d He;
   if (!fitHomography(toEigen(p1), toEigen(p2), o.ransac.inlier_threshold, iterations, o.ransac.confidence, He,
-                     h_inliers, o.ransac.seed, 1))
+                     h_inliers))
     return false;
   const unsigned int nh = static_cast<unsigned int>(std::count(h_inliers.begin(), h_inliers.end(), true));
   // The homography explains the data when it keeps (nearly) as many points as the fundamental

@@ -63,9 +63,6 @@ public:
     //! parallax. Measured on the reference scenario at 0.2 px: 0.95-1 for a plane, 0-0.1 for the
     //! 8 cm deep scene, 0.05-0.4 with 1 cm of relief.
     double homography_inliers = 0.9;
-    //! Seed of the homography test's RANSAC (OpenCV USAC, one stream per pair): the same seed
-    //! gives the same findings; the verdict does not depend on it unless a pair is borderline.
-    uint64_t seed = 1;
     void check() const;
   };
 

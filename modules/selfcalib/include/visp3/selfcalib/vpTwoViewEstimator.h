@@ -31,8 +31,9 @@
 
   Pose convention of the paper: c2Mc1 = [R t], X2 = R X1 + t, |t| = 1.
 
-  Before the fundamental matrix is trusted, a homography (OpenCV findHomography with USAC, seeded
-  from ransac.seed) is fitted to
+  Before the fundamental matrix is trusted, a homography (OpenCV findHomography, classic RANSAC:
+  deterministic with OpenCV's fixed internal seed, not ransac.seed; USAC called most of the main
+  job's pairs planar) is fitted to
   the same points. When it keeps at least planar_ratio times as many inliers as the fundamental
   matrix (or F does not exist: a plane makes the 8-point system rank-deficient), the pair is
   - PURE_ROTATION if A^-1 H A is a rotation (no translation: the pose is R only, t = 0), or
@@ -52,8 +53,8 @@ public:
     vpRefinedFactorMethod::FocalMode focal_mode = vpRefinedFactorMethod::PER_PAIR; //!< PER_PAIR or KNOWN here
     double fx = 1000;   //!< known value (KNOWN) or initial guess (px)
     double u0 = 320, v0 = 240, mu = 1;
-    //! The fundamental matrix's RANSAC; its seed also seeds the homography test's USAC and, in
-    //! vpMultiViewReconstruction, the PnP resection's USAC.
+    //! The fundamental matrix's RANSAC; its seed also seeds, in vpMultiViewReconstruction, the
+    //! PnP resection's USAC.
     vpFundamentalMatrix::Options ransac;
     bool refine = true;            //!< run the refined nonlinear factor method
     double huber = 0;              //!< px, robust loss of the refinement (0: plain least squares)
