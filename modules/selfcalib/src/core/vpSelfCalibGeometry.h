@@ -6,6 +6,7 @@
 #ifndef VP_SELFCALIB_GEOMETRY_H
 #define VP_SELFCALIB_GEOMETRY_H
 
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -68,6 +69,19 @@ void relativePoseJacobian(const Rigid &A, const Eigen::MatrixXd &JA, const Rigid
 bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eigen::Vector2d> &b,
                    double ransac_threshold, int max_iterations, double confidence, Eigen::Matrix3d &H,
                    std::vector<bool> &inliers);
+
+/*!
+  The pose cMw of a calibrated pinhole camera (K: fx, u0, v0, mu fx; no distortion) from 3-D points
+  (frame w) and their pixels, by OpenCV's USAC PnP (solvePnPRansac with cv::UsacParams: P3P samples,
+  local optimisation, final refinement on the inliers), inlier threshold in px, at most
+  max_iterations samples; inliers: their indices. USAC's random generator state is
+  usacSeed(seed, stream) (vpSelfCalibRandom.h): the same seed gives the same pose bit for bit,
+  another seed another sample sequence; sequential (isParallel false), so the thread count does
+  not matter. False when OpenCV finds no pose (fewer than 6 points, or a degenerate set).
+*/
+bool fitPoseRansac(const std::vector<Eigen::Vector3d> &X, const std::vector<Eigen::Vector2d> &uv, double fx, double u0,
+                   double v0, double mu, double threshold, int max_iterations, uint64_t seed, uint64_t stream,
+                   Rigid &cMw, std::vector<int> &inliers);
 
 /*!
   Covariance of the `kept` blocks (in order, tangent coordinates) with the 3-D `eliminated` blocks

@@ -21,7 +21,6 @@
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibObservations.h"
-#include "../core/vpSelfCalibRandom.h"
 
 using namespace vpSelfCalib;
 
@@ -594,39 +593,23 @@ bool resectUnexplainedViews(State &s)
     const unsigned int needed = std::max<unsigned int>(opt.min_points, static_cast<unsigned int>(idx.size() / 2));
     if (s.res.posed[k] && good >= needed)
       continue;
-    std::vector<cv::Point3d> P3;
-    std::vector<cv::Point2d> P2;
+    std::vector<Eigen::Vector3d> P3;
+    std::vector<Eigen::Vector2d> P2;
     for (size_t n : idx) {
-      const Eigen::Vector3d &x = (*s.X)[s.obs[n].id];
-      P3.emplace_back(x(0), x(1), x(2));
+      P3.push_back((*s.X)[s.obs[n].id]);
       P2.emplace_back(s.obs[n].u, s.obs[n].v);
     }
-    cv::Mat rvec, tvec;
+    // OpenCV's USAC PnP (core fitPoseRansac), seeded from twoview.ransac.seed with the view's own
+    // stream, sequential: the same seed gives the same poses whatever the thread count.
+    Rigid ckMc0;
     std::vector<int> pnp_inliers;
-    const cv::Matx33d K(s.f, 0, s.u0, 0, s.mu * s.f, s.v0, 0, 0, 1);
-    // OpenCV's USAC PnP (P3P minimal solver), seeded from twoview.ransac.seed with the view's
-    // own stream, sequential: the same seed gives the same poses whatever the thread count.
-    bool ok = false;
-    if (P3.size() >= 6) {
-      cv::UsacParams up;
-      up.threshold = thr;
-      up.confidence = 0.999;
-      up.maxIterations = 200;
-      up.randomGeneratorState = usacSeed(s.opt.twoview.ransac.seed, 1000 + k);
-      up.isParallel = false;
-      cv::Mat Kc(K);
-      try {
-        ok = cv::solvePnPRansac(P3, P2, Kc, cv::noArray(), rvec, tvec, pnp_inliers, up);
-      } catch (const cv::Exception &) {
-        ok = false;
-      }
-    }
+    const bool ok = fitPoseRansac(P3, P2, s.f, s.u0, s.v0, s.mu, thr, 200, s.opt.twoview.ransac.seed, 1000 + k, ckMc0,
+                                  pnp_inliers);
     const bool was_posed = s.res.posed[k];
     if (ok && pnp_inliers.size() >= needed && pnp_inliers.size() > good) {
-      const Eigen::Vector3d r(rvec.at<double>(0), rvec.at<double>(1), rvec.at<double>(2));
-      const Eigen::Quaterniond qk(expSO3(r));
+      const Eigen::Quaterniond qk(ckMc0.R);
       s.quat[k] = Eigen::Vector4d(qk.x(), qk.y(), qk.z(), qk.w());
-      s.trans[k] = Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+      s.trans[k] = ckMc0.t;
       s.res.posed[k] = true;
       changed = true;
     } else if (good < needed) {
