@@ -5,6 +5,7 @@
 #include "vpSelfCalibFiles.h"
 
 #include <atomic>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -54,6 +55,79 @@ std::string uniqueSuffix()
 
 //! The directory of `p` ("." for a bare name).
 fs::path directoryOf(const fs::path &p) { return p.has_parent_path() ? p.parent_path() : fs::path("."); }
+
+/*
+  The lock of one file's writes: flock on `.NAME.lock` beside it, waited for (writers of one file
+  take turns; a run killed while it holds the lock releases it: the system closes its descriptor),
+  the lock file removed while still held (see OutputDirectory's constructor for the inode check).
+  It lets a writer tell the temporary files of killed runs from those of live ones: while a writer
+  holds the lock no other live writer of that file has a temporary file, so any there is a leftover.
+*/
+class FileLock
+{
+public:
+  FileLock(const fs::path &file, const std::string &what)
+  {
+    m_path = (directoryOf(file) / ("." + file.filename().string() + ".lock")).string();
+    for (int attempt = 0;; ++attempt) {
+      const int fd = ::open(m_path.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0666);
+      if (fd < 0)
+        fail(what, file.string(), "cannot create the lock file '" + m_path + "'", errno);
+      while (::flock(fd, LOCK_EX) != 0)
+        if (errno != EINTR) {
+          const int err = errno;
+          ::close(fd);
+          fail(what, file.string(), "cannot lock '" + m_path + "'", err);
+        }
+      struct stat a, b;
+      if (::fstat(fd, &a) == 0 && ::stat(m_path.c_str(), &b) == 0 && a.st_ino == b.st_ino && a.st_dev == b.st_dev) {
+        m_fd = fd;
+        return;
+      }
+      ::close(fd);
+      if (attempt > 100)
+        fail(what, file.string(), "cannot lock '" + m_path + "'", EAGAIN);
+    }
+  }
+  ~FileLock()
+  {
+    ::unlink(m_path.c_str()); // while still locked
+    ::close(m_fd);
+  }
+  FileLock(const FileLock &) = delete;
+  FileLock &operator=(const FileLock &) = delete;
+
+private:
+  std::string m_path;
+  int m_fd = -1;
+};
+
+/*
+  Removes the temporary files killed writers of `file` left: the names createTemporaryFileFor gives
+  (`.STEM.tmp-`, 8 lower-case hex digits, the extension), files or symbolic links (a link is
+  removed, not followed), never a directory (OutputDirectory's leftovers are directories, removed by
+  its own constructor). Called with the file's lock held, which is calibrate's rule for its
+  directories: no live writer of the file owns one. Errors are ignored (the write that follows
+  reports a directory it cannot use).
+*/
+void removeStaleTemporaries(const fs::path &file)
+{
+  const std::string stem = file.filename().stem().string(), ext = file.filename().extension().string();
+  const std::string prefix = "." + stem + ".tmp-";
+  std::error_code ec;
+  for (const fs::directory_entry &e : fs::directory_iterator(directoryOf(file), ec)) {
+    const std::string n = e.path().filename().string();
+    if (n.size() != prefix.size() + 8 + ext.size() || n.compare(0, prefix.size(), prefix) != 0 ||
+        n.compare(prefix.size() + 8, std::string::npos, ext) != 0)
+      continue;
+    bool hex = true;
+    for (size_t i = prefix.size(); i < prefix.size() + 8; ++i)
+      hex = hex && (std::isdigit(static_cast<unsigned char>(n[i])) || (n[i] >= 'a' && n[i] <= 'f'));
+    std::error_code ec2;
+    if (hex && (e.is_symlink(ec2) || !e.is_directory(ec2)))
+      ::unlink(e.path().c_str());
+  }
+}
 
 //! fsync of a directory, so that a rename in it survives a crash; errors ignored (some file systems refuse).
 void syncDirectory(const fs::path &dir)
@@ -128,6 +202,8 @@ fs::path createTemporaryFileFor(const fs::path &file, const std::string &what)
 void writeFileAtomicallyWith(const std::string &filename, const std::function<bool(const std::string &)> &fill,
                              const std::string &what)
 {
+  const FileLock lock(filename, what);
+  removeStaleTemporaries(filename);
   const fs::path tmp = createTemporaryFileFor(filename, what);
   bool written = false;
   try {
@@ -148,6 +224,8 @@ void writeFileAtomicallyWith(const std::string &filename, const std::function<bo
 
 void writeFileAtomically(const std::string &filename, const std::string &content, const std::string &what)
 {
+  const FileLock lock(filename, what);
+  removeStaleTemporaries(filename);
   const fs::path tmp = createTemporaryFileFor(filename, what);
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_TRUNC | O_NOFOLLOW | O_CLOEXEC);
   if (fd < 0) {

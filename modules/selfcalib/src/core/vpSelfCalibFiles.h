@@ -34,7 +34,11 @@ std::filesystem::path createTemporaryFileFor(const std::filesystem::path &file, 
 /*!
   Writes `content` to `filename` atomically. Throws vpSelfCalibException (ioError) naming `what`
   (the kind of file: "robot model", "URDF"...), the file and the errno text when the temporary file
-  cannot be created, written, flushed or renamed into place.
+  cannot be created, written, flushed or renamed into place. The write holds the target's lock
+  (`.NAME.lock` beside it, flock, waited for; writers of one file take turns) and first removes
+  what killed writers of that target left (files named like its temporaries,
+  `.STEM.tmp-XXXXXXXX.EXT`): with the lock held no live writer owns one, calibrate's rule for its
+  output directory. writeFileAtomicallyWith does the same.
 */
 void writeFileAtomically(const std::string &filename, const std::string &content, const std::string &what);
 

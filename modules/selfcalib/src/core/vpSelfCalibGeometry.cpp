@@ -10,6 +10,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "vpSelfCalibCeres.h"
+#include "vpSelfCalibRandom.h"
 
 namespace vpSelfCalib
 {
@@ -97,7 +98,7 @@ void relativePoseJacobian(const Rigid &A, const Eigen::MatrixXd &JA, const Rigid
 
 bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eigen::Vector2d> &b,
                    double ransac_threshold, int max_iterations, double confidence, Eigen::Matrix3d &H,
-                   std::vector<bool> &inliers, int64_t seed)
+                   std::vector<bool> &inliers)
 {
   if (a.size() != b.size() || a.size() < 4)
     return false;
@@ -106,11 +107,14 @@ bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eige
     ca.emplace_back(a[i](0), a[i](1));
     cb.emplace_back(b[i](0), b[i](1));
   }
-  if (seed >= 0)
-    cv::setRNGSeed(static_cast<int>(seed & 0x7fffffff));
-  cv::Mat mask;
-  const cv::Mat Hc = cv::findHomography(ca, cb, cv::RANSAC, ransac_threshold, mask, max_iterations, confidence);
-  if (Hc.empty())
+  // Classic RANSAC, not USAC: see the header.
+  cv::Mat mask, Hc;
+  try {
+    Hc = cv::findHomography(ca, cb, cv::RANSAC, ransac_threshold, mask, std::max(1, max_iterations), confidence);
+  } catch (const cv::Exception &) {
+    return false; // degenerate sample set: no model
+  }
+  if (Hc.empty() || mask.total() != a.size())
     return false;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
@@ -119,6 +123,42 @@ bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eige
   for (size_t i = 0; i < a.size(); ++i)
     inliers[i] = mask.at<uchar>(static_cast<int>(i)) != 0;
   return true;
+}
+
+bool fitPoseRansac(const std::vector<Eigen::Vector3d> &X, const std::vector<Eigen::Vector2d> &uv, double fx, double u0,
+                   double v0, double mu, double threshold, int max_iterations, uint64_t seed, uint64_t stream,
+                   Rigid &cMw, std::vector<int> &inliers)
+{
+  inliers.clear();
+  if (X.size() != uv.size() || X.size() < 6)
+    return false;
+  std::vector<cv::Point3d> P3;
+  std::vector<cv::Point2d> P2;
+  for (size_t i = 0; i < X.size(); ++i) {
+    P3.emplace_back(X[i](0), X[i](1), X[i](2));
+    P2.emplace_back(uv[i](0), uv[i](1));
+  }
+  cv::UsacParams up;
+  up.threshold = threshold;
+  up.confidence = 0.999;
+  up.maxIterations = std::max(1, max_iterations);
+  up.randomGeneratorState = usacSeed(seed, stream);
+  up.isParallel = false;
+  cv::Mat K = (cv::Mat_<double>(3, 3) << fx, 0, u0, 0, mu * fx, v0, 0, 0, 1), rvec, tvec;
+  bool ok = false;
+  try {
+    ok = cv::solvePnPRansac(P3, P2, K, cv::noArray(), rvec, tvec, inliers, up);
+  } catch (const cv::Exception &) {
+    ok = false;
+  }
+  if (!ok || rvec.total() != 3 || tvec.total() != 3)
+    return false;
+  rvec.convertTo(rvec, CV_64F);
+  tvec.convertTo(tvec, CV_64F);
+  const Eigen::Vector3d r(rvec.at<double>(0), rvec.at<double>(1), rvec.at<double>(2));
+  cMw.R = expSO3(r);
+  cMw.t = Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+  return cMw.R.allFinite() && cMw.t.allFinite();
 }
 
 bool marginalCovariance(ceres::Problem &problem, const std::vector<double *> &kept,

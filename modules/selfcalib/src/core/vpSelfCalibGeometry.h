@@ -6,6 +6,7 @@
 #ifndef VP_SELFCALIB_GEOMETRY_H
 #define VP_SELFCALIB_GEOMETRY_H
 
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -53,14 +54,34 @@ void relativePoseJacobian(const Rigid &A, const Eigen::MatrixXd &JA, const Rigid
                           Eigen::MatrixXd &Jt, Eigen::MatrixXd &Jr);
 
 /*!
-  The homography of matched pixels a -> b by OpenCV's RANSAC (findHomography) with the given
-  inlier threshold (px), sample cap and confidence; inliers: its RANSAC mask. False when OpenCV
-  finds none (fewer than 4 points, or a degenerate sample set). seed >= 0: OpenCV's random generator
-  (cv::theRNG, per thread) is seeded with it first; -1 leaves it as it is.
+  The homography of matched pixels a -> b by OpenCV's classic RANSAC (findHomography, cv::RANSAC)
+  with the given inlier threshold (px), sample cap and confidence; inliers: its RANSAC mask. False
+  when OpenCV finds none (fewer than 4 points, or a degenerate sample set).
+  Deterministic and thread-safe without a seed: the classic RANSAC draws its samples from a
+  generator it creates in each call with a fixed seed (RNG((uint64)-1) in calib3d's ptsetreg.cpp),
+  not from cv::theRNG() (cv::setRNGSeed has no effect on it), so there is no seed to pass. Not
+  OpenCV's USAC, which is seedable: on the main job (tutorial-selfcalib-viper850 -c -d: a small,
+  shallow scene 1.4 m away) USAC's homography (default settings, or RANSAC score without local
+  optimisation) explains 95 % of the fundamental matrix's inliers in most pairs, so the two-view
+  test called 10 of the 14 pairs planar (4 of 14 two-view poses instead of 13) and the calibration
+  failed; the classic RANSAC keeps the verdicts the pipeline was tuned on.
 */
 bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eigen::Vector2d> &b,
                    double ransac_threshold, int max_iterations, double confidence, Eigen::Matrix3d &H,
-                   std::vector<bool> &inliers, int64_t seed = -1);
+                   std::vector<bool> &inliers);
+
+/*!
+  The pose cMw of a calibrated pinhole camera (K: fx, u0, v0, mu fx; no distortion) from 3-D points
+  (frame w) and their pixels, by OpenCV's USAC PnP (solvePnPRansac with cv::UsacParams: P3P samples,
+  local optimisation, final refinement on the inliers), inlier threshold in px, at most
+  max_iterations samples; inliers: their indices. USAC's random generator state is
+  usacSeed(seed, stream) (vpSelfCalibRandom.h): the same seed gives the same pose bit for bit,
+  another seed another sample sequence; sequential (isParallel false), so the thread count does
+  not matter. False when OpenCV finds no pose (fewer than 6 points, or a degenerate set).
+*/
+bool fitPoseRansac(const std::vector<Eigen::Vector3d> &X, const std::vector<Eigen::Vector2d> &uv, double fx, double u0,
+                   double v0, double mu, double threshold, int max_iterations, uint64_t seed, uint64_t stream,
+                   Rigid &cMw, std::vector<int> &inliers);
 
 /*!
   Covariance of the `kept` blocks (in order, tangent coordinates) with the 3-D `eliminated` blocks

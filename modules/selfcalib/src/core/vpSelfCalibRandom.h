@@ -56,6 +56,16 @@ private:
   bool m_has_spare = false;
   double m_spare = 0;
 };
+
+/*!
+  OpenCV USAC's random generator state (cv::UsacParams::randomGeneratorState, a non-negative int)
+  for (seed, stream): every RANSAC of the module draws from its caller's seed through this, one
+  stream per independent use (a pair, a view).
+*/
+inline int usacSeed(uint64_t seed, uint64_t stream = 0)
+{
+  return static_cast<int>(Random(seed, stream).next() >> 33); // 31 bits
+}
 } // namespace vpSelfCalib
 
 #endif

@@ -21,6 +21,7 @@
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibObservations.h"
+#include "../core/vpSelfCalibRange.h"
 
 using namespace vpSelfCalib;
 
@@ -970,6 +971,8 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
                                         const vpKinematicBundleAdjustment::Options &opt, bool solve)
 {
   opt.check();
+  vpSelfCalib::checkCamera(camera, "vpKinematicBundleAdjustment: the camera");
+  vpSelfCalib::checkChain(start, "vpKinematicBundleAdjustment: the model '" + start.getName() + "'");
   // Checked here rather than in check(): the pipeline sets hand_eye_only from its method.
   const QuietCeres quiet;
   const auto t0 = std::chrono::steady_clock::now();
@@ -1185,6 +1188,7 @@ vpMatrix vpKinematicBundleAdjustment::relativePoseCovariance(const vpKinematicCh
                                                              const vpMatrix &covariance, const vpColVector &q_ref,
                                                              const vpColVector &q)
 {
+  vpSelfCalib::checkChain(chain, "vpKinematicBundleAdjustment::relativePoseCovariance: the model");
   const unsigned int P = static_cast<unsigned int>(parameters.size());
   if (covariance.getRows() < P || covariance.getCols() < P)
     throw vpSelfCalibException(vpSelfCalibException::dimensionError,
@@ -1223,6 +1227,8 @@ vpMatrix vpKinematicBundleAdjustment::observationJacobian(const vpKinematicChain
                                                           const vpCameraParameters &camera, const vpColVector &q,
                                                           const vpColVector &X, vpColVector &uv)
 {
+  vpSelfCalib::checkCamera(camera, "vpKinematicBundleAdjustment::observationJacobian: the camera");
+  vpSelfCalib::checkChain(chain, "vpKinematicBundleAdjustment::observationJacobian: the model");
   if (X.size() != 3)
     throw vpSelfCalibException(vpSelfCalibException::dimensionError,
                                "vpKinematicBundleAdjustment::observationJacobian: X must be a 3-vector");

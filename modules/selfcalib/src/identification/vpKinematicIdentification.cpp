@@ -18,6 +18,7 @@
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibRandom.h"
+#include "../core/vpSelfCalibRange.h"
 
 using namespace vpSelfCalib;
 
@@ -282,6 +283,7 @@ vpKinematicIdentification::Identifiability vpKinematicIdentification::analyse(co
                                                                               const Options &opt)
 {
   opt.check();
+  vpSelfCalib::checkChain(chain, "vpKinematicIdentification::analyse: the model '" + chain.getName() + "'");
   if (ms.empty())
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicIdentification: no measurement");
   checkMeasurements(chain, ms);
@@ -368,6 +370,7 @@ vpKinematicIdentification::Result vpKinematicIdentification::identify(const vpKi
                                                                       const Options &opt)
 {
   opt.check();
+  vpSelfCalib::checkChain(start, "vpKinematicIdentification::identify: the model '" + start.getName() + "'");
   if (ms.empty())
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicIdentification: no measurement");
   checkMeasurements(start, ms);

@@ -17,13 +17,12 @@
 #include <yaml-cpp/yaml.h>
 
 #include "../core/vpSelfCalibFiles.h" // writeFileAtomically, for the writers of these files
+#include "../core/vpSelfCalibRange.h" // kMaxLength, kMaxAngle, kMaxPixels
 
 namespace vpSelfCalib
 {
 //! Plausibility limits of the files' numbers (beyond them a value is a mistake, and the solvers overflow).
-constexpr double kMaxLength = 1e4;        //!< m: links, offsets, translations (a DH fit can need 150 m)
-constexpr double kMaxAngle = 1e3;         //!< rad: joint values and limits
-constexpr double kMaxPixels = 1e6;        //!< px: focal lengths, image coordinates
+// kMaxLength (m), kMaxAngle (rad), kMaxPixels (px): vpSelfCalibRange.h, shared with the library's entry points.
 constexpr double kMaxImagePixels = 2.5e8; //!< width x height of an image
 constexpr size_t kMaxPoses = 100000;      //!< poses in a dataset
 constexpr size_t kMaxJoints = 64;         //!< joints of a robot or of a pose

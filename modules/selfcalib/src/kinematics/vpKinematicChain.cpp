@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "../core/vpSelfCalibMath.h"
+#include "../core/vpSelfCalibRange.h"
 
 using namespace vpSelfCalib;
 
@@ -53,6 +54,8 @@ vpKinematicChain::vpKinematicChain(const std::string &name, Convention conventio
         throw vpSelfCalibException(vpSelfCalibException::badValue,
                                    "vpKinematicChain '" + name + "': non-finite base, flange or eMc pose");
   m_params.resize(getNumParameters(), true);
+  // Finite but absurd values (a link of 1e308 m) overflow the forward kinematics.
+  vpSelfCalib::checkChain(*this, "vpKinematicChain '" + name + "'");
   buildPlacements();
 }
 

@@ -12,6 +12,7 @@
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
 #include "vpSelfCalibPipelines.h"
+#include "../core/vpSelfCalibRange.h"
 
 using namespace vpSelfCalib;
 
@@ -63,6 +64,8 @@ std::map<int, vpColVector> robustTriangulation(const vpKinematicChain &model, co
                                                const std::vector<vpSelfCalibDataset::View> &views,
                                                std::set<std::pair<size_t, int>> &rejected)
 {
+  vpSelfCalib::checkCamera(cam, "vpCalibrationVerifier::triangulate: the camera");
+  vpSelfCalib::checkChain(model, "vpCalibrationVerifier::triangulate: the model '" + model.getName() + "'");
   const CameraModel camera = CameraModel::fromVisp(cam);
   std::map<int, Seen> seen;
   for (size_t k = 0; k < views.size(); ++k) {
@@ -135,6 +138,8 @@ vpCalibrationVerifier::Result vpCalibrationVerifier::verify(const vpKinematicCha
                                                             const std::map<int, vpColVector> &true_points,
                                                             const std::vector<vpHomogeneousMatrix> &true_fMc)
 {
+  vpSelfCalib::checkCamera(cam, "vpCalibrationVerifier::verify: the camera");
+  vpSelfCalib::checkChain(model, "vpCalibrationVerifier::verify: the model '" + model.getName() + "'");
   if (views.size() < 2)
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpCalibrationVerifier: at least 2 views are needed");
   if (!true_fMc.empty() && true_fMc.size() != views.size())

@@ -13,6 +13,7 @@
 #include <optional>
 #include <sstream>
 
+#include "../core/vpSelfCalibRange.h"
 #include "vpSelfCalibPipelines.h"
 
 namespace
@@ -225,6 +226,10 @@ unsigned int checkInputs(const vpKinematicChain &nominal, const vpSelfCalibDatas
                          const vpRobotSelfCalibration::Options &opt)
 {
   opt.check();
+  // A camera or a model built in code is held to the files' plausibility bounds (beyond them the
+  // solvers overflow and Ceres aborts on a CHECK instead of returning).
+  vpSelfCalib::checkCamera(ds.cam, "vpRobotSelfCalibration: the dataset's camera");
+  vpSelfCalib::checkChain(nominal, "vpRobotSelfCalibration: the nominal model '" + nominal.getName() + "'");
   const unsigned int N = std::min<unsigned int>(opt.num_calibration_poses, static_cast<unsigned int>(ds.views.size()));
   if (N < 3)
     throw vpSelfCalibException(vpSelfCalibException::badValue,

@@ -262,12 +262,23 @@ void checkRotations(const vpKinematicChain &nominal, const std::vector<View> &ca
 
 }
 
-//! Parallax: a homography explaining the matches of every pair means no depth information.
+/*
+  Parallax: a homography explaining the matches of every pair means no depth information. The
+  verdict needs support: only a pair with at least kMinHomographyPoints (15) correspondences counts,
+  since a homography (8 degrees of freedom, 4 points) fitted to a handful of matches explains them
+  by construction, and few random matches (images of pure noise, a front end that found almost
+  nothing) would otherwise read as "the scene is a plane". With n >= 15 points and 90 % of them
+  within the threshold, a chance fit of random matches (about 4 of n) is ruled out. When no pair
+  has that support the finding is about the correspondences, not the scene.
+*/
+constexpr unsigned int kMinHomographyPoints = 15; //!< correspondences of a pair that counts for the verdict
+
 void checkParallax(const vpKinematicChain &nominal, const std::vector<View> &cal,
                    const vpSelfCalibDataCheck::Options &opt, std::vector<Finding> &out)
 {
   const double threshold = std::max(1.0, 3.0 * opt.pixel_sd);
-  unsigned int pairs = 0, flat = 0;
+  unsigned int pairs = 0, flat = 0, weak = 0;
+  size_t most_shared = 0;
   double max_baseline = 0;
   const Rigid eMc = rigidFromVisp(nominal.get_eMc_corrected());
   const Rigid c0 = endEffector(nominal, cal[0]) * eMc;
@@ -284,15 +295,17 @@ void checkParallax(const vpKinematicChain &nominal, const std::vector<View> &cal
         b.emplace_back(o.ip.get_u(), o.ip.get_v());
       }
     }
-    if (a.size() < 8)
+    most_shared = std::max(most_shared, a.size());
+    if (a.size() < kMinHomographyPoints) {
+      ++weak;
       continue;
+    }
     // RANSAC with a loose threshold (a homography from 4 noisy points of a grazing plane
     // extrapolates poorly), then every point against the refined homography. 200 samples find a
     // homography that explains 90% of the points with probability 1 - (1 - 0.9^4)^200; a scene
     // with relief leaves RANSAC at that cap (2000 made the check cost 40 ms per pair).
-    // Reproducible and thread-safe without a seed: OpenCV's cv::RANSAC (findHomography) draws its
-    // samples from a generator it creates in each call with a fixed seed (RNG((uint64)-1) in
-    // calib3d's ptsetreg.cpp), not from the global cv::theRNG(); there is no seed to pass.
+    // Deterministic without a seed: OpenCV's classic RANSAC (fitHomography, core), which seeds its
+    // own generator with a constant in each call (see fitHomography for why not USAC).
     Eigen::Matrix3d H;
     std::vector<bool> ransac_inliers;
     ++pairs;
@@ -303,6 +316,14 @@ void checkParallax(const vpKinematicChain &nominal, const std::vector<View> &cal
       explained += ((H * a[i].homogeneous()).hnormalized() - b[i]).norm() < threshold;
     if (explained >= opt.homography_inliers * static_cast<double>(a.size()))
       ++flat;
+  }
+  if (pairs == 0 && weak > 0) {
+    add(out, vpSelfCalibDataCheck::WARNING, "few-correspondences",
+        "no calibration view shares " + std::to_string(kMinHomographyPoints) +
+            " points or more with the first (at most " + std::to_string(most_shared) +
+            "): too few correspondences to say anything about the scene's depth (images without texture or of "
+            "another scene, pure noise, or matches that are few and random); check the images and the matching");
+    return;
   }
   if (pairs > 0 && flat == pairs) {
     if (max_baseline < 0.01)

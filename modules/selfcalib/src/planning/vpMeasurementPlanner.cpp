@@ -20,6 +20,7 @@
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibRandom.h"
+#include "../core/vpSelfCalibRange.h"
 
 using namespace vpSelfCalib;
 
@@ -192,6 +193,8 @@ void vpMeasurementPlanner::SelectionOptions::check() const
 vpMeasurementPlanner::vpMeasurementPlanner(const vpKinematicChain &nominal, const Scene &scene)
   : m_chain(nominal), m_scene(scene)
 {
+  vpSelfCalib::checkChain(nominal, "vpMeasurementPlanner: the nominal model '" + nominal.getName() + "'");
+  vpSelfCalib::checkCamera(scene.cam, "vpMeasurementPlanner: the scene's camera");
   if (scene.points.empty())
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpMeasurementPlanner: the scene has no point");
   for (size_t i = 0; i < scene.points.size(); ++i) {
@@ -1004,7 +1007,12 @@ vpMeasurementPlanner::Result vpMeasurementPlanner::selectObservable(const std::v
   for (size_t c : sel)
     res.configurations.push_back(pool[c]);
   const std::vector<vpColVector> first(pool.begin(), pool.begin() + m);
-  const TrajectoryOptions to;
+  // The cost terms (cond(J) among them) with the caller's row weights and joint distance, as the
+  // selection and its indices (the other settings are the trajectory cost's own).
+  TrajectoryOptions to;
+  to.direction_sd = o.direction_sd;
+  to.rotation_sd = o.rotation_sd;
+  to.min_joint_distance = o.min_joint_distance;
   evaluate(first, to, &res.before, nullptr);
   evaluate(res.configurations, to, &res.after, nullptr);
   res.observability_before = observability(first, o.direction_sd, o.rotation_sd);

@@ -207,9 +207,25 @@ Eigen::Vector2d residual(const State &s, const Observation &o, const Eigen::Vect
   return r;
 }
 
-//! Whitened reprojection error (in noise sd) of observation o against point X.
+//! Depth of point X (frame of view 0) in the camera of observation o's view, current pose.
+double depthInView(const State &s, const Observation &o, const Eigen::Vector3d &X)
+{
+  if (o.view == 0)
+    return X.z();
+  const Eigen::Vector4d &q = s.quat[o.view];
+  return (Eigen::Quaterniond(q(3), q(0), q(1), q(2)) * X + s.trans[o.view]).z();
+}
+
+/*
+  Whitened reprojection error (in noise sd) of observation o against point X; infinite when X is
+  not in front of o's camera (cheirality): the pinhole formula projects X and its mirror image -X
+  through the centre to the same pixel, so the reprojection error alone cannot see a point behind
+  a camera, and such an observation is never an inlier.
+*/
 double whitened(const State &s, const Observation &o, const Eigen::Vector3d &X)
 {
+  if (!(depthInView(s, o, X) > 0))
+    return std::numeric_limits<double>::infinity();
   const Eigen::Vector2d r = residual(s, o, X, s.opt.pixel_sd);
   return std::hypot(r(0), r(1));
 }
@@ -577,27 +593,23 @@ bool resectUnexplainedViews(State &s)
     const unsigned int needed = std::max<unsigned int>(opt.min_points, static_cast<unsigned int>(idx.size() / 2));
     if (s.res.posed[k] && good >= needed)
       continue;
-    std::vector<cv::Point3d> P3;
-    std::vector<cv::Point2d> P2;
+    std::vector<Eigen::Vector3d> P3;
+    std::vector<Eigen::Vector2d> P2;
     for (size_t n : idx) {
-      const Eigen::Vector3d &x = (*s.X)[s.obs[n].id];
-      P3.emplace_back(x(0), x(1), x(2));
+      P3.push_back((*s.X)[s.obs[n].id]);
       P2.emplace_back(s.obs[n].u, s.obs[n].v);
     }
-    cv::Mat rvec, tvec;
+    // OpenCV's USAC PnP (core fitPoseRansac), seeded from twoview.ransac.seed with the view's own
+    // stream, sequential: the same seed gives the same poses whatever the thread count.
+    Rigid ckMc0;
     std::vector<int> pnp_inliers;
-    const cv::Matx33d K(s.f, 0, s.u0, 0, s.mu * s.f, s.v0, 0, 0, 1);
-    // Reproducible and thread-safe without a seed: solvePnPRansac's classic RANSAC draws from a
-    // generator created in each call with a fixed seed (RNG((uint64)-1), calib3d's ptsetreg.cpp),
-    // not from the global cv::theRNG(); there is no seed to pass (twoview.ransac.seed seeds ours).
-    const bool ok = P3.size() >= 6 && cv::solvePnPRansac(P3, P2, K, cv::noArray(), rvec, tvec, false, 200, thr, 0.999,
-                                                         pnp_inliers, cv::SOLVEPNP_EPNP);
+    const bool ok = fitPoseRansac(P3, P2, s.f, s.u0, s.v0, s.mu, thr, 200, s.opt.twoview.ransac.seed, 1000 + k, ckMc0,
+                                  pnp_inliers);
     const bool was_posed = s.res.posed[k];
     if (ok && pnp_inliers.size() >= needed && pnp_inliers.size() > good) {
-      const Eigen::Vector3d r(rvec.at<double>(0), rvec.at<double>(1), rvec.at<double>(2));
-      const Eigen::Quaterniond qk(expSO3(r));
+      const Eigen::Quaterniond qk(ckMc0.R);
       s.quat[k] = Eigen::Vector4d(qk.x(), qk.y(), qk.z(), qk.w());
-      s.trans[k] = Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+      s.trans[k] = ckMc0.t;
       s.res.posed[k] = true;
       changed = true;
     } else if (good < needed) {
@@ -820,6 +832,12 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
     s.res.status = status;
     return std::move(s.res);
   }
+  // Cheirality after the last solve: an observation of a point behind its camera is an outlier
+  // (the points left with fewer than two observations are dropped).
+  for (size_t n = 0; n < s.obs.size(); ++n)
+    if (s.inlier[n] && !(depthInView(s, s.obs[n], (*s.X)[s.obs[n].id]) > 0))
+      s.inlier[n] = false;
+  dropPoorlyObservedPoints(s.obs, s.inlier);
   triangulateLeftOutPoints(s);
   scaleAndExport(s, statistics(s));
   return std::move(s.res);

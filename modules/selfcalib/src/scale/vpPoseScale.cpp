@@ -14,6 +14,7 @@
 
 #include "../core/vpSelfCalibCeres.h"
 #include "../core/vpSelfCalibMath.h"
+#include "../core/vpSelfCalibRange.h"
 
 using namespace vpSelfCalib;
 
@@ -235,6 +236,8 @@ vpPoseScale::Result vpPoseScale::yardstick(const std::vector<YardstickView> &vie
       !std::isfinite(v0))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpPoseScale::yardstick: length, fx and mu must be positive, u0 and v0 finite");
+  vpSelfCalib::checkIntrinsics(fx, mu * fx, u0, v0, "vpPoseScale::yardstick: the camera (fx, mu fx, u0, v0)");
+  vpSelfCalib::checkLength(length, "the yardstick's length", "vpPoseScale::yardstick");
   options.check();
   Result res;
   if (views.empty()) {

@@ -272,3 +272,108 @@ TEST(Geometry, HomographyExplainsAPlaneOnly)
   std::vector<bool> inl;
   EXPECT_FALSE(fitHomography({Eigen::Vector2d(0, 0)}, {Eigen::Vector2d(1, 1)}, 1.0, 100, 0.99, H, inl));
 }
+
+// The homography's RANSAC is OpenCV's classic one (USAC changed the two-view verdicts of the main
+// job: see fitHomography): it takes no seed, and is deterministic by itself: the same homography bit
+// for bit from call to call, whatever OpenCV's thread count and the global cv::theRNG state (which
+// cv::setRNGSeed sets, and which that RANSAC does not use); on a plane contaminated by 40 % of
+// outliers it finds the true inliers.
+TEST(Geometry, HomographyRansacIsDeterministicWithoutASeed)
+{
+  const CameraModel cam = vispCamera().withoutDistortion();
+  double v[6] = {0.1, 0.02, 0.0, 0.02, 0.15, -0.05};
+  const Rigid c2Mc1 = rigidFromVector(v);
+  Random rng(12, 0);
+  std::vector<Eigen::Vector2d> a, b;
+  std::vector<bool> truth;
+  for (int i = 0; i < 100; ++i) {
+    const Eigen::Vector3d X(rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), 1.0);
+    a.push_back(cam.project(X) + Eigen::Vector2d(rng.normal(0.2), rng.normal(0.2)));
+    const bool outlier = i % 5 < 2;
+    b.push_back(outlier ? Eigen::Vector2d(rng.uniform(0, 640), rng.uniform(0, 480))
+                        : Eigen::Vector2d(cam.project(c2Mc1 * X) + Eigen::Vector2d(rng.normal(0.2), rng.normal(0.2))));
+    truth.push_back(!outlier);
+  }
+  Eigen::Matrix3d H1;
+  std::vector<bool> in1;
+  ASSERT_TRUE(fitHomography(a, b, 2.0, 2000, 0.999, H1, in1));
+  unsigned int wrong = 0;
+  for (size_t i = 0; i < a.size(); ++i)
+    wrong += in1[i] != truth[i];
+  // A random pixel lands within 2 px of the true transfer with probability ~4e-5 per point.
+  EXPECT_LE(wrong, 1u);
+  const int threads = cv::getNumThreads();
+  for (int t : {1, 4}) {
+    cv::setNumThreads(t);
+    cv::setRNGSeed(1000 + t);
+    Eigen::Matrix3d H;
+    std::vector<bool> inl;
+    ASSERT_TRUE(fitHomography(a, b, 2.0, 2000, 0.999, H, inl));
+    EXPECT_TRUE(H == H1) << t << " threads: another homography";
+    EXPECT_EQ(inl, in1);
+  }
+  cv::setNumThreads(threads);
+}
+
+// The PnP RANSAC (OpenCV USAC; the multi-view reconstruction's resection) is seeded: the same seed
+// gives the same pose bit for bit whatever OpenCV's thread count; ten other seeds all find the true
+// inliers of a set with 40 % of wrong pixels and the true pose; with one sample per call, the seeds
+// draw different samples (different poses).
+TEST(Geometry, PoseRansacIsSeeded)
+{
+  const double fx = 800, u0 = 320, v0 = 240, mu = 1.02;
+  double v[6] = {0.05, -0.03, 0.1, 0.1, -0.2, 0.05};
+  const Rigid cMw = rigidFromVector(v);
+  Random rng(13, 0);
+  std::vector<Eigen::Vector3d> X;
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<bool> truth;
+  for (int i = 0; i < 80; ++i) {
+    const Eigen::Vector3d P(rng.uniform(-0.4, 0.4), rng.uniform(-0.3, 0.3), rng.uniform(1.5, 2.5));
+    const Eigen::Vector3d Xc = cMw * P;
+    const bool outlier = i % 5 < 2;
+    X.push_back(P);
+    uv.push_back(outlier ? Eigen::Vector2d(rng.uniform(0, 640), rng.uniform(0, 480))
+                         : Eigen::Vector2d(u0 + fx * Xc.x() / Xc.z() + rng.normal(0.2),
+                                           v0 + mu * fx * Xc.y() / Xc.z() + rng.normal(0.2)));
+    truth.push_back(!outlier);
+  }
+  const auto same = [](const Rigid &a, const Rigid &b) { return a.R == b.R && a.t == b.t; };
+  Rigid M1, M1b;
+  std::vector<int> in1, in1b;
+  ASSERT_TRUE(fitPoseRansac(X, uv, fx, u0, v0, mu, 2.0, 2000, 7, 3, M1, in1));
+  const int threads = cv::getNumThreads();
+  cv::setNumThreads(1);
+  ASSERT_TRUE(fitPoseRansac(X, uv, fx, u0, v0, mu, 2.0, 2000, 7, 3, M1b, in1b));
+  cv::setNumThreads(threads);
+  EXPECT_TRUE(same(M1, M1b)) << "same seed, other thread count: another pose";
+  EXPECT_EQ(in1, in1b);
+  for (uint64_t seed = 1; seed <= 10; ++seed) {
+    Rigid M, again;
+    std::vector<int> inl, inl2;
+    ASSERT_TRUE(fitPoseRansac(X, uv, fx, u0, v0, mu, 2.0, 2000, seed, 0, M, inl)) << "seed " << seed;
+    std::vector<bool> is_in(X.size(), false);
+    for (int i : inl)
+      is_in[static_cast<size_t>(i)] = true;
+    unsigned int wrong = 0;
+    for (size_t i = 0; i < X.size(); ++i)
+      wrong += is_in[i] != truth[i];
+    EXPECT_LE(wrong, 1u) << "seed " << seed;
+    EXPECT_LT(logSO3(M.R.transpose() * cMw.R).norm(), 1e-3) << "seed " << seed;
+    EXPECT_LT((M.t - cMw.t).norm(), 5e-3) << "seed " << seed;
+    ASSERT_TRUE(fitPoseRansac(X, uv, fx, u0, v0, mu, 2.0, 2000, seed, 0, again, inl2));
+    EXPECT_TRUE(same(M, again)) << "seed " << seed << ": not reproducible";
+  }
+  std::vector<Rigid> single;
+  for (uint64_t seed = 1; seed <= 10; ++seed) {
+    Rigid M;
+    std::vector<int> inl;
+    if (fitPoseRansac(X, uv, fx, u0, v0, mu, 2.0, 1, seed, 0, M, inl))
+      single.push_back(M);
+  }
+  ASSERT_GE(single.size(), 2u);
+  unsigned int distinct = 0;
+  for (size_t i = 1; i < single.size(); ++i)
+    distinct += !same(single[i], single[0]);
+  EXPECT_GE(distinct, 1u) << "every seed drew the same sample";
+}

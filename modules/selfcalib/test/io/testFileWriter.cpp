@@ -78,6 +78,51 @@ TEST(FileWriter, WritesAndLeavesNoTemporary)
   std::filesystem::remove_all(dir);
 }
 
+// A killed writer leaves its temporary file (`.NAME.tmp-XXXXXXXX.EXT`); the next write of the same
+// target removes such leftovers (it holds the target's lock, so no live writer owns one), and
+// nothing else: not another target's, not a directory, not a name that only looks alike.
+TEST(FileWriter, RemovesStaleTemporariesOfItsTarget)
+{
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "selfcalib-file-writer-stale";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const auto plant = [&](const std::string &name) {
+    std::ofstream(dir / name) << "half a file";
+    return dir / name;
+  };
+  const fs::path stale1 = plant(".model.tmp-0123abcd.yaml"), stale2 = plant(".model.tmp-deadbeef.yaml");
+  const fs::path victim = plant("victim.txt");
+  fs::create_symlink(victim, dir / ".model.tmp-feedf00d.yaml"); // removed as a link, the victim kept
+  const std::vector<fs::path> kept = {plant(".model.tmp-0123abcd.xml"),   // another target (model.xml)
+                                      plant(".other.tmp-0123abcd.yaml"),  // another target
+                                      plant(".model.tmp-0123abcd.yaml~"), // not a temporary's name
+                                      plant(".model.tmp-0123ABCD.yaml"),  // not hex as written
+                                      plant(".model.tmp-0123abc.yaml"),   // 7 digits
+                                      plant("model.tmp-0123abcd.yaml")};  // no leading dot
+  fs::create_directory(dir / ".model.tmp-aaaaaaaa.yaml"); // a directory: OutputDirectory's rule, not this one
+  vpSelfCalibFileWriter::write((dir / "model.yaml").string(), "corrections: {}\n", "robot model");
+  EXPECT_EQ(readAll(dir / "model.yaml"), "corrections: {}\n");
+  EXPECT_FALSE(fs::exists(stale1));
+  EXPECT_FALSE(fs::exists(stale2));
+  EXPECT_FALSE(fs::is_symlink(dir / ".model.tmp-feedf00d.yaml"));
+  EXPECT_EQ(readAll(victim), "half a file");
+  for (const fs::path &k : kept)
+    EXPECT_TRUE(fs::exists(k)) << k;
+  EXPECT_TRUE(fs::is_directory(dir / ".model.tmp-aaaaaaaa.yaml"));
+  EXPECT_FALSE(fs::exists(dir / ".model.yaml.lock")); // the lock file goes with the write
+
+  // writeWith (images, camera XML) follows the same rule.
+  const fs::path stale3 = plant(".img.tmp-00000001.png");
+  vpSelfCalibFileWriter::writeWith((dir / "img.png").string(), [](const std::string &tmp) {
+    std::ofstream(tmp) << "png";
+    return true;
+  });
+  EXPECT_FALSE(fs::exists(stale3));
+  EXPECT_EQ(readAll(dir / "img.png"), "png");
+  fs::remove_all(dir);
+}
+
 // A write that fails says why, with the system's text (here a full device: /dev/full's directory
 // is not writable, so the failure is the temporary file's creation; the write itself through
 // the output directory's set is tested by app-output-set-full-disk).

@@ -421,3 +421,54 @@ TEST(DataCheck, SecondRunInTheSameProcessIsBitIdentical)
   EXPECT_EQ(a.multiview.fx, b.multiview.fx);
   EXPECT_GT(garbage.size(), 0u);
 }
+
+// Few random correspondences (images of pure noise, a front end that found almost nothing) are not
+// "a plane": a homography fitted to a handful of matches explains them by construction. The finding
+// is about the correspondences; with many random matches there is no planar finding either; a
+// plane seen through only 10 points per pair is not called a plane (too little support), through
+// all of its points it is.
+TEST(DataCheck, FewRandomMatchesAreNotAPlane)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 10);
+  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(15));
+  const auto check = [&](const vpSelfCalibDataset &d) {
+    return vpSelfCalibDataCheck::check(sim.getNominalChain(), d, 15, false, vpSelfCalibDataCheck::Options());
+  };
+  const auto has = [](const std::vector<vpSelfCalibDataCheck::Finding> &f, const std::string &code) {
+    return std::any_of(f.begin(), f.end(), [&](const vpSelfCalibDataCheck::Finding &x) { return x.code == code; });
+  };
+  for (uint64_t seed : {1, 2, 3, 4, 5}) {
+    for (unsigned int n : {8u, 10u, 14u, 40u}) {
+      vpSelfCalibDataset noise = ds;
+      vpSelfCalib::Random rng(seed, n);
+      for (auto &v : noise.views) {
+        v.points.clear();
+        for (unsigned int id = 0; id < n; ++id) {
+          vpSelfCalibDataset::Observation o;
+          o.id = static_cast<int>(id);
+          o.ip.set_uv(rng.uniform(0, 640), rng.uniform(0, 480));
+          v.points.push_back(o);
+        }
+      }
+      const std::vector<vpSelfCalibDataCheck::Finding> f = check(noise);
+      EXPECT_FALSE(has(f, "planar-scene")) << "seed " << seed << ", " << n << " random matches";
+      EXPECT_FALSE(has(f, "no-parallax")) << "seed " << seed << ", " << n << " random matches";
+      EXPECT_EQ(has(f, "few-correspondences"), n < 15) << "seed " << seed << ", " << n << " random matches";
+    }
+  }
+  // A true plane: with 10 of its points per view the verdict lacks support; with all it is a plane.
+  const std::vector<vpColVector> qs = sim.generateConfigurations(20);
+  const vpSelfCalibDataset plane = facingScene(sim, qs, 0.0, 10);
+  EXPECT_TRUE(has(check(plane), "planar-scene"));
+  vpSelfCalibDataset ten = plane;
+  for (auto &v : ten.views) {
+    std::vector<vpSelfCalibDataset::Observation> kept;
+    for (const auto &o : v.points)
+      if (o.id < 10)
+        kept.push_back(o);
+    v.points = kept;
+  }
+  const std::vector<vpSelfCalibDataCheck::Finding> f = check(ten);
+  EXPECT_FALSE(has(f, "planar-scene"));
+  EXPECT_TRUE(has(f, "few-correspondences"));
+}

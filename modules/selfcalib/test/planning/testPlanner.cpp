@@ -280,6 +280,29 @@ TEST(Planner, BadInputThrows)
   EXPECT_THROW(vpMeasurementPlanner(sim.getNominalChain(), nocam), vpSelfCalibException);
 }
 
+// The selection's cost terms (before and after) use the caller's row weights: cond(J) is that of J
+// weighted by the caller's direction_sd and rotation_sd (the observability indices' condition
+// number, computed independently), which differs from the default weights' when their ratio does.
+TEST(Planner, SelectionScoresWithTheCallersStandardDeviations)
+{
+  const vpSelfCalibSimulator sim = makeSim("puma560", 6);
+  const std::vector<vpColVector> pool = sim.generateConfigurations(30);
+  const vpMeasurementPlanner planner(sim.getNominalChain(), sim.getPlannerScene());
+  const std::vector<vpColVector> first(pool.begin(), pool.begin() + 10);
+  vpMeasurementPlanner::SelectionOptions o;
+  o.direction_sd = 5e-3;
+  o.rotation_sd = 5e-2; // default 5e-3
+  const vpMeasurementPlanner::Result r = planner.selectObservable(pool, 10, o);
+  ASSERT_EQ(r.status, vpMeasurementPlanner::OK) << r.message;
+  const double before = planner.observability(first, o.direction_sd, o.rotation_sd).condition_number;
+  const double after = planner.observability(r.configurations, o.direction_sd, o.rotation_sd).condition_number;
+  EXPECT_NEAR(r.before.condition, before, 1e-6 * before);
+  EXPECT_NEAR(r.after.condition, after, 1e-6 * after);
+  const double with_defaults = planner.observability(first, 5e-3, 5e-3).condition_number;
+  EXPECT_GT(std::fabs(r.before.condition - with_defaults), 0.01 * with_defaults)
+      << "the caller's rotation_sd does not change cond(J)";
+}
+
 // Selection from a pool keeps the reference, takes distinct configurations and beats taking the
 // first m of the pool on the chosen index, for O1 and O3.
 TEST(Planner, ObservabilitySelectionBeatsTheFirstOnes)

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
 #include <opencv2/calib3d.hpp>
 
@@ -175,8 +176,13 @@ TEST(TwoView, FactorMethodAndFocalAreExactWithoutRefinement)
   EXPECT_LT(directionError(fm.c2Mc1, d.c2Mc1), 1e-7);
 }
 
-// Noisy data over several seeds: the error in f is consistent with the predicted standard deviation
-// (|error| < 3 sd in at least 85% of the pairs that determine f; 99.7% expected; 28 of 40 do). With this narrow field of view
+// Noisy data over several seeds: the error in f is consistent with the predicted standard deviation.
+// Of the 40 seeds, the pairs that determine f (28; the others are reported FOCAL_UNOBSERVABLE) each
+// fall outside 3 sd with probability p = 0.0027 when the sd is right, so the number outside is
+// binomial(n, p): P(2 or more outside) = 1 - (1-p)^n - n p (1-p)^(n-1) = 0.0026 for n = 28, and the
+// test allows at most 1 (measured: 0 outside; the largest |error| / sd is 2.64, the mean of
+// (error / sd)^2 is 1.6, i.e. the sd is about 25 % optimistic at 0.5 px, well inside the 3-sd bound).
+// With this narrow field of view
 // (+-12 deg) and f self-calibrated, rotation, translation direction and f are strongly coupled, so
 // rotation only gets a gross-error check.
 TEST(TwoView, NoisyRecoveryWithinPredictedBounds)
@@ -205,7 +211,7 @@ TEST(TwoView, NoisyRecoveryWithinPredictedBounds)
     EXPECT_LT(r.rms, 2.2 * 0.5);
   }
   EXPECT_GE(total, 20u);
-  EXPECT_GE(within, total * 85 / 100);
+  EXPECT_LE(total - within, 1u) << within << " of " << total << " pairs within 3 sd";
 }
 
 TEST(TwoView, ThirtyPercentOutliers)
@@ -315,13 +321,21 @@ TEST(TwoView, SharedFocalOnTheReferenceScenario)
   const vpSelfCalibSimulator sim(vpKinematicChain::preset("viper850"), so);
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(25));
   std::vector<std::vector<vpImagePoint>> a, b;
+  // Correspondences by point id (a view lists the points it sees, in no promised order).
   for (size_t k = 1; k < ds.views.size(); ++k) {
     a.emplace_back();
     b.emplace_back();
-    for (size_t i = 0; i < ds.views[0].points.size(); ++i) {
-      a.back().push_back(ds.views[0].points[i].ip);
-      b.back().push_back(ds.views[k].points[i].ip);
+    std::map<int, vpImagePoint> in_k;
+    for (const auto &o : ds.views[k].points)
+      in_k[o.id] = o.ip;
+    for (const auto &o : ds.views[0].points) {
+      const auto it = in_k.find(o.id);
+      if (it != in_k.end()) {
+        a.back().push_back(o.ip);
+        b.back().push_back(it->second);
+      }
     }
+    ASSERT_GE(a.back().size(), 8u) << "view " << k;
   }
   const vpTwoViewEstimator::SharedResult r = vpTwoViewEstimator::estimateShared(a, b, options(vpRefinedFactorMethod::PER_PAIR, 1300));
   ASSERT_TRUE(r.converged) << r.message;

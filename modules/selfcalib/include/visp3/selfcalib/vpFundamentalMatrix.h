@@ -39,7 +39,7 @@ public:
     double inlier_threshold = 1.0;  //!< px, Sampson distance
     double confidence = 0.999;      //!< probability of drawing one outlier-free sample
     unsigned int max_iterations = 5000;
-    uint64_t seed = 1;
+    uint64_t seed = 1;              //!< of the sampler: same seed, same result; another seed, other samples
     void check() const; //!< throws vpSelfCalibException on nonsense
   };
 

@@ -34,7 +34,9 @@ class OutputDirectory;
   reports): the content goes to a temporary file beside the target, created exclusively under a
   fresh name (`.NAME.tmp-XXXXXXXX.EXT`: never a file that exists, never through a symbolic link),
   flushed to disk, then renamed into place, so a failed write never leaves half a file, nor the
-  temporary file.
+  temporary file. A write holds the target's lock (`.NAME.lock` beside it, released by the system
+  when the process ends, killed or not; writers of one file take turns) and removes the temporary
+  files killed writers of that target left: no live writer owns one while the lock is held.
 
   Errors throw vpSelfCalibException (ioError) naming the kind of file (`what`), the file and the
   system's reason (errno text, e.g. "No space left on device"). Thread-safe.

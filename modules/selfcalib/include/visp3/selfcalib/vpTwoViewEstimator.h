@@ -31,12 +31,16 @@
 
   Pose convention of the paper: c2Mc1 = [R t], X2 = R X1 + t, |t| = 1.
 
-  Before the fundamental matrix is trusted, a homography (OpenCV findHomography, RANSAC) is fitted to
+  Before the fundamental matrix is trusted, a homography (OpenCV findHomography, classic RANSAC:
+  deterministic with OpenCV's fixed internal seed, not ransac.seed; USAC called most of the main
+  job's pairs planar) is fitted to
   the same points. When it keeps at least planar_ratio times as many inliers as the fundamental
   matrix (or F does not exist: a plane makes the 8-point system rank-deficient), the pair is
   - PURE_ROTATION if A^-1 H A is a rotation (no translation: the pose is R only, t = 0), or
   - PLANAR otherwise. With a known focal length the pose is still returned, from OpenCV's five-point
-    solver (findEssentialMat + recoverPose, valid for planes) refined with the known f; with the focal
+    solver (findEssentialMat + recoverPose, valid for planes) refined with the known f (that RANSAC is
+    OpenCV's classic one, deterministic with its fixed internal seed, not ransac.seed: OpenCV 4.6's
+    USAC essential matrix fails on planes); with the focal
     length unknown no pose is returned (f is not observable from two views of a plane).
 */
 class VISP_SELFCALIB_EXPORT vpTwoViewEstimator
@@ -49,6 +53,8 @@ public:
     vpRefinedFactorMethod::FocalMode focal_mode = vpRefinedFactorMethod::PER_PAIR; //!< PER_PAIR or KNOWN here
     double fx = 1000;   //!< known value (KNOWN) or initial guess (px)
     double u0 = 320, v0 = 240, mu = 1;
+    //! The fundamental matrix's RANSAC; its seed also seeds, in vpMultiViewReconstruction, the
+    //! PnP resection's USAC.
     vpFundamentalMatrix::Options ransac;
     bool refine = true;            //!< run the refined nonlinear factor method
     double huber = 0;              //!< px, robust loss of the refinement (0: plain least squares)
