@@ -8,6 +8,8 @@
 #include <cmath>
 #include <sstream>
 
+#include <visp3/selfcalib/vpKinematicBundleAdjustment.h>
+
 #include "vpSelfCalibPipelines.h"
 
 namespace vpSelfCalibPipeline
@@ -110,10 +112,59 @@ double noiseOf(const Context &c, const Result &res)
   return res.pixel_sd_measured > 0 ? res.pixel_sd_measured : c.options.pixel_sd;
 }
 
+/*
+  The calibrated model's predicted error on new views against the nominal model's misfit (see
+  Result::predicted_rms); points: the scene triangulated through the calibrated model (f frame).
+*/
+void checkPredicted(const Context &c, Result &res, const std::map<int, vpColVector> &points)
+{
+  if (c.options.method == vpRobotSelfCalibration::HAND_EYE || res.fit_nominal_rms <= 0 || points.empty())
+    return;
+  const vpMatrix &C = c.options.method == vpRobotSelfCalibration::PAPER ? res.identification.covariance
+                                                                         : res.bundle.covariance;
+  const std::vector<unsigned int> &id = res.identifiability.identified;
+  if (id.empty() || C.getRows() < id.size())
+    return;
+  double zsum = 0;
+  unsigned int nz = 0;
+  for (const View &v : c.calibration) {
+    const vpSelfCalib::Rigid cMf = vpSelfCalib::rigidFromVisp(res.calibrated.get_fMc(v.q)).inverse();
+    for (const auto &o : v.points) {
+      const auto X = points.find(o.id);
+      if (X == points.end())
+        continue;
+      const double z = (cMf * Eigen::Vector3d(X->second[0], X->second[1], X->second[2])).z();
+      if (z > 0) {
+        zsum += z;
+        ++nz;
+      }
+    }
+  }
+  if (nz == 0)
+    return;
+  const double f = res.camera.get_px(), Z = zsum / nz;
+  double sum = 0;
+  for (size_t k = 1; k < c.calibration.size(); ++k) {
+    const vpMatrix Ck = vpKinematicBundleAdjustment::relativePoseCovariance(res.calibrated, id, C, c.calibration[0].q,
+                                                                           c.calibration[k].q);
+    const double t2 = Ck[0][0] + Ck[1][1] + Ck[2][2], r2 = Ck[3][3] + Ck[4][4] + Ck[5][5];
+    // Two of the three components move the image; per coordinate, a third of each trace.
+    sum += (t2 * (f / Z) * (f / Z) + r2 * f * f) / 3.0;
+  }
+  res.predicted_rms = std::sqrt(sum / static_cast<double>(c.calibration.size() - 1));
+  if (res.predicted_rms > res.fit_nominal_rms)
+    add(res, vpSelfCalibDataCheck::DOUBT, "expected-worse-than-nominal",
+        "the calibrated model's own predicted error on new views (" + fixed(res.predicted_rms, 2) +
+            " px, from its covariance) exceeds the nominal model's misfit on the calibration views (" +
+            fixed(res.fit_nominal_rms, 2) +
+            " px): these views cannot make the model better than the nominal one; add views (more, and more "
+            "varied, configurations), a yardstick, or fix the focal length if it is known");
+}
+
 // How well the calibrated and the nominal model explain the calibration views (same rule for both).
 void checkFit(const Context &c, Result &res)
 {
-  if (c.options.method == vpRobotSelfCalibration::PAPER || c.calibration.size() < 2)
+  if (c.calibration.size() < 2)
     return;
   const bool opencv = !res.bundle.opencv_distortion.empty();
   const bool lens = !c.dataset.opencv_distortion.empty();
@@ -126,6 +177,8 @@ void checkFit(const Context &c, Result &res)
       c.dataset.yardstick);
   res.fit_nominal_rms = nominal.reprojection_rms;
   res.fit_calibrated_rms = calibrated.reprojection_rms;
+  if (c.options.method != vpRobotSelfCalibration::HAND_EYE && c.calibration.front().q.size() > 0)
+    checkPredicted(c, res, calibrated.points);
   if (worse(calibrated, nominal, noiseOf(c, res)))
     add(res, vpSelfCalibDataCheck::DOUBT, "fit-worse-than-nominal",
         "the calibrated model explains its own calibration views worse than the nominal model (reprojection " +

@@ -201,6 +201,7 @@ void runPaper(const Context &c, Result &res)
     vpSelfCalib::sigma0Interval(dof, low, high);
     if (s0 < low || s0 > high) {
       covariance = covariance * (s0 * s0);
+      res.identification.covariance = covariance; // what the result's sds say, everywhere
       res.parameter_sd = res.parameter_sd * s0;
       std::ostringstream os;
       os.precision(3);

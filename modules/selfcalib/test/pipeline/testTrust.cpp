@@ -213,7 +213,9 @@ TEST(Trust, SdsFollowTheResidualsWhenTheStatedNoiseIsWrong)
       vpRobotSelfCalibration::Options po = options(15, false);
       po.pixel_sd = stated;
       const Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), noisy(exact, 0.5, d), po);
-      ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
+      // f self-calibrated at 0.5 px: some draws predict an error above the nominal model's misfit
+      // (doubtful); their estimate and sds count all the same (leaving them out would bias the spread).
+      ASSERT_TRUE(r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL) << r.message;
       for (unsigned int k = 0; k < 2; ++k) {
         values[k].push_back(r.eMc[k]);
         sd_sum[k] += r.eMc_sd[k];

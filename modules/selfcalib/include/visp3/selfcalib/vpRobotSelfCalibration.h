@@ -175,7 +175,8 @@ public:
     DEGENERATE_DATA, //!< the data check found data that cannot determine the calibration (message: what to do)
     /*!
       A model was estimated but fails a check of its own word (findings of severity DOUBT: what is
-      wrong and what to do): corrections or sds beyond the nominal model's tolerance, the
+      wrong and what to do): corrections or sds beyond the nominal model's tolerance, a predicted
+      error above the nominal model's misfit, the
       calibrated model explaining its calibration views or the held-out views no better than the
       nominal one, the yardstick not reproduced on the held-out views, residuals far above any
       plausible image noise. Every field is filled as for OK; use the model with care.
@@ -220,6 +221,14 @@ public:
       (vpCalibrationVerifier). 0 when not computed.
     */
     double fit_nominal_rms = 0, fit_calibrated_rms = 0;
+    /*!
+      px, the calibrated model's own predicted error on new views (BUNDLE_ADJUSTMENT, PAPER): its
+      covariance propagated to the relative camera poses of the calibration views (to first order:
+      position sd times f over the scene's mean depth, rotation sd times f, per image coordinate).
+      Above fit_nominal_rms, the calibration is expected to do worse than the nominal model
+      (DOUBTFUL). 0 when not computed.
+    */
+    double predicted_rms = 0;
     double fx = 0, fx_sd = 0;
     std::vector<vpTwoViewEstimator::Result> pairs;      //!< pair (1, i + 2) at index i
     std::vector<double> ratios;                         //!< PAPER: eq. 21 ratios, one per pair
