@@ -896,6 +896,44 @@ void printProtocol(const Protocol &p)
   }
 }
 
+//! calibrate's summary on stdout: what was estimated, eMc with its sd, the residuals, the intrinsics.
+void printSummary(const vpRobotSelfCalibration::Result &r, unsigned int num_calibration)
+{
+  std::cout << "calibrated " << r.identifiability.identified.size() << " parameters on " << num_calibration
+            << " views (" << vpRobotSelfCalibration::methodName(r.method) << "), f_x " << std::setprecision(6)
+            << r.camera.get_px() << " px";
+  if (r.verified)
+    std::cout << "; yardstick 3-D error on the held-out views " << std::setprecision(3)
+              << 1e3 * r.before.yardstick_error << " mm (nominal) -> " << 1e3 * r.after.yardstick_error << " mm";
+  if (r.has_eMc) {
+    std::cout << "\neMc: t = (" << std::fixed << std::setprecision(2);
+    for (unsigned int k = 0; k < 3; ++k)
+      std::cout << (k ? ", " : "") << 1e3 * r.eMc[k] << " +- " << 1e3 * r.eMc_sd[k];
+    std::cout << ") mm, theta-u = (";
+    for (unsigned int k = 3; k < 6; ++k)
+      std::cout << (k > 3 ? ", " : "") << 1e3 * r.eMc[k] << " +- " << 1e3 * r.eMc_sd[k];
+    std::cout << ") mrad";
+    if (r.method != vpRobotSelfCalibration::PAPER) {
+      std::cout << "; pixel rms " << std::setprecision(3) << r.bundle.rms << " px";
+      if (!r.bundle.pose_corrections.empty())
+        std::cout << ", robot pose corrections rms " << 1e3 * r.bundle.pose_rms_translation << " mm / "
+                  << 1e3 * r.bundle.pose_rms_rotation << " mrad";
+      std::cout << ", sigma0 " << std::setprecision(2) << r.bundle.sigma0;
+    }
+    std::cout << std::defaultfloat;
+  }
+  if (!r.bundle.joint_corrections.empty())
+    std::cout << "\njoint corrections rms " << std::setprecision(3) << 1e3 * r.bundle.joint_rms << " mrad, sigma0 "
+              << std::setprecision(2) << r.bundle.sigma0 << std::defaultfloat;
+  if (r.bundle.has_covariance && r.bundle.intrinsic_names.size() > 1) {
+    std::cout << "\nintrinsics:";
+    for (unsigned int i = 0; i < r.bundle.intrinsics.size(); ++i)
+      std::cout << " " << r.bundle.intrinsic_names[i] << " " << std::setprecision(5) << r.bundle.intrinsics[i]
+                << " +- " << std::setprecision(2) << r.bundle.intrinsics_sd[i];
+    std::cout << std::defaultfloat;
+  }
+}
+
 int calibrate(const CalibrateArgs &a)
 {
   const std::string &dataset = a.dataset, &out = a.out;
@@ -1029,39 +1067,7 @@ int calibrate(const CalibrateArgs &a)
 
   const std::string files[4] = {(fs::path(out) / "model.yaml").string(), (fs::path(out) / "camera.xml").string(),
                                 (fs::path(out) / "results.yaml").string(), (fs::path(out) / "model.urdf").string()};
-  std::cout << "calibrated " << r.identifiability.identified.size() << " parameters on " << po.num_calibration_poses
-            << " views (" << vpRobotSelfCalibration::methodName(r.method) << "), f_x " << std::setprecision(6)
-            << r.camera.get_px() << " px";
-  if (r.verified)
-    std::cout << "; yardstick 3-D error on the held-out views " << std::setprecision(3)
-              << 1e3 * r.before.yardstick_error << " mm (nominal) -> " << 1e3 * r.after.yardstick_error << " mm";
-  if (r.has_eMc) {
-    std::cout << "\neMc: t = (" << std::fixed << std::setprecision(2);
-    for (unsigned int k = 0; k < 3; ++k)
-      std::cout << (k ? ", " : "") << 1e3 * r.eMc[k] << " +- " << 1e3 * r.eMc_sd[k];
-    std::cout << ") mm, theta-u = (";
-    for (unsigned int k = 3; k < 6; ++k)
-      std::cout << (k > 3 ? ", " : "") << 1e3 * r.eMc[k] << " +- " << 1e3 * r.eMc_sd[k];
-    std::cout << ") mrad";
-    if (r.method != vpRobotSelfCalibration::PAPER) {
-      std::cout << "; pixel rms " << std::setprecision(3) << r.bundle.rms << " px";
-      if (!r.bundle.pose_corrections.empty())
-        std::cout << ", robot pose corrections rms " << 1e3 * r.bundle.pose_rms_translation << " mm / "
-                  << 1e3 * r.bundle.pose_rms_rotation << " mrad";
-      std::cout << ", sigma0 " << std::setprecision(2) << r.bundle.sigma0;
-    }
-    std::cout << std::defaultfloat;
-  }
-  if (!r.bundle.joint_corrections.empty())
-    std::cout << "\njoint corrections rms " << std::setprecision(3) << 1e3 * r.bundle.joint_rms << " mrad, sigma0 "
-              << std::setprecision(2) << r.bundle.sigma0 << std::defaultfloat;
-  if (r.bundle.has_covariance && r.bundle.intrinsic_names.size() > 1) {
-    std::cout << "\nintrinsics:";
-    for (unsigned int i = 0; i < r.bundle.intrinsics.size(); ++i)
-      std::cout << " " << r.bundle.intrinsic_names[i] << " " << std::setprecision(5) << r.bundle.intrinsics[i]
-                << " +- " << std::setprecision(2) << r.bundle.intrinsics_sd[i];
-    std::cout << std::defaultfloat;
-  }
+  printSummary(r, po.num_calibration_poses);
   std::cout << "\n";
   printProtocol(protocol);
   std::cout << "wrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
