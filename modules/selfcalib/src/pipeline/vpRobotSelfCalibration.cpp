@@ -316,7 +316,9 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
   // The image noise measured: a second run with the level the residuals give, when it differs.
   Options measured = opt;
   std::optional<vpSelfCalibPipeline::Context> again;
-  if (opt.estimate_pixel_sd && opt.method != PAPER && res.status == OK &&
+  // A run that failed on too many rejected observations is the one a too small pixel_sd breaks: it
+  // runs again too when its residuals measured the noise.
+  if (opt.estimate_pixel_sd && opt.method != PAPER && (res.status == OK || res.status == IDENTIFICATION_FAILED) &&
       vpSelfCalibPipeline::measuredNoiseDiffers(opt.pixel_sd, res.pixel_sd_measured)) {
     measured.pixel_sd = res.pixel_sd_measured;
     measured.bundle.pixel_sd = measured.multiview.pixel_sd = measured.data_check.pixel_sd = measured.pixel_sd;

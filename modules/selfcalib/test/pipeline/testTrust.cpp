@@ -235,3 +235,17 @@ TEST(Trust, SdsFollowTheResidualsWhenTheStatedNoiseIsWrong)
     }
   }
 }
+
+// Noise 6x the stated sd: as stated, the outlier test drops most observations and the run fails;
+// auto measures the noise from that failed run's residuals and calibrates at it.
+TEST(Trust, MeasuredNoiseRescuesARunThatFailedOnIt)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 6, 1.2);
+  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(25));
+  const Result stated = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, options(15, false));
+  EXPECT_NE(stated.status, vpRobotSelfCalibration::OK) << stated.message;
+  const Result a = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, options(15, true));
+  EXPECT_TRUE(a.status == vpRobotSelfCalibration::OK || a.status == vpRobotSelfCalibration::DOUBTFUL) << a.message;
+  EXPECT_NEAR(a.pixel_sd, 1.2, 0.25);
+  EXPECT_LT(a.bundle.num_outliers, 0.02 * (a.bundle.num_observations + a.bundle.num_outliers));
+}
