@@ -9,6 +9,8 @@
 #include <map>
 #include <sstream>
 
+#include <Eigen/Eigenvalues>
+
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
 
@@ -346,6 +348,49 @@ void checkParallax(const vpKinematicChain &nominal, const std::vector<View> &cal
 }
 
 //! The yardstick needs each end in two calibration views to be triangulated.
+/*
+  A scene on a line: in every view the image points lie within kCollinearRatio of their spread from
+  a line (the ratio of the small to the large principal axis of the centred points). A line in space
+  projects to a line; its views do not determine the rotation about it, nor the camera poses. A
+  real scene is never that thin in every image.
+*/
+constexpr double kCollinearRatio = 0.03;
+//! Below this ratio in every view (but above kCollinearRatio) the scene is nearly a line: a warning.
+constexpr double kNearlyCollinearRatio = 0.15;
+
+void checkCollinear(const std::vector<View> &cal, std::vector<Finding> &out)
+{
+  double worst = 0;
+  unsigned int views = 0;
+  for (const View &v : cal) {
+    if (v.points.size() < 3)
+      continue;
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const auto &o : v.points)
+      mean += Eigen::Vector2d(o.ip.get_u(), o.ip.get_v());
+    mean /= static_cast<double>(v.points.size());
+    Eigen::Matrix2d C = Eigen::Matrix2d::Zero();
+    for (const auto &o : v.points) {
+      const Eigen::Vector2d d = Eigen::Vector2d(o.ip.get_u(), o.ip.get_v()) - mean;
+      C += d * d.transpose();
+    }
+    const Eigen::Vector2d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(C).eigenvalues(); // ascending
+    if (!(ev(1) > 0))
+      continue;
+    worst = std::max(worst, std::sqrt(std::max(0.0, ev(0)) / ev(1)));
+    ++views;
+  }
+  if (views < 2 || worst >= kNearlyCollinearRatio)
+    return;
+  const bool line = worst < kCollinearRatio;
+  add(out, line ? vpSelfCalibDataCheck::DEGENERATE : vpSelfCalibDataCheck::WARNING, "collinear-scene",
+      std::string("the scene points lie ") + (line ? "on" : "close to") +
+          " a line in every calibration image (their spread across it is at most " + fmt(100.0 * worst, 1) +
+          " % of their spread along it): views of a line do not determine the camera's rotation about it" +
+          (line ? "" : ", and a thin scene determines it poorly") +
+          "; add scene points off the line (a textured surface, a second object)");
+}
+
 void checkYardstick(const vpSelfCalibDataset &ds, const std::vector<View> &cal, std::vector<Finding> &out)
 {
   if (ds.yardstick.isSet()) {
@@ -393,6 +438,7 @@ std::vector<vpSelfCalibDataCheck::Finding> vpSelfCalibDataCheck::check(const vpK
   std::vector<Finding> out;
   const std::vector<vpSelfCalibDataset::View> cal(ds.views.begin(), ds.views.begin() + N);
   checkPoints(ds, cal, opt, out);
+  checkCollinear(cal, out);
   if (!checkRepeatedPoses(nominal, cal, opt, out))
     return out;
   checkJointMotion(nominal, cal, hand_eye, opt, out);
