@@ -15,6 +15,7 @@ cmake -S "$SRC" -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS=
 cmake --build "$BUILD" -j2
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:suppressions=$SRC/cmake/ubsan.supp"
+export LSAN_OPTIONS="suppressions=$SRC/cmake/lsan.supp"
 # install-and-consume links the installed (sanitized) static library into a plain consumer project,
 # which then lacks the sanitizer runtime: it tests the packaging, not the code, and is left out.
 ctest --test-dir "$BUILD" --output-on-failure -j2 -E install-and-consume
