@@ -120,7 +120,42 @@ set ylabel 'error (mm)'
 plot 'errors_vs_poses.dat' using 1:2 with linespoints title 'calibrated', \
      '' using 1:3 with lines dt 2 title 'nominal'
 )"},
+    {"view_residuals", R"(set output 'view_residuals.png'
+set title 'Reprojection RMS of each calibration view (points triangulated on the calibration views)'
+set xlabel 'calibration view'
+set ylabel 'RMS (px)'
+set style data histogram
+set style histogram clustered gap 1
+set style fill solid 0.5
+plot 'view_residuals.dat' using 2:xtic(1) title 'calibrated model', '' using 3 title 'nominal model'
+reset
+set grid
+)"},
+    {"matches", R"(set output 'matches.png'
+set title 'Verified matches of each image pair (white: not matched)'
+set xlabel 'image'
+set ylabel 'image'
+set size ratio -1
+set yrange [*:*] reverse
+set autoscale fix
+set palette defined (0 'white', 1 '#9ecae1', 2 '#08306b')
+set cblabel 'matches'
+plot 'matches.dat' matrix using ($1 + 1):($2 + 1):3 with image notitle
+reset
+set grid
+)"},
+    {"track_lengths", R"(set output 'track_lengths.png'
+set title 'Track lengths: scene points seen in n images'
+set xlabel 'images per track'
+set ylabel 'tracks'
+set style fill solid 0.5
+set boxwidth 0.8
+set xtics 1
+plot 'track_lengths.dat' using 1:2 with boxes notitle
+)"},
 };
+//! The figures drawn only when the image front end ran (the last two of kFigures).
+const size_t kFrontEndFigures = 2;
 
 //! True when a data file has a data line (not a comment, not blank).
 bool hasData(const std::string &text)
@@ -300,11 +335,48 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
   if (study)
     for (const vpSelfCalibPoseStudy::Point &p : study->points)
       curve << p.poses << " " << 1e3 * p.yardstick_error << " " << 1e3 * study->nominal_error << "\n";
-  const std::string data[] = {traj.str(), norms.str(), resid.str(), verif.str(), curve.str()};
-  // plots.gp draws the figures that have data; the others are named in the message.
+  // Each calibration view's reprojection RMS, calibrated and nominal: where a user looks for a bad view.
+  const auto rn = residuals(nominal, ds.cam, cal);
+  const auto rms = [](const std::vector<double> &e) {
+    double s = 0;
+    for (double x : e)
+      s += x * x;
+    return e.empty() ? 0.0 : std::sqrt(s / e.size());
+  };
+  std::ostringstream view_resid, match_matrix, lengths;
+  view_resid << std::setprecision(6) << "# calibration view, reprojection RMS (px): calibrated model, nominal model\n";
+  if (count > 0)
+    for (size_t k = 0; k < rc.size(); ++k)
+      view_resid << k + 1 << " " << rms(rc[k]) << " " << (k < rn.size() ? rms(rn[k]) : 0.0) << "\n";
+  if (fe) {
+    // The match matrix, symmetric (the front end fills the upper triangle); one row per image.
+    match_matrix << "# verified matches of image pair (row, column), images numbered from 0\n";
+    const size_t m = fe->matches.size();
+    if (m >= 2)
+      for (size_t i = 0; i < m; ++i) {
+        for (size_t j = 0; j < m; ++j) {
+          const unsigned int v = i < j ? (j < fe->matches[i].size() ? fe->matches[i][j] : 0)
+                                       : (i < fe->matches[j].size() && i != j ? fe->matches[j][i] : 0);
+          match_matrix << (j ? " " : "") << v;
+        }
+        match_matrix << "\n";
+      }
+    lengths << "# images per track, tracks\n";
+    for (size_t n = 2; n < fe->track_lengths.size(); ++n)
+      if (fe->track_lengths[n] > 0)
+        lengths << n << " " << fe->track_lengths[n] << "\n";
+  }
+  const std::string data[] = {traj.str(),       norms.str(),        resid.str(),  verif.str(),
+                              curve.str(),      view_resid.str(),   match_matrix.str(), lengths.str()};
+  constexpr size_t kNumFigures = sizeof(kFigures) / sizeof(kFigures[0]);
+  static_assert(sizeof(data) / sizeof(data[0]) == kNumFigures, "one data file per figure");
+  // plots.gp draws the figures that have data; the others are named in the message. The front end's
+  // figures exist only when it ran.
   std::string plots = kPlotsHeader;
   std::vector<std::string> drawable, empty;
-  for (size_t i = 0; i < 5; ++i) {
+  for (size_t i = 0; i < kNumFigures; ++i) {
+    if (!fe && i + kFrontEndFigures >= kNumFigures)
+      continue;
     writeText(dir + "/" + kFigures[i].name + ".dat", data[i], res.files);
     if (hasData(data[i])) {
       plots += kFigures[i].commands;
@@ -411,6 +483,10 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
     md << "\nTrack lengths (images per track):\n\n| length | tracks |\n|---|---|\n";
     for (size_t n = 2; n < fe->track_lengths.size(); ++n)
       md << "| " << n << " | " << fe->track_lengths[n] << " |\n";
+    md << "\n" << figure("track_lengths", "track lengths", "no track") << "\n\n"
+       << "Which image pairs matched (images numbered from 1; a view that matches few others is weakly tied "
+          "to the rest):\n\n"
+       << figure("matches", "matches per image pair", "fewer than 2 images") << "\n";
   }
   const std::vector<std::string> names = nominal.getParameterNames();
   md << "\n## Estimated parameters\n\n| parameter | estimate (mm or mrad) | sd (mm or mrad) |\n|---|---|---|\n";
@@ -425,7 +501,10 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
     md << "| " << u.name << " | " << u.reason << " |\n";
   md << "\n## Residuals\n\nReprojection RMS on the calibration views (points triangulated with the calibrated model): "
      << std::setprecision(3) << (count ? std::sqrt(sum2 / count) : 0.0) << " px over " << count
-     << " observations.\n\n" << figure("residuals", "residuals", "no residual") << "\n";
+     << " observations.\n\n" << figure("residuals", "residuals", "no residual") << "\n\n"
+     << "Each calibration view, calibrated against nominal model (a view far above the others is the first "
+        "suspect: a wrong joint reading, a moved scene, a blurred image):\n\n"
+     << figure("view_residuals", "residuals per view", "no residual") << "\n";
   md << "\n## Verification on the held-out views\n\n";
   if (ver.empty())
     md << "No view was held out: all " << N << " views calibrate, so there is no 3-D yardstick error on "

@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <iterator>
+#include <sstream>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -312,6 +315,55 @@ TEST(Report, WithoutGnuplotTheDataAndTheTextAreStillWritten)
   while (std::getline(curve, line))
     rows += !line.empty() && line[0] != '#';
   EXPECT_EQ(rows, 4u); // 6, 7, 8 and 9 calibration poses
+  // No front end: no match matrix, no track-length figure.
+  EXPECT_FALSE(std::filesystem::exists(std::string(dir) + "/matches.dat"));
+  EXPECT_FALSE(std::filesystem::exists(std::string(dir) + "/track_lengths.dat"));
+  // Per calibration view: the calibrated model explains every view at the noise level, the nominal
+  // model (errors of millimetres) does not.
+  std::ifstream per_view(std::string(dir) + "/view_residuals.dat");
+  rows = 0;
+  while (std::getline(per_view, line)) {
+    if (line.empty() || line[0] == '#')
+      continue;
+    std::istringstream in(line);
+    unsigned int view = 0;
+    double calibrated = 0, nom = 0;
+    ASSERT_TRUE(in >> view >> calibrated >> nom) << line;
+    EXPECT_EQ(view, ++rows);
+    EXPECT_LT(calibrated, 1.0) << line;  // 0.2 px noise
+    EXPECT_GT(nom, 2 * calibrated) << line;
+  }
+  EXPECT_EQ(rows, 9u);
+
+  // With a front end: the match matrix symmetric, one row per image, and the track-length histogram.
+  vpFeatureFrontEnd::Result fe;
+  fe.features = {100, 120, 90};
+  fe.yardstick_seen = {false, false, false};
+  fe.matches = {{0, 40, 0}, {0, 0, 25}, {0, 0, 0}};
+  fe.track_lengths = {0, 0, 30, 5};
+  fe.num_tracks = 35;
+  char dir2[] = "/tmp/selfcalib-report-XXXXXX";
+  ASSERT_NE(mkdtemp(dir2), nullptr);
+  vpSelfCalibReport::write(dir2, sim.getNominalChain(), ds, o, r, &fe, &study, ro);
+  std::ifstream mm(std::string(dir2) + "/matches.dat");
+  std::vector<std::vector<unsigned int>> matrix;
+  while (std::getline(mm, line))
+    if (!line.empty() && line[0] != '#') {
+      std::istringstream in(line);
+      matrix.emplace_back(std::istream_iterator<unsigned int>(in), std::istream_iterator<unsigned int>());
+    }
+  const std::vector<std::vector<unsigned int>> expected = {{0, 40, 0}, {40, 0, 25}, {0, 25, 0}};
+  EXPECT_EQ(matrix, expected);
+  std::ifstream tl(std::string(dir2) + "/track_lengths.dat");
+  std::vector<std::string> hist;
+  while (std::getline(tl, line))
+    if (!line.empty() && line[0] != '#')
+      hist.push_back(line);
+  EXPECT_EQ(hist, (std::vector<std::string>{"2 30", "3 5"}));
+  std::ifstream md2(std::string(dir2) + "/report.md");
+  const std::string text2((std::istreambuf_iterator<char>(md2)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text2.find("(figure matches.png not drawn: figures not drawn: '/nonexistent/gnuplot'"), std::string::npos);
+  std::filesystem::remove_all(dir2);
   EXPECT_THROW(
       vpSelfCalibReport::write("/nonexistent/dir/report", sim.getNominalChain(), ds, o, r, nullptr, &study, ro),
       vpSelfCalibException);

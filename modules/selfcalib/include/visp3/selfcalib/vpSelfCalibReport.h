@@ -35,7 +35,10 @@
   the reprojection residuals on the calibration views), verification.png (reprojection RMS of
   each held-out view), errors_vs_poses.png (3-D yardstick error on the held-out views against
   the number of calibration poses, the paper's Figure 6, from a vpSelfCalibPoseStudy result; its
-  data file is empty without one).
+  data file is empty without one), view_residuals.png (reprojection RMS of each calibration view,
+  calibrated beside nominal: the view to suspect first). With a front-end result, matches.png (the
+  verified matches of every image pair as a matrix image: which views are tied to which) and
+  track_lengths.png (the track-length histogram).
   With a vpSelfCalibCrossValidation result, a section "Cross-validation" with the figure and a
   per-fold table (held-out views, status, reprojection RMS and median calibrated and nominal, the
   yardstick error when the fold verified it); with a vpSelfCalibCrossValidation::HeldOut, a section
