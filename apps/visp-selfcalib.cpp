@@ -1044,6 +1044,7 @@ int calibrate(const CalibrateArgs &a)
     return 3;
   }
   runProtocol(nominal, ds, po, r, co, a.threads, protocol);
+  const vpRobotSelfCalibration::Result run_result = r; // the run itself, the last point of Figure 6
   crossValidationCheck(protocol, r);
   for (const auto &f : r.findings)
     std::cerr << vpSelfCalibDataCheck::severityName(f.severity) << ": " << f.message << "\n";
@@ -1058,7 +1059,8 @@ int calibrate(const CalibrateArgs &a)
                                         "self-calibrated by visp-selfcalib");
   vpSelfCalibFileWriter::write((stage / "results.yaml").string(), resultsYaml(r, nominal, dataset, protocol), "results");
   std::cerr << "... report\n";
-  const vpSelfCalibPoseStudy::Result study = vpSelfCalibPoseStudy::run(nominal, ds, po); // Figure 6
+  const vpSelfCalibPoseStudy::Result study = // Figure 6
+      vpSelfCalibPoseStudy::run(nominal, ds, po, vpSelfCalibPoseStudy::Options(), {}, &run_result);
   const vpSelfCalibReport::Result rep =
       vpSelfCalibReport::write((stage / "report").string(), nominal, ds, po, r,
                                cr.front_end_ran ? &cr.front_end : nullptr, &study, vpSelfCalibReport::Options(),

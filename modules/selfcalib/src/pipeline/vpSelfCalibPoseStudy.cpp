@@ -7,6 +7,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <mutex>
+
+#include "../core/vpSelfCalibParallel.h"
 
 void vpSelfCalibPoseStudy::Options::check() const
 {
@@ -39,7 +42,8 @@ vpSelfCalibPoseStudy::Result vpSelfCalibPoseStudy::run(const vpKinematicChain &n
 vpSelfCalibPoseStudy::Result vpSelfCalibPoseStudy::run(const vpKinematicChain &nominal,
                                                        const vpSelfCalibDataset &ds,
                                                        const vpRobotSelfCalibration::Options &po,
-                                                       const Options &so, const Progress &progress)
+                                                       const Options &so, const Progress &progress,
+                                                       const vpRobotSelfCalibration::Result *full)
 {
   const auto t0 = std::chrono::steady_clock::now();
   so.check();
@@ -58,22 +62,38 @@ vpSelfCalibPoseStudy::Result vpSelfCalibPoseStudy::run(const vpKinematicChain &n
     res.status = OK;
     res.nominal_error = vpCalibrationVerifier::verify(nominal, ds.cam, ver, ds.yardstick).yardstick_error;
     const unsigned int first = std::min(so.min_poses, N), total = N - first + 1;
-    for (unsigned int n = first; n <= N; ++n) {
-      if (progress)
-        progress(res.runs, total);
+    // One calibration per n, independent of the others: run on so.threads threads, each writing
+    // only its own slot, the curve assembled in n order (the same whatever the thread count).
+    // The run on all N poses is the caller's when given (the same options and dataset).
+    const bool reuse_full = full != nullptr;
+    std::vector<vpRobotSelfCalibration::Result> runs(total);
+    std::mutex progress_mutex;
+    unsigned int done = 0;
+    if (progress)
+      progress(0, total);
+    vpSelfCalib::parallelFor(reuse_full ? total - 1 : total, vpSelfCalib::threadCount(so.threads), [&](size_t i) {
+      const unsigned int n = first + static_cast<unsigned int>(i);
       std::vector<vpSelfCalibDataset::View> views(cal.begin(), cal.begin() + n);
       views.insert(views.end(), ver.begin(), ver.end());
       vpSelfCalibDataset sub = ds;
       sub.views = views;
       vpRobotSelfCalibration::Options o = po;
       o.num_calibration_poses = n;
-      const auto rn = vpRobotSelfCalibration::run(nominal, sub, o);
-      ++res.runs;
-      if (rn.status == vpRobotSelfCalibration::OK && rn.verified)
-        res.points.push_back({n, rn.after.yardstick_error});
+      runs[i] = vpRobotSelfCalibration::run(nominal, sub, o);
+      if (progress) {
+        std::lock_guard<std::mutex> lock(progress_mutex);
+        progress(++done, total);
+      }
+    });
+    if (reuse_full) {
+      runs.back() = *full;
+      if (progress)
+        progress(total, total);
     }
-    if (progress)
-      progress(res.runs, total);
+    res.runs = total;
+    for (unsigned int i = 0; i < total; ++i)
+      if (runs[i].status == vpRobotSelfCalibration::OK && runs[i].verified)
+        res.points.push_back({first + i, runs[i].after.yardstick_error});
     res.message = std::to_string(res.points.size()) + " of " + std::to_string(res.runs) +
                   " calibrations (" + std::to_string(first) + " to " + std::to_string(N) +
                   " poses) verified on " + std::to_string(ver.size()) + " held-out views";

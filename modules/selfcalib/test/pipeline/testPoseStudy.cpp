@@ -46,6 +46,45 @@ TEST(PoseStudy, OnePointPerNumberOfPosesTheLastIsTheCalibration)
   EXPECT_EQ(calls, expected);
 }
 
+// The calibrations run in parallel: 1 or 3 threads give the same curve, bit for bit; the caller's own
+// run on all the poses is the last point and is not run again.
+TEST(PoseStudy, ThreadsAndTheCallersRunDoNotChangeTheCurve)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 16, 0.2);
+  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
+  vpRobotSelfCalibration::Options o;
+  o.num_calibration_poses = 9;
+  vpSelfCalibPoseStudy::Options so;
+  so.threads = 1;
+  const auto one = vpSelfCalibPoseStudy::run(sim.getNominalChain(), ds, o, so);
+  so.threads = 3;
+  const auto three = vpSelfCalibPoseStudy::run(sim.getNominalChain(), ds, o, so);
+  const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
+  ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
+  so.threads = 2;
+  unsigned int calls = 0, last_done = 0;
+  const auto reused = vpSelfCalibPoseStudy::run(
+      sim.getNominalChain(), ds, o, so,
+      [&](unsigned int done, unsigned int) {
+        ++calls;
+        last_done = done;
+      },
+      &r);
+  ASSERT_EQ(one.status, vpSelfCalibPoseStudy::OK) << one.message;
+  ASSERT_EQ(one.points.size(), 4u) << one.message; // 6, 7, 8 and 9 poses
+  for (const auto *s : {&three, &reused}) {
+    EXPECT_EQ(s->runs, 4u);
+    ASSERT_EQ(s->points.size(), one.points.size());
+    for (size_t k = 0; k < one.points.size(); ++k) {
+      EXPECT_EQ(s->points[k].poses, one.points[k].poses);
+      EXPECT_EQ(s->points[k].yardstick_error, one.points[k].yardstick_error) << "n = " << one.points[k].poses;
+    }
+  }
+  EXPECT_EQ(reused.points.back().yardstick_error, r.after.yardstick_error);
+  EXPECT_EQ(calls, 5u); // 0, the 3 calibrations run, and the caller's
+  EXPECT_EQ(last_done, 4u);
+}
+
 // Nothing to verify on (fewer than 2 held-out views) or no yardstick: a status, no calibration run.
 // Study options that cannot make a calibration throw.
 TEST(PoseStudy, NotApplicableAndBadOptions)

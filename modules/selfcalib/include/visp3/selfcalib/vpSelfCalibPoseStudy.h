@@ -34,6 +34,7 @@
   reference line. The last point (n = N) is the run vpRobotSelfCalibration::run() makes with the
   same options.
 
+  The calibrations run in parallel (Options::threads); the curve is the same for any thread count.
   It runs the calibration once per n: the figure of a report (vpSelfCalibReport::write() takes the
   result), computed apart from the report so that writing a report never calibrates.
 */
@@ -42,6 +43,9 @@ class VISP_SELFCALIB_EXPORT vpSelfCalibPoseStudy
 public:
   struct Options {
     unsigned int min_poses = 6; //!< fewest calibration poses of the curve (the paper's Figure 6 starts at 6)
+    //! Calibrations run at once, each on its own thread (0: the machine's hardware threads). The
+    //! curve does not depend on it: every calibration is single-threaded and deterministic.
+    unsigned int threads = 0;
     //! Throws vpSelfCalibException when min_poses < 3 (a calibration needs 3 views).
     void check() const;
   };
@@ -68,17 +72,20 @@ public:
     double seconds = 0;
   };
 
-  //! Progress: calibrations done, total.
+  //! Progress: calibrations done, total. Called from the worker threads, one call at a time.
   using Progress = std::function<void(unsigned int, unsigned int)>;
 
   /*!
     The study on `dataset` with the calibration `options`. Throws vpSelfCalibException on bad
     study options and, through vpRobotSelfCalibration::run(), on caller mistakes in the dataset
-    (fewer than 3 calibration views...). Runs nothing when the status is not OK.
+    (fewer than 3 calibration views...). Runs nothing when the status is not OK. `full`, when
+    given, is vpRobotSelfCalibration::run(nominal, dataset, options), which the caller has already
+    run: it is the last point of the curve and is not run again (a result of other options or
+    another dataset would give a wrong last point).
   */
   static Result run(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
                     const vpRobotSelfCalibration::Options &options, const Options &study_options,
-                    const Progress &progress = Progress());
+                    const Progress &progress = Progress(), const vpRobotSelfCalibration::Result *full = nullptr);
   //! The study with the default study options.
   static Result run(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
                     const vpRobotSelfCalibration::Options &options);
