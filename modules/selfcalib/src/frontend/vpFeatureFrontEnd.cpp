@@ -4,6 +4,8 @@
 #include <visp3/selfcalib/vpFeatureFrontEnd.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
+#include "../core/vpSelfCalibParallel.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -250,37 +252,7 @@ void checkImages(const std::vector<vpImage<unsigned char>> &images)
                                      std::to_string(images[0].getHeight()));
 }
 
-// Runs fn(0), ..., fn(n - 1) on `threads` threads (the calling one included), each index once; the
-// first exception thrown is rethrown. fn must write only to its own index's slots.
-template <class Fn> void parallelFor(size_t n, unsigned int threads, const Fn &fn)
-{
-  threads = static_cast<unsigned int>(std::min<size_t>(std::max(1u, threads), n));
-  if (threads <= 1) {
-    for (size_t k = 0; k < n; ++k)
-      fn(k);
-    return;
-  }
-  std::atomic<size_t> next(0);
-  std::vector<std::exception_ptr> errors(threads);
-  auto work = [&](unsigned int t) {
-    try {
-      for (size_t k; (k = next++) < n;)
-        fn(k);
-    } catch (...) {
-      errors[t] = std::current_exception();
-      next = n;
-    }
-  };
-  std::vector<std::thread> pool;
-  for (unsigned int t = 1; t < threads; ++t)
-    pool.emplace_back(work, t);
-  work(0);
-  for (std::thread &th : pool)
-    th.join();
-  for (const std::exception_ptr &e : errors)
-    if (e)
-      std::rethrow_exception(e);
-}
+using vpSelfCalib::parallelFor;
 
 unsigned int threadCount(const FrontEnd::Options &o)
 {
@@ -297,6 +269,45 @@ struct Features {
   //! same image (its distinctiveness; filled when a prior guides the matching).
   std::vector<std::vector<float>> self_nn;
 };
+
+/*
+  Per descriptor (row), the squared distance to the nearest other row of the same matrix. L2 (SIFT):
+  |a - b|^2 = |a|^2 + |b|^2 - 2 a.b with the dot products from a matrix product, 64 rows at a time
+  (3x faster than a brute-force matcher; exact for SIFT, whose descriptors are integers up to 255 in
+  floats: every partial sum is an integer below 2^24). Hamming (ORB): OpenCV's brute-force matcher.
+*/
+std::vector<float> nearestOtherSquared(const cv::Mat &desc, bool l2)
+{
+  const int n = desc.rows;
+  std::vector<float> out(static_cast<size_t>(n), std::numeric_limits<float>::infinity());
+  if (!l2) {
+    cv::BFMatcher matcher(cv::NORM_HAMMING);
+    std::vector<std::vector<cv::DMatch>> nn;
+    matcher.knnMatch(desc, desc, nn, 2);
+    for (const auto &mm : nn)
+      for (const cv::DMatch &d : mm)
+        if (d.trainIdx != d.queryIdx)
+          out[static_cast<size_t>(d.queryIdx)] = std::min(out[static_cast<size_t>(d.queryIdx)], d.distance * d.distance);
+    return out;
+  }
+  std::vector<float> sq(static_cast<size_t>(n));
+  for (int r = 0; r < n; ++r)
+    sq[static_cast<size_t>(r)] = static_cast<float>(desc.row(r).dot(desc.row(r)));
+  cv::Mat G;
+  for (int r0 = 0; r0 < n; r0 += 64) {
+    const int r1 = std::min(n, r0 + 64);
+    cv::gemm(desc.rowRange(r0, r1), desc, 1.0, cv::noArray(), 0.0, G, cv::GEMM_2_T);
+    for (int r = r0; r < r1; ++r) {
+      const float *g = G.ptr<float>(r - r0);
+      float best = std::numeric_limits<float>::infinity();
+      for (int c = 0; c < n; ++c)
+        if (c != r)
+          best = std::min(best, std::max(0.f, sq[static_cast<size_t>(r)] + sq[static_cast<size_t>(c)] - 2 * g[c]));
+      out[static_cast<size_t>(r)] = best;
+    }
+  }
+  return out;
+}
 
 // Step 1: detection (none when opt.features is off), one image per thread; res.features gets the
 // count per image.
@@ -317,11 +328,17 @@ Features detectFeatures(const std::vector<cv::Mat> &mats, const std::vector<cv::
       else
         det = cv::ORB::create(static_cast<int>(opt.max_features));
       const cv::Mat mask = masks.empty() ? cv::Mat() : masks[masks.size() == 1 ? 0 : k];
-      // Detection runs in parallel inside OpenCV and returns the keypoints in an order that depends
-      // on the thread count: sorted here (position, then scale), so that tracks, ids and every sum
-      // downstream are the same whatever the threads.
-      det->detect(mats[k], f.kp[k], mask);
-      std::sort(f.kp[k].begin(), f.kp[k].end(), [](const cv::KeyPoint &a, const cv::KeyPoint &b) {
+      // One pass (the scale space is built once for the keypoints and their descriptors). Detection
+      // runs in parallel inside OpenCV and returns the keypoints in an order that depends on the
+      // thread count: sorted here (position, then scale), descriptors with them, so that tracks, ids
+      // and every sum downstream are the same whatever the threads.
+      std::vector<cv::KeyPoint> kp;
+      cv::Mat desc;
+      det->detectAndCompute(mats[k], mask, kp, desc);
+      std::vector<size_t> order(kp.size());
+      std::iota(order.begin(), order.end(), size_t(0));
+      std::sort(order.begin(), order.end(), [&kp](size_t ia, size_t ib) {
+        const cv::KeyPoint &a = kp[ia], &b = kp[ib];
         if (a.pt.y != b.pt.y)
           return a.pt.y < b.pt.y;
         if (a.pt.x != b.pt.x)
@@ -332,20 +349,15 @@ Features detectFeatures(const std::vector<cv::Mat> &mats, const std::vector<cv::
           return a.angle < b.angle;
         return a.octave < b.octave;
       });
-      det->compute(mats[k], f.kp[k], f.desc[k]);
-      // Distinctiveness, for the guided search's ratio test (see searchGuided).
-      if (opt.guided && !opt.prior.empty() && f.kp[k].size() >= 2) {
-        const bool l2 = opt.detector == FrontEnd::SIFT;
-        cv::BFMatcher matcher(l2 ? cv::NORM_L2 : cv::NORM_HAMMING);
-        std::vector<std::vector<cv::DMatch>> nn;
-        matcher.knnMatch(f.desc[k], f.desc[k], nn, 2);
-        f.self_nn[k].assign(f.kp[k].size(), std::numeric_limits<float>::infinity());
-        for (const auto &mm : nn)
-          for (const cv::DMatch &d : mm)
-            if (d.trainIdx != d.queryIdx)
-              f.self_nn[k][static_cast<size_t>(d.queryIdx)] =
-                  std::min(f.self_nn[k][static_cast<size_t>(d.queryIdx)], d.distance * d.distance);
+      f.kp[k].reserve(kp.size());
+      f.desc[k].create(static_cast<int>(kp.size()), desc.cols, desc.type());
+      for (size_t r = 0; r < order.size(); ++r) {
+        f.kp[k].push_back(kp[order[r]]);
+        desc.row(static_cast<int>(order[r])).copyTo(f.desc[k].row(static_cast<int>(r)));
       }
+      // Distinctiveness, for the guided search's ratio test (see searchGuided).
+      if (opt.guided && !opt.prior.empty() && f.kp[k].size() >= 2)
+        f.self_nn[k] = nearestOtherSquared(f.desc[k], opt.detector == FrontEnd::SIFT);
     });
   for (size_t k = 0; k < m; ++k) {
     res.features.push_back(static_cast<unsigned int>(f.kp[k].size()));
