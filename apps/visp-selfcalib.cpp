@@ -537,6 +537,8 @@ struct CalibrateArgs {
   std::string board;
   bool board_geometry = false; //!< the board's layout as a prior on its points
   bool with_features = false;
+  bool mask_board = false;     //!< the board only masked out: natural features alone
+  std::string mask;            //!< an image: where its pixels are 0, no feature is looked for
   bool force = false; //!< replace an earlier run's results in --out
 };
 
@@ -678,10 +680,21 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
               },
               std::string()));
   c->add_flag("--with-features", a.with_features, "with --board: natural features too")->needs(board)->excludes(no_features);
+  CLI::Option *mask_board = c->add_flag("--mask-board", a.mask_board,
+              "with --board: the board is found only to be masked out (its region, 15 px beyond its\n"
+              "outer points); the calibration uses the natural features around it, target-free")
+      ->needs(board)
+      ->excludes(no_features);
+  c->add_option("--mask", a.mask,
+                "an image of the camera's size: where it is black (0) no natural feature is looked\n"
+                "for in any view (the robot's own parts, a drawn overlay, a moving background)")
+      ->type_name("PNG")
+      ->check(CLI::ExistingFile);
   c->add_flag("--board-geometry", a.board_geometry,
               "with --board: its layout is known (a 0.1 mm prior on its points, its pose estimated);\n"
               "without it the board's points are unknown scene points")
-      ->needs(board);
+      ->needs(board)
+      ->excludes(mask_board);
   c->add_flag("--force", a.force, "replace the results of an earlier run in DIR");
   c->footer("Self-calibrates on every view and cross-validates (--folds), or on the first views and\n"
             "verifies on the last ones (--holdout, --calibration). Writes DIR/model.yaml,\n"
@@ -939,9 +952,20 @@ int calibrate(const CalibrateArgs &a)
   const std::string &dataset = a.dataset, &out = a.out;
   vpSelfCalibImageCorrespondences::Options co;
   // A board alone unless natural features are asked for too.
-  co.front_end.features = a.board.empty() ? !a.no_features : a.with_features;
+  co.front_end.features = a.board.empty() ? !a.no_features : (a.with_features || a.mask_board);
   if (!a.board.empty())
     co.board = vpBoardDetector::parse(a.board);
+  co.mask_board = a.mask_board;
+  if (!a.mask.empty()) {
+    vpImage<unsigned char> mask;
+    try {
+      vpImageIo::read(mask, a.mask);
+    } catch (const vpException &e) {
+      throw vpSelfCalibException(vpSelfCalibException::ioError,
+                                 "--mask: cannot read the image '" + a.mask + "': " + e.getStringMessage());
+    }
+    co.front_end.masks.push_back(mask);
+  }
   // C x R; grid g numbered from 1000000 + 1000 g (as simulate --target dots).
   for (const std::string &item : a.dot_grids) {
     vpFeatureFrontEnd::DotGrid g;

@@ -383,6 +383,36 @@ void industrialSection(const std::string &data)
     row.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     rows.push_back(row);
   }
+  // I4: target-free, the grid masked out of the images, natural features of the mat, cardboard and
+  // floor only (the front end guided by the robot model and the eMc guess, falling back when they
+  // disagree with the images); the same settings as I1.
+  std::string natural;
+  {
+    vpSelfCalibDataset nf = vpSelfCalibDataset::fromYamlString(imp.dataset.toYamlString());
+    vpSelfCalibImageCorrespondences::Options nco;
+    nco.board = co.board;
+    nco.mask_board = true;
+    nco.prior = nominal;
+    nco.method = vpRobotSelfCalibration::HAND_EYE;
+    const vpSelfCalibImageCorrespondences::Result ncr = vpSelfCalibImageCorrespondences::fromDatasetImages(nf, nco);
+    std::ostringstream os;
+    os << "I4 front end: grid masked in " << ncr.board_images << " of " << m << " images; " << ncr.front_end.num_tracks
+       << " tracks, lengths";
+    for (size_t n = 2; n < ncr.front_end.track_lengths.size(); ++n)
+      if (ncr.front_end.track_lengths[n])
+        os << " " << n << ": " << ncr.front_end.track_lengths[n];
+    os << "; " << (ncr.front_end.guided ? "guided" : "unguided") << "; " << ncr.dropped.size()
+       << " view(s) without correspondence left out\n";
+    for (const std::string &w : ncr.warnings)
+      os << "  warning: " << w << "\n";
+    natural = os.str();
+    vpRobotSelfCalibration::Options po4 = po;
+    po4.bundle.known_points.clear();
+    po4.num_calibration_poses = static_cast<unsigned int>(nf.views.size());
+    rows.push_back(ours("I4. ours, natural features only (grid masked out), f, pp, distortion self-calibrated, pose "
+                        "sd 5 mm / 10 mrad",
+                        nominal, nf, po4));
+  }
   for (Row &row : rows)
     compare(row, ref);
   std::cout << "| method | status | fx (px) | u0 (px) | v0 (px) | k1 | k2 | eMc t (mm) | theta-u (mrad) | "
@@ -401,14 +431,32 @@ void industrialSection(const std::string &data)
   for (const Row &row : rows)
     if (!row.message.empty())
       std::cout << "\n" << row.method << ": " << row.status << ": " << row.message << "\n";
+  std::cout << "\n" << natural;
   const Row &i1 = rows[0];
+  const Row &i4 = rows[3];
+  bool i4_near_i1 = false;
+  std::string i4_diff = "no answer";
+  if (i1.ok && i4.ok) {
+    const vpHomogeneousMatrix d = vpHomogeneousMatrix(i1.eMc).inverse() * vpHomogeneousMatrix(i4.eMc);
+    const double dt = d.getTranslationVector().frobeniusNorm(), dr = vpThetaUVector(d.getRotationMatrix()).getTheta();
+    i4_near_i1 = dt <= 0.010 && dr <= 0.010;
+    i4_diff = fixed(1e3 * dt, 1) + " mm, " + fixed(1e3 * dr, 1) + " mrad";
+  }
+  const bool i4_f = i4.intrinsics.count("fx") && std::fabs(i4.intrinsics.at("fx").first - 541.3) <= 0.01 * 541.3;
+  const bool i4_pp = i4.intrinsics.count("u0") && std::hypot(i4.intrinsics.at("u0").first - 322.6,
+                                                            i4.intrinsics.at("v0").first - 215.2) <= 5;
   const bool f_met = i1.intrinsics.count("fx") && std::fabs(i1.intrinsics.at("fx").first - 541.3) <= 0.01 * 541.3;
   const bool pp_met = i1.intrinsics.count("u0") && std::hypot(i1.intrinsics.at("u0").first - 322.6,
                                                              i1.intrinsics.at("v0").first - 215.2) <= 5;
   std::cout << "\ntargets (the reference is OpenCV's board calibration on the same images):\n"
             << "- I1 fx within 1 % of 541.3: " << intrinsic(i1, "fx", 1) << ": " << metText(f_met) << "\n"
             << "- I1 principal point within 5 px of (322.6, 215.2): (" << intrinsic(i1, "u0", 1) << ", "
-            << intrinsic(i1, "v0", 1) << "): " << metText(pp_met) << "\n";
+            << intrinsic(i1, "v0", 1) << "): " << metText(pp_met) << "\n"
+            << "- I4 (target-free) eMc within 10 mm and 10 mrad of I1 (board mode): " << i4_diff << ": "
+            << metText(i4_near_i1) << "\n"
+            << "- I4 fx within 1 % of 541.3: " << intrinsic(i4, "fx", 1) << ": " << metText(i4_f) << "\n"
+            << "- I4 principal point within 5 px of (322.6, 215.2): (" << intrinsic(i4, "u0", 1) << ", "
+            << intrinsic(i4, "v0", 1) << "): " << metText(i4_pp) << "\n";
 }
 
 } // namespace

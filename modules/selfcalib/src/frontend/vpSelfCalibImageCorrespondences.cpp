@@ -6,10 +6,13 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <utility>
 
 #include <visp3/io/vpImageIo.h>
+
+#include <opencv2/imgproc.hpp>
 
 bool vpSelfCalibImageCorrespondences::needsFrontEnd(const vpSelfCalibDataset &dataset)
 {
@@ -52,11 +55,28 @@ vpFeatureFrontEnd::Options withPrior(const vpSelfCalibImageCorrespondences::Opti
   }
   return fo;
 }
+// Options that cannot work, refused before any image is read.
+void checkOptions(const vpSelfCalibImageCorrespondences::Options &options)
+{
+  if (options.mask_board) {
+    if (!options.board)
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpSelfCalibImageCorrespondences: mask_board needs a board to mask");
+    if (!options.front_end.features)
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpSelfCalibImageCorrespondences: mask_board leaves only natural features, and "
+                                 "the front end's features are off");
+    if (!(options.mask_margin >= 0 && options.mask_margin < 1e4))
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpSelfCalibImageCorrespondences: mask_margin must be in [0, 1e4) px");
+  }
+}
 } // namespace
 
 vpSelfCalibImageCorrespondences::Result vpSelfCalibImageCorrespondences::fromDatasetImages(vpSelfCalibDataset &dataset,
                                                                                            const Options &options)
 {
+  checkOptions(options);
   Result result;
   if (needsFrontEnd(dataset)) {
     if (options.board)
@@ -84,6 +104,7 @@ vpSelfCalibImageCorrespondences::fromImages(vpSelfCalibDataset &dataset,
     throw vpSelfCalibException(vpSelfCalibException::dimensionError,
                                "vpSelfCalibImageCorrespondences: " + std::to_string(images.size()) + " images for " +
                                    std::to_string(dataset.views.size()) + " views");
+  checkOptions(options);
   Result result;
   runOnImages(dataset, images, options, result);
   finish(dataset, options, result);
@@ -94,9 +115,37 @@ void vpSelfCalibImageCorrespondences::runOnImages(vpSelfCalibDataset &dataset,
                                                   const std::vector<vpImage<unsigned char>> &images,
                                                   const Options &options, Result &result)
 {
+  // The board only masked: found in every image, its region out of the front end's masks.
+  vpFeatureFrontEnd::Options front_end = withPrior(options, dataset);
+  if (options.board && options.mask_board) {
+    const vpBoardDetector detector(*options.board);
+    const std::vector<vpImage<unsigned char>> user = options.front_end.masks;
+    front_end.masks.clear();
+    result.board_ran = true;
+    for (size_t k = 0; k < images.size(); ++k) {
+      result.board.push_back(detector.detect(images[k]));
+      const vpBoardDetector::Result &b = result.board.back();
+      vpImage<unsigned char> mask = boardMask(b, images[k].getHeight(), images[k].getWidth(), options.mask_margin);
+      if (!user.empty()) {
+        const vpImage<unsigned char> &u = user[user.size() == 1 ? 0 : std::min(k, user.size() - 1)];
+        if (u.getHeight() == mask.getHeight() && u.getWidth() == mask.getWidth())
+          for (unsigned int i = 0; i < mask.getSize(); ++i)
+            mask.bitmap[i] = u.bitmap[i] ? mask.bitmap[i] : 0;
+        else // the front end's own check names the wrong size
+          mask = u;
+      }
+      front_end.masks.push_back(mask);
+      if (b.found)
+        ++result.board_images;
+      else
+        result.warnings.push_back("view " + std::to_string(k) +
+                                  (dataset.views[k].image.empty() ? std::string() : " (" + dataset.views[k].image + ")") +
+                                  ": board not found, so not masked: " + b.message);
+    }
+  }
   // Without a board the feature front end always runs (and refuses options that find nothing).
-  if (!options.board || options.front_end.features || !options.front_end.dot_grids.empty()) {
-    result.front_end = vpFeatureFrontEnd::process(images, withPrior(options, dataset));
+  if (!options.board || options.mask_board || options.front_end.features || !options.front_end.dot_grids.empty()) {
+    result.front_end = vpFeatureFrontEnd::process(images, front_end);
     result.front_end_ran = true;
     result.warnings.insert(result.warnings.end(), result.front_end.warnings.begin(), result.front_end.warnings.end());
     for (size_t k = 0; k < dataset.views.size(); ++k)
@@ -109,8 +158,27 @@ void vpSelfCalibImageCorrespondences::runOnImages(vpSelfCalibDataset &dataset,
       v.points.clear();
     dataset.yardstick.id_a = dataset.yardstick.id_b = -1;
   }
-  if (options.board)
+  if (options.board && !options.mask_board)
     addBoard(dataset, images, options, result);
+}
+
+vpImage<unsigned char> vpSelfCalibImageCorrespondences::boardMask(const vpBoardDetector::Result &board,
+                                                                  unsigned int height, unsigned int width,
+                                                                  double margin)
+{
+  vpImage<unsigned char> mask(height, width, 255);
+  if (!board.found || board.corners.empty())
+    return mask;
+  std::vector<cv::Point> pts, hull;
+  for (const auto &o : board.corners)
+    pts.emplace_back(static_cast<int>(std::lround(o.ip.get_u())), static_cast<int>(std::lround(o.ip.get_v())));
+  cv::convexHull(pts, hull);
+  cv::Mat m(static_cast<int>(height), static_cast<int>(width), CV_8UC1, mask.bitmap);
+  cv::fillConvexPoly(m, hull, cv::Scalar(0));
+  const int thickness = static_cast<int>(std::lround(2 * margin));
+  if (thickness > 0)
+    cv::polylines(m, hull, true, cv::Scalar(0), thickness);
+  return mask;
 }
 
 void vpSelfCalibImageCorrespondences::addBoard(vpSelfCalibDataset &dataset,

@@ -162,6 +162,67 @@ TEST(BoardCorrespondences, BoardWithFeatures)
   }
 }
 
+// The board only masked out (a target-free run in a scene with a board): no observation on the
+// board's region in the views where it was found, none with the board's ids, the board is not the
+// yardstick; without the mask the same features do land on the board (so the mask is what keeps
+// them off). Options that cannot work are refused.
+TEST(BoardCorrespondences, BoardMaskedOutLeavesOnlyNaturalFeatures)
+{
+  Scene s = makeScene();
+  vpSelfCalibImageCorrespondences::Options o = boardOnly();
+  o.front_end.features = true;
+  o.front_end.yardstick = false;
+  o.front_end.min_matches = 8;
+  vpSelfCalibDataset plain = s.dataset;
+  const auto unmasked = vpSelfCalibImageCorrespondences::fromImages(plain, s.images, o);
+  o.mask_board = true;
+  vpSelfCalibDataset data = s.dataset;
+  const vpSelfCalibImageCorrespondences::Result r = vpSelfCalibImageCorrespondences::fromImages(data, s.images, o);
+  EXPECT_TRUE(r.board_ran);
+  EXPECT_EQ(r.board_images, 4u);
+  EXPECT_FALSE(r.board_yardstick);
+  EXPECT_FALSE(data.yardstick.isSet());
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_EQ(r.warnings[0], "view 4: board not found, so not masked: no 6 x 9 chessboard (inner corners) found");
+  unsigned int on_board_unmasked = 0;
+  for (size_t k = 0; k < 4; ++k) {
+    const vpImage<unsigned char> mask =
+        vpSelfCalibImageCorrespondences::boardMask(r.board[k], boardtest::kHeight, boardtest::kWidth, o.mask_margin);
+    // The pixel a feature at (u, v) is in, as OpenCV's mask filter rounds it.
+    auto at = [&mask](const vpImagePoint &ip) {
+      return mask[static_cast<unsigned int>(ip.get_v() + 0.5)][static_cast<unsigned int>(ip.get_u() + 0.5)];
+    };
+    for (const auto &ob : unmasked.front_end.observations[k])
+      on_board_unmasked += at(ob.ip) == 0;
+    for (const auto &ob : r.front_end.observations[k]) {
+      EXPECT_NE(at(ob.ip), 0)
+          << "view " << k << ": a feature on the masked board at " << ob.ip;
+      EXPECT_LT(ob.id, vpBoardDetector::kDefaultIdOffset);
+    }
+  }
+  EXPECT_GT(on_board_unmasked, 20u);
+
+  // The mask: the hull of the board's points and a margin around it, all 255 without a board.
+  const vpImage<unsigned char> mask = vpSelfCalibImageCorrespondences::boardMask(r.board[0], 480, 640, 15);
+  const vpImagePoint c = r.board[0].corners.front().ip;
+  EXPECT_EQ(mask[static_cast<unsigned int>(c.get_v())][static_cast<unsigned int>(c.get_u())], 0);
+  EXPECT_EQ(mask[0][0], 255);
+  const vpImage<unsigned char> none = vpSelfCalibImageCorrespondences::boardMask(r.board[4], 480, 640, 15);
+  for (unsigned int i = 0; i < none.getSize(); ++i)
+    ASSERT_EQ(none.bitmap[i], 255);
+
+  vpSelfCalibImageCorrespondences::Options bad = o;
+  bad.board.reset();
+  data = s.dataset;
+  EXPECT_THROW(vpSelfCalibImageCorrespondences::fromImages(data, s.images, bad), vpSelfCalibException);
+  bad = o;
+  bad.front_end.features = false;
+  EXPECT_THROW(vpSelfCalibImageCorrespondences::fromImages(data, s.images, bad), vpSelfCalibException);
+  bad = o;
+  bad.mask_margin = -1;
+  EXPECT_THROW(vpSelfCalibImageCorrespondences::fromImages(data, s.images, bad), vpSelfCalibException);
+}
+
 // A dataset's image files with a board: read, searched, the view without the board left out; a
 // missing file or one of another size is an error that names the view and the file.
 TEST(BoardCorrespondences, DatasetImageFiles)

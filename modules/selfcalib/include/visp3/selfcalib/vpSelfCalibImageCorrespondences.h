@@ -56,6 +56,15 @@ public:
     //! A calibration board to find in every image (see the class); unset: none.
     std::optional<vpBoardDetector::Options> board;
     /*!
+      With a board: the board is found only to be masked out, a target-free calibration in a scene
+      that has one (to compare with the board's own result on the same images). In each image where
+      it is found, its region (boardMask()) is excluded from the feature front end (on top of
+      front_end.masks); its points are not observations and it is not the yardstick. An image where
+      it is not found is not masked, with a warning. Needs the front end's natural features.
+    */
+    bool mask_board = false;
+    double mask_margin = 15; //!< px: the board's mask reaches this far beyond its outer points
+    /*!
       The nominal robot model as the front end's kinematic prior (vpFeatureFrontEnd, step 2): when
       set and front_end.prior is empty, makePrior() predicts every view's camera pose from it and
       the matching is guided by it (and falls back to unguided matching, with a warning, when the
@@ -99,6 +108,13 @@ public:
     neither joints nor fMe, or the joints do not fit the model.
   */
   static vpFeatureFrontEnd::Prior makePrior(const vpKinematicChain &model, const vpSelfCalibDataset &dataset);
+
+  /*!
+    The mask (255: features may be found, 0: not) of a board found in an image of height x width:
+    the convex hull of its points, widened by margin px. All 255 when it was not found.
+  */
+  static vpImage<unsigned char> boardMask(const vpBoardDetector::Result &board, unsigned int height,
+                                          unsigned int width, double margin);
 
   //! True when a view has an image file and no points: the front end has to run on the images.
   static bool needsFrontEnd(const vpSelfCalibDataset &dataset);
