@@ -152,13 +152,19 @@ void checkPredicted(const Context &c, Result &res, const std::map<int, vpColVect
     sum += (t2 * (f / Z) * (f / Z) + r2 * f * f) / 3.0;
   }
   res.predicted_rms = std::sqrt(sum / static_cast<double>(c.calibration.size() - 1));
-  if (res.predicted_rms > res.fit_nominal_rms)
+  // A checked answer must be better than the nominal model with confidence: its own uncertainty
+  // must leave at most a 0.1 % chance that its error on new views exceeds twice the nominal misfit.
+  // The error of a run lies mostly along one direction (the focal length, the scale), so it is taken
+  // as |N(0, predicted)| in one dimension: P(|e| > 2 nominal) <= 0.001 when 3.29 predicted <= 2 nominal.
+  const double z999 = 3.29, limit = 2.0 * res.fit_nominal_rms / z999;
+  if (res.predicted_rms > limit)
     add(res, vpSelfCalibDataCheck::DOUBT, "expected-worse-than-nominal",
         "the calibrated model's own predicted error on new views (" + fixed(res.predicted_rms, 2) +
-            " px, from its covariance) exceeds the nominal model's misfit on the calibration views (" +
-            fixed(res.fit_nominal_rms, 2) +
-            " px): these views cannot make the model better than the nominal one; add views (more, and more "
-            "varied, configurations), a yardstick, or fix the focal length if it is known");
+            " px, from its covariance) leaves more than a 0.1 % chance that it is worse than twice the nominal "
+            "model's misfit on the calibration views (" +
+            fixed(res.fit_nominal_rms, 2) + " px; limit " + fixed(limit, 2) +
+            " px): these views cannot make the model reliably better than the nominal one; add views (more, and "
+            "more varied, configurations), a yardstick, or fix the focal length if it is known");
 }
 
 // How well the calibrated and the nominal model explain the calibration views (same rule for both).

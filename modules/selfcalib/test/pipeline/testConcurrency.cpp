@@ -72,9 +72,11 @@ TEST(Concurrency, TwoCalibrationsInTwoThreadsEqualTwoSequentialRuns)
   const int caller_level = 1; // the caller's glog level: WARNING shown, INFO not
   FLAGS_minloglevel = caller_level;
   const Result sa = run(a), sb = run(b);
-  ASSERT_EQ(sa.status, vpRobotSelfCalibration::OK) << sa.message;
-  // The paper's method on 10 poses at 0.2 px gives a model that explains the held-out views worse
-  // than the nominal one (doubtful): a full result all the same, compared as such.
+  // f self-calibrated from 10 views: a model whose own predicted error (2.1 px) is close to the
+  // nominal misfit (2.7 px) is doubtful (expected-worse-than-nominal). The paper's method on 10 poses
+  // at 0.2 px gives a model that explains the held-out views worse than the nominal one (doubtful).
+  // Full results all the same, compared as such.
+  ASSERT_TRUE(sa.status == vpRobotSelfCalibration::OK || sa.status == vpRobotSelfCalibration::DOUBTFUL) << sa.message;
   ASSERT_TRUE(sb.status == vpRobotSelfCalibration::OK || sb.status == vpRobotSelfCalibration::DOUBTFUL) << sb.message;
   for (int round = 0; round < 2; ++round) {
     Result ta, tb;

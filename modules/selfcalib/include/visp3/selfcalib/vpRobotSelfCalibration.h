@@ -225,8 +225,9 @@ public:
       px, the calibrated model's own predicted error on new views (BUNDLE_ADJUSTMENT, PAPER): its
       covariance propagated to the relative camera poses of the calibration views (to first order:
       position sd times f over the scene's mean depth, rotation sd times f, per image coordinate).
-      Above fit_nominal_rms, the calibration is expected to do worse than the nominal model
-      (DOUBTFUL). 0 when not computed.
+      Above 2 / 3.29 of fit_nominal_rms, the model's own uncertainty leaves more than a 0.1 % chance
+      that it does worse than twice the nominal model on new views (DOUBTFUL,
+      expected-worse-than-nominal). 0 when not computed.
     */
     double predicted_rms = 0;
     double fx = 0, fx_sd = 0;
