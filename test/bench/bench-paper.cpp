@@ -112,6 +112,10 @@ int main(int argc, char **argv)
     app.add_option("--max-evaluations", max_evaluations, "planner: cost evaluations per start (default 6000; the\nplanner's own default is 2000)")
         ->type_name("N")
         ->check(selfcalibCli::wholeNumber(1));
+    std::string ratio_cost = "default";
+    app.add_option("--ratio-cost", ratio_cost, "planner: consecutive or spread (default: the planner's)")
+        ->type_name("C")
+        ->check(CLI::IsMember({"default", "consecutive", "spread"}));
     app.add_option("--multistart", multistart, "planner: extra starts (default 2)")->type_name("N")->check(selfcalibCli::wholeNumber(0));
     unsigned int figure6_step = 3;
     app.add_option("--figure6-step", figure6_step, "Figure 6: every STEP-th n from 15 down to 6 (default 3: 6, 9, 12, 15)")
@@ -187,6 +191,9 @@ int main(int argc, char **argv)
             po.seed = seed;
             po.max_evaluations = max_evaluations;
             po.multistart = multistart;
+            if (ratio_cost != "default")
+              po.ratio_cost = ratio_cost == "spread" ? vpMeasurementPlanner::RATIO_SPREAD
+                                                     : vpMeasurementPlanner::RATIO_CONSECUTIVE;
             const vpMeasurementPlanner::Result plan = planner.planTrajectory(from, po);
             plan_time[ri].add(plan.seconds);
             plan_margin[ri].add(plan.planning_margin);

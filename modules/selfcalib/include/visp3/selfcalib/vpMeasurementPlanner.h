@@ -110,6 +110,11 @@ public:
     double robust_factor = 1.5;       //!< derived margin = factor x largest displacement over the samples
     double visibility_weight = 1;       //!< per px^2 of violation
     double min_joint_distance = 0.05;   //!< rad, between any two configurations
+    //! rad added to min_joint_distance inside the penalty (as planning_margin for the views): a
+    //! squared hinge is only zero outside its threshold, and a cost that pulls configurations
+    //! together settles slightly inside it, so a hinge at the checked distance itself ends
+    //! INFEASIBLE. Default 20 % of the default min_joint_distance.
+    double joint_distance_margin = 0.01;
     double distinct_weight = 1e6;       //!< per rad^2 of violation
     double direction_sd = 5e-3;         //!< rad, row weights of J (as the pipeline)
     double rotation_sd = 5e-3;          //!< rad
