@@ -11,6 +11,10 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Cholesky>
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+
 #include <visp3/core/vpThetaUVector.h>
 #include <visp3/selfcalib/vpCalibrationVerifier.h>
 #include <visp3/selfcalib/vpPoseScale.h>
@@ -148,6 +152,203 @@ inline PoseMeasurementErrors poseMeasurementErrors(const vpSelfCalibSimulator &s
   } else if (mode == vpRobotSelfCalibration::FOCAL_SHARED && r.fx > 0)
     e.fx.push_back(std::fabs(r.fx - f_true));
   return e;
+}
+
+/*!
+  Cramér-Rao bounds of the relative yardstick scale k_1 (the metric |T_1|) at the truth, with the
+  eq. 21 ratios taken as exact (the bench measures the scale's noise part against the noise-free
+  pipeline's scale, which has the same ratios), pixel noise sigma on u and v of every observation.
+  Pose j = c_jMc_0 is (R_j, k_1 r_j d_j), d_j a unit direction, perturbed as in
+  vpPoseScale::twoViewCovariance (R <- exp([w]x) R, d <- normalize(d + a e1 + b e2)); the yardstick
+  is its midpoint and direction (length known, so it fixes k_1).
+  - pairs: the yardstick ends seen in all the views jointly, with the 24 two-view poses as
+    independent measurements of (R_j, d_j) with their first-order covariance
+    (vpPoseScale::twoViewCovariance of the pair (0, j), f known): the bound of any estimator that
+    triangulates the yardstick from the two-view poses (the pipeline's, which uses the ends of view 0
+    with each view j in turn, is one of them);
+  - joint: every observation of every view (scene points and yardstick ends), poses, scene points and
+    k_1 (and f when not known) estimated together: the bound of any unbiased estimator on these
+    images, a bundle adjustment's.
+*/
+struct ScaleBounds {
+  double pairs = NAN;       //!< relative sd, two-view poses + yardstick in every view (f known)
+  double joint = NAN;       //!< relative sd, every observation (f known)
+  double joint_shared = NAN; //!< relative sd, every observation, f estimated with the rest
+};
+
+inline ScaleBounds yardstickScaleBounds(const vpSelfCalibSimulator &sim, const std::vector<vpColVector> &q,
+                                        double sigma)
+{
+  ScaleBounds out;
+  const size_t m = q.size();
+  if (m < 2 || !(sigma > 0))
+    return out;
+  const vpCameraParameters cam = sim.getCamera();
+  const double f0 = cam.get_px(), mu = cam.get_py() / cam.get_px(), u0 = cam.get_u0(), v0 = cam.get_v0();
+  const vpKinematicChain &truth = sim.getTrueChain();
+  const vpHomogeneousMatrix T0 = truth.get_fMc(q[0]);
+  std::vector<Eigen::Matrix3d> R(m, Eigen::Matrix3d::Identity());
+  std::vector<Eigen::Vector3d> d(m, Eigen::Vector3d::Zero());
+  std::vector<double> rn(m, 0.0);
+  double k = 0;
+  for (size_t j = 1; j < m; ++j) {
+    const vpHomogeneousMatrix M = truth.get_fMc(q[j]).inverse() * T0;
+    for (unsigned int r = 0; r < 3; ++r) {
+      for (unsigned int c = 0; c < 3; ++c)
+        R[j](r, c) = M[r][c];
+      d[j](r) = M[r][3];
+    }
+    rn[j] = d[j].norm();
+    d[j].normalize();
+    if (j == 1)
+      k = rn[1];
+  }
+  for (size_t j = 1; j < m; ++j)
+    rn[j] /= k;
+  // Scene points in c0, the yardstick's ends among them.
+  const vpHomogeneousMatrix T0inv = T0.inverse();
+  std::map<int, Eigen::Vector3d> X;
+  for (const auto &p : sim.getScenePointsById()) {
+    const vpColVector &P = p.second;
+    vpColVector h(4, 1.0);
+    for (unsigned int r = 0; r < 3; ++r)
+      h[r] = P[r];
+    const vpColVector c = T0inv * h;
+    X[p.first] = Eigen::Vector3d(c[0], c[1], c[2]);
+  }
+  const vpSelfCalibDataset::Yardstick ys = sim.getYardstick();
+  if (!X.count(ys.id_a) || !X.count(ys.id_b))
+    return out;
+  const double L = ys.length;
+  const Eigen::Vector3d Ym = 0.5 * (X[ys.id_a] + X[ys.id_b]), Yu = (X[ys.id_a] - X[ys.id_b]).normalized();
+  // Visible ids per view (noise-free observations of the simulator's rule).
+  std::vector<std::map<int, vpImagePoint>> seen(m);
+  for (size_t j = 0; j < m; ++j)
+    for (const auto &o : sim.observe(q[j], static_cast<unsigned int>(j), 0))
+      seen[j][o.id] = o.ip;
+  auto unitPerturb = [](const Eigen::Vector3d &v, double a, double b) {
+    const Eigen::Vector3d e1 = v.unitOrthogonal(), e2 = v.cross(e1);
+    return Eigen::Vector3d((v + a * e1 + b * e2).normalized());
+  };
+  // Pixel of the point x (c0) in view j with the local perturbations p = (w 3, a, b, dk, df).
+  auto pixel = [&](size_t j, const double *p, const Eigen::Vector3d &x) {
+    Eigen::Vector3d xc = x;
+    if (j > 0) {
+      const Eigen::Vector3d w(p[0], p[1], p[2]);
+      const Eigen::Matrix3d Rj =
+          (w.norm() > 0 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity()) *
+          R[j];
+      xc = Rj * x + (k + p[5]) * rn[j] * unitPerturb(d[j], p[3], p[4]);
+    }
+    const double f = f0 + p[6];
+    return Eigen::Vector2d(f * xc.x() / xc.z() + u0, f * mu * xc.y() / xc.z() + v0);
+  };
+  // Parameter layout: [pose j: 5 x (m-1)][k][f][yardstick 5][points 3 each].
+  const Eigen::Index iK = static_cast<Eigen::Index>(5 * (m - 1)), iF = iK + 1, iY = iF + 1, iP = iY + 5;
+  std::map<int, Eigen::Index> point_index;
+  Eigen::Index n_par = iP;
+  for (const auto &x : X)
+    if (x.first != ys.id_a && x.first != ys.id_b)
+      point_index[x.first] = n_par, n_par += 3;
+  // Accumulates the information of one observation: (u, v) of id in view j; joint: scene points too.
+  auto add = [&](Eigen::MatrixXd &info, size_t j, int id) {
+    const bool end = id == ys.id_a || id == ys.id_b;
+    const double sgn = id == ys.id_a ? 0.5 : -0.5;
+    // Local parameters: pose 5, k, f, then 5 (yardstick) or 3 (point).
+    const int nl = 7 + (end ? 5 : 3);
+    std::vector<Eigen::Index> glob;
+    for (int c = 0; c < 5; ++c)
+      glob.push_back(j > 0 ? static_cast<Eigen::Index>(5 * (j - 1) + c) : -1);
+    glob.push_back(j > 0 ? iK : -1);
+    glob.push_back(iF);
+    for (int c = 0; c < nl - 7; ++c)
+      glob.push_back(end ? iY + c : point_index.at(id) + c);
+    auto eval = [&](const std::vector<double> &l) {
+      Eigen::Vector3d x;
+      if (end)
+        x = Ym + Eigen::Vector3d(l[7], l[8], l[9]) + sgn * L * unitPerturb(Yu, l[10], l[11]);
+      else
+        x = X.at(id) + Eigen::Vector3d(l[7], l[8], l[9]);
+      return pixel(j, l.data(), x);
+    };
+    Eigen::MatrixXd Jl(2, nl);
+    for (int c = 0; c < nl; ++c) {
+      const double h = c == 6 ? 1e-3 : 1e-7;
+      std::vector<double> lp(static_cast<size_t>(nl), 0.0), lm(static_cast<size_t>(nl), 0.0);
+      lp[static_cast<size_t>(c)] = h;
+      lm[static_cast<size_t>(c)] = -h;
+      Jl.col(c) = (eval(lp) - eval(lm)) / (2 * h);
+    }
+    const Eigen::MatrixXd A = Jl.transpose() * Jl / (sigma * sigma);
+    for (int a = 0; a < nl; ++a)
+      for (int b = 0; b < nl; ++b)
+        if (glob[static_cast<size_t>(a)] >= 0 && glob[static_cast<size_t>(b)] >= 0)
+          info(glob[static_cast<size_t>(a)], glob[static_cast<size_t>(b)]) += A(a, b);
+  };
+  // The relative sd of k from an information matrix, f fixed (its row and column dropped) or not.
+  auto kSd = [&](Eigen::MatrixXd info, bool f_known) {
+    if (f_known) {
+      info.row(iF).setZero();
+      info.col(iF).setZero();
+      info(iF, iF) = 1;
+    }
+    // Unobserved parameters (a point seen in no view) are fixed.
+    for (Eigen::Index r = 0; r < info.rows(); ++r)
+      if (info(r, r) == 0)
+        info(r, r) = 1;
+    Eigen::LDLT<Eigen::MatrixXd> ldlt(info);
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(info.rows());
+    e(iK) = 1;
+    const double v = ldlt.solve(e)(iK);
+    return v > 0 && std::isfinite(v) ? std::sqrt(v) / k : NAN;
+  };
+  // Joint: every observation.
+  {
+    Eigen::MatrixXd info = Eigen::MatrixXd::Zero(n_par, n_par);
+    for (size_t j = 0; j < m; ++j)
+      for (const auto &o : seen[j])
+        if (X.count(o.first))
+          add(info, j, o.first);
+    out.joint = kSd(info, true);
+    out.joint_shared = kSd(info, false);
+  }
+  // Pairs: the ends in every view, the two-view poses as measurements.
+  {
+    Eigen::MatrixXd info = Eigen::MatrixXd::Zero(iP, iP);
+    bool ok = true;
+    for (size_t j = 0; j < m && ok; ++j) {
+      for (int id : {ys.id_a, ys.id_b})
+        if (seen[j].count(id))
+          add(info, j, id);
+      if (j == 0)
+        continue;
+      std::vector<vpImagePoint> p1, p2;
+      for (const auto &o : seen[0])
+        if (seen[j].count(o.first)) {
+          p1.push_back(o.second);
+          p2.push_back(seen[j].at(o.first));
+        }
+      vpHomogeneousMatrix Mu;
+      for (unsigned int r = 0; r < 3; ++r) {
+        for (unsigned int c = 0; c < 3; ++c)
+          Mu[r][c] = R[j](r, c);
+        Mu[r][3] = d[j](r);
+      }
+      const vpMatrix C = vpPoseScale::twoViewCovariance(Mu, p1, p2, f0, u0, v0, mu, sigma);
+      if (C.getRows() != 5) {
+        ok = false;
+        break;
+      }
+      Eigen::Matrix<double, 5, 5> Ce;
+      for (unsigned int r = 0; r < 5; ++r)
+        for (unsigned int c = 0; c < 5; ++c)
+          Ce(r, c) = C[r][c];
+      info.block(static_cast<Eigen::Index>(5 * (j - 1)), static_cast<Eigen::Index>(5 * (j - 1)), 5, 5) += Ce.inverse();
+    }
+    if (ok)
+      out.pairs = kSd(info, true);
+  }
+  return out;
 }
 
 //! Figure 6 and the held-out pose errors: calibration on n poses, verification on fixed poses.

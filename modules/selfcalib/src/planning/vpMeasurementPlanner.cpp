@@ -169,8 +169,10 @@ void vpMeasurementPlanner::TrajectoryOptions::check() const
   if (!(lambda >= 0 && std::isfinite(lambda)))
     bad("lambda must be >= 0");
   if (!(multistart_sd >= 0) || !std::isfinite(planning_margin) || !(visibility_weight > 0) ||
-      !(min_joint_distance >= 0) || !(distinct_weight > 0))
-    bad("multistart_sd, min_joint_distance must be >= 0, planning_margin finite and the penalty weights > 0");
+      !(min_joint_distance >= 0) || !(joint_distance_margin >= 0 && std::isfinite(joint_distance_margin)) ||
+      !(distinct_weight > 0))
+    bad("multistart_sd, min_joint_distance, joint_distance_margin must be >= 0, planning_margin finite and the "
+        "penalty weights > 0");
   for (double v : {tolerance_translation, tolerance_rotation, tolerance_hand_eye_translation,
                    tolerance_hand_eye_rotation})
     if (!(v >= 0 && std::isfinite(v)))
@@ -672,7 +674,7 @@ void vpMeasurementPlanner::distinctTerm(const std::vector<vpColVector> &q, const
       double d2 = 0;
       for (unsigned int j = 0; j < n; ++j)
         d2 += (q[k][j] - q[l][j]) * (q[k][j] - q[l][j]);
-      const double d = std::sqrt(d2), h = o.min_joint_distance - d;
+      const double d = std::sqrt(d2), h = o.min_joint_distance + o.joint_distance_margin - d;
       if (h <= 0)
         continue;
       ct.distinct += o.distinct_weight * h * h;
@@ -834,7 +836,10 @@ vpMeasurementPlanner::Result vpMeasurementPlanner::planTrajectory(const std::vec
     bool feasible = true;
     for (size_t k = 0; k < m && feasible; ++k)
       feasible = isVisible(q[k], m_scene.margin);
-    feasible = feasible && t.distinct == 0;
+    // Distinct at the checked distance (the penalty's hinge is joint_distance_margin beyond it).
+    for (size_t k = 0; k < m && feasible; ++k)
+      for (size_t l = k + 1; l < m && feasible; ++l)
+        feasible = (q[k] - q[l]).frobeniusNorm() >= o.min_joint_distance;
     // Robust: visible through every model sampled from the nominal model's tolerance.
     feasible = feasible && robustFailures(q, o) == 0;
     // A feasible plan beats any infeasible one; among equals the lower cost wins.

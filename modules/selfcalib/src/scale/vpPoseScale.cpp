@@ -4,12 +4,14 @@
 #include <visp3/selfcalib/vpPoseScale.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
+#include <array>
 #include <cmath>
 #include <functional>
 
 #include <Eigen/Eigenvalues>
 
 #include <ceres/ceres.h>
+#include <ceres/rotation.h>
 #include <opencv2/calib3d.hpp>
 
 #include "../core/vpSelfCalibCeres.h"
@@ -31,6 +33,93 @@ struct YardstickResidual {
       r[0] = (scale[0] * T(ratio_length / length) - T(1)) * T(weight);
     else
       r[0] = scale[0] * T(ratio_length) - T(length);
+    return true;
+  }
+};
+
+// Joint yardstick (beyond the paper): the ends in every view at once. The reference view sees
+// A = M + (L/2) u and B = M - (L/2) u (c_1 frame, metres); view j has the pose (exp([w]x) R_j,
+// scale ratio_j exp(rho_j) normalize(t_j + a e1 + b e2)) with its 5 corrections (w, a, b) and the log
+// ratio correction rho_j held by priors. Residuals in units of the pixel sd.
+template <typename T> void projectEnds(const T *M, const T *u, double half, const T *R9, const T *t, double fx,
+                                       double u0, double v0, double mu, T *uv)
+{
+  for (int e = 0; e < 2; ++e) {
+    const T s = T(e == 0 ? half : -half);
+    const T X[3] = {M[0] + s * u[0], M[1] + s * u[1], M[2] + s * u[2]};
+    T Y[3];
+    for (int r = 0; r < 3; ++r)
+      Y[r] = R9[3 * r] * X[0] + R9[3 * r + 1] * X[1] + R9[3 * r + 2] * X[2] + t[r];
+    uv[2 * e] = T(fx) * Y[0] / Y[2] + T(u0);
+    uv[2 * e + 1] = T(mu * fx) * Y[1] / Y[2] + T(v0);
+  }
+}
+
+struct ReferenceEndsResidual {
+  double half, fx, u0, v0, mu, sd;
+  double obs[4];
+  template <typename T> bool operator()(const T *M, const T *u, T *r) const
+  {
+    const T I[9] = {T(1), T(0), T(0), T(0), T(1), T(0), T(0), T(0), T(1)};
+    const T z[3] = {T(0), T(0), T(0)};
+    T uv[4];
+    projectEnds(M, u, half, I, z, fx, u0, v0, mu, uv);
+    for (int c = 0; c < 4; ++c)
+      r[c] = (uv[c] - T(obs[c])) / T(sd);
+    return true;
+  }
+};
+
+struct ViewEndsResidual {
+  double half, fx, u0, v0, mu, sd, ratio;
+  double R0[9], t0[3], e1[3], e2[3];
+  double obs[4];
+  template <typename T> bool operator()(const T *scale, const T *M, const T *u, const T *d, const T *rho, T *r) const
+  {
+    // R = exp([w]x) R0, column by column.
+    T R9[9];
+    for (int c = 0; c < 3; ++c) {
+      const T col[3] = {T(R0[c]), T(R0[3 + c]), T(R0[6 + c])};
+      T out[3];
+      ceres::AngleAxisRotatePoint(d, col, out);
+      for (int k = 0; k < 3; ++k)
+        R9[3 * k + c] = out[k];
+    }
+    T t[3];
+    T n2 = T(0);
+    for (int k = 0; k < 3; ++k) {
+      t[k] = T(t0[k]) + d[3] * T(e1[k]) + d[4] * T(e2[k]);
+      n2 += t[k] * t[k];
+    }
+    const T g = scale[0] * T(ratio) * exp(rho[0]) / sqrt(n2);
+    for (int k = 0; k < 3; ++k)
+      t[k] *= g;
+    T uv[4];
+    projectEnds(M, u, half, R9, t, fx, u0, v0, mu, uv);
+    for (int c = 0; c < 4; ++c)
+      r[c] = (uv[c] - T(obs[c])) / T(sd);
+    return true;
+  }
+};
+
+// Prior U d (U^T U = C^-1) on a pose's 5 corrections, or rho / sd on the log ratio.
+struct PriorResidual {
+  Eigen::Matrix<double, 5, 5> U;
+  template <typename T> bool operator()(const T *d, T *r) const
+  {
+    for (int i = 0; i < 5; ++i) {
+      r[i] = T(0);
+      for (int j = 0; j < 5; ++j)
+        r[i] += T(U(i, j)) * d[j];
+    }
+    return true;
+  }
+};
+struct LogRatioPrior {
+  double sd;
+  template <typename T> bool operator()(const T *rho, T *r) const
+  {
+    r[0] = rho[0] / T(sd);
     return true;
   }
 };
@@ -58,7 +147,8 @@ struct Intrinsics {
 
 // Yardstick length with the unit translation, from ends (u, v) x 4 = a1, b1, a2, b2; false when the
 // ends do not triangulate in front of both cameras.
-bool unitLength(const Eigen::Matrix3d &R, const Eigen::Vector3d &t, const double *px, const Intrinsics &k, double &l)
+bool unitLength(const Eigen::Matrix3d &R, const Eigen::Vector3d &t, const double *px, const Intrinsics &k, double &l,
+                Eigen::Vector3d *ends = nullptr)
 {
   const std::vector<cv::Point2d> x1 = {k.normalize(px[0], px[1]), k.normalize(px[2], px[3])},
                                  x2 = {k.normalize(px[4], px[5]), k.normalize(px[6], px[7])};
@@ -78,7 +168,131 @@ bool unitLength(const Eigen::Matrix3d &R, const Eigen::Vector3d &t, const double
     front = front && std::isfinite(E[e].z()) && E[e].z() > 0 && in2.z() > 0;
   }
   l = (E[0] - E[1]).norm();
+  if (ends) {
+    ends[0] = E[0];
+    ends[1] = E[1];
+  }
   return front && std::isfinite(l);
+}
+
+// The 8 end pixels of a view: a1, b1, a2, b2.
+struct YardstickViewPixels {
+  double v[8];
+  explicit YardstickViewPixels(const vpPoseScale::YardstickView &y)
+      : v{y.a1.get_u(), y.a1.get_v(), y.b1.get_u(), y.b1.get_v(), y.a2.get_u(), y.a2.get_v(), y.b2.get_u(), y.b2.get_v()}
+  {
+  }
+};
+
+// True when every view's first image is the same one (the same ends a1, b1): the pairs (0, j).
+bool sharedReference(const std::vector<vpPoseScale::YardstickView> &views)
+{
+  for (const auto &v : views)
+    if (v.a1 != views[0].a1 || v.b1 != views[0].b1)
+      return false;
+  return true;
+}
+
+struct JointScale {
+  bool ok = false;
+  double scale = 0, predicted_sd = 0, chi2 = 0;
+  int dof = 0;
+};
+
+/*
+  The scale from the yardstick ends in every view jointly (all views share the reference image: its
+  ends are one observation, not one per pair), the two-view poses held by their covariance and the
+  ratios by their sd. start: a scale to start from; best: the view whose triangulation starts the
+  ends.
+*/
+JointScale jointScale(const std::vector<vpPoseScale::YardstickView> &views, double length, const Intrinsics &K,
+                      double pixel_sd, double start, size_t best)
+{
+  JointScale out;
+  const size_t n = views.size();
+  const double half = 0.5 * length;
+  // Start: the ends of the best view, in metres.
+  Eigen::Vector3d E[2];
+  {
+    const Rigid M0 = rigidFromVisp(views[best].c2Mc1);
+    const double zero[5] = {0, 0, 0, 0, 0};
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t;
+    perturbPose(M0, zero, R, t);
+    const YardstickViewPixels px(views[best]);
+    double l = 0;
+    if (!unitLength(R, t, px.v, K, l, E))
+      return out;
+  }
+  const double s0 = start * views[best].ratio;
+  double scale = start;
+  Eigen::Vector3d M = 0.5 * s0 * (E[0] + E[1]), u = (E[0] - E[1]).normalized();
+  std::vector<std::array<double, 5>> d(n, std::array<double, 5>{0, 0, 0, 0, 0});
+  std::vector<double> rho(n, 0.0);
+  ceres::Problem problem;
+  {
+    auto *r = new ReferenceEndsResidual{half, K.fx, K.u0, K.v0, K.mu, pixel_sd, {}};
+    const vpImagePoint &a = views[0].a1, &b = views[0].b1;
+    r->obs[0] = a.get_u(), r->obs[1] = a.get_v(), r->obs[2] = b.get_u(), r->obs[3] = b.get_v();
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ReferenceEndsResidual, 4, 3, 3>(r), nullptr, M.data(),
+                             u.data());
+  }
+  int residuals = 4;
+  for (size_t j = 0; j < n; ++j) {
+    const vpPoseScale::YardstickView &v = views[j];
+    const Rigid Mj = rigidFromVisp(v.c2Mc1);
+    auto *r = new ViewEndsResidual{half, K.fx, K.u0, K.v0, K.mu, pixel_sd, v.ratio, {}, {}, {}, {}, {}};
+    const Eigen::Vector3d t0 = Mj.t.normalized(), e1 = t0.unitOrthogonal(), e2 = t0.cross(e1);
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < 3; ++b)
+        r->R0[3 * a + b] = Mj.R(a, b);
+      r->t0[a] = t0(a), r->e1[a] = e1(a), r->e2[a] = e2(a);
+    }
+    r->obs[0] = v.a2.get_u(), r->obs[1] = v.a2.get_v(), r->obs[2] = v.b2.get_u(), r->obs[3] = v.b2.get_v();
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ViewEndsResidual, 4, 1, 3, 3, 5, 1>(r), nullptr, &scale,
+                             M.data(), u.data(), d[j].data(), &rho[j]);
+    residuals += 4;
+    const vpMatrix C = vpPoseScale::twoViewCovariance(v.c2Mc1, v.p1, v.p2, K.fx, K.u0, K.v0, K.mu, pixel_sd);
+    if (C.getRows() == 5) {
+      Eigen::Matrix<double, 5, 5> Ce;
+      for (unsigned int a = 0; a < 5; ++a)
+        for (unsigned int b = 0; b < 5; ++b)
+          Ce(a, b) = C[a][b];
+      const Eigen::Matrix<double, 5, 5> info = Ce.inverse();
+      Eigen::LLT<Eigen::Matrix<double, 5, 5>> llt(info);
+      if (llt.info() != Eigen::Success) {
+        problem.SetParameterBlockConstant(d[j].data());
+      } else {
+        const Eigen::Matrix<double, 5, 5> U = llt.matrixU();
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PriorResidual, 5, 5>(new PriorResidual{U}), nullptr,
+                                 d[j].data());
+      }
+    } else
+      problem.SetParameterBlockConstant(d[j].data());
+    if (v.ratio_sd > 0)
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LogRatioPrior, 1, 1>(new LogRatioPrior{v.ratio_sd}),
+                               nullptr, &rho[j]);
+    else
+      problem.SetParameterBlockConstant(&rho[j]);
+  }
+  problem.SetManifold(u.data(), new ceres::SphereManifold<3>());
+  ceres::Solver::Summary summary;
+  vpSelfCalib::solve(solverOptions(100, true), &problem, &summary);
+  if (!summary.IsSolutionUsable() || !(scale > 0) || !std::isfinite(scale))
+    return out;
+  ceres::Covariance cov(covarianceOptions());
+  const std::vector<std::pair<const double *, const double *>> blocks = {{&scale, &scale}};
+  double var = 0;
+  if (!cov.Compute(blocks, &problem) || !cov.GetCovarianceBlock(&scale, &scale, &var) || !(var > 0))
+    return out;
+  out.ok = true;
+  out.scale = scale;
+  out.predicted_sd = std::sqrt(var);
+  out.chi2 = 2 * summary.final_cost;
+  // The ends' residuals against the ends' unknowns (6, less the length: 5) and the scale (1); the
+  // priors' residuals match their unknowns.
+  out.dof = residuals - 6;
+  return out;
 }
 } // namespace
 
@@ -341,6 +555,32 @@ vpPoseScale::Result vpPoseScale::yardstick(const std::vector<YardstickView> &vie
   vpSelfCalib::solve(so, &problem, &summary);
   res.scale = scale;
   const size_t n = views.size();
+  if (options.weighted && options.joint && sharedReference(views)) {
+    size_t best = 0;
+    for (size_t j = 1; j < n; ++j)
+      if (rel_var[j] < rel_var[best])
+        best = j;
+    const JointScale js = jointScale(views, length, K, options.pixel_sd, scale, best);
+    if (js.ok) {
+      res.scale = js.scale;
+      res.predicted_sd = js.predicted_sd;
+      const double factor = js.dof > 0 ? std::sqrt(js.chi2 / js.dof) : 1.0;
+      res.sd = res.predicted_sd * std::max(1.0, factor);
+      if (options.fx_sd > 0) {
+        // The focal length's common error: d scale / d fx by solving again at fx + hf.
+        const double hf = 1e-3 * fx;
+        const JointScale jf = jointScale(views, length, Intrinsics{fx + hf, u0, v0, mu}, options.pixel_sd, js.scale, best);
+        if (jf.ok) {
+          const double f_part = (jf.scale - js.scale) / hf * options.fx_sd;
+          res.predicted_sd = std::sqrt(res.predicted_sd * res.predicted_sd + f_part * f_part);
+          res.sd = std::sqrt(res.sd * res.sd + f_part * f_part);
+        }
+      }
+      res.status = OK;
+      res.message = "ok";
+      return res;
+    }
+  }
   if (options.weighted) {
     double info = 0;
     for (double v : rel_var)

@@ -61,6 +61,7 @@ TEST(Planner, RatioSensitivityIsTheDerivativeOfLogNorm)
   }
   // The ratio terms from these g_i.
   vpMeasurementPlanner::TrajectoryOptions o;
+  o.ratio_cost = vpMeasurementPlanner::RATIO_CONSECUTIVE;
   double consecutive = 0, spread = 0;
   vpColVector mean(g[0].size(), 0.0);
   for (size_t i = 1; i < g.size(); ++i)
@@ -229,6 +230,57 @@ TEST(Planner, PaperSceneSmoothStartAndPlanAreRobustToTheModelError)
   vpMeasurementPlanner::TrajectoryOptions bad;
   bad.robust_factor = 0.5;
   EXPECT_THROW(planner.robustMargin({home}, bad), vpSelfCalibException);
+}
+
+// The error the eq. 21 ratios leave in the scaled poses, against the true robot: with e_i = log
+// (|t̄_i| / |t_i|) (nominal over true), one common scale absorbs the mean, and pose i keeps
+// |t_i| |e_i - mean(e)| (m). Mean over the pairs.
+namespace
+{
+double scaledNormError(const vpSelfCalibSimulator &sim, const std::vector<vpColVector> &q)
+{
+  const vpKinematicChain &T = sim.getTrueChain(), &N = sim.getNominalChain();
+  std::vector<double> e, t;
+  double mean = 0;
+  for (size_t i = 1; i < q.size(); ++i) {
+    t.push_back(tNorm(T, q[i], q[0]));
+    e.push_back(std::log(tNorm(N, q[i], q[0]) / t.back()));
+    mean += e.back() / static_cast<double>(q.size() - 1);
+  }
+  double s = 0;
+  for (size_t i = 0; i < e.size(); ++i)
+    s += t[i] * std::fabs(e[i] - mean);
+  return s / static_cast<double>(e.size());
+}
+} // namespace
+
+// The paper scene from the smooth loop (bench-paper's set-up, 25 poses, default planner options):
+// the plan is OK on both robots (configurations pulled together stay min_joint_distance apart) and
+// the model error the scaled poses keep drops at least 5x (the target, on the truth).
+TEST(Planner, PaperScenePlanFromTheSmoothLoopFixesTheScaledPoses)
+{
+  for (const std::string robot : {"viper850", "puma560"}) {
+    double before = 0, after = 0;
+    for (uint64_t seed : {1, 2}) {
+      vpSelfCalibSimulator::Options so = vpSelfCalibSimulator::sceneOptions("paper");
+      so.seed = seed;
+      const vpSelfCalibSimulator sim(vpKinematicChain::preset(robot), so);
+      const vpMeasurementPlanner planner(sim.getNominalChain(), sim.getPlannerScene());
+      const vpColVector home = vpSelfCalibSimulator::homeConfiguration(sim.getNominalChain());
+      const std::vector<vpColVector> q = planner.smoothTrajectory(home, vpColVector(home.size(), 0.6), 25);
+      ASSERT_EQ(q.size(), 25u) << robot;
+      vpMeasurementPlanner::TrajectoryOptions o;
+      o.seed = seed;
+      const vpMeasurementPlanner::Result r = planner.planTrajectory(q, o);
+      ASSERT_EQ(r.status, vpMeasurementPlanner::OK) << robot << " seed " << seed << ": " << r.message;
+      for (size_t k = 0; k < r.configurations.size(); ++k)
+        for (size_t l = k + 1; l < r.configurations.size(); ++l)
+          EXPECT_GE((r.configurations[k] - r.configurations[l]).frobeniusNorm(), o.min_joint_distance);
+      before += scaledNormError(sim, q);
+      after += scaledNormError(sim, r.configurations);
+    }
+    EXPECT_GT(before, 5 * after) << robot << ": " << before / 2 << " -> " << after / 2 << " m";
+  }
 }
 
 TEST(Planner, ImpossibleRequestsGiveAStatus)

@@ -39,8 +39,9 @@
       ratio term + lambda cond(J) + visibility penalty + distinctness penalty.
   Deviation from the paper, on purpose: eq. 39 as printed puts the sum of the consecutive
   differences g_i - g_{i-1} inside one norm, which telescopes to |g_{m-1} - g_1| and ignores every
-  pose in between. The ratio term here is the intent, sum_i |g_i - g_{i-1}|^2 (CONSECUTIVE,
-  default), or the spread sum_i |g_i - mean(g)|^2 (SPREAD).
+  pose in between. The ratio term here is the spread sum_i |g_i - mean(g)|^2 (SPREAD, default: the
+  scaled pose i keeps the error |T_i| (g_i - g_w) drho, g_w the yardstick's weighted mean), or the
+  intent of eq. 39, sum_i |g_i - g_{i-1}|^2 (CONSECUTIVE).
 
   J is the identification Jacobian of the relative pose measurements of the pairs with the
   pipeline's weights (translation rows divided by direction_sd |t_i|, rotation rows by rotation_sd;
@@ -79,8 +80,8 @@ public:
   using Scene = vpPlannerScene;
 
   enum RatioCost {
-    RATIO_CONSECUTIVE, //!< sum_i |g_i - g_{i-1}|^2 (the intent of eq. 39)
-    RATIO_SPREAD       //!< sum_i |g_i - mean(g)|^2
+    RATIO_CONSECUTIVE, //!< sum_i |g_i - g_{i-1}|^2 (the intent of eq. 39 as printed)
+    RATIO_SPREAD       //!< sum_i |g_i - mean(g)|^2 (default: the error the scaled poses keep)
   };
   enum Algorithm {
     ALGO_MMA,    //!< NLopt LD_MMA with the gradient
@@ -91,7 +92,11 @@ public:
   static Algorithm algorithmFromName(const std::string &name); //!< "mma", "slsqp", "lbfgs", "bobyqa"
 
   struct TrajectoryOptions {
-    RatioCost ratio_cost = RATIO_CONSECUTIVE;
+    //! SPREAD (default): pose i's noise-free position error is |T_i| (g_i - g_w) drho, g_w the
+    //! yardstick's weighted mean of the g_j (the scale averages the pairs' errors), so the spread
+    //! around the mean is the error itself; consecutive differences allow a drift along the
+    //! trajectory that stays in it.
+    RatioCost ratio_cost = RATIO_SPREAD;
     double lambda = 1e-7;               //!< weight of cond(J) (the paper's best value)
     Algorithm algorithm = ALGO_LBFGS;
     unsigned int multistart = 2;        //!< extra starts from the initial trajectory perturbed by multistart_sd
@@ -110,6 +115,11 @@ public:
     double robust_factor = 1.5;       //!< derived margin = factor x largest displacement over the samples
     double visibility_weight = 1;       //!< per px^2 of violation
     double min_joint_distance = 0.05;   //!< rad, between any two configurations
+    //! rad added to min_joint_distance inside the penalty (as planning_margin for the views): a
+    //! squared hinge is only zero outside its threshold, and a cost that pulls configurations
+    //! together settles slightly inside it, so a hinge at the checked distance itself ends
+    //! INFEASIBLE. Default 20 % of the default min_joint_distance.
+    double joint_distance_margin = 0.01;
     double distinct_weight = 1e6;       //!< per rad^2 of violation
     double direction_sd = 5e-3;         //!< rad, row weights of J (as the pipeline)
     double rotation_sd = 5e-3;          //!< rad

@@ -99,6 +99,13 @@ public:
     //! true: each view weighted by its expected accuracy (below); false: the paper's plain least
     //! squares on L = scale ratio_j l_j (short-baseline pairs then dominate).
     bool weighted = true;
+    /*!
+      Weighted and every view's first image the same (the pairs (0, j)): true (default) fits the
+      ends in every image jointly (below); false: one triangulation per pair, combined by their
+      expected accuracies (the reference image's end noise is then counted once per pair as if
+      independent: the pairs' errors are correlated, the more the closer their geometry).
+    */
+    bool joint = true;
     double pixel_sd = 0.2; //!< px, image noise of the expected accuracies
     //! px, sd of a self-calibrated focal length (0: known). Its error is common to every view: it
     //! adds (scale g fx_sd)^2 to the variance, g the weighted mean of d log l_j / d fx.
@@ -130,6 +137,14 @@ public:
     sum_j (scale ratio_j l_j / L - 1)^2 / v_j; predicted_sd = scale / sqrt(sum_j 1 / v_j) and
     sd = predicted_sd max(1, sqrt(chi2 / (n - 1))) (a scatter larger than predicted widens it), and
     options.fx_sd adds the focal length's common error to both.
+    Joint (options.joint, weighted, every view sharing the first image): the ends A = M + (L/2) u and
+    B = M - (L/2) u (c_1 frame, metres) reprojected in the first image and in every view j, whose pose
+    is (exp([w_j]x) R_j, scale ratio_j exp(rho_j) normalize(t_j + a_j e1 + b_j e2)): the 5 pose
+    corrections held by the pair's two-view covariance, rho_j by ratio_sd_j, the reprojections by
+    pixel_sd; scale, M, u and the corrections by least squares (Ceres); predicted_sd from its
+    covariance, sd = predicted_sd max(1, sqrt(chi2 / dof)), and the focal length's part
+    (d scale / d fx by a second solve) added to both. Falls back to the per-pair combination when
+    the joint fit fails. lengths and relative_sd stay per pair.
     Unweighted: the paper's sum_j (scale ratio_j l_j - L)^2, sd from the residuals (0 with one view).
 
     One view (two images) is enough (the paper's minimum). A view whose ends do not triangulate
