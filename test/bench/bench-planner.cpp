@@ -50,7 +50,7 @@ int main(int argc, char **argv)
     std::vector<std::string> robots = {"puma560", "viper850"};
     std::string focal = "shared", csv_path, traj_path, start = "random";
     vpMeasurementPlanner::TrajectoryOptions po;
-    std::string algorithm = "lbfgs", ratio_cost = "spread";
+    std::string algorithm = "lbfgs", ratio_cost = "consecutive";
     CLI::App app("bench-planner: the paper's optimal measurement trajectory (Section 3.3) against the initial one.",
                  "bench-planner");
     selfcalibCli::addSeeds(app, seeds);
@@ -64,7 +64,7 @@ int main(int argc, char **argv)
     app.add_option("--algorithm", algorithm, "lbfgs (default), mma, slsqp, bobyqa")
         ->type_name("NAME")
         ->check(CLI::IsMember({"lbfgs", "mma", "slsqp", "bobyqa"}));
-    app.add_option("--ratio-cost", ratio_cost, "spread (default) or consecutive (the intent of eq. 39)")
+    app.add_option("--ratio-cost", ratio_cost, "consecutive (default; the intent of eq. 39) or spread")
         ->type_name("NAME")
         ->check(CLI::IsMember({"consecutive", "spread"}));
     app.add_option("--lambda", po.lambda, "weight of cond(J), at least 0 (default 1e-7, the paper's)")
