@@ -23,6 +23,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <iomanip>
+#include <optional>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -248,9 +249,10 @@ int main(int argc, char **argv)
       ro.seed = opt.seed;
       ro.scene = acquisition == "dots" ? vpSelfCalibRenderer::DOTS : vpSelfCalibRenderer::TEXTURED;
       const vpSelfCalibRenderer renderer(sim, ro);
-      std::vector<vpImage<unsigned char>> images;
-      for (size_t k = 0; k < ds.views.size(); ++k)
-        images.push_back(renderer.render(ds.views[k].q, static_cast<unsigned int>(k)));
+      std::vector<vpColVector> qs;
+      for (const vpSelfCalibDataset::View &v : ds.views)
+        qs.push_back(v.q);
+      const std::vector<vpImage<unsigned char>> images = renderer.render(qs); // on every core
       std::cerr << "   ... image front end on " << images.size() << " images\n";
       if (acquisition == "dots") { // the paper's experiment: dot grids only
         co.front_end.features = false;
@@ -298,10 +300,19 @@ int main(int argc, char **argv)
       std::cout << "== Self-calibration, multi-view reconstruction + kinematic bundle adjustment, first "
                 << po.num_calibration_poses << " poses, focal length " << (data.focal_known ? "known" : "self-calibrated")
                 << "\n";
+    // With a report, Figure 6 (the calibration again on the first 6, 7, ... poses) runs first, its
+    // calibrations in parallel on every core: its last point is this run, taken from it.
+    std::optional<vpSelfCalibPoseStudy::Result> study;
+    if (report != "none") {
+      std::cerr << "   ... calibrations on the first 6 to " << po.num_calibration_poses << " poses (Figure 6)\n";
+      study = vpSelfCalibPoseStudy::run(nominal, data, po, vpSelfCalibPoseStudy::Options());
+    }
     const vpRobotSelfCalibration::Result r =
-        vpRobotSelfCalibration::run(nominal, data, po, [](const std::string &stage, unsigned int, unsigned int) {
-          std::cerr << "   ... " << stage << "\n";
-        });
+        study && study->full ? *study->full
+                             : vpRobotSelfCalibration::run(nominal, data, po,
+                                                           [](const std::string &stage, unsigned int, unsigned int) {
+                                                             std::cerr << "   ... " << stage << "\n";
+                                                           });
     unsigned int ok_pairs = 0;
     for (const auto &pr : r.pairs)
       ok_pairs += pr.status == vpTwoViewEstimator::OK;
@@ -370,11 +381,8 @@ int main(int argc, char **argv)
     }
     std::cout << "== Pipeline time " << std::setprecision(2) << r.seconds << " s\n";
     if (report != "none") {
-      // Figure 6: the calibration again on the first 6, 7, ... poses (in parallel); the run above is its last point.
-      const vpSelfCalibPoseStudy::Result study =
-          vpSelfCalibPoseStudy::run(nominal, data, po, vpSelfCalibPoseStudy::Options(), {}, &r);
       const vpSelfCalibReport::Result rep = vpSelfCalibReport::write(
-          report, nominal, data, po, r, cr.front_end_ran ? &cr.front_end : nullptr, &study, vpSelfCalibReport::Options());
+          report, nominal, data, po, r, cr.front_end_ran ? &cr.front_end : nullptr, &*study, vpSelfCalibReport::Options());
       std::cout << "== Report: " << report << "/report.md (" << rep.message << ")\n";
     }
     return EXIT_SUCCESS;

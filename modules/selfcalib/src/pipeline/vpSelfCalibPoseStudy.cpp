@@ -89,7 +89,8 @@ vpSelfCalibPoseStudy::Result vpSelfCalibPoseStudy::run(const vpKinematicChain &n
       runs.back() = *full;
       if (progress)
         progress(total, total);
-    }
+    } else
+      res.full = runs.back();
     res.runs = total;
     for (unsigned int i = 0; i < total; ++i)
       if (runs[i].status == vpRobotSelfCalibration::OK && runs[i].verified)

@@ -2,6 +2,8 @@
  * ViSP SelfCalib: rendered images of the reference scenario (vpImageSimulator). See the header.
  */
 #include <visp3/selfcalib/vpSelfCalibRenderer.h>
+
+#include "../core/vpSelfCalibParallel.h"
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <cmath>
@@ -213,6 +215,15 @@ vpImage<unsigned char> vpSelfCalibRenderer::render(const vpColVector &q, unsigne
   vpImageSimulator::getImage(I, list, m_sim.getCamera());
   blurAndNoise(I, m_opt.blur_sd, m_opt.noise_sd, m_opt.seed, 1000 + view_index);
   return I;
+}
+
+std::vector<vpImage<unsigned char>> vpSelfCalibRenderer::render(const std::vector<vpColVector> &qs,
+                                                                unsigned int threads) const
+{
+  std::vector<vpImage<unsigned char>> images(qs.size());
+  vpSelfCalib::parallelFor(qs.size(), vpSelfCalib::threadCount(threads),
+                           [&](size_t k) { images[k] = render(qs[k], static_cast<unsigned int>(k)); });
+  return images;
 }
 
 bool vpSelfCalibRenderer::surfacePoint(const vpColVector &q, const vpImagePoint &ip, vpColVector &fX) const

@@ -75,6 +75,13 @@ TEST(FrontEnd, RenderedImagesEndToEnd)
   std::vector<vpImage<unsigned char>> images;
   for (unsigned int k = 0; k < N; ++k)
     images.push_back(renderer.render(q[k], k));
+  // Rendered on several threads: the same images, pixel for pixel.
+  for (unsigned int threads : {1u, 3u}) {
+    std::vector<vpImage<unsigned char>> parallel = renderer.render(q, threads); // vpImage::operator== is not const
+    ASSERT_EQ(parallel.size(), images.size());
+    for (unsigned int k = 0; k < N; ++k)
+      ASSERT_TRUE(parallel[k] == images[k]) << "image " << k << ", " << threads << " threads";
+  }
   const vpFeatureFrontEnd::Result fe = vpFeatureFrontEnd::process(images, vpFeatureFrontEnd::Options());
   ASSERT_GT(fe.num_tracks, 300u);
   ASSERT_GE(fe.yardstick_a, 0) << "yardstick not found";

@@ -81,6 +81,11 @@ TEST(PoseStudy, ThreadsAndTheCallersRunDoNotChangeTheCurve)
     }
   }
   EXPECT_EQ(reused.points.back().yardstick_error, r.after.yardstick_error);
+  // The study's own run on all the poses is the caller's run, bit for bit; none when given.
+  ASSERT_TRUE(one.full.has_value());
+  EXPECT_EQ(one.full->calibrated.getParameters(), r.calibrated.getParameters());
+  EXPECT_EQ(one.full->message, r.message);
+  EXPECT_FALSE(reused.full.has_value());
   EXPECT_EQ(calls, 5u); // 0, the 3 calibrations run, and the caller's
   EXPECT_EQ(last_done, 4u);
 }

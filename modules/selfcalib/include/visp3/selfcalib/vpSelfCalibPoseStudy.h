@@ -13,6 +13,7 @@
 #include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -70,6 +71,12 @@ public:
     std::vector<Point> points; //!< n increasing; a failed or unverified run leaves no point
     unsigned int runs = 0;     //!< calibrations run
     double seconds = 0;
+    /*!
+      The run on all N poses (the curve's last point) when the study ran it (no `full` given to
+      run()): exactly vpRobotSelfCalibration::run(nominal, dataset, options), for a caller that wants
+      both and runs the study first so that this run shares the cores with the others.
+    */
+    std::optional<vpRobotSelfCalibration::Result> full;
   };
 
   //! Progress: calibrations done, total. Called from the worker threads, one call at a time.

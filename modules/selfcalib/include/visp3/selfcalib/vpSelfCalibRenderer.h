@@ -70,6 +70,12 @@ public:
   vpImage<unsigned char> render(const vpColVector &q, unsigned int view_index) const;
 
   /*!
+    The images at every joint vector of qs, image k = render(qs[k], k), rendered on `threads`
+    threads (0: the machine's hardware threads); the images do not depend on the thread count.
+  */
+  std::vector<vpImage<unsigned char>> render(const std::vector<vpColVector> &qs, unsigned int threads = 0) const;
+
+  /*!
     The truth behind a pixel: the scene point (in f) that the true camera at joints q sees at
     pixel ip, the nearest of the rendered quads along its ray (a photograph's plane or a
     yardstick patch). False when the ray meets none. For the front end's tests and benchmark.
