@@ -77,6 +77,17 @@ public:
     // survive a write and read (found by fuzzing), and is a wrong file name anyway.
     if (!validUtf8(n.Scalar()))
       fail(key, "expected UTF-8 text, got invalid bytes");
+    // A control character (a line break, a tab, a carriage return left by a Windows editor) in a
+    // name or path is a mistake, and yaml-cpp writes some of them back unquoted, so that they would
+    // not survive a write and read (found by fuzzing: a path ending in a carriage return).
+    for (size_t i = 0; i < n.Scalar().size(); ++i) {
+      const unsigned char c = static_cast<unsigned char>(n.Scalar()[i]);
+      if (c < 0x20 || c == 0x7F) {
+        static const char *hex = "0123456789ABCDEF";
+        fail(key, std::string("expected text without control characters, got the control character 0x") + hex[c >> 4] +
+                      hex[c & 0xF] + " at position " + std::to_string(i));
+      }
+    }
     return n.Scalar();
   }
 

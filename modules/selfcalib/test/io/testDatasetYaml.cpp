@@ -219,6 +219,11 @@ TEST(DatasetYaml, BadInputNamesTheKey)
       // Found by fuzzing: invalid UTF-8 in a name or path (yaml-cpp writes it back as U+FFFD).
       {"camera: {width: 640, height: 480, u0: 320, v0: 240}\nrobot: model.ya\xEA\x06v2ml\n" + pose, "robot"},
       {kHead + "poses:\n  - joints: [0, 0, 0, 0, 0, 0]\n    image: a\xC0\xAF.png\n", "poses[0].image"},
+      // Found by fuzzing: a control character (a carriage return ending a path; yaml-cpp writes it
+      // back unquoted and reads the line break) in a name or path.
+      {kHead + "poses:\n  - joints: [0, 0, 0, 0, 0, 0]\n    image: images/a.png\r", "poses[0].image': expected text without control"},
+      {kHead + "poses:\n  - joints: [0, 0, 0, 0, 0, 0]\n    image: \"images/a\\tb.png\"\n", "control character"},
+      {"camera: {width: 640, height: 480, u0: 320, v0: 240}\nrobot: \"viper\\n850\"\n" + pose, "robot"},
   };
   for (const auto &c : cases) {
     const std::string msg = parseError(c.first);
