@@ -1075,12 +1075,20 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     res.seconds_covariance = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc).count();
     if (!res.has_covariance) {
       res.status = KBA::RANK_DEFICIENT;
+      // Every cause that makes it singular named, the observations kept first: after many rejected
+      // matches the few left are the likelier cause than the poses' geometry.
+      const std::string kept_text = std::to_string(res.num_observations) + " observations kept of " +
+                                    std::to_string(res.num_observations + res.num_outliers);
       res.message = opt.hand_eye_only
-                        ? "the information matrix of the hand-eye correction and intrinsics is singular: the "
-                          "end-effector rotations do not determine eMc (all about parallel axes?); add poses "
-                          "rotating about another axis"
-                        : "the information matrix of the corrections and intrinsics is singular: the views do not "
-                          "determine them (too few or too similar configurations)";
+                        ? "the information matrix of the hand-eye correction and intrinsics is singular (" +
+                              kept_text +
+                              "): the observations kept do not determine eMc and the intrinsics: too few points "
+                              "or views left, end-effector rotations all about parallel axes, or intrinsics a "
+                              "planar scene cannot fix; add views, poses rotating about other axes, or fix the "
+                              "intrinsics"
+                        : "the information matrix of the corrections and intrinsics is singular (" + kept_text +
+                              "): the views do not determine them (too few or too similar configurations, or too "
+                              "few observations left)";
       if (!res.undetermined.empty()) {
         std::string list;
         for (const std::string &n : res.undetermined)
