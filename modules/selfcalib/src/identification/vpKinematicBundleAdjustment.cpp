@@ -1084,7 +1084,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
                               kept_text +
                               "): the observations kept do not determine eMc and the intrinsics: too few points "
                               "or views left, end-effector rotations all about parallel axes, or intrinsics a "
-                              "planar scene cannot fix; add views, poses rotating about other axes, or fix the "
+                              "planar scene cannot fix; add views, poses rotating about another axis, or fix the "
                               "intrinsics"
                         : "the information matrix of the corrections and intrinsics is singular (" + kept_text +
                               "): the views do not determine them (too few or too similar configurations, or too "
