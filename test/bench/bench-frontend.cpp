@@ -59,18 +59,9 @@ int realData(const std::string &file, const std::string &mask_board, const std::
   if (!mask_board.empty()) {
     const vpBoardDetector detector(vpBoardDetector::parse(mask_board));
     for (const vpImage<unsigned char> &I : images) {
-      vpImage<unsigned char> mask(I.getHeight(), I.getWidth(), 255);
       const vpBoardDetector::Result b = detector.detect(I);
-      if (b.found) {
-        std::vector<cv::Point> pts, hull;
-        for (const auto &o : b.corners)
-          pts.emplace_back(static_cast<int>(o.ip.get_u()), static_cast<int>(o.ip.get_v()));
-        cv::convexHull(pts, hull);
-        cv::Mat m(static_cast<int>(I.getHeight()), static_cast<int>(I.getWidth()), CV_8UC1, mask.bitmap);
-        cv::fillConvexPoly(m, hull, cv::Scalar(0));
-        cv::polylines(m, hull, true, cv::Scalar(0), 30); // 15 px beyond the outer points
-        ++masked;
-      }
+      const vpImage<unsigned char> mask = vpSelfCalibImageCorrespondences::boardMask(b, I.getHeight(), I.getWidth(), 15);
+      masked += b.found;
       base.masks.push_back(mask);
     }
   }
