@@ -336,7 +336,7 @@ Features detectFeatures(const std::vector<cv::Mat> &mats, const std::vector<cv::
         desc.row(static_cast<int>(order[r])).copyTo(f.desc[k].row(static_cast<int>(r)));
       }
       // Distinctiveness, for the guided search's ratio test (see searchGuided).
-      if (opt.guided && !opt.prior.empty() && f.kp[k].size() >= 2)
+      if (((opt.guided && !opt.prior.empty()) || opt.complete_tracks) && f.kp[k].size() >= 2)
         f.self_nn[k] = nearestOtherSquared(f.desc[k], opt.detector == FrontEnd::SIFT);
     });
   for (size_t k = 0; k < m; ++k) {
@@ -733,12 +733,181 @@ bool eightPointF(const std::vector<cv::Point2f> &a, const std::vector<cv::Point2
   return true;
 }
 
+/*
+  Step 3b, track completion: a track misses the views where its feature was detected but not
+  matched (the pair was not selected, or the ratio test lost it). For each track and each image k it
+  misses, the epipolar lines in k of the track's features whose images have a fundamental matrix with
+  k (the matched pairs' and the shared tracks', estimated from the images) meet where the scene point
+  must be; two lines or more, at least 10 degrees apart, are needed. A feature of image k within
+  `tolerance` px of every line (and within 8 px of where they meet) joins the track when its
+  descriptor is the nearest of those candidates to the track's by Lowe's ratio (guided_ratio), and
+  beats by `ratio` its own nearest twin in image k (a repeated texture would offer the twin too). A
+  feature already in another track brings that track along when the two have no image in common and
+  every pair of their features with a fundamental matrix agrees within `tolerance` px. The tracks are
+  visited in a fixed order, one after the other: the result does not depend on the threads.
+*/
+void completeTracks(const Features &f, const std::map<std::pair<size_t, size_t>, Eigen::Matrix3d> &F,
+                    double tolerance, double ratio, double guided_ratio,
+                    std::vector<std::vector<std::pair<size_t, size_t>>> &tracks, FrontEnd::Result &res)
+{
+  const size_t m = f.kp.size();
+  if (m < 3 || tracks.empty())
+    return;
+  // Dense lookup: Fm[a][k] maps a pixel of image a to its epipolar line in image k (null: unknown).
+  std::vector<std::vector<Eigen::Matrix3d>> Fm(m, std::vector<Eigen::Matrix3d>(m));
+  std::vector<std::vector<char>> has(m, std::vector<char>(m, 0));
+  for (const auto &e : F) {
+    const size_t i = e.first.first, j = e.first.second; // x_j^T F x_i = 0
+    Fm[i][j] = e.second;
+    Fm[j][i] = e.second.transpose();
+    has[i][j] = has[j][i] = 1;
+  }
+  // Each image's features in cells of 16 px, and the track each feature belongs to (-1: none).
+  const double cell = 16;
+  std::vector<int> cols(m), rows(m);
+  std::vector<std::vector<std::vector<int>>> grid(m);
+  for (size_t k = 0; k < m; ++k) {
+    float w = 1, h = 1;
+    for (const cv::KeyPoint &p : f.kp[k]) {
+      w = std::max(w, p.pt.x + 1);
+      h = std::max(h, p.pt.y + 1);
+    }
+    cols[k] = static_cast<int>(std::ceil(w / cell));
+    rows[k] = static_cast<int>(std::ceil(h / cell));
+    grid[k].resize(static_cast<size_t>(cols[k] * rows[k]));
+    for (size_t b = 0; b < f.kp[k].size(); ++b)
+      grid[k][static_cast<size_t>(static_cast<int>(f.kp[k][b].pt.y / cell) * cols[k] +
+                                  static_cast<int>(f.kp[k][b].pt.x / cell))]
+          .push_back(static_cast<int>(b));
+  }
+  std::vector<long> owner(f.offset[m], -1);
+  for (size_t t = 0; t < tracks.size(); ++t)
+    for (const auto &e : tracks[t])
+      owner[f.offset[e.first] + e.second] = static_cast<long>(t);
+  const int len = f.desc.empty() ? 0 : f.desc[0].cols;
+  auto distance = [&](size_t ia, size_t a, size_t ib, size_t b) -> float {
+    if (f.desc[ia].type() == CV_32F)
+      return cv::hal::normL2Sqr_(f.desc[ia].ptr<float>(static_cast<int>(a)), f.desc[ib].ptr<float>(static_cast<int>(b)), len);
+    const float d = static_cast<float>(cv::hal::normHamming(f.desc[ia].ptr<uchar>(static_cast<int>(a)),
+                                                            f.desc[ib].ptr<uchar>(static_cast<int>(b)), len));
+    return d * d;
+  };
+  auto agree = [&](const std::pair<size_t, size_t> &x, const std::pair<size_t, size_t> &y) {
+    if (!has[x.first][y.first])
+      return true;
+    const cv::Point2f &pa = f.kp[x.first][x.second].pt, &pb = f.kp[y.first][y.second].pt;
+    const Eigen::Vector3d xa(pa.x, pa.y, 1), xb(pb.x, pb.y, 1);
+    return std::max(lineDistance(Fm[x.first][y.first] * xa, xb(0), xb(1)),
+                    lineDistance(Fm[y.first][x.first] * xb, xa(0), xa(1))) <= tolerance;
+  };
+  const double min_spread = 1 - std::cos(10 * M_PI / 180), reach = 8;
+  const float r2 = static_cast<float>(guided_ratio * guided_ratio), r2s = static_cast<float>(ratio * ratio);
+  std::vector<Eigen::Vector3d> lines;
+  std::vector<char> in(m);
+  for (size_t t = 0; t < tracks.size(); ++t) {
+    for (bool grew = true; grew && tracks[t].size() >= 2;) {
+      grew = false;
+      std::fill(in.begin(), in.end(), 0);
+      for (const auto &e : tracks[t])
+        in[e.first] = 1;
+      for (size_t k = 0; k < m; ++k) {
+        if (in[k])
+          continue;
+        lines.clear();
+        for (const auto &e : tracks[t])
+          if (has[e.first][k]) {
+            const cv::Point2f &p = f.kp[e.first][e.second].pt;
+            Eigen::Vector3d l = Fm[e.first][k] * Eigen::Vector3d(p.x, p.y, 1);
+            const double n = l.head<2>().norm();
+            if (n > 0)
+              lines.push_back(l / n);
+          }
+        if (lines.size() < 2)
+          continue;
+        Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
+        Eigen::Vector2d b = Eigen::Vector2d::Zero();
+        for (const Eigen::Vector3d &l : lines) {
+          A += l.head<2>() * l.head<2>().transpose();
+          b -= l(2) * l.head<2>();
+        }
+        // The lines' spread: the smallest eigenvalue of sum n n^T / count (1 - cos of the angle for two).
+        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(A / static_cast<double>(lines.size()));
+        if (!(es.eigenvalues()(0) >= min_spread))
+          continue;
+        const Eigen::Vector2d p = A.ldlt().solve(b);
+        const int c0 = static_cast<int>(std::floor((p(0) - reach) / cell)), c1 = static_cast<int>(std::floor((p(0) + reach) / cell));
+        const int r0 = static_cast<int>(std::floor((p(1) - reach) / cell)), r1 = static_cast<int>(std::floor((p(1) + reach) / cell));
+        if (c1 < 0 || r1 < 0 || c0 >= cols[k] || r0 >= rows[k])
+          continue;
+        float d1 = std::numeric_limits<float>::infinity(), d2 = d1;
+        int best = -1;
+        for (int cy = std::max(0, r0); cy <= std::min(rows[k] - 1, r1); ++cy)
+          for (int cx = std::max(0, c0); cx <= std::min(cols[k] - 1, c1); ++cx)
+            for (int c : grid[k][static_cast<size_t>(cy * cols[k] + cx)]) {
+              const cv::Point2f &x = f.kp[k][static_cast<size_t>(c)].pt;
+              if ((Eigen::Vector2d(x.x, x.y) - p).squaredNorm() > reach * reach)
+                continue;
+              bool near = true;
+              for (const Eigen::Vector3d &l : lines)
+                near = near && std::fabs(l.dot(Eigen::Vector3d(x.x, x.y, 1))) <= tolerance;
+              if (!near)
+                continue;
+              float d = std::numeric_limits<float>::infinity();
+              for (const auto &e : tracks[t])
+                d = std::min(d, distance(e.first, e.second, k, static_cast<size_t>(c)));
+              if (d < d1 || (d == d1 && c < best)) {
+                d2 = d1;
+                d1 = d;
+                best = c;
+              } else if (d < d2)
+                d2 = d;
+            }
+        if (best < 0 || !(d1 <= r2 * d2))
+          continue;
+        const size_t bk = static_cast<size_t>(best);
+        if (!f.self_nn[k].empty() && !(d1 <= r2s * f.self_nn[k][bk]))
+          continue;
+        const long other = owner[f.offset[k] + bk];
+        if (other == static_cast<long>(t))
+          continue;
+        if (other < 0) {
+          tracks[t].push_back({k, bk});
+          owner[f.offset[k] + bk] = static_cast<long>(t);
+          in[k] = 1;
+          ++res.track_observations_added;
+          grew = true;
+          continue;
+        }
+        // Another track: brought along when disjoint and consistent.
+        std::vector<std::pair<size_t, size_t>> &u = tracks[static_cast<size_t>(other)];
+        bool ok = true;
+        for (const auto &y : u)
+          ok = ok && !in[y.first];
+        for (size_t a = 0; ok && a < tracks[t].size(); ++a)
+          for (size_t c = 0; ok && c < u.size(); ++c)
+            ok = agree(tracks[t][a], u[c]);
+        if (!ok)
+          continue;
+        for (const auto &y : u) {
+          owner[f.offset[y.first] + y.second] = static_cast<long>(t);
+          in[y.first] = 1;
+          tracks[t].push_back(y);
+        }
+        ++res.tracks_merged;
+        u.clear();
+        grew = true;
+      }
+    }
+    std::sort(tracks[t].begin(), tracks[t].end());
+  }
+}
+
 // Step 3: tracks. The verified matches join their features' tracks pair by pair in the given
 // order, unless the two tracks already hold features of a same image; then the tracks of two or
 // more images are numbered 0, 1, ... into res.observations.
 void buildTracks(const Features &f, const std::vector<std::pair<size_t, size_t>> &pairs,
-                 const std::vector<std::vector<Match>> &verified, double tolerance, uint64_t seed,
-                 FrontEnd::Result &res)
+                 const std::vector<std::vector<Match>> &verified, double tolerance, uint64_t seed, bool complete,
+                 double ratio, double guided_ratio, FrontEnd::Result &res)
 {
   const size_t m = f.kp.size();
   UnionFind uf(f.offset[m]);
@@ -827,12 +996,12 @@ void buildTracks(const Features &f, const std::vector<std::pair<size_t, size_t>>
         F[sp.first] = E;
     }
   }
-  res.observations.assign(m, {});
+  // Consistency of a track of three or more views: every two of its features whose images were
+  // matched must satisfy that pair's epipolar constraint (a feature that slid along the epipolar
+  // line of one pair misses the lines of the others); the feature with the most violations goes,
+  // until none is left.
+  std::vector<std::vector<std::pair<size_t, size_t>>> tracks;
   for (auto &c : comp) {
-    // Consistency of a track of three or more views: every two of its features whose images were
-    // matched must satisfy that pair's epipolar constraint (a feature that slid along the epipolar
-    // line of one pair misses the lines of the others); the feature with the most violations goes,
-    // until none is left.
     std::vector<std::pair<size_t, size_t>> &obs = c.second;
     while (obs.size() >= 3) {
       std::vector<unsigned int> bad(obs.size(), 0);
@@ -856,13 +1025,20 @@ void buildTracks(const Features &f, const std::vector<std::pair<size_t, size_t>>
       obs.erase(obs.begin() + static_cast<long>(drop));
       ++res.track_observations_dropped;
     }
-    if (c.second.size() < 2)
+    if (obs.size() >= 2)
+      tracks.push_back(std::move(obs));
+  }
+  if (complete)
+    completeTracks(f, F, tolerance, ratio, guided_ratio, tracks, res);
+  res.observations.assign(m, {});
+  for (const auto &t : tracks) {
+    if (t.size() < 2)
       continue;
     const int id = static_cast<int>(res.num_tracks++);
-    if (res.track_lengths.size() <= c.second.size())
-      res.track_lengths.resize(c.second.size() + 1, 0);
-    ++res.track_lengths[c.second.size()];
-    for (const auto &e : c.second) {
+    if (res.track_lengths.size() <= t.size())
+      res.track_lengths.resize(t.size() + 1, 0);
+    ++res.track_lengths[t.size()];
+    for (const auto &e : t) {
       vpSelfCalibDataset::Observation o;
       o.id = id;
       o.ip = vpImagePoint(f.kp[e.first][e.second].pt.y, f.kp[e.first][e.second].pt.x);
@@ -1133,7 +1309,8 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<u
   else
     res.matches.assign(m, std::vector<unsigned int>(m, 0));
   res.seconds_matching = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
-  buildTracks(features, pairs, verified, opt.track_tolerance, opt.seed, res);
+  buildTracks(features, pairs, verified, opt.track_tolerance, opt.seed, opt.complete_tracks, opt.ratio,
+              opt.guided_ratio, res);
 
   for (const DotGrid &g : opt.dot_grids)
     if (g.first_id < static_cast<int>(res.num_tracks) + 2)

@@ -79,6 +79,51 @@ TEST(GuidedMatching, NominalPriorGivesCorrectLongTracks)
   }
 }
 
+// Track completion (step 3b) on 16 views with 4 neighbours each: the tracks grow (median length up
+// by 1 or more, fewer two-view tracks), features are added and split tracks joined, and the added
+// observations are as right as the matched ones (>= 90 % within 1 px of the truth, within 2 points
+// of the fraction without completion); every track keeps one feature per image. Two seeds.
+TEST(GuidedMatching, CompletionLengthensTracksWithoutWrongObservations)
+{
+  for (uint64_t seed : {3u, 9u}) {
+    const Sequence s(seed, 16);
+    vpFeatureFrontEnd::Options o;
+    o.prior = s.prior;
+    o.neighbours = 4;
+    o.threads = 2;
+    o.complete_tracks = false;
+    const vpFeatureFrontEnd::Result off = vpFeatureFrontEnd::process(s.images, o);
+    o.complete_tracks = true;
+    const vpFeatureFrontEnd::Result on = vpFeatureFrontEnd::process(s.images, o);
+    ASSERT_TRUE(on.guided);
+    EXPECT_EQ(off.track_observations_added, 0u);
+    EXPECT_EQ(off.tracks_merged, 0u);
+    EXPECT_GT(on.track_observations_added, 500u) << "seed " << seed;
+    EXPECT_GT(on.tracks_merged, 0u) << "seed " << seed;
+    EXPECT_EQ(on.matches, off.matches); // the matching itself is the same
+    const FrontEndTruth a = checkTracks(s.sim, s.renderer, s.q, off), b = checkTracks(s.sim, s.renderer, s.q, on);
+    EXPECT_GE(b.median_length, a.median_length + 1) << "seed " << seed;
+    ASSERT_GE(off.track_lengths.size(), 3u);
+    ASSERT_GE(on.track_lengths.size(), 3u);
+    EXPECT_LT(on.track_lengths[2], off.track_lengths[2]) << "seed " << seed;
+    EXPECT_GE(b.observationFraction(), 0.9) << "seed " << seed;
+    EXPECT_GE(b.observationFraction(), a.observationFraction() - 0.02) << "seed " << seed;
+    // Observations: those of the tracks without completion plus the ones added.
+    size_t n_off = 0, n_on = 0;
+    for (size_t k = 0; k < on.observations.size(); ++k) {
+      std::set<int> ids;
+      for (const auto &x : on.observations[k])
+        if (x.id < static_cast<int>(on.num_tracks)) {
+          EXPECT_TRUE(ids.insert(x.id).second);
+          ++n_on;
+        }
+      for (const auto &x : off.observations[k])
+        n_off += x.id < static_cast<int>(off.num_tracks);
+    }
+    EXPECT_EQ(n_on, n_off + on.track_observations_added);
+  }
+}
+
 // A wrong prior (the hand-eye guess rotated by 10 degrees) is detected: the front end falls back to
 // unguided matching of every pair, says so in a warning, and still finds correct tracks.
 TEST(GuidedMatching, WrongPriorFallsBackWithWarning)

@@ -65,8 +65,15 @@
      each other's epipolar lines (the pair's F, least squares on its verified matches or on the
      USAC inliers of the shared tracks' features); the feature with the most violations
      leaves the track until none is left (a feature that slid along one pair's epipolar line
-     misses the others'). Every track seen in two or more images becomes a scene point id
-     (0, 1, ...).
+     misses the others'). Then, unless Options::complete_tracks is off, each track is completed: in
+     every image it misses, the epipolar lines of its features (two or more, 10 degrees apart or
+     more, from the pairs' fundamental matrices) meet where its point must be; the feature there
+     (within track_tolerance px of every line, 8 px of their meeting point) whose descriptor is
+     nearest the track's by guided_ratio, and beats its own nearest twin by `ratio`, joins the track,
+     or brings its own track along when the two share no image and agree with every pair's
+     epipolar geometry. SIFT re-detects a point in several views that the pairwise matching missed
+     (not selected pairs, ratio tests lost), and a point split in two tracks is joined. Every track
+     seen in two or more images becomes a scene point id (0, 1, ...).
   4. Dot targets (the paper's experiment), when Options::dot_grids lists them: dark round dots on a
      white surround (below, measured by vpDot2), sorted by size (the semi-major axis of their
      ellipse, which foreshortening leaves alone): a grid is a run of as many dots as it has, with a
@@ -132,6 +139,10 @@ public:
     //! px: two features of a track whose images were matched must lie within it of each other's
     //! epipolar lines (the pair's F); otherwise the feature with the most violations leaves the track.
     double track_tolerance = 1.0;
+    //! Track completion (step 3b): each track is looked for in the images it misses, where the
+    //! epipolar lines of its features meet (the pairs' fundamental matrices estimated from the
+    //! images), by descriptor; off: the tracks are the verified matches' only.
+    bool complete_tracks = true;
     bool mutual = true;              //!< keep mutual best matches only
     double ransac_threshold = 1.0;   //!< px, fundamental-matrix RANSAC
     unsigned int min_matches = 20;   //!< verified matches a pair needs
@@ -167,6 +178,8 @@ public:
     std::vector<unsigned int> track_lengths;
     unsigned int pairs_matched = 0;  //!< pairs whose matching was attempted
     unsigned int track_observations_dropped = 0; //!< features taken out of tracks by the consistency check
+    unsigned int track_observations_added = 0;   //!< features of no track added to one by the completion (step 3b)
+    unsigned int tracks_merged = 0;              //!< tracks joined to another (whole) by the completion
     bool guided = false;             //!< the prior guided the matching (false: none, or fallback)
     bool fallback = false;           //!< a prior was given and rejected (see warnings)
     double prior_agreement = -1;     //!< fraction of the probes' unguided matches inside the predicted band (-1: not measured)
