@@ -864,10 +864,32 @@ void runProtocol(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, 
   The cross-validation's word on the model: when the calibrated model predicts the held-out views
   worse than the nominal model in most folds and by 5 % or more on average, the calibration does not
   generalise (too many parameters for the views, or a wrong input): a DOUBT finding, status DOUBTFUL.
+  The same when most folds fail: the calibration does not survive leaving a few views out.
 */
 void crossValidationCheck(const Protocol &p, vpRobotSelfCalibration::Result &r)
 {
-  if (!p.cv || p.cv->num_ok < 2)
+  if (!p.cv)
+    return;
+  // Most folds failed: the calibration stands only on all the views together, and a few views less
+  // (one fold) lose it; the answer depends on which views are used.
+  unsigned int failed = 0;
+  for (const auto &f : p.cv->fold)
+    failed += f.status != vpRobotSelfCalibration::OK && f.status != vpRobotSelfCalibration::DOUBTFUL;
+  if (p.cv->fold.size() >= 2 && 2 * failed > p.cv->fold.size() &&
+      (r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL)) {
+    std::ostringstream os;
+    os << failed << " of " << p.cv->fold.size()
+       << " cross-validation folds failed (each leaves out a few views): the calibration stands only on all the "
+          "views together and depends on which views are used; add views, or check the correspondences";
+    vpSelfCalibDataCheck::Finding f;
+    f.severity = vpSelfCalibDataCheck::DOUBT;
+    f.code = "cross-validation-folds-failed";
+    f.message = os.str();
+    r.findings.push_back(f);
+    r.status = vpRobotSelfCalibration::DOUBTFUL;
+    r.message += "; doubtful: " + f.message;
+  }
+  if (p.cv->num_ok < 2)
     return;
   unsigned int worse = 0, compared = 0;
   for (const auto &f : p.cv->fold)
