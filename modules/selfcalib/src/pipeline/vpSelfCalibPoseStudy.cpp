@@ -71,7 +71,11 @@ vpSelfCalibPoseStudy::Result vpSelfCalibPoseStudy::run(const vpKinematicChain &n
     unsigned int done = 0;
     if (progress)
       progress(0, total);
-    vpSelfCalib::parallelFor(reuse_full ? total - 1 : total, vpSelfCalib::threadCount(so.threads), [&](size_t i) {
+    // The largest calibrations first: the threads then finish together (longest-first scheduling);
+    // each run writes its own slot, so the order does not change the result.
+    const size_t count = reuse_full ? total - 1 : total;
+    vpSelfCalib::parallelFor(count, vpSelfCalib::threadCount(so.threads), [&](size_t k) {
+      const size_t i = count - 1 - k;
       const unsigned int n = first + static_cast<unsigned int>(i);
       std::vector<vpSelfCalibDataset::View> views(cal.begin(), cal.begin() + n);
       views.insert(views.end(), ver.begin(), ver.end());
