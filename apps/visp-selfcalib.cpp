@@ -860,6 +860,18 @@ void runProtocol(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, 
   }
 }
 
+//! A DOUBT finding of the protocol: into the findings, the status DOUBTFUL, the message.
+void addDoubt(vpRobotSelfCalibration::Result &r, const std::string &code, const std::string &message)
+{
+  vpSelfCalibDataCheck::Finding f;
+  f.severity = vpSelfCalibDataCheck::DOUBT;
+  f.code = code;
+  f.message = message;
+  r.findings.push_back(f);
+  r.status = vpRobotSelfCalibration::DOUBTFUL;
+  r.message += "; doubtful: " + message;
+}
+
 /*!
   The cross-validation's word on the model: when the calibrated model predicts the held-out views
   worse than the nominal model in most folds and by 5 % or more on average, the calibration does not
@@ -881,13 +893,7 @@ void crossValidationCheck(const Protocol &p, vpRobotSelfCalibration::Result &r)
     os << failed << " of " << p.cv->fold.size()
        << " cross-validation folds failed (each leaves out a few views): the calibration stands only on all the "
           "views together and depends on which views are used; add views, or check the correspondences";
-    vpSelfCalibDataCheck::Finding f;
-    f.severity = vpSelfCalibDataCheck::DOUBT;
-    f.code = "cross-validation-folds-failed";
-    f.message = os.str();
-    r.findings.push_back(f);
-    r.status = vpRobotSelfCalibration::DOUBTFUL;
-    r.message += "; doubtful: " + f.message;
+    addDoubt(r, "cross-validation-folds-failed", os.str());
   }
   if (p.cv->num_ok < 2)
     return;
@@ -904,13 +910,7 @@ void crossValidationCheck(const Protocol &p, vpRobotSelfCalibration::Result &r)
      << "nominal model (reprojection RMS " << p.cv->calibrated_rms.mean << " px against " << p.cv->nominal_rms.mean
      << " px; worse in " << worse << " of " << compared
      << " folds): the calibration does not generalise; add views or estimate fewer parameters";
-  vpSelfCalibDataCheck::Finding f;
-  f.severity = vpSelfCalibDataCheck::DOUBT;
-  f.code = "cross-validation-worse-than-nominal";
-  f.message = os.str();
-  r.findings.push_back(f);
-  r.status = vpRobotSelfCalibration::DOUBTFUL;
-  r.message += "; doubtful: " + f.message;
+  addDoubt(r, "cross-validation-worse-than-nominal", os.str());
 }
 
 //! The protocol's figures on stdout, one line each.

@@ -461,8 +461,6 @@ void industrialSection(const std::string &data)
     return a;
   };
   const Agreement a1 = agreement(i1), a2 = agreement(i2);
-  const bool i4_near_i1 = a1.near;
-  const std::string i4_diff = a1.text;
   const bool i4_f = i4.intrinsics.count("fx") && std::fabs(i4.intrinsics.at("fx").first - 541.3) <= 0.01 * 541.3;
   const bool i4_pp = i4.intrinsics.count("u0") && std::hypot(i4.intrinsics.at("u0").first - 322.6,
                                                             i4.intrinsics.at("v0").first - 215.2) <= 5;
@@ -473,8 +471,8 @@ void industrialSection(const std::string &data)
             << "- I1 fx within 1 % of 541.3: " << intrinsic(i1, "fx", 1) << ": " << metText(f_met) << "\n"
             << "- I1 principal point within 5 px of (322.6, 215.2): (" << intrinsic(i1, "u0", 1) << ", "
             << intrinsic(i1, "v0", 1) << "): " << metText(pp_met) << "\n"
-            << "- I4 (target-free) eMc within 10 mm and 10 mrad of I1 (board mode): " << i4_diff << ": "
-            << metText(i4_near_i1) << "\n"
+            << "- I4 (target-free) eMc within 10 mm and 10 mrad of I1 (board mode): " << a1.text << ": "
+            << metText(a1.near) << "\n"
             << "- I4 (target-free) eMc within 10 mm and 10 mrad of I2 (board mode, layout known): " << a2.text << ": "
             << metText(a2.near) << "\n"
             << "- I4 fx within 1 % of 541.3: " << intrinsic(i4, "fx", 1) << ": " << metText(i4_f) << "\n"

@@ -526,6 +526,25 @@ double lineDistance(const Eigen::Vector3d &l, double x, double y)
   return std::fabs(l(0) * x + l(1) * y + l(2)) / std::max(1e-12, std::hypot(l(0), l(1)));
 }
 
+// Symmetric epipolar distance of pixels a (image i) and b (image j) under F (x_j^T F x_i = 0): the
+// larger of b's distance from a's line and a's from b's.
+double epipolarDistance(const Eigen::Matrix3d &F, const cv::Point2f &a, const cv::Point2f &b)
+{
+  const Eigen::Vector3d xa(a.x, a.y, 1), xb(b.x, b.y, 1);
+  return std::max(lineDistance(F * xa, xb(0), xb(1)), lineDistance(F.transpose() * xb, xa(0), xa(1)));
+}
+
+// Squared descriptor distance of feature a of image i and feature b of image j: L2 for SIFT's float
+// descriptors, Hamming (squared, to compare as L2's) for ORB's binary ones.
+float descriptorDistance2(const Features &f, size_t i, int a, size_t j, int b)
+{
+  const int len = f.desc[i].cols;
+  if (f.desc[i].type() == CV_32F)
+    return cv::hal::normL2Sqr_(f.desc[i].ptr<float>(a), f.desc[j].ptr<float>(b), len);
+  const float d = static_cast<float>(cv::hal::normHamming(f.desc[i].ptr<uchar>(a), f.desc[j].ptr<uchar>(b), len));
+  return d * d;
+}
+
 // Guided candidates of pair (i, j) among the features `from` of image i: a feature is compared with
 // the features of image j within `band` px of the segment its epipolar line spans over the depths
 // [zmin, zmax] (predicted relative pose) and, when F is given (an estimate of this pair's
@@ -547,14 +566,6 @@ std::vector<Match> searchGuided(const Features &f, const PriorGeometry &g, size_
     const int cy = std::min(rows - 1, std::max(0, static_cast<int>(f.kp[j][b].pt.y / cell)));
     grid[static_cast<size_t>(cy * cols + cx)].push_back(static_cast<int>(b));
   }
-  const bool l2 = opt.detector == FrontEnd::SIFT;
-  const int len = f.desc[i].cols;
-  auto distance = [&](int a, int b) -> float {
-    if (l2)
-      return cv::hal::normL2Sqr_(f.desc[i].ptr<float>(a), f.desc[j].ptr<float>(b), len);
-    const float d = static_cast<float>(cv::hal::normHamming(f.desc[i].ptr<uchar>(a), f.desc[j].ptr<uchar>(b), len));
-    return d * d; // compared squared, as L2's
-  };
   const float inf = std::numeric_limits<float>::infinity();
   std::vector<int> best_a(f.kp[j].size(), -1);
   std::vector<float> best_a_d(f.kp[j].size(), inf);
@@ -609,7 +620,7 @@ std::vector<Match> searchGuided(const Features &f, const PriorGeometry &g, size_
             continue;
           if (segmentDistance2(x) > band * band)
             continue;
-          const float dd = distance(a, b);
+          const float dd = descriptorDistance2(f, i, a, j, b);
           if (dd < d1[a]) {
             d2[a] = d1[a];
             d1[a] = dd;
@@ -784,21 +795,9 @@ void completeTracks(const Features &f, const std::map<std::pair<size_t, size_t>,
   for (size_t t = 0; t < tracks.size(); ++t)
     for (const auto &e : tracks[t])
       owner[f.offset[e.first] + e.second] = static_cast<long>(t);
-  const int len = f.desc.empty() ? 0 : f.desc[0].cols;
-  auto distance = [&](size_t ia, size_t a, size_t ib, size_t b) -> float {
-    if (f.desc[ia].type() == CV_32F)
-      return cv::hal::normL2Sqr_(f.desc[ia].ptr<float>(static_cast<int>(a)), f.desc[ib].ptr<float>(static_cast<int>(b)), len);
-    const float d = static_cast<float>(cv::hal::normHamming(f.desc[ia].ptr<uchar>(static_cast<int>(a)),
-                                                            f.desc[ib].ptr<uchar>(static_cast<int>(b)), len));
-    return d * d;
-  };
   auto agree = [&](const std::pair<size_t, size_t> &x, const std::pair<size_t, size_t> &y) {
-    if (!has[x.first][y.first])
-      return true;
-    const cv::Point2f &pa = f.kp[x.first][x.second].pt, &pb = f.kp[y.first][y.second].pt;
-    const Eigen::Vector3d xa(pa.x, pa.y, 1), xb(pb.x, pb.y, 1);
-    return std::max(lineDistance(Fm[x.first][y.first] * xa, xb(0), xb(1)),
-                    lineDistance(Fm[y.first][x.first] * xb, xa(0), xa(1))) <= tolerance;
+    return !has[x.first][y.first] ||
+           epipolarDistance(Fm[x.first][y.first], f.kp[x.first][x.second].pt, f.kp[y.first][y.second].pt) <= tolerance;
   };
   const double min_spread = 1 - std::cos(10 * M_PI / 180), reach = 8;
   const float r2 = static_cast<float>(guided_ratio * guided_ratio), r2s = static_cast<float>(ratio * ratio);
@@ -854,7 +853,7 @@ void completeTracks(const Features &f, const std::map<std::pair<size_t, size_t>,
                 continue;
               float d = std::numeric_limits<float>::infinity();
               for (const auto &e : tracks[t])
-                d = std::min(d, distance(e.first, e.second, k, static_cast<size_t>(c)));
+                d = std::min(d, descriptorDistance2(f, e.first, static_cast<int>(e.second), k, c));
               if (d < d1 || (d == d1 && c < best)) {
                 d2 = d1;
                 d1 = d;
@@ -1011,10 +1010,8 @@ void buildTracks(const Features &f, const std::vector<std::pair<size_t, size_t>>
           const auto it = F.find({obs[x].first, obs[y].first});
           if (it == F.end())
             continue;
-          const cv::Point2f &pa = f.kp[obs[x].first][obs[x].second].pt, &pb = f.kp[obs[y].first][obs[y].second].pt;
-          const Eigen::Vector3d xa(pa.x, pa.y, 1), xb(pb.x, pb.y, 1);
-          const double d = std::max(lineDistance(it->second * xa, xb(0), xb(1)),
-                                    lineDistance(it->second.transpose() * xb, xa(0), xa(1)));
+          const double d =
+              epipolarDistance(it->second, f.kp[obs[x].first][obs[x].second].pt, f.kp[obs[y].first][obs[y].second].pt);
           if (d > tolerance) {
             worst = std::max({worst, ++bad[x], ++bad[y]});
           }
