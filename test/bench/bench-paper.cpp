@@ -93,6 +93,12 @@ int main(int argc, char **argv)
                                      "deep scene, wide views, partial views)")
         ->type_name("NAME")
         ->check(CLI::IsMember(vpSelfCalibSimulator::sceneNames()));
+    std::string shared_focal = "all-views";
+    app.add_option("--shared-focal", shared_focal,
+                   "focal shared: all-views (default: from every view jointly, then known to the\n"
+                   "pairs) or pairs (the pairs' own joint estimate)")
+        ->type_name("HOW")
+        ->check(CLI::IsMember({"all-views", "pairs"}));
     app.add_option("--focal", focals,
                    "focal modes: shared (self-calibrated, default), known, per-pair (the\n"
                    "paper; degenerate on the reference scenario) (default shared,known)")
@@ -128,6 +134,7 @@ int main(int argc, char **argv)
     const int parsed = selfcalibCli::parse(app, argc, argv);
     if (parsed >= 0)
       return parsed;
+    bench::paperFocalAllViews() = shared_focal == "all-views";
     std::vector<vpRobotSelfCalibration::FocalMode> modes;
     for (const std::string &f : focals)
       modes.push_back(vpRobotSelfCalibration::focalModeFromName(f));

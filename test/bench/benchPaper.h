@@ -24,6 +24,14 @@
 namespace bench
 {
 //! The names of focal modes (vpRobotSelfCalibration::focalModeName), for a command line's choices.
+//! PAPER with FOCAL_SHARED: the focal length from every view jointly (true, the library's default)
+//! or the pairs' own shared estimate (bench-paper --shared-focal pairs).
+inline bool &paperFocalAllViews()
+{
+  static bool all_views = vpRobotSelfCalibration::Options().paper_focal_all_views;
+  return all_views;
+}
+
 inline std::vector<std::string> focalModeNames(std::initializer_list<vpRobotSelfCalibration::FocalMode> modes)
 {
   std::vector<std::string> names;
@@ -76,6 +84,7 @@ inline PoseMeasurementErrors poseMeasurementErrors(const vpSelfCalibSimulator &s
   po.method = vpRobotSelfCalibration::PAPER;
   po.num_calibration_poses = static_cast<unsigned int>(q.size());
   po.focal_mode = mode;
+  po.paper_focal_all_views = paperFocalAllViews();
   const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), pipelineDataset(sim, q, mode), po);
   PoseMeasurementErrors e;
   e.status = r.status;
@@ -383,6 +392,7 @@ inline CalibrationErrors calibrationErrors(const vpSelfCalibSimulator &sim, cons
   po.method = method;
   po.num_calibration_poses = static_cast<unsigned int>(calibration.size());
   po.focal_mode = mode;
+  po.paper_focal_all_views = paperFocalAllViews();
   const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, po);
   CalibrationErrors e;
   e.status = r.status;
