@@ -749,10 +749,11 @@ bool eightPointF(const std::vector<cv::Point2f> &a, const std::vector<cv::Point2
   matched (the pair was not selected, or the ratio test lost it). For each track and each image k it
   misses, the epipolar lines in k of the track's features whose images have a fundamental matrix with
   k (the matched pairs' and the shared tracks', estimated from the images) meet where the scene point
-  must be; two lines or more, at least 10 degrees apart, are needed. A feature of image k within
+  must be; two lines or more, at least 14 degrees apart, are needed. A feature of image k within
   `tolerance` px of every line (and within 8 px of where they meet) joins the track when its
-  descriptor is the nearest of those candidates to the track's by Lowe's ratio (guided_ratio), and
-  beats by `ratio` its own nearest twin in image k (a repeated texture would offer the twin too). A
+  descriptor is nearer the track's than any other feature's within 8 px by Lowe's ratio
+  (guided_ratio), beats by `ratio` its own nearest twin in image k (a repeated texture would offer
+  the twin too), and passes the track check's symmetric epipolar test with every feature of it. A
   feature already in another track brings that track along when the two have no image in common and
   every pair of their features with a fundamental matrix agrees within `tolerance` px. The tracks are
   visited in a fixed order, one after the other: the result does not depend on the threads.
@@ -799,7 +800,9 @@ void completeTracks(const Features &f, const std::map<std::pair<size_t, size_t>,
     return !has[x.first][y.first] ||
            epipolarDistance(Fm[x.first][y.first], f.kp[x.first][x.second].pt, f.kp[y.first][y.second].pt) <= tolerance;
   };
-  const double min_spread = 1 - std::cos(10 * M_PI / 180), reach = 8;
+  // Two lines 14 degrees apart or more: for two unit normals the smallest eigenvalue of their mean
+  // n n^T is (1 - cos angle) / 2. Within 1 px of both lines the point is then known to about 8 px.
+  const double min_spread = 0.5 * (1 - std::cos(14 * M_PI / 180)), reach = 8;
   const float r2 = static_cast<float>(guided_ratio * guided_ratio), r2s = static_cast<float>(ratio * ratio);
   std::vector<Eigen::Vector3d> lines;
   std::vector<char> in(m);
@@ -829,47 +832,64 @@ void completeTracks(const Features &f, const std::map<std::pair<size_t, size_t>,
           A += l.head<2>() * l.head<2>().transpose();
           b -= l(2) * l.head<2>();
         }
-        // The lines' spread: the smallest eigenvalue of sum n n^T / count (1 - cos of the angle for two).
+        // The lines' spread: the smallest eigenvalue of sum n n^T / count ((1 - cos angle) / 2 for two).
         const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(A / static_cast<double>(lines.size()));
         if (!(es.eigenvalues()(0) >= min_spread))
           continue;
         const Eigen::Vector2d p = A.ldlt().solve(b);
+        if (!p.allFinite() || p(0) < -reach || p(1) < -reach || p(0) > cols[k] * cell + reach ||
+            p(1) > rows[k] * cell + reach)
+          continue;
         const int c0 = static_cast<int>(std::floor((p(0) - reach) / cell)), c1 = static_cast<int>(std::floor((p(0) + reach) / cell));
         const int r0 = static_cast<int>(std::floor((p(1) - reach) / cell)), r1 = static_cast<int>(std::floor((p(1) + reach) / cell));
         if (c1 < 0 || r1 < 0 || c0 >= cols[k] || r0 >= rows[k])
           continue;
-        float d1 = std::numeric_limits<float>::infinity(), d2 = d1;
-        int best = -1;
+        // The best candidate (near every line), and the two nearest descriptors among all features
+        // within reach of p, near the lines or not: Lowe's test compares the best with the nearest
+        // other feature of the neighbourhood (the lines alone leave one candidate most of the time).
+        float d1 = std::numeric_limits<float>::infinity(), a1 = d1, a2 = d1;
+        int best = -1, nearest = -1;
         for (int cy = std::max(0, r0); cy <= std::min(rows[k] - 1, r1); ++cy)
           for (int cx = std::max(0, c0); cx <= std::min(cols[k] - 1, c1); ++cx)
             for (int c : grid[k][static_cast<size_t>(cy * cols[k] + cx)]) {
               const cv::Point2f &x = f.kp[k][static_cast<size_t>(c)].pt;
               if ((Eigen::Vector2d(x.x, x.y) - p).squaredNorm() > reach * reach)
                 continue;
-              bool near = true;
-              for (const Eigen::Vector3d &l : lines)
-                near = near && std::fabs(l.dot(Eigen::Vector3d(x.x, x.y, 1))) <= tolerance;
-              if (!near)
-                continue;
               float d = std::numeric_limits<float>::infinity();
               for (const auto &e : tracks[t])
                 d = std::min(d, descriptorDistance2(f, e.first, static_cast<int>(e.second), k, c));
-              if (d < d1 || (d == d1 && c < best)) {
-                d2 = d1;
+              if (d < a1 || (d == a1 && c < nearest)) {
+                a2 = a1;
+                a1 = d;
+                nearest = c;
+              } else if (d < a2)
+                a2 = d;
+              bool near = true;
+              for (const Eigen::Vector3d &l : lines)
+                near = near && std::fabs(l.dot(Eigen::Vector3d(x.x, x.y, 1))) <= tolerance;
+              if (near && (d < d1 || (d == d1 && c < best))) {
                 d1 = d;
                 best = c;
-              } else if (d < d2)
-                d2 = d;
+              }
             }
-        if (best < 0 || !(d1 <= r2 * d2))
+        const float d2 = best == nearest ? a2 : a1;
+        // Strict: a tie (d1 = d2, or d1 equal to the twin's, repeated texture) is not a match.
+        if (best < 0 || !(d1 < r2 * d2))
           continue;
         const size_t bk = static_cast<size_t>(best);
-        if (!f.self_nn[k].empty() && !(d1 <= r2s * f.self_nn[k][bk]))
+        if (!f.self_nn[k].empty() && !(d1 < r2s * f.self_nn[k][bk]))
           continue;
         const long other = owner[f.offset[k] + bk];
         if (other == static_cast<long>(t))
           continue;
         if (other < 0) {
+          // The lines only place the search; the feature must pass the track check's own symmetric
+          // test with every feature of the track (the distance in both images of each pair).
+          bool consistent = true;
+          for (const auto &e : tracks[t])
+            consistent = consistent && agree(e, {k, bk});
+          if (!consistent)
+            continue;
           tracks[t].push_back({k, bk});
           owner[f.offset[k] + bk] = static_cast<long>(t);
           in[k] = 1;

@@ -66,12 +66,13 @@
      USAC inliers of the shared tracks' features); the feature with the most violations
      leaves the track until none is left (a feature that slid along one pair's epipolar line
      misses the others'). Then, unless Options::complete_tracks is off, each track is completed: in
-     every image it misses, the epipolar lines of its features (two or more, 10 degrees apart or
+     every image it misses, the epipolar lines of its features (two or more, 14 degrees apart or
      more, from the pairs' fundamental matrices) meet where its point must be; the feature there
      (within track_tolerance px of every line, 8 px of their meeting point) whose descriptor is
-     nearest the track's by guided_ratio, and beats its own nearest twin by `ratio`, joins the track,
-     or brings its own track along when the two share no image and agree with every pair's
-     epipolar geometry. SIFT re-detects a point in several views that the pairwise matching missed
+     nearer the track's than any other feature's within 8 px by guided_ratio, beats its own nearest
+     twin by `ratio` and passes the track check with every feature of the track joins it, or brings
+     its own track along when the two share no image and agree with every pair's epipolar
+     geometry. SIFT re-detects a point in several views that the pairwise matching missed
      (not selected pairs, ratio tests lost), and a point split in two tracks is joined. Every track
      seen in two or more images becomes a scene point id (0, 1, ...).
   4. Dot targets (the paper's experiment), when Options::dot_grids lists them: dark round dots on a
