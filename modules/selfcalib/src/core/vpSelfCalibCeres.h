@@ -8,6 +8,8 @@
 #include <glog/logging.h>
 
 #include <mutex>
+#include <utility>
+#include <vector>
 
 namespace vpSelfCalib
 {
@@ -94,6 +96,16 @@ inline void solve(const ceres::Solver::Options &options, ceres::Problem *problem
 {
   const QuietCeres quiet;
   ceres::Solve(options, problem, summary);
+}
+
+//! Covariance::Compute under QuietCeres: a rank-deficient covariance is otherwise a glog error line
+//! on stderr (the caller gets false).
+inline bool computeCovariance(ceres::Covariance &covariance,
+                              const std::vector<std::pair<const double *, const double *>> &blocks,
+                              ceres::Problem *problem)
+{
+  const QuietCeres quiet;
+  return covariance.Compute(blocks, problem);
 }
 } // namespace vpSelfCalib
 

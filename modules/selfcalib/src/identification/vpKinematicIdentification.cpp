@@ -488,7 +488,7 @@ vpKinematicIdentification::Result vpKinematicIdentification::identify(const vpKi
   // Covariance (J^T J)^-1 from Ceres at the solution.
   ceres::Covariance cov(covarianceOptions());
   std::vector<std::pair<const double *, const double *>> blocks = {{x.data(), x.data()}};
-  if (!cov.Compute(blocks, &problem)) {
+  if (!computeCovariance(cov, blocks, &problem)) {
     res.status = RANK_DEFICIENT;
     res.message = "the normal matrix of the identified parameters is singular at the solution";
     return res;

@@ -283,7 +283,7 @@ JointScale jointScale(const std::vector<vpPoseScale::YardstickView> &views, doub
   ceres::Covariance cov(covarianceOptions());
   const std::vector<std::pair<const double *, const double *>> blocks = {{&scale, &scale}};
   double var = 0;
-  if (!cov.Compute(blocks, &problem) || !cov.GetCovarianceBlock(&scale, &scale, &var) || !(var > 0))
+  if (!computeCovariance(cov, blocks, &problem) || !cov.GetCovarianceBlock(&scale, &scale, &var) || !(var > 0))
     return out;
   out.ok = true;
   out.scale = scale;

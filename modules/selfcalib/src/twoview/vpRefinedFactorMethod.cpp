@@ -201,7 +201,7 @@ vpRefinedFactorMethod::Result vpRefinedFactorMethod::refine(const std::vector<Pa
     ceres::Covariance cov(covarianceOptions());
     std::vector<std::pair<const double *, const double *>> blocks = {{&f, &f}};
     res.fx_sd = std::numeric_limits<double>::infinity();
-    if (cov.Compute(blocks, &problem)) {
+    if (computeCovariance(cov, blocks, &problem)) {
       double c = 0;
       cov.GetCovarianceBlock(&f, &f, &c);
       const int dof = summary.num_residuals - summary.num_effective_parameters;
