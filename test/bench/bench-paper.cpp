@@ -94,11 +94,7 @@ int main(int argc, char **argv)
         ->type_name("NAME")
         ->check(CLI::IsMember(vpSelfCalibSimulator::sceneNames()));
     std::string shared_focal = "all-views";
-    app.add_option("--shared-focal", shared_focal,
-                   "focal shared: all-views (default: from every view jointly, then known to the\n"
-                   "pairs) or pairs (the pairs' own joint estimate)")
-        ->type_name("HOW")
-        ->check(CLI::IsMember({"all-views", "pairs"}));
+    bench::addSharedFocal(app, shared_focal);
     app.add_option("--focal", focals,
                    "focal modes: shared (self-calibrated, default), known, per-pair (the\n"
                    "paper; degenerate on the reference scenario) (default shared,known)")

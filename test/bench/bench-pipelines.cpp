@@ -121,6 +121,8 @@ int main(int argc, char **argv)
         ->type_name("MODE")
         ->check(CLI::IsMember(
             bench::focalModeNames({vpRobotSelfCalibration::FOCAL_SHARED, vpRobotSelfCalibration::FOCAL_KNOWN})));
+    std::string shared_focal = "all-views";
+    bench::addSharedFocal(app, shared_focal);
     app.add_flag("--no-planned", no_planned, "leave out the paper's pipeline on planned trajectories");
     app.add_option("--scale", scale, "yes (default) or no: the wall-time runs at scale")
         ->type_name("S")
@@ -138,6 +140,7 @@ int main(int argc, char **argv)
     const int parsed = selfcalibCli::parse(app, argc, argv);
     if (parsed >= 0)
       return parsed;
+    bench::paperFocalAllViews() = shared_focal == "all-views";
     const vpRobotSelfCalibration::FocalMode mode = vpRobotSelfCalibration::focalModeFromName(focal);
     const bool planned = !no_planned;
 

@@ -21,6 +21,8 @@
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
+#include "selfcalibCli.h"
+
 namespace bench
 {
 //! The names of focal modes (vpRobotSelfCalibration::focalModeName), for a command line's choices.
@@ -30,6 +32,16 @@ inline bool &paperFocalAllViews()
 {
   static bool all_views = vpRobotSelfCalibration::Options().paper_focal_all_views;
   return all_views;
+}
+
+//! The option --shared-focal all-views|pairs; apply with paperFocalAllViews() = value == "all-views".
+inline void addSharedFocal(CLI::App &app, std::string &value)
+{
+  app.add_option("--shared-focal", value,
+                 "the paper's method, focal shared: all-views (default: from every view jointly,\n"
+                 "then known to the pairs) or pairs (the pairs' own joint estimate)")
+      ->type_name("HOW")
+      ->check(CLI::IsMember({"all-views", "pairs"}));
 }
 
 inline std::vector<std::string> focalModeNames(std::initializer_list<vpRobotSelfCalibration::FocalMode> modes)
