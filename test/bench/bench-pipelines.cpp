@@ -92,6 +92,7 @@ vpRobotSelfCalibration::Result runPipeline(const vpSelfCalibSimulator &sim, cons
   po.focal_mode = mode;
   po.num_calibration_poses = num_calibration;
   po.pixel_sd = std::max(0.05, noise);
+  po.paper_focal_all_views = bench::paperFocalAllViews();
   po.multiview.num_threads = threads;
   po.bundle.num_threads = threads;
   return vpRobotSelfCalibration::run(sim.getNominalChain(), ds, po);
