@@ -17,6 +17,8 @@ void vpSelfCalibPoseStudy::Options::check() const
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpSelfCalibPoseStudy: min_poses must be at least 3 (a calibration needs 3 views), "
                                "got " + std::to_string(min_poses));
+  if (step == 0)
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpSelfCalibPoseStudy: step must be at least 1");
 }
 
 const char *vpSelfCalibPoseStudy::statusName(Status s)
@@ -61,7 +63,11 @@ vpSelfCalibPoseStudy::Result vpSelfCalibPoseStudy::run(const vpKinematicChain &n
   } else {
     res.status = OK;
     res.nominal_error = vpCalibrationVerifier::verify(nominal, ds.cam, ver, ds.yardstick).yardstick_error;
-    const unsigned int first = std::min(so.min_poses, N), total = N - first + 1;
+    const unsigned int first = std::min(so.min_poses, N);
+    std::vector<unsigned int> ns; // the n of the curve, ascending, the last N
+    for (unsigned int back = 0; back + first <= N; back += so.step)
+      ns.insert(ns.begin(), N - back);
+    const unsigned int total = static_cast<unsigned int>(ns.size());
     // One calibration per n, independent of the others: run on so.threads threads, each writing
     // only its own slot, the curve assembled in n order (the same whatever the thread count).
     // The run on all N poses is the caller's when given (the same options and dataset).
@@ -76,7 +82,7 @@ vpSelfCalibPoseStudy::Result vpSelfCalibPoseStudy::run(const vpKinematicChain &n
     const size_t count = reuse_full ? total - 1 : total;
     vpSelfCalib::parallelFor(count, vpSelfCalib::threadCount(so.threads), [&](size_t k) {
       const size_t i = count - 1 - k;
-      const unsigned int n = first + static_cast<unsigned int>(i);
+      const unsigned int n = ns[i];
       std::vector<vpSelfCalibDataset::View> views(cal.begin(), cal.begin() + n);
       views.insert(views.end(), ver.begin(), ver.end());
       vpSelfCalibDataset sub = ds;
@@ -98,10 +104,11 @@ vpSelfCalibPoseStudy::Result vpSelfCalibPoseStudy::run(const vpKinematicChain &n
     res.runs = total;
     for (unsigned int i = 0; i < total; ++i)
       if (runs[i].status == vpRobotSelfCalibration::OK && runs[i].verified)
-        res.points.push_back({first + i, runs[i].after.yardstick_error});
-    res.message = std::to_string(res.points.size()) + " of " + std::to_string(res.runs) +
-                  " calibrations (" + std::to_string(first) + " to " + std::to_string(N) +
-                  " poses) verified on " + std::to_string(ver.size()) + " held-out views";
+        res.points.push_back({ns[i], runs[i].after.yardstick_error});
+    res.message = std::to_string(res.points.size()) + " of " + std::to_string(res.runs) + " calibrations (" +
+                  std::to_string(ns.front()) + " to " + std::to_string(N) + " poses" +
+                  (so.step > 1 ? ", every " + std::to_string(so.step) + "th" : std::string()) +
+                  ") verified on " + std::to_string(ver.size()) + " held-out views";
   }
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;

@@ -92,6 +92,40 @@ TEST(PoseStudy, ThreadsAndTheCallersRunDoNotChangeTheCurve)
 
 // Nothing to verify on (fewer than 2 held-out views) or no yardstick: a status, no calibration run.
 // Study options that cannot make a calibration throw.
+// step 2 on 9 poses: n = 5, 7, 9, each the same calibration as with step 1 (bit for bit).
+TEST(PoseStudy, StepKeepsEveryStepthNumberOfPoses)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 16, 0.2);
+  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
+  vpRobotSelfCalibration::Options o;
+  o.num_calibration_poses = 9;
+  vpSelfCalibPoseStudy::Options so;
+  so.min_poses = 5;
+  const auto every = vpSelfCalibPoseStudy::run(sim.getNominalChain(), ds, o, so);
+  so.step = 2;
+  const auto some = vpSelfCalibPoseStudy::run(sim.getNominalChain(), ds, o, so);
+  ASSERT_EQ(some.status, vpSelfCalibPoseStudy::OK) << some.message;
+  EXPECT_EQ(every.runs, 5u);
+  EXPECT_EQ(some.runs, 3u);
+  std::vector<unsigned int> ns;
+  for (const auto &p : some.points) {
+    ns.push_back(p.poses);
+    bool found = false;
+    for (const auto &q : every.points)
+      if (q.poses == p.poses) {
+        found = true;
+        EXPECT_EQ(q.yardstick_error, p.yardstick_error) << "n = " << p.poses;
+      }
+    EXPECT_TRUE(found) << "n = " << p.poses;
+  }
+  for (unsigned int n : ns)
+    EXPECT_TRUE(n == 5 || n == 7 || n == 9) << n;
+  EXPECT_FALSE(some.points.empty());
+  EXPECT_EQ(some.points.back().poses, 9u);
+  so.step = 0;
+  EXPECT_THROW(vpSelfCalibPoseStudy::run(sim.getNominalChain(), ds, o, so), vpSelfCalibException);
+}
+
 TEST(PoseStudy, NotApplicableAndBadOptions)
 {
   const vpSelfCalibSimulator sim = makeSim("viper850", 15, 0.2);

@@ -29,7 +29,7 @@
 
   With N = min(options.num_calibration_poses, number of views) and the held-out views those after
   the first N (as vpRobotSelfCalibration uses them), the calibration is run again on the first n
-  views for n = min(min_poses, N) .. N, each time verified on the same held-out views; the
+  views for n = N, N - step, ... down to min(min_poses, N), each time verified on the same held-out views; the
   calibrated model's yardstick error (vpCalibrationVerifier, the paper's 3-D error) is kept for
   every n whose run is OK and verified. The nominal model's error on the same views is the
   reference line. The last point (n = N) is the run vpRobotSelfCalibration::run() makes with the
@@ -44,10 +44,12 @@ class VISP_SELFCALIB_EXPORT vpSelfCalibPoseStudy
 public:
   struct Options {
     unsigned int min_poses = 6; //!< fewest calibration poses of the curve (the paper's Figure 6 starts at 6)
+    //! Every step-th n from N down to min_poses (1: every n; 3 with N = 15: 6, 9, 12, 15).
+    unsigned int step = 1;
     //! Calibrations run at once, each on its own thread (0: the machine's hardware threads). The
     //! curve does not depend on it: every calibration is single-threaded and deterministic.
     unsigned int threads = 0;
-    //! Throws vpSelfCalibException when min_poses < 3 (a calibration needs 3 views).
+    //! Throws vpSelfCalibException when min_poses < 3 (a calibration needs 3 views) or step is 0.
     void check() const;
   };
 
