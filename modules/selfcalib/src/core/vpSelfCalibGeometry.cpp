@@ -162,8 +162,11 @@ bool fitPoseRansac(const std::vector<Eigen::Vector3d> &X, const std::vector<Eige
 }
 
 bool marginalCovariance(ceres::Problem &problem, const std::vector<double *> &kept,
-                        const std::vector<double *> &eliminated, Eigen::MatrixXd &cov, Eigen::MatrixXd *undetermined)
+                        const std::vector<double *> &eliminated, Eigen::MatrixXd &cov, Eigen::MatrixXd *undetermined,
+                        int *points_left_out)
 {
+  if (points_left_out)
+    *points_left_out = 0;
   ceres::Problem::EvaluateOptions eo;
   eo.parameter_blocks = kept;
   eo.parameter_blocks.insert(eo.parameter_blocks.end(), eliminated.begin(), eliminated.end());
@@ -174,48 +177,73 @@ bool marginalCovariance(ceres::Problem &problem, const std::vector<double *> &ke
   const int nA = J.num_cols - 3 * static_cast<int>(eliminated.size());
   if (nA <= 0)
     return false;
-  // Normal equations [H B; B^T C] accumulated row by row: H over the kept blocks, B and the 3 x 3
-  // blocks C per eliminated point.
+  // Each row's eliminated point (or -1) and each point's 3 x 3 information; a row on two points is not this
+  // problem's structure.
+  std::vector<int> row_point(J.num_rows, -1);
+  std::vector<Eigen::Matrix3d> C(eliminated.size(), Eigen::Matrix3d::Zero());
+  for (int r = 0; r < J.num_rows; ++r) {
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    for (int k = J.rows[r]; k < J.rows[r + 1]; ++k) {
+      const int c = J.cols[k];
+      if (c < nA)
+        continue;
+      const int i = (c - nA) / 3;
+      if (row_point[r] >= 0 && row_point[r] != i)
+        return false;
+      row_point[r] = i;
+      p((c - nA) % 3) = J.values[k];
+    }
+    if (row_point[r] >= 0)
+      C[row_point[r]] += p * p.transpose();
+  }
+  // A point its own observations do not determine (seen along one ray only, or so near a camera
+  // or so far away that its information is rounding error: a 3 x 3 block with an eigenvalue below
+  // 1e-12 of its largest) tells the kept parameters nothing reliable: it is left out with its rows.
+  // (Exactly, its rows' information is J_a^T (I - P_p) J_a, P_p the projector on its Jacobian's
+  // range; along a near-null direction that is the difference of two rounding errors.)
+  std::vector<char> determined(eliminated.size(), 1);
+  std::vector<Eigen::Matrix3d> C_inv(eliminated.size(), Eigen::Matrix3d::Zero());
+  for (size_t i = 0; i < C.size(); ++i) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> e(C[i]);
+    const Eigen::Vector3d ev = e.eigenvalues(); // increasing
+    determined[i] = e.info() == Eigen::Success && ev(2) > 0 && std::isfinite(ev(2)) && ev(0) > 1e-12 * ev(2);
+    if (determined[i])
+      C_inv[i] = e.eigenvectors() * ev.cwiseInverse().asDiagonal() * e.eigenvectors().transpose();
+    else if (points_left_out)
+      ++*points_left_out;
+  }
+  // Normal equations [H B; B^T C] over the rows kept: H over the kept blocks, B per eliminated point.
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(nA, nA);
   std::vector<Eigen::Matrix<double, Eigen::Dynamic, 3>> B(eliminated.size(),
                                                           Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(nA, 3));
-  std::vector<Eigen::Matrix3d> C(eliminated.size(), Eigen::Matrix3d::Zero());
   std::vector<std::pair<int, double>> a;
   for (int r = 0; r < J.num_rows; ++r) {
+    const int point = row_point[r];
+    if (point >= 0 && !determined[point])
+      continue;
     a.clear();
     Eigen::Vector3d p = Eigen::Vector3d::Zero();
-    int point = -1;
     for (int k = J.rows[r]; k < J.rows[r + 1]; ++k) {
       const int c = J.cols[k];
       if (c < nA)
         a.push_back({c, J.values[k]});
-      else {
-        const int i = (c - nA) / 3;
-        if (point >= 0 && point != i)
-          return false; // a residual on two eliminated points: not this problem's structure
-        point = i;
+      else
         p((c - nA) % 3) = J.values[k];
-      }
     }
     for (const auto &x : a)
       for (const auto &y : a)
         H(x.first, y.first) += x.second * y.second;
-    if (point >= 0) {
+    if (point >= 0)
       for (const auto &x : a)
         B[point].row(x.first) += x.second * p.transpose();
-      C[point] += p * p.transpose();
-    }
   }
   // The kept parameters' own information, before the points are marginalized: the scale of the test
   // below. Scaling by the complement's diagonal instead would blow a direction the points take all
   // the information from (its diagonal is then pure cancellation) up to order 1.
   const Eigen::VectorXd d = H.diagonal();
-  for (size_t i = 0; i < C.size(); ++i) {
-    const Eigen::LDLT<Eigen::Matrix3d> ldlt(C[i]);
-    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-12 * ldlt.vectorD().maxCoeff()))
-      return false;
-    H.noalias() -= B[i] * ldlt.solve(B[i].transpose());
-  }
+  for (size_t i = 0; i < C.size(); ++i)
+    if (determined[i])
+      H.noalias() -= B[i] * C_inv[i] * B[i].transpose();
   if (!(d.minCoeff() > 0)) {
     if (undetermined) {
       Eigen::Index i = 0;

@@ -90,16 +90,18 @@ bool fitPoseRansac(const std::vector<Eigen::Vector3d> &X, const std::vector<Eige
   threads, and its sums, so the last digits of every standard deviation, changed from run to run
   once another library had started TBB workers. False when the information is singular (an
   eigenvalue of the complement, scaled by the kept parameters' own information, below 1e-10: the
-  data leave less than 1e-10 of a direction's information once the points are free), a point is
-  not determined, or a
-  residual involves two eliminated blocks. undetermined (when given and the information is singular):
+  data leave less than 1e-10 of a direction's information once the points are free) or a residual
+  involves two eliminated blocks. A point its own residuals do not determine (a 3 x 3 information
+  block with an eigenvalue below 1e-12 of its largest: seen along one ray, at a camera centre, or so
+  far that its information is rounding error) is left out with its residuals, which say nothing
+  reliable about the kept blocks; points_left_out (when given) counts them. undetermined (when given and the information is singular):
   the directions of the kept parameters that the data do not determine, one unit column each in the
   diagonally scaled coordinates (the eigenvectors below the threshold; a parameter with no
   information at all is its own direction), so that the caller can name the parameters involved.
 */
 bool marginalCovariance(ceres::Problem &problem, const std::vector<double *> &kept,
                         const std::vector<double *> &eliminated, Eigen::MatrixXd &cov,
-                        Eigen::MatrixXd *undetermined = nullptr);
+                        Eigen::MatrixXd *undetermined = nullptr, int *points_left_out = nullptr);
 
 //! Robust losses on whitened residuals. The values are those of vpMultiViewReconstruction::Loss.
 enum class RobustLoss { NONE = 0, HUBER = 1, CAUCHY = 2 };

@@ -834,21 +834,32 @@ void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::
       const double t2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], r2 = d[3] * d[3] + d[4] * d[4] + d[5] * d[5];
       st += t2;
       sr += r2;
-      chi2 += t2 / (opt.pose_sd_translation * opt.pose_sd_translation) +
-              r2 / (opt.pose_sd_rotation * opt.pose_sd_rotation);
+      const double robot = t2 / (opt.pose_sd_translation * opt.pose_sd_translation) +
+                           r2 / (opt.pose_sd_rotation * opt.pose_sd_rotation);
+      chi2 += robot;
+      res.robot_chi2 += robot;
+      res.robot_dof += 6;
       res.pose_corrections.push_back(vpColVector({d[0], d[1], d[2], d[3], d[4], d[5]}));
     }
     const double views = static_cast<double>(a.state.delta.size());
     res.pose_rms_translation = std::sqrt(st / (3 * views));
     res.pose_rms_rotation = std::sqrt(sr / (3 * views));
+    res.robot_rms_ratio = std::max(res.pose_rms_translation / opt.pose_sd_translation,
+                                   res.pose_rms_rotation / opt.pose_sd_rotation);
     res.sigma0 = dof > 0 ? std::sqrt(chi2 / dof) : 0;
   }
   if (!a.state.dq.empty()) {
     double chi2 = sum / (opt.pixel_sd * opt.pixel_sd), sq = 0, st = 0, sr = 0;
+    double part[3] = {0, 0, 0}; // whitened squares: joints, camera translation, camera rotation
     const int nj = a.state.n_joint;
     for (const auto &d : a.state.dq) {
-      for (size_t i = 0; i < d.size(); ++i)
-        chi2 += d[i] * d[i] / (a.joint_sd[i] * a.joint_sd[i]);
+      for (size_t i = 0; i < d.size(); ++i) {
+        const double robot = d[i] * d[i] / (a.joint_sd[i] * a.joint_sd[i]);
+        chi2 += robot;
+        res.robot_chi2 += robot;
+        ++res.robot_dof;
+        part[static_cast<int>(i) < nj ? 0 : (static_cast<int>(i) < nj + 3 ? 1 : 2)] += robot;
+      }
       if (nj > 0) {
         vpColVector c(static_cast<unsigned int>(nj));
         for (int i = 0; i < nj; ++i) {
@@ -873,6 +884,11 @@ void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::
       res.pose_rms_translation = std::sqrt(st / (3 * views));
       res.pose_rms_rotation = std::sqrt(sr / (3 * views));
     }
+    if (nj > 0)
+      res.robot_rms_ratio = std::sqrt(part[0] / (views * nj));
+    if (a.state.camera_delta)
+      res.robot_rms_ratio =
+          std::max(res.robot_rms_ratio, std::sqrt(std::max(part[1], part[2]) / (3 * views)));
     res.sigma0 = dof > 0 ? std::sqrt(chi2 / dof) : 0;
   }
   for (int idp : kept) {

@@ -10,6 +10,8 @@
 
 #include <visp3/selfcalib/vpKinematicBundleAdjustment.h>
 
+#include "../core/vpSelfCalibMath.h"
+
 #include "vpSelfCalibPipelines.h"
 
 namespace vpSelfCalibPipeline
@@ -237,7 +239,67 @@ void checkNoise(const Context &c, Result &res)
             " px was stated: the standard deviations are scaled by sigma0" +
             (c.options.estimate_pixel_sd ? std::string() : " (calibrate --pixel-sd auto measures the noise)"));
 }
+
+/*
+  The robot part of the residuals: the corrections of the controller poses (or joints) against the
+  stated robot error. Estimated corrections are shrunk towards 0, so their chi-square stays below its
+  number of values when the stated error is right. Above its 99.9 % quantile the robot's error is
+  larger than stated (a warning: the sds are scaled by sigma0, which includes it); corrections that
+  average kRobotRatioDoubt times their stated sd or more (one part: the translations, the rotations
+  or the joints) stand in for what the model does not explain, an eMc or kinematics left off, and the
+  estimate rests on them (a doubt).
+*/
+constexpr double kRobotRatioDoubt = 3.0;
+
+void checkRobotError(const Context &c, Result &res)
+{
+  const vpKinematicBundleAdjustment::Result &b = res.bundle;
+  if (robotCorrectionsWithinStated(b))
+    return;
+  std::string stated;
+  if (!b.pose_corrections.empty())
+    stated = "pose corrections rms " + fixed(1e3 * b.pose_rms_translation, 1) + " mm / " +
+             fixed(1e3 * b.pose_rms_rotation, 1) + " mrad";
+  if (!b.joint_corrections.empty())
+    stated += std::string(stated.empty() ? "" : ", ") + "joint corrections rms " + fixed(1e3 * b.joint_rms, 2) +
+              " mrad";
+  if (c.options.method == vpRobotSelfCalibration::HAND_EYE || !b.pose_corrections.empty())
+    stated += " against a stated pose error of " + fixed(1e3 * c.bundle.pose_sd_translation, 1) + " mm / " +
+              fixed(1e3 * c.bundle.pose_sd_rotation, 1) + " mrad";
+  const std::string figures = stated + "; chi-square " + fixed(b.robot_chi2, 0) + " for " +
+                              std::to_string(b.robot_dof) + " values, 99.9 % bound " + fixed(robotChi2Bound(b), 0);
+  if (robotCorrectionsStandIn(b))
+    add(res, vpSelfCalibDataCheck::DOUBT, "robot-corrections-stand-in",
+        "the robot's poses had to be corrected by " + fixed(b.robot_rms_ratio, 1) +
+            " times their stated error on average (" + figures +
+            "): the corrections stand in for what the model does not explain, an eMc or kinematics the "
+            "adjustment left off; check the hand-eye guess and the robot model, or state the robot's real "
+            "pose error (--pose-sd)");
+  else
+    add(res, vpSelfCalibDataCheck::WARNING, "robot-error-above-stated",
+        "the robot's poses are off by more than stated (" + figures + "): " +
+            (b.covariance_scaled ? "the standard deviations are scaled by sigma0 (" + fixed(b.sigma0, 2) + ")"
+                                 : std::string("the standard deviations may be too small")) +
+            "; give the robot's real pose error (--pose-sd)");
+}
 } // namespace
+
+double robotChi2Bound(const vpKinematicBundleAdjustment::Result &bundle)
+{
+  double low = 0, high = 0;
+  vpSelfCalib::sigma0Interval(bundle.robot_dof, low, high);
+  return high * high * bundle.robot_dof;
+}
+
+bool robotCorrectionsWithinStated(const vpKinematicBundleAdjustment::Result &bundle)
+{
+  return bundle.robot_dof == 0 || !(bundle.robot_chi2 > robotChi2Bound(bundle));
+}
+
+bool robotCorrectionsStandIn(const vpKinematicBundleAdjustment::Result &bundle)
+{
+  return !robotCorrectionsWithinStated(bundle) && bundle.robot_rms_ratio >= kRobotRatioDoubt;
+}
 
 bool measuredNoiseDiffers(double stated, double measured)
 {
@@ -252,6 +314,7 @@ void assess(const Context &c, Result &res)
   checkFit(c, res);
   checkHeldOut(c, res);
   checkNoise(c, res);
+  checkRobotError(c, res);
   std::string doubts;
   for (const Finding &f : res.findings)
     if (f.severity == vpSelfCalibDataCheck::DOUBT)

@@ -69,13 +69,20 @@ vpKinematicChain handEyeStart(const vpKinematicChain &nominal, const std::vector
 
 namespace
 {
-//! The better of two finished runs: more observations kept (beyond 2 %), else the lower sigma0.
+/*
+  The better of two finished runs: the one whose robot pose corrections do not stand in for eMc
+  (robotCorrectionsStandIn: the other's eMc did not converge, its pose corrections took its error),
+  then more observations kept (beyond 2 %), then the lower sigma0.
+*/
 bool better(const Result &a, const Result &b)
 {
   if (a.status != vpRobotSelfCalibration::OK)
     return false;
   if (b.status != vpRobotSelfCalibration::OK)
     return true;
+  const bool a_stands_in = robotCorrectionsStandIn(a.bundle), b_stands_in = robotCorrectionsStandIn(b.bundle);
+  if (a_stands_in != b_stands_in)
+    return b_stands_in;
   const double na = a.bundle.num_observations, nb = b.bundle.num_observations;
   if (std::abs(na - nb) > 0.02 * std::max(na, nb))
     return na > nb;

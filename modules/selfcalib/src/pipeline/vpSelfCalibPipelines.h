@@ -137,6 +137,17 @@ void verify(const Context &context, Result &result);
 //! True when a measured image noise (px, 0.01 or more) differs from the stated one by more than 25 %.
 bool measuredNoiseDiffers(double stated, double measured);
 /*!
+  The 99.9 % bound of the robot corrections' chi-square (bundle.robot_chi2) for their number, and
+  whether the corrections stay within it (true without robot error modelled).
+*/
+double robotChi2Bound(const vpKinematicBundleAdjustment::Result &bundle);
+bool robotCorrectionsWithinStated(const vpKinematicBundleAdjustment::Result &bundle);
+/*!
+  True when the robot corrections exceed that bound and one part of them (translations, rotations,
+  joints) averages 3 times its stated sd or more: they stand in for what the model does not explain.
+*/
+bool robotCorrectionsStandIn(const vpKinematicBundleAdjustment::Result &bundle);
+/*!
   The checks of an OK run's own word (vpSelfCalibAssessment.cpp): corrections and sds against the
   nominal model's tolerance, the calibration views and the held-out views explained better than by
   the nominal model, the yardstick reproduced on the held-out views, the measured image noise.

@@ -241,6 +241,25 @@ TEST(Geometry, MarginalCovarianceIsTheInverseOfTheFullInformation)
   ASSERT_TRUE(marginalCovariance(problem, {k}, eliminated, cov));
   const Eigen::MatrixXd full = (Jfull.transpose() * Jfull).inverse();
   EXPECT_LT((cov - full.topLeftCorner(2, 2)).norm(), 1e-10 * full.topLeftCorner(2, 2).norm());
+
+  // A fifth point with two residuals only (3 unknowns: not determined by its own observations, as a
+  // point seen along one ray) is left out with its residuals: the same covariance, counted; the
+  // kept blocks are still determined by the four others. It made the whole covariance fail before.
+  Eigen::Vector3d lone = Eigen::Vector3d::Zero();
+  for (int r = 0; r < 2; ++r) {
+    LinearCost c;
+    for (double &x : c.a)
+      x = rng.uniform(-1, 1);
+    c.y = rng.uniform(-1, 1);
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LinearCost, 1, 2, 3>(new LinearCost(c)), nullptr, k,
+                             lone.data());
+  }
+  eliminated.push_back(lone.data());
+  Eigen::MatrixXd cov5;
+  int left_out = -1;
+  ASSERT_TRUE(marginalCovariance(problem, {k}, eliminated, cov5, nullptr, &left_out));
+  EXPECT_EQ(left_out, 1);
+  EXPECT_LT((cov5 - cov).norm(), 1e-12 * cov.norm());
 }
 
 // The homography fit: a plane's matches are all explained; a general scene's are not.

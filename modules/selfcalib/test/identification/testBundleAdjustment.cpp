@@ -476,9 +476,12 @@ namespace
 */
 struct HandEyeRun {
   bool ok = false;
+  vpRobotSelfCalibration::Status status = vpRobotSelfCalibration::OK;
   Eigen::Matrix<double, 6, 1> error, sd;
   double sigma0 = 0, pose_rms_t = 0;
   std::string message;
+  std::vector<std::string> findings; //!< codes
+  bool has(const std::string &code) const { return std::find(findings.begin(), findings.end(), code) != findings.end(); }
 };
 HandEyeRun handEyeWithPoseError(uint64_t seed, double sd_t, double sd_r, double model_t, double model_r)
 {
@@ -500,7 +503,10 @@ HandEyeRun handEyeWithPoseError(uint64_t seed, double sd_t, double sd_r, double 
   const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
   HandEyeRun out;
   out.ok = r.status == vpRobotSelfCalibration::OK;
+  out.status = r.status;
   out.message = r.message;
+  for (const auto &f : r.findings)
+    out.findings.push_back(f.code);
   if (!out.ok)
     return out;
   // The estimated eMc correction against the one that gives the true eMc.
@@ -557,6 +563,38 @@ TEST(HandEye, RobotPoseErrorIsModelledAndTheSdAreHonest)
   EXPECT_THROW(bo.check(), vpSelfCalibException);
   bo.pose_sd_rotation = 1e-3;
   EXPECT_NO_THROW(bo.check());
+}
+
+/*
+  The robot part of the residuals is checked against the stated robot error: the pose corrections'
+  chi-square within its 99.9 % bound when the stated error is the true one (no finding, 4 seeds);
+  a true error twice the stated one is a warning and the run stays ok, its sd scaled by sigma0;
+  corrections that must be 10 times their stated sd (as when they take the error of an eMc the
+  adjustment left at its guess: the industrial set target-free, README I4) are never ok: doubtful
+  with the finding that says so, or refused.
+*/
+TEST(HandEye, PoseCorrectionsAreCheckedAgainstTheStatedRobotError)
+{
+  for (uint64_t seed = 80; seed < 84; ++seed) {
+    const HandEyeRun right = handEyeWithPoseError(seed, 2e-3, 2e-3, 2e-3, 2e-3);
+    ASSERT_TRUE(right.ok) << seed << ": " << right.message;
+    EXPECT_FALSE(right.has("robot-error-above-stated")) << seed;
+    EXPECT_FALSE(right.has("robot-corrections-stand-in")) << seed;
+  }
+  int warned = 0;
+  for (uint64_t seed = 80; seed < 84; ++seed) {
+    const HandEyeRun larger = handEyeWithPoseError(seed, 4e-3, 4e-3, 2e-3, 2e-3);
+    ASSERT_TRUE(larger.ok) << seed << ": " << larger.message;
+    EXPECT_FALSE(larger.has("robot-corrections-stand-in")) << seed;
+    warned += larger.has("robot-error-above-stated");
+  }
+  EXPECT_GE(warned, 3);
+  for (uint64_t seed = 80; seed < 82; ++seed) {
+    const HandEyeRun off = handEyeWithPoseError(seed, 20e-3, 20e-3, 2e-3, 2e-3);
+    EXPECT_FALSE(off.ok) << seed << ": " << off.message;
+    if (off.status == vpRobotSelfCalibration::DOUBTFUL)
+      EXPECT_TRUE(off.has("robot-corrections-stand-in")) << seed << ": " << off.message;
+  }
 }
 
 namespace

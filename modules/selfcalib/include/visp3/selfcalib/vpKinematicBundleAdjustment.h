@@ -208,6 +208,21 @@ public:
     //! With joint-reading noise modelled (joint_sd): each view's estimated joint corrections (rad) and their RMS.
     std::vector<vpColVector> joint_corrections;
     double joint_rms = 0;
+    /*!
+      With robot error modelled: the robot part of the chi-square, the sum of the squared whitened
+      corrections (each pose or joint correction over its stated sd), and their number. The
+      corrections are estimates, shrunk towards 0 by the pixels: their chi-square stays below its
+      number when the stated robot error is right, and far above it when the corrections absorb more
+      (a model or eMc that is off, or a robot error larger than stated). 0 without robot error.
+    */
+    double robot_chi2 = 0;
+    unsigned int robot_dof = 0;
+    /*!
+      The largest ratio of a part of the robot corrections' RMS to its stated sd (the pose
+      translations, the pose rotations, the joints): 3 or more says they stand in for something the
+      model does not explain rather than for the stated robot error. 0 without robot error.
+    */
+    double robot_rms_ratio = 0;
     unsigned int iterations = 0;
     double seconds_solve = 0, seconds_covariance = 0;
   };
