@@ -74,6 +74,7 @@ struct Row {
   std::string status;       //!< "ok" or the failure's status name
   std::string message;      //!< the failure's message (printed below the table)
   bool ok = false;          //!< an eMc to compare
+  bool doubtful = false;    //!< ours: a model the tool marks DOUBTFUL (figures shown, no target met on it)
   vpPoseVector eMc;         //!< m, rad
   bool has_sd = false;      //!< ours: the reported sd
   vpColVector sd;           //!< per pose-vector component (m, rad)
@@ -149,9 +150,11 @@ Row ours(const std::string &method, const vpKinematicChain &nominal, const vpSel
   const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(nominal, ds, po);
   row.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   row.status = vpRobotSelfCalibration::statusName(r.status);
+  row.doubtful = r.status == vpRobotSelfCalibration::DOUBTFUL;
   if (r.status != vpRobotSelfCalibration::OK) {
     row.message = r.message;
-    return row;
+    if (!row.doubtful)
+      return row;
   }
   if (!r.has_eMc) {
     row.status += " (no eMc)";
@@ -445,10 +448,14 @@ void industrialSection(const std::string &data)
     Agreement a;
     if (!board.ok || !i4.ok)
       return a;
+    if (i4.doubtful)
+      a.text = "doubtful answer: ";
+    else
+      a.text.clear();
     const vpHomogeneousMatrix d = vpHomogeneousMatrix(board.eMc).inverse() * vpHomogeneousMatrix(i4.eMc);
     const double dt = d.getTranslationVector().frobeniusNorm(), dr = vpThetaUVector(d.getRotationMatrix()).getTheta();
-    a.near = dt <= 0.010 && dr <= 0.010;
-    a.text = fixed(1e3 * dt, 1) + " mm, " + fixed(1e3 * dr, 1) + " mrad";
+    a.near = dt <= 0.010 && dr <= 0.010 && !i4.doubtful;
+    a.text += fixed(1e3 * dt, 1) + " mm, " + fixed(1e3 * dr, 1) + " mrad";
     if (board.has_sd && i4.has_sd) {
       const vpColVector pb = poseColumn(board.eMc), p4 = poseColumn(i4.eMc);
       double worst = 0;
@@ -461,8 +468,8 @@ void industrialSection(const std::string &data)
     return a;
   };
   const Agreement a1 = agreement(i1), a2 = agreement(i2);
-  const bool i4_f = i4.intrinsics.count("fx") && std::fabs(i4.intrinsics.at("fx").first - 541.3) <= 0.01 * 541.3;
-  const bool i4_pp = i4.intrinsics.count("u0") && std::hypot(i4.intrinsics.at("u0").first - 322.6,
+  const bool i4_f = !i4.doubtful && i4.intrinsics.count("fx") && std::fabs(i4.intrinsics.at("fx").first - 541.3) <= 0.01 * 541.3;
+  const bool i4_pp = !i4.doubtful && i4.intrinsics.count("u0") && std::hypot(i4.intrinsics.at("u0").first - 322.6,
                                                             i4.intrinsics.at("v0").first - 215.2) <= 5;
   const bool f_met = i1.intrinsics.count("fx") && std::fabs(i1.intrinsics.at("fx").first - 541.3) <= 0.01 * 541.3;
   const bool pp_met = i1.intrinsics.count("u0") && std::hypot(i1.intrinsics.at("u0").first - 322.6,
@@ -666,7 +673,7 @@ int main(int argc, char **argv)
 
     // Issue 18's targets.
     auto perAxis = [](const Row &row, double t_max, double r_max) {
-      if (!row.ok)
+      if (!row.ok || row.doubtful)
         return false;
       for (unsigned int k = 0; k < 3; ++k)
         if (!(std::fabs(row.dt[k]) <= t_max && std::fabs(row.dtu[k]) <= r_max))
@@ -674,14 +681,14 @@ int main(int argc, char **argv)
       return true;
     };
     auto norms = [](const Row &row, double t_max, double r_max) {
-      return row.ok && row.dt_norm <= t_max && row.dtu_norm <= r_max;
+      return row.ok && !row.doubtful && row.dt_norm <= t_max && row.dtu_norm <= r_max;
     };
     const Row &r2 = rows[1], &r3 = rows[2], &r4 = rows[3];
     std::cout << "\ntargets (issue 18):\n";
     std::cout << "- row 2 within 3 mm and 5 mrad of the reference: norms " << fixed(1e3 * r2.dt_norm, 2) << " mm, "
               << fixed(1e3 * r2.dtu_norm, 2) << " mrad: " << metText(norms(r2, 0.003, 0.005)) << "; per axis: "
               << metText(perAxis(r2, 0.003, 0.005)) << "\n";
-    const bool f_met = r3.ok && std::fabs(r3.f - f_xml) <= 0.01 * f_xml;
+    const bool f_met = r3.ok && !r3.doubtful && std::fabs(r3.f - f_xml) <= 0.01 * f_xml;
     std::cout << "- row 3 f within 1 % of the XML px " << fixed(f_xml, 2) << ": " << fixed(r3.f, 2) << " px ("
               << fixed(r3.ok ? 100 * (r3.f - f_xml) / f_xml : NAN, 2) << " %): " << metText(f_met) << "\n";
     std::cout << "- row 3 eMc within 5 mm and 5 mrad: norms " << fixed(1e3 * r3.dt_norm, 2) << " mm, "
@@ -697,7 +704,8 @@ int main(int argc, char **argv)
       if (!rows[i].ok)
         std::cout << "NOT met (no estimate: " << rows[i].status << ", see above)\n";
       else
-        std::cout << fixed(rows[i].max_ratio, 2) << ": " << metText(rows[i].max_ratio <= 3) << "\n";
+        std::cout << fixed(rows[i].max_ratio, 2) << ": " << metText(rows[i].max_ratio <= 3 && !rows[i].doubtful)
+                  << (rows[i].doubtful ? " (doubtful answer)" : "") << "\n";
     }
     bool fast = true;
     double slowest = 0;

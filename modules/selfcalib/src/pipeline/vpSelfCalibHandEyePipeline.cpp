@@ -131,6 +131,35 @@ void runHandEye(const Context &c, Result &res)
     }
   }
 
+  // (1b) When the pose corrections stand in for eMc (robotCorrectionsStandIn: eMc stayed near its
+  // guess, every controller pose corrected by much the same amount), their mean moved into eMc,
+  // fMe E(d) eMc = fMe E(d - m) (E(m) eMc) to first order, and adjusted again from there.
+  if (predicted.status == vpRobotSelfCalibration::OK && robotCorrectionsStandIn(predicted.bundle) &&
+      !predicted.bundle.pose_corrections.empty()) {
+    double m[6] = {0, 0, 0, 0, 0, 0};
+    for (const vpColVector &d : predicted.bundle.pose_corrections)
+      for (unsigned int i = 0; i < 6; ++i)
+        m[i] += d[i] / static_cast<double>(predicted.bundle.pose_corrections.size());
+    const Rigid eMc1 = rigidFromVector(m) * rigidFromVisp(predicted.calibrated.get_eMc_corrected());
+    const Rigid D = rigidFromPose(c.nominal.get_eMc_pose()).inverse() * eMc1;
+    const Eigen::Vector3d r = logSO3(D.R);
+    const unsigned int first = c.nominal.getNumParameters() - vpKinematicChain::kBlockSize;
+    vpColVector p = c.nominal.getParameters();
+    for (unsigned int i = 0; i < 3; ++i) {
+      p[first + i] = D.t(i);
+      p[first + 3 + i] = r(i);
+    }
+    vpKinematicChain start = c.nominal;
+    start.setParameters(p);
+    Result again = before;
+    if (bundleFrom(c, start, predicted.bundle.points, predicted.fx, views, c.bundle, "hand-eye bundle adjustment",
+                   again)) {
+      again.message = "start from the controller poses, eMc moved by their mean correction; " + again.message;
+      if (better(again, predicted))
+        predicted = again;
+    }
+  }
+
   // (2) From the multi-view reconstruction.
   Result multi = before;
   if (multiView(c, multi)) {
