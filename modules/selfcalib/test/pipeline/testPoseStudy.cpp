@@ -90,9 +90,7 @@ TEST(PoseStudy, ThreadsAndTheCallersRunDoNotChangeTheCurve)
   EXPECT_EQ(last_done, 4u);
 }
 
-// Nothing to verify on (fewer than 2 held-out views) or no yardstick: a status, no calibration run.
-// Study options that cannot make a calibration throw.
-// step 2 on 9 poses: n = 5, 7, 9, each the same calibration as with step 1 (bit for bit).
+// step 2 on 9 poses: n = 5, 7, 9, each the same calibration as with step 1 (bit for bit); step 0 throws.
 TEST(PoseStudy, StepKeepsEveryStepthNumberOfPoses)
 {
   const vpSelfCalibSimulator sim = makeSim("viper850", 16, 0.2);
@@ -126,6 +124,8 @@ TEST(PoseStudy, StepKeepsEveryStepthNumberOfPoses)
   EXPECT_THROW(vpSelfCalibPoseStudy::run(sim.getNominalChain(), ds, o, so), vpSelfCalibException);
 }
 
+// Nothing to verify on (fewer than 2 held-out views) or no yardstick: a status, no calibration run.
+// Study options that cannot make a calibration throw.
 TEST(PoseStudy, NotApplicableAndBadOptions)
 {
   const vpSelfCalibSimulator sim = makeSim("viper850", 15, 0.2);
