@@ -217,8 +217,15 @@ void runMethod(const vpSelfCalibPipeline::Context &c, vpRobotSelfCalibration::Re
     vpSelfCalibPipeline::runHandEye(c, res);
   else
     vpSelfCalibPipeline::runPaper(c, res);
-  res.pixel_sd = c.options.pixel_sd;
-  res.pixel_sd_measured = c.options.method == vpRobotSelfCalibration::PAPER ? 0.0 : res.bundle.pixel_sd_measured;
+  if (c.options.method != vpRobotSelfCalibration::PAPER) {
+    res.pixel_sd = c.options.pixel_sd;
+    res.pixel_sd_measured = res.bundle.pixel_sd_measured;
+  } else {
+    // The paper's pixel residuals are those of its focal length from every view (f shared), if any.
+    if (!(res.pixel_sd > 0))
+      res.pixel_sd = c.options.pixel_sd;
+    res.pixel_sd_measured = res.multiview.status == vpMultiViewReconstruction::OK ? res.multiview.pixel_sd_measured : 0.0;
+  }
 }
 
 // The caller mistakes of run() (see its documentation); returns the number of calibration views.

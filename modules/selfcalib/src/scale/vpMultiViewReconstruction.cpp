@@ -763,19 +763,48 @@ std::set<int> statistics(State &s)
       index[k][s.views[k].points[j].id] = j;
   std::set<int> kept;
   double sum = 0;
+  std::vector<double> abs_residuals; // every observation of a posed view, the outliers too
   for (size_t n = 0; n < s.obs.size(); ++n) {
+    const Observation &o = s.obs[n];
+    const bool posed = o.view < res.posed.size() && res.posed[o.view];
+    Eigen::Vector2d r(0, 0);
+    if (posed && s.X->count(o.id)) {
+      r = residual(s, o, (*s.X)[o.id], 1.0);
+      if (r.allFinite()) {
+        abs_residuals.push_back(std::fabs(r(0)));
+        abs_residuals.push_back(std::fabs(r(1)));
+      }
+    }
     if (!s.inlier[n]) {
       ++res.num_outliers;
       continue;
     }
-    const Observation &o = s.obs[n];
-    const Eigen::Vector2d r = residual(s, o, (*s.X)[o.id], 1.0);
     sum += r(0) * r(0) + r(1) * r(1);
     ++res.num_observations;
     res.inliers[o.view][index[o.view][o.id]] = true;
     kept.insert(o.id);
   }
   res.rms = res.num_observations ? std::sqrt(sum / (2.0 * res.num_observations)) : 0;
+  // The noise against the stated one: sigma0 over the inliers, and the noise measured robustly over
+  // every observation (the median absolute residual), so that a stated sd too small, which rejects
+  // good observations as outliers, is still measured right. Unknowns: the posed views but the first
+  // (the reference baseline's length fixed), the kept points, f.
+  unsigned int posed = 0;
+  for (bool p : res.posed)
+    posed += p ? 1u : 0u;
+  const double unknowns = 6.0 * (posed > 0 ? posed - 1 : 0) - 1.0 + 3.0 * static_cast<double>(kept.size()) +
+                          (s.opt.focal_known ? 0.0 : 1.0);
+  const double dof = 2.0 * res.num_observations - unknowns;
+  if (dof > 0 && res.num_observations > 0) {
+    const double inflate = std::sqrt(2.0 * res.num_observations / dof);
+    res.sigma0 = res.rms / s.opt.pixel_sd * inflate;
+    vpSelfCalib::sigma0Interval(dof, res.sigma0_low, res.sigma0_high);
+    if (!abs_residuals.empty()) {
+      const auto mid = abs_residuals.begin() + static_cast<std::ptrdiff_t>(abs_residuals.size() / 2);
+      std::nth_element(abs_residuals.begin(), mid, abs_residuals.end());
+      res.pixel_sd_measured = 1.4826 * *mid * inflate;
+    }
+  }
   return kept;
 }
 

@@ -165,6 +165,51 @@ TEST(RobotSelfCalibration, PaperSharedFocalFromEveryViewIsExactAndBeatsThePairs)
   EXPECT_LT(z, 1.75);
 }
 
+// The paper's focal length from every view against a wrong stated pixel sd (0.3 px noise stated as
+// 1.2 or 0.075 px). Measured (estimate_pixel_sd): the reconstruction runs again at the measured
+// level, so f and its sd are those of the right statement. Used as stated: the sd is scaled by
+// sigma0, with a finding (unscaled it was 4x the right one). A right statement gives no finding.
+TEST(RobotSelfCalibration, PaperFocalSdFollowsTheImageNoiseNotTheStatedOne)
+{
+  vpSelfCalibSimulator::Options so = vpSelfCalibSimulator::sceneOptions("paper");
+  so.seed = 4;
+  so.pixel_noise_sd = 0.3;
+  const vpSelfCalibSimulator sim(vpKinematicChain::preset("puma560"), so);
+  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(15));
+  const auto run = [&](double factor, bool measure) {
+    vpRobotSelfCalibration::Options o;
+    o.method = vpRobotSelfCalibration::PAPER;
+    o.focal_mode = vpRobotSelfCalibration::FOCAL_SHARED;
+    o.num_calibration_poses = 15;
+    o.pixel_sd = factor * so.pixel_noise_sd;
+    o.estimate_pixel_sd = measure;
+    return vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
+  };
+  const auto imageNoiseFinding = [](const vpRobotSelfCalibration::Result &r) {
+    for (const auto &f : r.findings)
+      if (f.code == "noise-mismatch" && f.message.find("image residuals") != std::string::npos)
+        return true;
+    return false;
+  };
+  const vpRobotSelfCalibration::Result right = run(1.0, false);
+  ASSERT_EQ(right.multiview.status, vpMultiViewReconstruction::OK) << right.multiview.message;
+  ASSERT_GT(right.fx_sd, 0.0);
+  EXPECT_FALSE(imageNoiseFinding(right));
+  EXPECT_NEAR(right.pixel_sd_measured, so.pixel_noise_sd, 0.1 * so.pixel_noise_sd);
+  for (const double factor : {4.0, 0.25}) {
+    const vpRobotSelfCalibration::Result r = run(factor, true);
+    ASSERT_EQ(r.multiview.status, vpMultiViewReconstruction::OK) << r.multiview.message;
+    EXPECT_NEAR(r.pixel_sd, so.pixel_noise_sd, 0.1 * so.pixel_noise_sd) << "stated x" << factor;
+    EXPECT_EQ(r.multiview.num_outliers, right.multiview.num_outliers) << "stated x" << factor;
+    EXPECT_NEAR(r.fx, right.fx, 0.05 * right.fx_sd) << "stated x" << factor;
+    EXPECT_NEAR(r.fx_sd / right.fx_sd, 1.0, 0.1) << "stated x" << factor;
+    EXPECT_FALSE(imageNoiseFinding(r)) << "stated x" << factor;
+  }
+  const vpRobotSelfCalibration::Result stated = run(4.0, false);
+  EXPECT_TRUE(imageNoiseFinding(stated));
+  EXPECT_NEAR(stated.fx_sd / right.fx_sd, 1.0, 0.1);
+}
+
 TEST(RobotSelfCalibration, BadInputsGiveAStatusOrAnError)
 {
   const vpSelfCalibSimulator sim = makeSim("viper850", 13, 0.2);

@@ -102,6 +102,13 @@ public:
     std::vector<std::vector<bool>> inliers;
     unsigned int num_observations = 0, num_outliers = 0;
     double rms = 0;                         //!< px, reprojection RMS over the inliers
+    //! rms over Options::pixel_sd for the degrees of freedom, and its 99.9 % chi-square interval (0
+    //! when there are no degrees of freedom).
+    double sigma0 = 0, sigma0_low = 0, sigma0_high = 0;
+    //! px: the image noise measured from the residuals of every observation, the rejected ones too
+    //! (1.4826 x their median absolute value, for the degrees of freedom): right even when a stated
+    //! pixel_sd too small rejected good observations (0 without degrees of freedom).
+    double pixel_sd_measured = 0;
     std::vector<vpTwoViewEstimator::Result> pairs; //!< pair (0, k) at index k - 1
     double seconds_twoview = 0, seconds_bundle = 0;
   };

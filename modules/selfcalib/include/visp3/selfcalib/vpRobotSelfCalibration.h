@@ -152,9 +152,11 @@ public:
       (vpKinematicBundleAdjustment::Result::pixel_sd_measured, robust) differs from pixel_sd by more
       than 25 % and is at least 0.01 px (below, the data are exact to the level that matters), the
       method runs again with that value as pixel_sd: outlier thresholds, robust loss and weights
-      follow the real noise. Result::pixel_sd says which value was used. PAPER (no pixel residuals
-      in its estimate) ignores it. In every mode the covariance is scaled by sigma0^2 when sigma0 is
-      outside its 99.9 % chi-square interval, with a "noise-mismatch" finding naming both values.
+      follow the real noise. Result::pixel_sd says which value was used. PAPER: only its focal length
+      from every view (f shared, paper_focal_all_views) has pixel residuals; that reconstruction runs
+      again at the measured level, the rest of the method has none. In every mode the covariance
+      (PAPER: f's sd) is scaled by sigma0 when sigma0 is outside its 99.9 % chi-square interval, with
+      a "noise-mismatch" finding naming both values.
     */
     bool estimate_pixel_sd = false;
     /*!
@@ -225,7 +227,8 @@ public:
     vpKinematicChain calibrated;           //!< the nominal model with the identified corrections
     vpCameraParameters camera;             //!< with the focal length used
     //! px: the image noise sd the final run used (Options::pixel_sd, or the measured one with
-    //! estimate_pixel_sd), and the one its residuals measure (0 for PAPER).
+    //! estimate_pixel_sd), and the one its residuals measure (PAPER: those of its focal length from
+    //! every view, 0 without).
     double pixel_sd = 0, pixel_sd_measured = 0;
     /*!
       How well each model explains the calibration views (BUNDLE_ADJUSTMENT, HAND_EYE): the
