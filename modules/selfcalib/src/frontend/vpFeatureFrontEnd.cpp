@@ -274,10 +274,10 @@ struct Features {
   Per descriptor (row), the squared distance to the nearest other row of the same matrix. Hamming
   (ORB): OpenCV's brute-force matcher. L2 (SIFT, float rows): |a|^2 + |b|^2 - 2 a.b with the dot
   products as an Eigen matrix product, a block of rows at a time (memory n x 256 floats), each pair
-  once. OpenCV's
-  SIFT descriptors are whole numbers up to 255 (128 of them), so every sum stays below 2^24 and the
-  result is exactly the matcher's; 2.7x less CPU than its knnMatch on the 25 rendered images of
-  bench-frontend (0.65 against 1.75 s on one core; the per-image detection 40 % of whose time it was).
+  once. OpenCV's SIFT descriptors are whole numbers up to 255 (128 of them), so every sum stays below
+  2^24 and the squared distance is exact (the matcher's knnMatch gave its square root, squared back
+  here before: the same tracks on bench-frontend's images); 2.7x less CPU than that knnMatch on its
+  25 rendered images (0.65 against 1.75 s on one core; it was 40 % of the detection's time).
 */
 std::vector<float> nearestOtherSquared(const cv::Mat &desc, bool l2)
 {
