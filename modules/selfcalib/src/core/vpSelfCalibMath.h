@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -181,6 +182,20 @@ inline bool allFinite(const vpColVector &v)
       return false;
   return true;
 }
+/*!
+  The noise sd measured robustly from absolute residuals (one per pixel coordinate): 1.4826 times
+  their median, times sqrt(values / dof) for the degrees of freedom the fit took (inflate). The
+  values are reordered. 0 when there are none.
+*/
+inline double robustNoiseSd(std::vector<double> &abs_residuals, double inflate)
+{
+  if (abs_residuals.empty())
+    return 0;
+  const auto mid = abs_residuals.begin() + static_cast<std::ptrdiff_t>(abs_residuals.size() / 2);
+  std::nth_element(abs_residuals.begin(), mid, abs_residuals.end());
+  return 1.4826 * *mid * inflate;
+}
+
 /*!
   The two-sided 99.9 % interval [low, high] of sigma0 = sqrt(chi2 / dof) for dof degrees of freedom
   (chi2 quantiles by the Wilson-Hilferty approximation, z = 3.29; within 1 % of the exact quantiles

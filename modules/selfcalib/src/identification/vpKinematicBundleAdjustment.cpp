@@ -823,9 +823,7 @@ void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::
   const double dof = 2.0 * res.num_observations - static_cast<double>(a.P + a.free_in.size() + 3 * kept.size());
   res.sigma0 = dof > 0 ? res.rms / opt.pixel_sd * std::sqrt(2.0 * res.num_observations / dof) : 0;
   if (dof > 0 && !abs_residuals.empty()) {
-    const auto mid = abs_residuals.begin() + static_cast<std::ptrdiff_t>(abs_residuals.size() / 2);
-    std::nth_element(abs_residuals.begin(), mid, abs_residuals.end());
-    res.pixel_sd_measured = 1.4826 * *mid * std::sqrt(2.0 * res.num_observations / dof);
+    res.pixel_sd_measured = vpSelfCalib::robustNoiseSd(abs_residuals, std::sqrt(2.0 * res.num_observations / dof));
     vpSelfCalib::sigma0Interval(dof, res.sigma0_low, res.sigma0_high);
   }
   if (!a.state.delta.empty()) {

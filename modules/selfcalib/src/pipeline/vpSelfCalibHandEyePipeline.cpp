@@ -15,6 +15,26 @@ namespace vpSelfCalibPipeline
 namespace
 {
 /*
+  The nominal model with its eMc correction set so that its eMc is `eMc` (eMc_nominal D = eMc, the
+  correction's translation and rotation vector). plausible: the correction is finite and under 1 m.
+*/
+vpKinematicChain withEMc(const vpKinematicChain &nominal, const Rigid &eMc, bool &plausible)
+{
+  const Rigid D = rigidFromPose(nominal.get_eMc_pose()).inverse() * eMc;
+  const Eigen::Vector3d r = logSO3(D.R);
+  const unsigned int first = nominal.getNumParameters() - vpKinematicChain::kBlockSize;
+  vpColVector p = nominal.getParameters();
+  for (unsigned int i = 0; i < 3; ++i) {
+    p[first + i] = D.t(i);
+    p[first + 3 + i] = r(i);
+  }
+  vpKinematicChain chain = nominal;
+  chain.setParameters(p);
+  plausible = D.t.allFinite() && r.allFinite() && D.t.norm() < 1.0;
+  return chain;
+}
+
+/*
   First eMc: Tsai's closed form (OpenCV) from the end-effector poses fMe and the scene-to-camera
   poses of the multi-view reconstruction (translations times s), as a correction of the model's eMc
   (eMc_nominal D = eMc). The nominal model when fewer than 3 views are posed or the closed form gives
@@ -53,17 +73,9 @@ vpKinematicChain handEyeStart(const vpKinematicChain &nominal, const std::vector
       eMc.R(i, j) = R.at<double>(i, j);
     eMc.t(i) = t.at<double>(i);
   }
-  const Rigid D = rigidFromPose(nominal.get_eMc_pose()).inverse() * eMc;
-  const Eigen::Vector3d r = logSO3(D.R);
-  const unsigned int first = nominal.getNumParameters() - vpKinematicChain::kBlockSize;
-  vpColVector p = nominal.getParameters();
-  for (unsigned int i = 0; i < 3; ++i) {
-    p[first + i] = D.t(i);
-    p[first + 3 + i] = r(i);
-  }
-  if (D.t.allFinite() && r.allFinite() && D.t.norm() < 1.0)
-    start.setParameters(p);
-  return start;
+  bool plausible = false;
+  const vpKinematicChain tsai = withEMc(nominal, eMc, plausible);
+  return plausible ? tsai : start;
 }
 } // namespace
 
@@ -140,17 +152,9 @@ void runHandEye(const Context &c, Result &res)
     for (const vpColVector &d : predicted.bundle.pose_corrections)
       for (unsigned int i = 0; i < 6; ++i)
         m[i] += d[i] / static_cast<double>(predicted.bundle.pose_corrections.size());
-    const Rigid eMc1 = rigidFromVector(m) * rigidFromVisp(predicted.calibrated.get_eMc_corrected());
-    const Rigid D = rigidFromPose(c.nominal.get_eMc_pose()).inverse() * eMc1;
-    const Eigen::Vector3d r = logSO3(D.R);
-    const unsigned int first = c.nominal.getNumParameters() - vpKinematicChain::kBlockSize;
-    vpColVector p = c.nominal.getParameters();
-    for (unsigned int i = 0; i < 3; ++i) {
-      p[first + i] = D.t(i);
-      p[first + 3 + i] = r(i);
-    }
-    vpKinematicChain start = c.nominal;
-    start.setParameters(p);
+    bool plausible = false;
+    const vpKinematicChain start =
+        withEMc(c.nominal, rigidFromVector(m) * rigidFromVisp(predicted.calibrated.get_eMc_corrected()), plausible);
     Result again = before;
     if (bundleFrom(c, start, predicted.bundle.points, predicted.fx, views, c.bundle, "hand-eye bundle adjustment",
                    again)) {

@@ -799,11 +799,7 @@ std::set<int> statistics(State &s)
     const double inflate = std::sqrt(2.0 * res.num_observations / dof);
     res.sigma0 = res.rms / s.opt.pixel_sd * inflate;
     vpSelfCalib::sigma0Interval(dof, res.sigma0_low, res.sigma0_high);
-    if (!abs_residuals.empty()) {
-      const auto mid = abs_residuals.begin() + static_cast<std::ptrdiff_t>(abs_residuals.size() / 2);
-      std::nth_element(abs_residuals.begin(), mid, abs_residuals.end());
-      res.pixel_sd_measured = 1.4826 * *mid * inflate;
-    }
+    res.pixel_sd_measured = vpSelfCalib::robustNoiseSd(abs_residuals, inflate);
   }
   return kept;
 }
