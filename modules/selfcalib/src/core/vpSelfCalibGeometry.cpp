@@ -7,6 +7,8 @@
 #include <Eigen/Eigenvalues>
 
 #include <ceres/ceres.h>
+#include <ceres/tiny_solver.h>
+#include <ceres/tiny_solver_autodiff_function.h>
 #include <opencv2/calib3d.hpp>
 
 #include "vpSelfCalibCeres.h"
@@ -16,27 +18,28 @@ namespace vpSelfCalib
 {
 namespace
 {
-//! Reprojection error (px) of a point X (frame f) in a camera cMf.
-struct PointReprojection {
-  PointReprojection(const CameraModel &camera, const Rigid &cMf, const Eigen::Vector2d &uv)
-    : camera_(camera), cMf_(cMf), uv_(uv)
-  {
-  }
+//! Reprojection errors (px) of a point X (frame f) in the cameras cMf[i] that saw it at uv[i], for
+//! TinySolver (the number of residuals known at run time).
+struct PointReprojections {
+  const CameraModel &camera;
+  const std::vector<Rigid> &cMf;
+  const std::vector<Eigen::Vector2d> &uv;
+  int NumResiduals() const { return static_cast<int>(2 * uv.size()); }
   template <typename T> bool operator()(const T *X, T *r) const
   {
-    T Xc[3], in[kMaxIntrinsics], uv[2];
-    for (int i = 0; i < 3; ++i)
-      Xc[i] = T(cMf_.R(i, 0)) * X[0] + T(cMf_.R(i, 1)) * X[1] + T(cMf_.R(i, 2)) * X[2] + T(cMf_.t(i));
-    for (int i = 0; i < camera_.size(); ++i)
-      in[i] = T(camera_.intrinsics()[i]);
-    projectPoint(camera_.distortion(), in, Xc, uv);
-    r[0] = uv[0] - T(uv_(0));
-    r[1] = uv[1] - T(uv_(1));
+    T in[kMaxIntrinsics];
+    for (int k = 0; k < camera.size(); ++k)
+      in[k] = T(camera.intrinsics()[k]);
+    for (size_t i = 0; i < uv.size(); ++i) {
+      T Xc[3], p[2];
+      for (int k = 0; k < 3; ++k)
+        Xc[k] = T(cMf[i].R(k, 0)) * X[0] + T(cMf[i].R(k, 1)) * X[1] + T(cMf[i].R(k, 2)) * X[2] + T(cMf[i].t(k));
+      projectPoint(camera.distortion(), in, Xc, p);
+      r[2 * i] = p[0] - T(uv[i](0));
+      r[2 * i + 1] = p[1] - T(uv[i](1));
+    }
     return true;
   }
-  CameraModel camera_;
-  Rigid cMf_;
-  Eigen::Vector2d uv_;
 };
 } // namespace
 
@@ -72,16 +75,28 @@ bool triangulateMidpoint(const std::vector<Ray> &rays, Eigen::Vector3d &X)
 bool refineTriangulation(const CameraModel &camera, const std::vector<Rigid> &cMf,
                          const std::vector<Eigen::Vector2d> &uv, Eigen::Vector3d &X)
 {
-  ceres::Problem problem;
-  for (size_t i = 0; i < cMf.size(); ++i)
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PointReprojection, 2, 3>(
-                                 new PointReprojection(camera, cMf[i], uv[i])),
-                             nullptr, X.data());
-  const ceres::Solver::Options so = solverOptions(50, true);
-  ceres::Solver::Summary summary;
-  solve(so, &problem, &summary);
-  if (!summary.IsSolutionUsable() || !X.allFinite())
+  if (cMf.size() != uv.size() || cMf.empty())
     return false;
+  // Three unknowns and a few dozen residuals, solved for every point of every view set (tens of
+  // thousands of times per calibration): Ceres' TinySolver (dense Levenberg-Marquardt, no problem
+  // or program to build) instead of a ceres::Solve per point.
+  using Function = ceres::TinySolverAutoDiffFunction<PointReprojections, Eigen::Dynamic, 3>;
+  const PointReprojections views{camera, cMf, uv};
+  const Function f(views);
+  ceres::TinySolver<Function> solver;
+  // As solverOptions(50, true): converged to the last digits (the cost change is absolute here).
+  solver.options.max_num_iterations = 50;
+  solver.options.gradient_tolerance = 1e-14;
+  solver.options.parameter_tolerance = 1e-14;
+  solver.options.function_tolerance = 0;
+  Eigen::Vector3d x = X;
+#pragma GCC diagnostic push // TinySolver's cost_ is set by its first evaluation, which cannot fail here
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+  solver.Solve(f, &x);
+#pragma GCC diagnostic pop
+  if (!x.allFinite() || !(solver.summary.final_cost <= solver.summary.initial_cost))
+    return false;
+  X = x;
   for (const Rigid &M : cMf)
     if (!inFront(M * X))
       return false;

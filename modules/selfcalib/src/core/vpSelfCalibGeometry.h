@@ -37,7 +37,7 @@ bool triangulateMidpoint(const std::vector<Ray> &rays, Eigen::Vector3d &X);
 
 /*!
   Refines X (frame f) on the reprojection error of its observations uv[i] in cameras cMf[i], by
-  Ceres. False when the solve is not usable, X is not finite or not in front of every camera.
+  Ceres' TinySolver. False when the solve is not usable, X is not finite or not in front of every camera.
 */
 bool refineTriangulation(const CameraModel &camera, const std::vector<Rigid> &cMf,
                          const std::vector<Eigen::Vector2d> &uv, Eigen::Vector3d &X);
