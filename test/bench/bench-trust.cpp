@@ -3,6 +3,7 @@
  *
  *   bench-trust [--seeds N] [--draws K] [--robots ur5,puma-mdh] [--noise 0.2,0.5]
  *               [--methods bundle[,paper]] [--focal known,shared] [--sd-factors 1,2.5,0.4] [--auto] [--csv FILE]
+ *               [--blocks B]
  *
  * The hidden-robot style of check: a UR5 (preset, home as in bench-robots) and a modified-DH PUMA 560
  * (the preset refitted as an MDH table, vpModelExport::fitDH), camera 800 x 600, f 1200 px, the
@@ -23,6 +24,9 @@
  *     (vpKinematicBundleAdjustment::relativePoseCovariance, the run's estimated set);
  *   - trusted-but-wrong: the ok runs whose held-out error is above 2x the nominal model's or above
  *     5x their own predicted error (target 0).
+ * With --blocks B, each seed's sd ratios over all its draws and over each block of B consecutive
+ * draws: a ratio over 30 draws is itself uncertain (its sample sd by about 13 %, 1 sd), and the
+ * blocks show by how much on the geometry at hand.
  * A last line per robot gives the selection margins of the estimated set (smallest new direction of
  * an estimated parameter, largest of a dependent one; vpKinematicIdentification::analyseConfigurations).
  */
@@ -114,31 +118,53 @@ struct Row {
       t_sd[a].clear();
     }
   }
-  void endSeed()
+  //! Per seed with --blocks: the ratios over every draw, then over each block of `block` draws.
+  struct SeedRatios {
+    unsigned int seed = 0;
+    double f_all = NAN, t_all = NAN;
+    std::vector<double> f_blocks, t_blocks;
+  };
+  std::vector<SeedRatios> per_seed;
+  void endSeed(unsigned int seed, unsigned int block)
   {
     max_sets = std::max(max_sets, static_cast<unsigned int>(sets.size()));
     const double rf = sdRatio(f, f_sd);
     if (std::isfinite(rf))
       f_ratio.push_back(rf);
-    // eMc.t pooled: sqrt(mean reported variance / mean empirical variance) over the three components.
+    const double rt = tRatio(0, t[0].size());
+    if (std::isfinite(rt))
+      t_ratio.push_back(rt);
+    if (block > 0) {
+      SeedRatios s;
+      s.seed = seed;
+      s.f_all = rf;
+      s.t_all = rt;
+      for (size_t b = 0; b + block <= f.size(); b += block)
+        s.f_blocks.push_back(sdRatio(std::vector<double>(f.begin() + b, f.begin() + b + block),
+                                     std::vector<double>(f_sd.begin() + b, f_sd.begin() + b + block)));
+      for (size_t b = 0; b + block <= t[0].size(); b += block)
+        s.t_blocks.push_back(tRatio(b, b + block));
+      per_seed.push_back(s);
+    }
+  }
+  //! eMc.t pooled over draws [b, e): sqrt(mean reported variance / mean empirical variance) over the
+  //! three components (NaN with fewer than 3 draws).
+  double tRatio(size_t b, size_t e) const
+  {
     double rep = 0, emp = 0;
-    bool ok3 = true;
     for (int a = 0; a < 3; ++a) {
-      if (t[a].size() < 3) {
-        ok3 = false;
-        break;
-      }
+      if (e > t[a].size() || e < b + 3)
+        return NAN;
       bench::Stats s;
       double r2 = 0;
-      for (size_t k = 0; k < t[a].size(); ++k) {
+      for (size_t k = b; k < e; ++k) {
         s.add(t[a][k]);
         r2 += t_sd[a][k] * t_sd[a][k];
       }
-      rep += r2 / t[a].size();
+      rep += r2 / static_cast<double>(e - b);
       emp += s.sd() * s.sd();
     }
-    if (ok3 && emp > 0)
-      t_ratio.push_back(std::sqrt(rep / emp));
+    return emp > 0 ? std::sqrt(rep / emp) : NAN;
   }
 };
 
@@ -162,7 +188,7 @@ bool within(const std::vector<double> &v, double lo, double hi)
 int main(int argc, char **argv)
 {
   try {
-    unsigned int seeds = 3, draws = 30;
+    unsigned int seeds = 3, draws = 30, blocks = 0;
     std::vector<std::string> robots = {"ur5", "puma-mdh"};
     std::vector<double> noises = {0.2, 0.5};
     std::vector<std::string> methods = {"bundle"};
@@ -177,6 +203,11 @@ int main(int argc, char **argv)
     app.add_option("--draws", draws, "noise draws per seed's geometry (default 30)")
         ->type_name("K")
         ->check(selfcalibCli::wholeNumber(1));
+    app.add_option("--blocks", blocks,
+                   "also print each seed's sd ratios over all its draws and over each block of B\n"
+                   "consecutive draws (e.g. --draws 90 --blocks 30: how much a 30-draw ratio varies)")
+        ->type_name("B")
+        ->check(selfcalibCli::wholeNumber(3));
     app.add_option("--robots", robots, "robots (default ur5,puma-mdh)")
         ->type_name("LIST")
         ->delimiter(',')
@@ -338,7 +369,7 @@ int main(int argc, char **argv)
             }
             for (const auto &method : methods)
               for (double factor : factors)
-                rowOf(robot, method, focal, noise, factor).endSeed();
+                rowOf(robot, method, focal, noise, factor).endSeed(seed, blocks);
           }
         }
       }
@@ -362,6 +393,24 @@ int main(int argc, char **argv)
                 << " | " << std::setprecision(3) << 1e3 * r.err.mean() << " | " << 1e3 * r.nominal.mean() << " | "
                 << 1e3 * r.predicted.mean() << " | " << r.above_nominal << " | " << r.above_predicted << " |\n"
                 << std::flush;
+    }
+    if (blocks > 0) {
+      std::cout << "\nsd ratios per seed (reported sd over the spread): over all " << draws << " draws [over draws 1-"
+                << blocks << ", " << blocks + 1 << "-" << 2 * blocks << ", ...]\n";
+      auto list = [](const std::vector<double> &v) {
+        std::ostringstream os;
+        os << std::fixed << std::setprecision(2);
+        for (size_t k = 0; k < v.size(); ++k)
+          os << (k ? " " : "") << v[k];
+        return os.str();
+      };
+      for (const Row &r : rows)
+        for (const Row::SeedRatios &s : r.per_seed)
+          std::cout << "  " << r.robot << " " << r.method << " f " << r.focal << " " << std::setprecision(2) << r.noise
+                    << " px " << r.factor << "x seed " << s.seed << ":"
+                    << (r.focal == "known" ? std::string()
+                                           : " f " + list({s.f_all}) + " [" + list(s.f_blocks) + "];")
+                    << " eMc.t " << list({s.t_all}) << " [" << list(s.t_blocks) << "]\n";
     }
     std::cout << "\nselection margins (new direction of a column: smallest estimated / largest dependent; threshold "
               << std::scientific << std::setprecision(0) << vpKinematicIdentification::Options().rank_tolerance << "):";
