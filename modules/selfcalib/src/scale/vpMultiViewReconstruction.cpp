@@ -518,10 +518,11 @@ Rigid viewPose(const State &s, unsigned int k)
 
 /*
   One solve of the bundle adjustment on the inlier observations, with the robust loss of the given
-  scale (0: plain least squares). The problem is returned for the covariance; nullptr when no
-  observation is left.
+  scale (0: plain least squares), to the tight tolerances when `converge` (the solve that gives the
+  estimate) or opt.tight. The problem is returned for the covariance; nullptr when no observation
+  is left.
 */
-std::unique_ptr<ceres::Problem> solveBundle(State &s, double loss_scale)
+std::unique_ptr<ceres::Problem> solveBundle(State &s, double loss_scale, bool converge)
 {
   const Options &opt = s.opt;
   const bool robust = loss_scale > 0;
@@ -561,7 +562,7 @@ std::unique_ptr<ceres::Problem> solveBundle(State &s, double loss_scale)
   if (opt.focal_known)
     problem->SetParameterBlockConstant(&s.f);
   ceres::Solver::Options so =
-      solverOptions(opt.max_iterations, opt.tight, s.m > 60 ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR);
+      solverOptions(opt.max_iterations, opt.tight || converge, s.m > 60 ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR);
   so.linear_solver_ordering = order;
   so.num_threads = static_cast<int>(opt.num_threads);
   vpSelfCalib::solve(so, problem.get(), &s.summary);
@@ -680,9 +681,10 @@ vpMultiViewReconstruction::Status robustSolve(State &s)
   const size_t last = schedule.scales.size() - 1;
   for (size_t stage = 0; stage <= last; ++stage) {
     const double loss_scale = schedule.scales[stage];
-    std::unique_ptr<ceres::Problem> problem = solveBundle(s, loss_scale);
+    // The last solve gives f and its sd: converged whatever opt.tight (see solveBundle).
+    std::unique_ptr<ceres::Problem> problem = solveBundle(s, loss_scale, stage == last);
     if (problem && s.summary.IsSolutionUsable() && stage == 0 && loss_scale > 0 && resectUnexplainedViews(s))
-      problem = solveBundle(s, loss_scale);
+      problem = solveBundle(s, loss_scale, stage == last);
     if (!problem) {
       res.message = "no observation left";
       return vpMultiViewReconstruction::TOO_FEW_VIEWS;
