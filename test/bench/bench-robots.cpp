@@ -14,6 +14,8 @@
  * (vpKinematicBundleAdjustment::information, propagated by relativePoseCovariance). Target <= 1.2.
  * Home configurations (the scene is placed in front of the camera there): the robot's "ready" pose.
  * A seed whose information matrix at the truth is singular has no bound: it is left out and counted.
+ * runs: the runs with a model (ok or doubtful); failed: without one; doubtful: the models the
+ * checked answers marked DOUBTFUL, kept in the figures.
  */
 #include <chrono>
 #include <cmath>
@@ -98,9 +100,9 @@ int main(int argc, char **argv)
     bench::Csv csv(csv_path, "robot,focal,noise_px,seed,draw,status,position_rms_m,bound_rms_m,f_error_px");
     std::cout << "bench-robots: " << seeds << " seeds x " << (draws + 1) << " noise draws, " << kCalibration
               << " calibration + " << (kPoses - kCalibration) << " held-out poses, 80 points + yardstick\n\n"
-              << "| robot | joints | focal | noise (px) | seeds without a bound | runs | failed | estimated | RMS held-out position (mm) | "
+              << "| robot | joints | focal | noise (px) | seeds without a bound | runs | failed | doubtful | estimated | RMS held-out position (mm) | "
                  "Cramér-Rao RMS (mm) | ratio | RMS orientation (mrad) | abs. f error (px) | target <= 1.2 |\n"
-              << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+              << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     const auto t_start = std::chrono::steady_clock::now();
     bool all_met = true;
     for (const std::string &robot : robots)
@@ -109,7 +111,7 @@ int main(int argc, char **argv)
         for (const double noise : noises) {
           double sum_e2 = 0, sum_pred = 0, sum_r2 = 0;
           bench::Stats f_err;
-          unsigned int runs = 0, failed = 0, pairs = 0, no_bound = 0;
+          unsigned int runs = 0, failed = 0, doubtful = 0, pairs = 0, no_bound = 0;
           size_t estimated = 0;
           for (unsigned int seed = 1; seed <= seeds; ++seed) {
             std::cerr << robot << ", f " << focal << ", " << noise << " px, seed " << seed << "/" << seeds << "      \r"
@@ -148,7 +150,11 @@ int main(int argc, char **argv)
                   o.ip = vpImagePoint(o.ip.get_i() + n(rng), o.ip.get_j() + n(rng));
               const auto r = runDefault(clean, dd, mode, noise);
               double run_e2 = 0;
-              if (r.status == vpRobotSelfCalibration::OK) {
+              // A doubtful model counts (its own column) and stays in the figures: the ratio compares
+              // the estimator with the bound, which does not depend on the verdict (leaving it out
+              // would keep the lucky draws where the check is strict, at 0.5 px with f self-calibrated).
+              if (r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL) {
+                doubtful += r.status == vpRobotSelfCalibration::DOUBTFUL;
                 const vpCalibrationVerifier::Result v = bench::verifyAgainstTruth(clean, r.calibrated, r.camera, held);
                 for (size_t k = 0; k < v.position_errors.size(); ++k) {
                   run_e2 += v.position_errors[k] * v.position_errors[k];
@@ -179,7 +185,7 @@ int main(int argc, char **argv)
           const bool met = ratio <= 1.2 && failed == 0;
           all_met = all_met && met;
           std::cout << std::fixed << "| " << robot << " | " << vpKinematicChain::preset(robot).getNumJoints() << " | "
-                    << focal << " | " << std::setprecision(1) << noise << " | " << no_bound << " | " << runs << " | " << failed << " | "
+                    << focal << " | " << std::setprecision(1) << noise << " | " << no_bound << " | " << runs << " | " << failed << " | " << doubtful << " | "
                     << estimated << " of " << vpKinematicChain::preset(robot).getNumParameters() << " | "
                     << std::setprecision(4) << 1e3 * std::sqrt(sum_e2 / std::max(1u, pairs)) << " | "
                     << 1e3 * std::sqrt(sum_pred / std::max(1u, pairs)) << " | " << std::setprecision(2) << ratio
