@@ -626,9 +626,24 @@ struct Adjustment {
     }
     dropPoorlyObservedPoints(obs, inlier);
   }
-  //! Stage 4, after the robust solve: observations beyond the threshold dropped.
-  void trim(double threshold_px)
+  /*!
+    Stage 4, after the robust solve: observations beyond threshold noise sds dropped. The noise sd
+    is the stated one or, when larger, the one the residuals measure (robustNoiseSd over every
+    observation that projects, wrong matches included: the median holds up to half of them). A
+    stated sd 2.5x too small would otherwise drop about 13 % of the good observations at 5 stated
+    sd, truncate the residuals and make the sds too small whatever sigma0 scaling follows.
+  */
+  void trim(double threshold, double pixel_sd)
   {
+    std::vector<double> abs_residuals;
+    for (size_t n = 0; n < obs.size(); ++n) {
+      double uv[2];
+      if (reproject(n, uv)) {
+        abs_residuals.push_back(std::fabs(uv[0] - obs[n].u));
+        abs_residuals.push_back(std::fabs(uv[1] - obs[n].v));
+      }
+    }
+    const double threshold_px = threshold * std::max(pixel_sd, robustNoiseSd(abs_residuals, 1.0));
     for (size_t n = 0; n < obs.size(); ++n) {
       double uv[2];
       inlier[n] = reproject(n, uv) && std::hypot(uv[0] - obs[n].u, uv[1] - obs[n].v) <= threshold_px;
@@ -792,7 +807,7 @@ std::unique_ptr<ceres::Problem> solveSchedule(Adjustment &a, const vpSelfCalibDa
     if (!summary.IsSolutionUsable())
       break;
     if (static_cast<int>(stage) == schedule.trim_after)
-      a.trim(opt.outlier_threshold * opt.pixel_sd);
+      a.trim(opt.outlier_threshold, opt.pixel_sd);
   }
   return problem;
 }

@@ -322,6 +322,14 @@ void assess(const Context &c, Result &res)
   if (!doubts.empty()) {
     res.status = vpRobotSelfCalibration::DOUBTFUL;
     res.message += "; doubtful: " + doubts;
+    // The warnings often say why (a thin scene, the noise level): said with the doubt, as a failed
+    // run's message says them with the failure.
+    std::string warnings;
+    for (const Finding &f : res.findings)
+      if (f.severity == vpSelfCalibDataCheck::WARNING)
+        warnings += (warnings.empty() ? "" : "; ") + f.message;
+    if (!warnings.empty())
+      res.message += "; warnings: " + warnings;
   }
 }
 } // namespace vpSelfCalibPipeline

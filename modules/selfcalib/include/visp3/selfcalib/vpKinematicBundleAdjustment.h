@@ -93,7 +93,7 @@ public:
     double yardstick_sd = 1e-5;        //!< m, uncertainty of the yardstick's length
     vpMultiViewReconstruction::Loss loss = vpMultiViewReconstruction::LOSS_CAUCHY;
     double loss_scale = 3;             //!< in units of pixel_sd
-    double outlier_threshold = 5;      //!< in units of pixel_sd; 0 keeps every observation
+    double outlier_threshold = 5;      //!< in noise sds (pixel_sd, or the residuals' robust sd when larger); 0 keeps every observation
     double rank_tolerance = 1e-6;      //!< estimated-set threshold (vpKinematicIdentification::Options)
     unsigned int max_iterations = 100;
     bool tight = false;                //!< tolerances 1e-15 (exact recovery on noise-free data)

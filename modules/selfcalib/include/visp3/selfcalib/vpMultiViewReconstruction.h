@@ -71,7 +71,7 @@ public:
     double pixel_sd = 0.2;          //!< px, image noise sd (residual weights, loss scale, outlier test)
     Loss loss = LOSS_CAUCHY;
     double loss_scale = 3;          //!< in units of pixel_sd
-    double outlier_threshold = 5;   //!< in units of pixel_sd; 0 keeps every observation
+    double outlier_threshold = 5;   //!< in noise sds (pixel_sd, or the residuals' robust sd when larger); 0 keeps every observation
     unsigned int min_points = 8;    //!< triangulated points a pair needs to be chained
     unsigned int max_pair_points = 300; //!< correspondences per pair for the two-view step (0: all)
     unsigned int max_bundle_points = 400; //!< points in the bundle adjustment (0: all; see step 3)
