@@ -455,6 +455,10 @@ std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinemat
           << "robot_pose_rms_rad" << YAML::Value << r.bundle.pose_rms_rotation;
     if (!r.bundle.joint_corrections.empty())
       out << YAML::Key << "joint_correction_rms_rad" << YAML::Value << r.bundle.joint_rms;
+    if (r.bundle.reposed_views > 0) // robot error not modelled: each camera re-posed alone
+      out << YAML::Key << "reposed_rms_px" << YAML::Value << r.bundle.reposed_rms << YAML::Key << "repose_f"
+          << YAML::Value << r.bundle.repose_f << YAML::Key << "repose_f_limit" << YAML::Value
+          << r.bundle.repose_f_limit;
     if (r.bundle.covariance_scaled)
       out << YAML::Key << "sd_scaled_by_sigma0" << YAML::Value << true;
     out << YAML::EndMap;

@@ -7,6 +7,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <ceres/ceres.h>
+#include <ceres/rotation.h>
 #include <ceres/tiny_solver.h>
 #include <ceres/tiny_solver_autodiff_function.h>
 #include <opencv2/calib3d.hpp>
@@ -35,6 +36,32 @@ struct PointReprojections {
       for (int k = 0; k < 3; ++k)
         Xc[k] = T(cMf[i].R(k, 0)) * X[0] + T(cMf[i].R(k, 1)) * X[1] + T(cMf[i].R(k, 2)) * X[2] + T(cMf[i].t(k));
       projectPoint(camera.distortion(), in, Xc, p);
+      r[2 * i] = p[0] - T(uv[i](0));
+      r[2 * i + 1] = p[1] - T(uv[i](1));
+    }
+    return true;
+  }
+};
+
+//! Reprojection errors (px) of points Xc (camera frame) seen at uv, the camera moved by (t, w):
+//! Xc' = R(w) Xc + t.
+struct CameraCorrection {
+  const CameraModel &camera;
+  const std::vector<Eigen::Vector3d> &Xc;
+  const std::vector<Eigen::Vector2d> &uv;
+  int NumResiduals() const { return static_cast<int>(2 * uv.size()); }
+  template <typename T> bool operator()(const T *c, T *r) const
+  {
+    T in[kMaxIntrinsics];
+    for (int k = 0; k < camera.size(); ++k)
+      in[k] = T(camera.intrinsics()[k]);
+    for (size_t i = 0; i < uv.size(); ++i) {
+      const T X[3] = {T(Xc[i](0)), T(Xc[i](1)), T(Xc[i](2))};
+      T Y[3], p[2];
+      ceres::AngleAxisRotatePoint(c + 3, X, Y);
+      for (int k = 0; k < 3; ++k)
+        Y[k] += c[k];
+      projectPoint(camera.distortion(), in, Y, p);
       r[2 * i] = p[0] - T(uv[i](0));
       r[2 * i + 1] = p[1] - T(uv[i](1));
     }
@@ -72,34 +99,61 @@ bool triangulateMidpoint(const std::vector<Ray> &rays, Eigen::Vector3d &X)
   return true;
 }
 
+/*
+  Ceres' TinySolver (dense Levenberg-Marquardt, no problem or program to build) on the residuals
+  of `Residuals` over N unknowns x, as solverOptions(50, true): converged to the last digits (the
+  cost change is absolute here). False when the solve is not usable or x is not finite; sum_squares:
+  the final sum of squared residuals (TinySolver's cost is half of it).
+*/
+template <class Residuals, int N>
+bool solveTiny(const Residuals &residuals, Eigen::Matrix<double, N, 1> &x, double *sum_squares = nullptr)
+{
+  using Function = ceres::TinySolverAutoDiffFunction<Residuals, Eigen::Dynamic, N>;
+  const Function f(residuals);
+  ceres::TinySolver<Function> solver;
+  solver.options.max_num_iterations = 50;
+  solver.options.gradient_tolerance = 1e-14;
+  solver.options.parameter_tolerance = 1e-14;
+  solver.options.function_tolerance = 0;
+  Eigen::Matrix<double, N, 1> y = x;
+#pragma GCC diagnostic push // TinySolver's cost_ is set by its first evaluation, which cannot fail here
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+  solver.Solve(f, &y);
+#pragma GCC diagnostic pop
+  if (!y.allFinite() || !(solver.summary.final_cost <= solver.summary.initial_cost))
+    return false;
+  x = y;
+  if (sum_squares)
+    *sum_squares = 2 * solver.summary.final_cost;
+  return true;
+}
+
 bool refineTriangulation(const CameraModel &camera, const std::vector<Rigid> &cMf,
                          const std::vector<Eigen::Vector2d> &uv, Eigen::Vector3d &X)
 {
   if (cMf.size() != uv.size() || cMf.empty())
     return false;
   // Three unknowns and a few dozen residuals, solved for every point of every view set (tens of
-  // thousands of times per calibration): Ceres' TinySolver (dense Levenberg-Marquardt, no problem
-  // or program to build) instead of a ceres::Solve per point.
-  using Function = ceres::TinySolverAutoDiffFunction<PointReprojections, Eigen::Dynamic, 3>;
-  const PointReprojections views{camera, cMf, uv};
-  const Function f(views);
-  ceres::TinySolver<Function> solver;
-  // As solverOptions(50, true): converged to the last digits (the cost change is absolute here).
-  solver.options.max_num_iterations = 50;
-  solver.options.gradient_tolerance = 1e-14;
-  solver.options.parameter_tolerance = 1e-14;
-  solver.options.function_tolerance = 0;
+  // thousands of times per calibration): TinySolver instead of a ceres::Solve per point.
   Eigen::Vector3d x = X;
-#pragma GCC diagnostic push // TinySolver's cost_ is set by its first evaluation, which cannot fail here
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-  solver.Solve(f, &x);
-#pragma GCC diagnostic pop
-  if (!x.allFinite() || !(solver.summary.final_cost <= solver.summary.initial_cost))
+  if (!solveTiny(PointReprojections{camera, cMf, uv}, x))
     return false;
   X = x;
   for (const Rigid &M : cMf)
     if (!inFront(M * X))
       return false;
+  return true;
+}
+
+bool reposeCamera(const CameraModel &camera, const std::vector<Eigen::Vector3d> &Xc,
+                  const std::vector<Eigen::Vector2d> &uv, Eigen::Matrix<double, 6, 1> &correction, double &cost)
+{
+  if (Xc.size() != uv.size() || uv.size() < 4)
+    return false;
+  Eigen::Matrix<double, 6, 1> c = Eigen::Matrix<double, 6, 1>::Zero();
+  if (!solveTiny(CameraCorrection{camera, Xc, uv}, c, &cost))
+    return false;
+  correction = c;
   return true;
 }
 

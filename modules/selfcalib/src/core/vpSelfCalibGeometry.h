@@ -43,6 +43,15 @@ bool refineTriangulation(const CameraModel &camera, const std::vector<Rigid> &cM
                          const std::vector<Eigen::Vector2d> &uv, Eigen::Vector3d &X);
 
 /*!
+  The rigid correction of one camera that best explains its observations uv[i] of points Xc[i]
+  (camera frame) alone: Xc' = R(w) Xc + t, (t, w) in correction (m, angle-axis rad), refined from 0
+  by Ceres' TinySolver on the reprojection error. cost: the final sum of squared errors (px^2).
+  False when fewer than 4 observations are given or the solve is not usable.
+*/
+bool reposeCamera(const CameraModel &camera, const std::vector<Eigen::Vector3d> &Xc,
+                  const std::vector<Eigen::Vector2d> &uv, Eigen::Matrix<double, 6, 1> &correction, double &cost);
+
+/*!
   First-order change of the relative pose c_A M c_B = A^-1 B when two absolute poses A = fMc_A,
   B = fMc_B move by dA = J_A d rho, dB = J_B d rho. J_A, J_B: 6 x P, rows 0-2 the position change,
   rows 3-5 the rotation change (left perturbation exp([dphi]x) R, in the base frame), as

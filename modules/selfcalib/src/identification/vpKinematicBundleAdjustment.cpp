@@ -812,6 +812,59 @@ std::unique_ptr<ceres::Problem> solveSchedule(Adjustment &a, const vpSelfCalibDa
   return problem;
 }
 
+/*
+  Without robot error modelled: each view's camera re-posed alone on its kept observations
+  (reposeCamera), the F statistic of the fit gained against the residuals left (Result::repose_f).
+  Its 99.9 % quantile: the chi-square quantile of the numerator's degrees of freedom (Wilson-Hilferty,
+  z = 3.09) over them, widened by the denominator's own spread (z sqrt(2 / its dof)).
+*/
+void reposeViews(Adjustment &a, KBA::Result &res)
+{
+  const CameraModel camera(a.state.model, a.in);
+  std::vector<std::vector<Eigen::Vector3d>> Xc(a.state.views.size());
+  std::vector<std::vector<Eigen::Vector2d>> uv(a.state.views.size());
+  std::set<int> kept;
+  for (size_t n = 0; n < a.obs.size(); ++n) {
+    if (!a.inlier[n])
+      continue;
+    kept.insert(a.obs[n].id);
+    const ViewState &v = a.state.views[a.obs[n].view];
+    Xc[a.obs[n].view].push_back(v.RT * (a.X[a.obs[n].id] - v.tf));
+    uv[a.obs[n].view].emplace_back(a.obs[n].u, a.obs[n].v);
+  }
+  double before = 0, after = 0, st = 0, sr = 0, used = 0;
+  unsigned int views = 0;
+  for (size_t k = 0; k < Xc.size(); ++k) {
+    Eigen::Matrix<double, 6, 1> c;
+    double cost = 0;
+    if (!reposeCamera(camera, Xc[k], uv[k], c, cost))
+      continue;
+    for (size_t i = 0; i < Xc[k].size(); ++i) {
+      Eigen::Vector2d p;
+      if (camera.project(Xc[k][i], p, nullptr, nullptr))
+        before += (p - uv[k][i]).squaredNorm();
+    }
+    after += cost;
+    used += static_cast<double>(Xc[k].size());
+    st += c.head<3>().squaredNorm();
+    sr += c.tail<3>().squaredNorm();
+    ++views;
+  }
+  // The solution's degrees of freedom over the views used: its share of the whole.
+  const double unknowns = static_cast<double>(a.P + a.free_in.size()) + 3.0 * static_cast<double>(kept.size());
+  const double dof = 2.0 * used - unknowns * used / std::max(1.0, static_cast<double>(res.num_observations)) - 6.0 * views;
+  if (views == 0 || !(dof > 0) || !(after > 0))
+    return;
+  res.reposed_views = views;
+  res.reposed_rms = std::sqrt(after / (2.0 * used));
+  res.repose_rms_translation = std::sqrt(st / (3.0 * views));
+  res.repose_rms_rotation = std::sqrt(sr / (3.0 * views));
+  const double nu = 6.0 * views;
+  res.repose_f = (std::max(0.0, before - after) / nu) / (after / dof);
+  const double z = 3.09, h = 2.0 / (9.0 * nu);
+  res.repose_f_limit = std::pow(1.0 - h + z * std::sqrt(h), 3) * (1.0 + z * std::sqrt(2.0 / dof));
+}
+
 //! Stage 5, the estimate at the final state: chain, camera, points, rms and sigma0, intrinsics.
 void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::Result &res)
 {
@@ -1098,6 +1151,8 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   }
   res.seconds_solve = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   fillEstimate(a, opt, distortion, res);
+  if (solve && a.state.delta.empty() && a.state.dq.empty())
+    reposeViews(a, res);
   if (solve && !summary.IsSolutionUsable()) {
     res.status = KBA::NO_CONVERGENCE;
     res.message = summary.message.empty() ? summary.BriefReport() : summary.message;

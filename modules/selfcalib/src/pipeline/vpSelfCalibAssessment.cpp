@@ -241,6 +241,37 @@ void checkNoise(const Context &c, Result &res)
 }
 
 /*
+  Without robot error modelled: are the residuals image noise, or each view's own camera
+  displacement? The bundle adjustment re-posed each camera alone (Result::reposed_rms, repose_f).
+  Beyond the F test's 99.9 % quantile the robot's poses (or joints) are off by more than the image
+  noise explains; when re-posing also removes half the residuals' variance or more, that error
+  dominates them: the estimate absorbs it and its sds, computed as if the residuals were independent
+  image noise, are too small whatever sigma0 scaling (a doubt; a warning otherwise).
+*/
+void checkUnmodelledRobotError(const Context &c, Result &res)
+{
+  if (c.options.method == vpRobotSelfCalibration::PAPER)
+    return;
+  const vpKinematicBundleAdjustment::Result &b = res.bundle;
+  if (b.reposed_views == 0 || !(b.repose_f > b.repose_f_limit))
+    return;
+  const bool dominant = b.reposed_rms <= b.rms / std::sqrt(2.0);
+  const std::string what = c.options.method == vpRobotSelfCalibration::HAND_EYE ? "controller poses" : "joint readings";
+  add(res, dominant ? vpSelfCalibDataCheck::DOUBT : vpSelfCalibDataCheck::WARNING, "robot-error-unmodelled",
+      "the residuals are " + std::string(dominant ? "mostly" : "partly") +
+          " a displacement of each view's own camera, not image noise: re-posing each camera alone brings the "
+          "reprojection RMS from " +
+          fixed(b.rms, 3) + " to " + fixed(b.reposed_rms, 3) + " px (camera corrections " +
+          fixed(1e3 * b.repose_rms_translation, 1) + " mm / " + fixed(1e3 * b.repose_rms_rotation, 1) +
+          " mrad rms; F " + fixed(b.repose_f, 1) + " against " + fixed(b.repose_f_limit, 2) + " at 99.9 %). The " +
+          what + " are taken as exact and are not: the estimate absorbs their error" +
+          (dominant ? " and its standard deviations are too small" : std::string()) +
+          "; state the robot's pose error (calibrate --pose-sd T,R or the dataset's robot_error; a serial "
+          "arm's absolute accuracy is a few mm and mrad; the camera corrections above overstate it where a "
+          "rotation and a translation of the camera look alike)");
+}
+
+/*
   The robot part of the residuals: the corrections of the controller poses (or joints) against the
   stated robot error. Estimated corrections are shrunk towards 0, so their chi-square stays below its
   number of values when the stated error is right. Above its 99.9 % quantile the robot's error is
@@ -315,6 +346,7 @@ void assess(const Context &c, Result &res)
   checkHeldOut(c, res);
   checkNoise(c, res);
   checkRobotError(c, res);
+  checkUnmodelledRobotError(c, res);
   std::string doubts;
   for (const Finding &f : res.findings)
     if (f.severity == vpSelfCalibDataCheck::DOUBT)

@@ -178,6 +178,35 @@ TEST(Geometry, TriangulationExactWithDistortionAndCheirality)
   EXPECT_FALSE(triangulateMidpoint({parallel[0]}, X));
 }
 
+// One camera re-posed on its observations alone: a displacement of a few mm and mrad (the order of
+// a robot's pose error) recovered exactly through a distorted camera; fewer than 4 observations
+// are refused.
+TEST(Geometry, ReposeCameraRecoversTheDisplacement)
+{
+  const CameraModel cam = opencvCamera();
+  const double d[6] = {2e-3, -1e-3, 3e-3, 5e-3, -3e-3, 2e-3};
+  const Rigid M = rigidFromVector(d);
+  std::vector<Eigen::Vector3d> Xc = pointsInView(20);
+  std::vector<Eigen::Vector2d> uv;
+  for (const Eigen::Vector3d &X : Xc)
+    uv.push_back(cam.project(M * X));
+  Eigen::Matrix<double, 6, 1> c;
+  double cost = -1;
+  ASSERT_TRUE(reposeCamera(cam, Xc, uv, c, cost));
+  for (int i = 0; i < 6; ++i)
+    EXPECT_NEAR(c(i), d[i], 1e-9) << i;
+  EXPECT_LT(cost, 1e-16);
+  // Unmoved: nothing to correct.
+  std::vector<Eigen::Vector2d> still;
+  for (const Eigen::Vector3d &X : Xc)
+    still.push_back(cam.project(X));
+  ASSERT_TRUE(reposeCamera(cam, Xc, still, c, cost));
+  EXPECT_LT(c.norm(), 1e-12);
+  Xc.resize(3);
+  uv.resize(3);
+  EXPECT_FALSE(reposeCamera(cam, Xc, uv, c, cost));
+}
+
 // The relative-pose Jacobian against finite differences of A(rho)^-1 B(rho).
 TEST(Geometry, RelativePoseJacobianMatchesFiniteDifferences)
 {

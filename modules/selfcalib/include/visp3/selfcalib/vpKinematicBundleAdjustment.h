@@ -223,6 +223,22 @@ public:
       model does not explain rather than for the stated robot error. 0 without robot error.
     */
     double robot_rms_ratio = 0;
+    /*!
+      Without robot error modelled (no pose_sd_*, no joint_sd): each view's camera re-posed alone on
+      its kept observations, the points and intrinsics held (a rigid correction per view, 6 values).
+      reposed_rms: the reprojection RMS then (px, over the views with 4 kept observations or more;
+      0 when not computed), over reposed_views views; repose_rms_translation (m) and
+      repose_rms_rotation (rad): the RMS of the corrections, camera frame. repose_f: the F statistic
+      of the fit gained, ((S0 - S1) / 6K) / (S1 / (dof - 6K)) with S0, S1 the sums of squares before
+      and after over those views and dof the solution's: about 1 when the residuals are image noise;
+      repose_f_limit: its 99.9 % quantile (approximate). Far above it, with reposed_rms well below
+      rms, the residuals are mostly each view's own camera displacement (a robot pose error the model
+      does not have), not noise, and the sd computed as if they were noise are too small.
+    */
+    double reposed_rms = 0;
+    unsigned int reposed_views = 0;
+    double repose_rms_translation = 0, repose_rms_rotation = 0;
+    double repose_f = 0, repose_f_limit = 0;
     unsigned int iterations = 0;
     double seconds_solve = 0, seconds_covariance = 0;
   };
