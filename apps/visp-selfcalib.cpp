@@ -450,9 +450,16 @@ std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinemat
         << YAML::Value << r.bundle.num_outliers << YAML::Key << "rms_px" << YAML::Value << r.bundle.rms << YAML::Key
         << "sigma0" << YAML::Value << r.bundle.sigma0 << YAML::Key << "scale_from" << YAML::Value << YAML::DoubleQuoted
         << vpKinematicBundleAdjustment::scaleSourceName(r.bundle.scale_source);
-    if (!r.bundle.pose_corrections.empty())
+    if (!r.bundle.pose_corrections.empty()) {
       out << YAML::Key << "robot_pose_rms_m" << YAML::Value << r.bundle.pose_rms_translation << YAML::Key
           << "robot_pose_rms_rad" << YAML::Value << r.bundle.pose_rms_rotation;
+      // The pose error (m, rad) the corrections were weighed with, and the one they measure.
+      out << YAML::Key << "robot_pose_sd" << YAML::Value << YAML::Flow << YAML::BeginSeq << r.pose_sd_translation
+          << r.pose_sd_rotation << YAML::EndSeq;
+      if (r.bundle.pose_sd_translation_measured > 0)
+        out << YAML::Key << "robot_pose_sd_measured" << YAML::Value << YAML::Flow << YAML::BeginSeq
+            << r.bundle.pose_sd_translation_measured << r.bundle.pose_sd_rotation_measured << YAML::EndSeq;
+    }
     if (!r.bundle.joint_corrections.empty())
       out << YAML::Key << "joint_correction_rms_rad" << YAML::Value << r.bundle.joint_rms;
     if (r.bundle.reposed_views > 0) // robot error not modelled: each camera re-posed alone
@@ -532,7 +539,7 @@ struct CalibrateArgs {
   unsigned int folds = 5;         //!< --folds K: k-fold cross-validation (0: none)
   bool folds_given = false;
   std::string heldout;            //!< --heldout FILE: a second dataset to verify on
-  std::vector<double> pose_sd; //!< robot pose error (m, rad) of controller poses; empty: exact
+  std::vector<std::string> pose_sd; //!< robot pose error (m, rad) of controller poses, or "auto"; empty: exact
   std::vector<double> joint_sd; //!< joint-reading noise (rad), one or one per joint; empty: exact
   std::vector<std::string> estimate; //!< intrinsics estimated beside f: aspect, pp, distortion
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -628,11 +635,14 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
                 "e.g. 0.002,0.002: each pose gets a correction with that prior, and the sd are\n"
                 "widened by sigma0 when the residuals say the noise is larger (default: the dataset's\n"
                 "robot_error, else exact poses); bundle-adjustment: the kinematic model's own residual\n"
-                "(each camera pose corrected in its own frame with that prior; default: none)")
-      ->type_name("T,R")
+                "(each camera pose corrected in its own frame with that prior; default: none);\n"
+                "auto: measured from the corrections (variance components), from the dataset's\n"
+                "robot_error or 2 mm / 2 mrad, runs again until it settles within 10 % (the default\n"
+                "when the dataset states a robot_error)")
+      ->type_name("T,R|auto")
       ->delimiter(',')
-      ->expected(2)
-      ->check(selfcalibCli::number(0, true, 10));
+      ->expected(1, 2)
+      ->check(selfcalibCli::wordOrNumber("auto", 0, true, 10));
   c->add_option("--joint-sd", a.joint_sd,
                 "bundle-adjustment: the joint readings' error (rad), one value for every joint or one\n"
                 "per joint, e.g. 1e-4: each view gets joint corrections with that prior, and the sd are\n"
@@ -1030,9 +1040,16 @@ int calibrate(const CalibrateArgs &a)
   }
   if (std::count(a.estimate.begin(), a.estimate.end(), "kud") && po.bundle.distortion_model != 0)
     throw CLI::ValidationError("--estimate", "kud (ViSP's model) and distortion / k3 (OpenCV's) exclude each other");
+  const bool pose_auto = std::count(a.pose_sd.begin(), a.pose_sd.end(), "auto") > 0;
+  if (pose_auto && a.pose_sd.size() != 1)
+    throw CLI::ValidationError("--pose-sd", "give T,R (two numbers) or auto, not both");
+  if (!pose_auto && a.pose_sd.size() == 1)
+    throw CLI::ValidationError("--pose-sd", "give two values, T,R (m, rad), or auto");
+  // Measured by default from the dataset's robot_error when it states one (below, once it is read).
+  po.estimate_pose_sd = pose_auto || a.pose_sd.empty();
   if (a.pose_sd.size() == 2) {
-    po.bundle.pose_sd_translation = a.pose_sd[0];
-    po.bundle.pose_sd_rotation = a.pose_sd[1];
+    po.bundle.pose_sd_translation = std::stod(a.pose_sd[0]);
+    po.bundle.pose_sd_rotation = std::stod(a.pose_sd[1]);
     po.bundle.scale_covariance = true;
   }
   if (!a.joint_sd.empty()) {
@@ -1047,6 +1064,10 @@ int calibrate(const CalibrateArgs &a)
   // order. The result files must be bit-reproducible.
   cv::setNumThreads(a.threads);
   vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
+  if (pose_auto && !(ds.pose_sd_translation > 0)) { // no robot_error to start from: a serial arm's accuracy
+    po.bundle.pose_sd_translation = po.bundle.pose_sd_rotation = 2e-3;
+    po.bundle.scale_covariance = true;
+  }
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
   co.prior = nominal; // the front end's matching is guided by the nominal kinematics
   // Outputs: a set written in a private directory beside --out, moved into place at once, under
@@ -1476,6 +1497,10 @@ int main(int argc, char **argv)
   } catch (const std::bad_alloc &) {
     std::cerr << "error: out of memory (an input too large for this machine?)\n";
     return 1;
+  } catch (const CLI::ValidationError &e) {
+    // Options that are valid one by one but not together, found after parsing: a usage error.
+    std::cerr << "error: " << e.what() << "\n'visp-selfcalib COMMAND --help' lists the options.\n";
+    return 2;
   } catch (const std::exception &e) {
     // Not one of the module's errors: a case its checks missed (please report it with the input).
     std::cerr << "error: unexpected failure: " << e.what() << "\n";

@@ -605,6 +605,7 @@ struct Adjustment {
   std::vector<double> rho0;
   Eigen::VectorXd scale_dir;
   bool scale_covariance = false, scale_covariance_chi2 = false;
+  double opt_pose_sd[2] = {0, 0}; //!< the stated pose error (m, rad) of the corrections delta
   bool has_yardstick = false;
   int P = 0;
   //! Known geometry (Options::known_points): the object's pose (t, theta u) in f, when used.
@@ -1021,6 +1022,24 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
       res.undetermined.push_back(e.second);
     return false;
   }
+  // The robot pose error measured (variance component estimation): each correction's redundancy is
+  // 1 - its posterior variance over its prior one, at the stated weights (the covariance before any
+  // sigma0 scaling); the corrections follow the kept blocks before them.
+  if (!a.state.delta.empty() && a.opt_pose_sd[0] > 0 && a.opt_pose_sd[1] > 0) {
+    const int first = N + 3 * static_cast<int>(ends.size());
+    double sum[2] = {0, 0}, redundancy[2] = {0, 0};
+    for (size_t k = 0; k < a.state.delta.size(); ++k)
+      for (int i = 0; i < 6; ++i) {
+        const int part = i < 3 ? 0 : 1, r = first + 6 * static_cast<int>(k) + i;
+        const double prior = a.opt_pose_sd[part] * a.opt_pose_sd[part];
+        sum[part] += a.state.delta[k][i] * a.state.delta[k][i];
+        redundancy[part] += 1.0 - full(r, r) / prior;
+      }
+    if (redundancy[0] >= 1 && redundancy[1] >= 1) {
+      res.pose_sd_translation_measured = std::sqrt(sum[0] / redundancy[0]);
+      res.pose_sd_rotation_measured = std::sqrt(sum[1] / redundancy[1]);
+    }
+  }
   // The a posteriori variance factor: the stated noise is too small for the residuals.
   // With robot pose corrections the pose priors take up what the pixels do not: a sigma0 below 1
   // then says the priors were loose, not that the estimate is better, and is not used to shrink.
@@ -1116,6 +1135,8 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   a.free_in = estimatedIntrinsics(camera, opt, a.in);
   a.scale_covariance = opt.scale_covariance;
   a.scale_covariance_chi2 = opt.scale_covariance_chi2;
+  a.opt_pose_sd[0] = opt.pose_sd_translation;
+  a.opt_pose_sd[1] = opt.pose_sd_rotation;
   const bool distortion = (opt.intrinsics & KBA::DISTORTION) || a.in[4] != 0;
   const size_t unknowns = a.P + a.free_in.size() + 3 * a.X.size();
   if (a.P == 0 || 2 * a.obs.size() <= unknowns) {

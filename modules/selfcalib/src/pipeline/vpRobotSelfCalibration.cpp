@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <list>
 #include <optional>
 #include <sstream>
 
@@ -220,6 +221,8 @@ void runMethod(const vpSelfCalibPipeline::Context &c, vpRobotSelfCalibration::Re
   if (c.options.method != vpRobotSelfCalibration::PAPER) {
     res.pixel_sd = c.options.pixel_sd;
     res.pixel_sd_measured = res.bundle.pixel_sd_measured;
+    res.pose_sd_translation = c.bundle.pose_sd_translation;
+    res.pose_sd_rotation = c.bundle.pose_sd_rotation;
   } else {
     // The paper's pixel residuals are those of its focal length from every view (f shared), if any.
     if (!(res.pixel_sd > 0))
@@ -320,29 +323,55 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
   }
   const std::vector<vpSelfCalibDataCheck::Finding> data_findings = res.findings;
   runMethod(context, res);
+  // Later runs at the measured noise levels. Each context refers to its options: both kept in
+  // lists (stable addresses); `used` is the context of the run that stands.
+  std::list<Options> later_options;
+  std::list<vpSelfCalibPipeline::Context> later;
+  const vpSelfCalibPipeline::Context *current = &context;
+  const auto runAgain = [&](const Options &o) {
+    later_options.push_back(o);
+    later.emplace_back(nominal, data, later_options.back(), N, progress);
+    Result next;
+    next.method = opt.method;
+    next.calibrated = nominal;
+    next.camera = data.cam;
+    next.findings = data_findings;
+    runMethod(later.back(), next);
+    if (next.status != OK)
+      return false;
+    next.stage_seconds.insert(next.stage_seconds.begin(), res.stage_seconds.begin(), res.stage_seconds.end());
+    res = next;
+    current = &later.back();
+    return true;
+  };
+  const auto withPixelSd = [](Options o, double sd) {
+    o.pixel_sd = sd;
+    o.bundle.pixel_sd = o.multiview.pixel_sd = o.data_check.pixel_sd = sd;
+    return o;
+  };
   // The image noise measured: a second run with the level the residuals give, when it differs.
-  Options measured = opt;
-  std::optional<vpSelfCalibPipeline::Context> again;
   // A run that failed on too many rejected observations is the one a too small pixel_sd breaks: it
   // runs again too when its residuals measured the noise.
   if (opt.estimate_pixel_sd && opt.method != PAPER && (res.status == OK || res.status == IDENTIFICATION_FAILED) &&
-      vpSelfCalibPipeline::measuredNoiseDiffers(opt.pixel_sd, res.pixel_sd_measured)) {
-    measured.pixel_sd = res.pixel_sd_measured;
-    measured.bundle.pixel_sd = measured.multiview.pixel_sd = measured.data_check.pixel_sd = measured.pixel_sd;
-    again.emplace(nominal, data, measured, N, progress);
-    Result second;
-    second.method = opt.method;
-    second.calibrated = nominal;
-    second.camera = data.cam;
-    second.findings = data_findings;
-    runMethod(*again, second);
-    if (second.status == OK) {
-      second.stage_seconds.insert(second.stage_seconds.begin(), res.stage_seconds.begin(), res.stage_seconds.end());
-      res = second;
-    } else
-      again.reset();
+      vpSelfCalibPipeline::measuredNoiseDiffers(opt.pixel_sd, res.pixel_sd_measured))
+    runAgain(withPixelSd(opt, res.pixel_sd_measured));
+  // The robot pose error measured: rounds at the measured level until it settles (10 %).
+  for (int round = 0; round < 5 && opt.estimate_pose_sd && opt.method != PAPER && res.status == OK; ++round) {
+    const double t = res.bundle.pose_sd_translation_measured, r = res.bundle.pose_sd_rotation_measured;
+    const double t0 = current->bundle.pose_sd_translation, r0 = current->bundle.pose_sd_rotation;
+    if (!(t > 1e-7 && r > 1e-7 && t0 > 0 && r0 > 0) ||
+        (std::fabs(t / t0 - 1) <= 0.1 && std::fabs(r / r0 - 1) <= 0.1))
+      break;
+    Options next = current->options;
+    next.bundle.pose_sd_translation = t;
+    next.bundle.pose_sd_rotation = r;
+    next.bundle.scale_covariance = true;
+    if (opt.estimate_pixel_sd && vpSelfCalibPipeline::measuredNoiseDiffers(next.pixel_sd, res.pixel_sd_measured))
+      next = withPixelSd(next, res.pixel_sd_measured);
+    if (!runAgain(next))
+      break;
   }
-  const vpSelfCalibPipeline::Context &used = again ? *again : context;
+  const vpSelfCalibPipeline::Context &used = *current;
   vpSelfCalibPipeline::checkResult(used, res);
   if (res.status != OK) {
     // What the checks found often explains the failure: say it with the failure.

@@ -224,6 +224,15 @@ public:
     */
     double robot_rms_ratio = 0;
     /*!
+      With robot pose error modelled (pose_sd_*) and a covariance: the pose error the corrections
+      measure (variance component estimation): for the translations, then the rotations, the sum of
+      the squared corrections over their redundancy, sum (1 - posterior variance / stated variance),
+      the posterior variances from the covariance at the stated weights (m, rad). A stated sd that
+      is right gives about itself back; 0 without pose corrections, without covariance, or when the
+      corrections' redundancy is below 1 (the images do not separate them from the rest).
+    */
+    double pose_sd_translation_measured = 0, pose_sd_rotation_measured = 0;
+    /*!
       Without robot error modelled (no pose_sd_*, no joint_sd): each view's camera re-posed alone on
       its kept observations, the points and intrinsics held (a rigid correction per view, 6 values).
       reposed_rms: the reprojection RMS then (px, over the views with 4 kept observations or more;

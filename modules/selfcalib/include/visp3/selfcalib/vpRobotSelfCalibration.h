@@ -160,6 +160,18 @@ public:
     */
     bool estimate_pixel_sd = false;
     /*!
+      The robot pose error measured, not assumed (calibrate --pose-sd auto). BUNDLE_ADJUSTMENT and
+      HAND_EYE with pose corrections modelled: after the run, when the pose error its corrections
+      measure (vpKinematicBundleAdjustment::Result::pose_sd_translation_measured and
+      pose_sd_rotation_measured, variance component estimation) differs from the one used by more
+      than 10 % in either part, the method runs again with the measured values (and the measured
+      image noise with estimate_pixel_sd), up to 5 times; a run that is not ok ends the rounds and
+      the last ok one stands. Result::pose_sd_translation and pose_sd_rotation say which values were
+      used. The start: bundle.pose_sd_*, else the dataset's robot_error; with neither the poses
+      are exact and nothing is measured.
+    */
+    bool estimate_pose_sd = false;
+    /*!
       The nominal model's stated tolerance: the largest error expected of a joint placement or the
       base (m, rad), and of the hand-eye transform eMc (a guess, often rough). An estimated
       correction beyond it, or an sd above it (the views determine the parameter worse than the
@@ -230,6 +242,8 @@ public:
     //! estimate_pixel_sd), and the one its residuals measure (PAPER: those of its focal length from
     //! every view, 0 without).
     double pixel_sd = 0, pixel_sd_measured = 0;
+    //! m, rad: the robot pose error the final run's corrections were weighed with (0: none modelled).
+    double pose_sd_translation = 0, pose_sd_rotation = 0;
     /*!
       How well each model explains the calibration views (BUNDLE_ADJUSTMENT, HAND_EYE): the
       reprojection RMS (px) of the points triangulated from these views through the nominal model
