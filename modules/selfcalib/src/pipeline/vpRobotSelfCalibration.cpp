@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <list>
 #include <optional>
 #include <sstream>
@@ -324,10 +325,11 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
   const std::vector<vpSelfCalibDataCheck::Finding> data_findings = res.findings;
   runMethod(context, res);
   // Later runs at the measured noise levels. Each context refers to its options: both kept in
-  // lists (stable addresses); `used` is the context of the run that stands.
+  // lists (stable addresses); `current` is the context of the run that stands.
   std::list<Options> later_options;
   std::list<vpSelfCalibPipeline::Context> later;
   const vpSelfCalibPipeline::Context *current = &context;
+  Status failed_status = OK; // of the last later run that did not succeed
   const auto runAgain = [&](const Options &o) {
     later_options.push_back(o);
     later.emplace_back(nominal, data, later_options.back(), N, progress);
@@ -337,8 +339,10 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
     next.camera = data.cam;
     next.findings = data_findings;
     runMethod(later.back(), next);
-    if (next.status != OK)
+    if (next.status != OK) {
+      failed_status = next.status;
       return false;
+    }
     next.stage_seconds.insert(next.stage_seconds.begin(), res.stage_seconds.begin(), res.stage_seconds.end());
     res = next;
     current = &later.back();
@@ -368,8 +372,16 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
     next.bundle.scale_covariance = true;
     if (opt.estimate_pixel_sd && vpSelfCalibPipeline::measuredNoiseDiffers(next.pixel_sd, res.pixel_sd_measured))
       next = withPixelSd(next, res.pixel_sd_measured);
-    if (!runAgain(next))
+    if (!runAgain(next)) {
+      // Said, not hidden: the result stands at the level used, which the corrections contradict.
+      std::ostringstream m;
+      m << std::fixed << std::setprecision(1) << "the robot pose error the corrections measure (" << 1e3 * t
+        << " mm / " << 1e3 * r << " mrad) is not the one used (" << 1e3 * t0 << " mm / " << 1e3 * r0
+        << " mrad), and the run at the measured level ended " << statusName(failed_status)
+        << ": the result is the one at the level used; these views may not determine the pose error (add views)";
+      res.findings.push_back({vpSelfCalibDataCheck::WARNING, "robot-error-not-settled", m.str()});
       break;
+    }
   }
   const vpSelfCalibPipeline::Context &used = *current;
   vpSelfCalibPipeline::checkResult(used, res);

@@ -166,7 +166,7 @@ public:
       pose_sd_rotation_measured, variance component estimation) differs from the one used by more
       than 10 % in either part, the method runs again with the measured values (and the measured
       image noise with estimate_pixel_sd), up to 5 times; a run that is not ok ends the rounds and
-      the last ok one stands. Result::pose_sd_translation and pose_sd_rotation say which values were
+      the last ok one stands, with the warning "robot-error-not-settled". Result::pose_sd_translation and pose_sd_rotation say which values were
       used. The start: bundle.pose_sd_*, else the dataset's robot_error; with neither the poses
       are exact and nothing is measured.
     */
