@@ -1043,6 +1043,9 @@ int calibrate(const CalibrateArgs &a)
   const bool pose_auto = std::count(a.pose_sd.begin(), a.pose_sd.end(), "auto") > 0;
   if (pose_auto && a.pose_sd.size() != 1)
     throw CLI::ValidationError("--pose-sd", "give T,R (two numbers) or auto, not both");
+  if (pose_auto && !a.method.empty() && co.method != vpRobotSelfCalibration::HAND_EYE)
+    throw CLI::ValidationError("--pose-sd", "auto measures the controller poses' error: it needs --method hand-eye "
+                                            "(the joint readings' error is stated with --joint-sd)");
   if (!pose_auto && a.pose_sd.size() == 1)
     throw CLI::ValidationError("--pose-sd", "give two values, T,R (m, rad), or auto");
   // Measured by default from the dataset's robot_error when it states one (below, once it is read).
@@ -1064,10 +1067,6 @@ int calibrate(const CalibrateArgs &a)
   // order. The result files must be bit-reproducible.
   cv::setNumThreads(a.threads);
   vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
-  if (pose_auto && !(ds.pose_sd_translation > 0)) { // no robot_error to start from: a serial arm's accuracy
-    po.bundle.pose_sd_translation = po.bundle.pose_sd_rotation = 2e-3;
-    po.bundle.scale_covariance = true;
-  }
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
   co.prior = nominal; // the front end's matching is guided by the nominal kinematics
   // Outputs: a set written in a private directory beside --out, moved into place at once, under
@@ -1102,6 +1101,13 @@ int calibrate(const CalibrateArgs &a)
   }
   cv::setNumThreads(1);
   po.method = cr.method;
+  if (pose_auto && po.method != vpRobotSelfCalibration::HAND_EYE)
+    std::cerr << "warning: --pose-sd auto measures the controller poses' error (hand-eye); the method is "
+              << vpRobotSelfCalibration::methodName(po.method) << ", so it is not used\n";
+  else if (pose_auto && !(ds.pose_sd_translation > 0)) { // no robot_error to start from: a serial arm's accuracy
+    po.bundle.pose_sd_translation = po.bundle.pose_sd_rotation = 2e-3;
+    po.bundle.scale_covariance = true;
+  }
   Protocol protocol;
   if (const int bad = prepareProtocol(a, static_cast<unsigned int>(ds.views.size()), po, protocol))
     return bad;

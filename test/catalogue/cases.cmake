@@ -32,6 +32,7 @@ catalogue_case(calibrate-pixel-sd-zero 2 "--pixel-sd: expected .auto. or a numbe
 catalogue_case(calibrate-pixel-sd-inf 2 "--pixel-sd: expected .auto. or a number above 0 and at most 1000, got 'inf'" "calibrate --pixel-sd inf" [=[$APP calibrate $G --out o --pixel-sd inf]=])
 catalogue_case(calibrate-pose-sd-one-value 2 "--pose-sd: give two values, T,R \\(m, rad\\), or auto" "calibrate --pose-sd with one value" [=[$APP calibrate $G --out o --pose-sd 0.001]=])
 catalogue_case(calibrate-pose-sd-auto-and-number 2 "--pose-sd: give T,R \\(two numbers\\) or auto, not both" "calibrate --pose-sd auto,0.002" [=[$APP calibrate $G --out o --pose-sd auto,0.002]=])
+catalogue_case(calibrate-pose-sd-auto-bundle 2 "--pose-sd: auto measures the controller poses' error: it needs --method hand-eye" "calibrate --pose-sd auto --method bundle" [=[$APP calibrate $G --out o --pose-sd auto --method bundle]=])
 catalogue_case(calibrate-tolerance-three 2 "--tolerance: give 2 values \\(joint placements\\) or 4 \\(and eMc\\), not 3" "calibrate --tolerance with three values" [=[$APP calibrate $G --out o --tolerance 0.01,0.05,0.1]=])
 catalogue_case(calibrate-pose-sd-negative 2 "--pose-sd: expected 'auto' or a number above 0 and at most 10, got '-0.001'" "calibrate --pose-sd -0.001,0.001" [=[$APP calibrate $G --out o --pose-sd -0.001,0.001]=])
 catalogue_case(calibrate-threads-zero 2 "--threads: expected a whole number from 1 to 1024, got '0'" "calibrate --threads 0" [=[$APP calibrate $G --out o --threads 0]=])

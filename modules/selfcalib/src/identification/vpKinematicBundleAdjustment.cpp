@@ -858,6 +858,7 @@ void reposeViews(Adjustment &a, KBA::Result &res)
     return;
   res.reposed_views = views;
   res.reposed_rms = std::sqrt(after / (2.0 * used));
+  res.repose_rms_before = std::sqrt(before / (2.0 * used));
   res.repose_rms_translation = std::sqrt(st / (3.0 * views));
   res.repose_rms_rotation = std::sqrt(sr / (3.0 * views));
   const double nu = 6.0 * views;

@@ -359,13 +359,33 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
   if (opt.estimate_pixel_sd && opt.method != PAPER && (res.status == OK || res.status == IDENTIFICATION_FAILED) &&
       vpSelfCalibPipeline::measuredNoiseDiffers(opt.pixel_sd, res.pixel_sd_measured))
     runAgain(withPixelSd(opt, res.pixel_sd_measured));
-  // The robot pose error measured: rounds at the measured level until it settles (10 %).
-  for (int round = 0; round < 5 && opt.estimate_pose_sd && opt.method != PAPER && res.status == OK; ++round) {
+  // The robot pose error measured (hand-eye: the controller poses): rounds at the measured level
+  // until it settles (10 %); when it does not, or cannot be measured, a warning says so.
+  const auto poseNote = [&res](const std::string &text) {
+    res.findings.push_back({vpSelfCalibDataCheck::WARNING, "robot-error-not-settled", text});
+  };
+  const auto mm = [](double v) {
+    std::ostringstream m;
+    m << std::fixed << std::setprecision(1) << 1e3 * v;
+    return m.str();
+  };
+  const bool measure_pose = opt.estimate_pose_sd && opt.method == HAND_EYE && res.status == OK &&
+                            context.bundle.pose_sd_translation > 0 && context.bundle.pose_sd_rotation > 0;
+  for (int round = 0; measure_pose && res.status == OK; ++round) {
     const double t = res.bundle.pose_sd_translation_measured, r = res.bundle.pose_sd_rotation_measured;
     const double t0 = current->bundle.pose_sd_translation, r0 = current->bundle.pose_sd_rotation;
-    if (!(t > 1e-7 && r > 1e-7 && t0 > 0 && r0 > 0) ||
-        (std::fabs(t / t0 - 1) <= 0.1 && std::fabs(r / r0 - 1) <= 0.1))
+    if (!(t > 1e-7 && r > 1e-7)) {
+      poseNote("the robot pose error could not be measured (the views do not separate the pose corrections from "
+               "the rest, or no covariance): the stated " + mm(t0) + " mm / " + mm(r0) + " mrad is used");
       break;
+    }
+    if (std::fabs(t / t0 - 1) <= 0.1 && std::fabs(r / r0 - 1) <= 0.1)
+      break;
+    if (round == 5) {
+      poseNote("the robot pose error did not settle in 5 rounds: the corrections measure " + mm(t) + " mm / " + mm(r) +
+               " mrad where " + mm(t0) + " mm / " + mm(r0) + " mrad was used");
+      break;
+    }
     Options next = current->options;
     next.bundle.pose_sd_translation = t;
     next.bundle.pose_sd_rotation = r;
@@ -374,12 +394,10 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
       next = withPixelSd(next, res.pixel_sd_measured);
     if (!runAgain(next)) {
       // Said, not hidden: the result stands at the level used, which the corrections contradict.
-      std::ostringstream m;
-      m << std::fixed << std::setprecision(1) << "the robot pose error the corrections measure (" << 1e3 * t
-        << " mm / " << 1e3 * r << " mrad) is not the one used (" << 1e3 * t0 << " mm / " << 1e3 * r0
-        << " mrad), and the run at the measured level ended " << statusName(failed_status)
-        << ": the result is the one at the level used; these views may not determine the pose error (add views)";
-      res.findings.push_back({vpSelfCalibDataCheck::WARNING, "robot-error-not-settled", m.str()});
+      poseNote("the robot pose error the corrections measure (" + mm(t) + " mm / " + mm(r) +
+               " mrad) is not the one used (" + mm(t0) + " mm / " + mm(r0) +
+               " mrad), and the run at the measured level ended " + statusName(failed_status) +
+               ": the result is the one at the level used; these views may not determine the pose error (add views)");
       break;
     }
   }

@@ -255,20 +255,24 @@ void checkUnmodelledRobotError(const Context &c, Result &res)
   const vpKinematicBundleAdjustment::Result &b = res.bundle;
   if (b.reposed_views == 0 || !(b.repose_f > b.repose_f_limit))
     return;
-  const bool dominant = b.reposed_rms <= b.rms / std::sqrt(2.0);
+  const bool dominant = b.reposed_rms <= b.repose_rms_before / std::sqrt(2.0); // over the same views
   const std::string what = c.options.method == vpRobotSelfCalibration::HAND_EYE ? "controller poses" : "joint readings";
   add(res, dominant ? vpSelfCalibDataCheck::DOUBT : vpSelfCalibDataCheck::WARNING, "robot-error-unmodelled",
       "the residuals are " + std::string(dominant ? "mostly" : "partly") +
           " a displacement of each view's own camera, not image noise: re-posing each camera alone brings the "
           "reprojection RMS from " +
-          fixed(b.rms, 3) + " to " + fixed(b.reposed_rms, 3) + " px (camera corrections " +
+          fixed(b.repose_rms_before, 3) + " to " + fixed(b.reposed_rms, 3) + " px (camera corrections " +
           fixed(1e3 * b.repose_rms_translation, 1) + " mm / " + fixed(1e3 * b.repose_rms_rotation, 1) +
           " mrad rms; F " + fixed(b.repose_f, 1) + " against " + fixed(b.repose_f_limit, 2) + " at 99.9 %). The " +
           what + " are taken as exact and are not: the estimate absorbs their error" +
           (dominant ? " and its standard deviations are too small" : std::string()) +
-          "; state the robot's pose error (calibrate --pose-sd T,R or the dataset's robot_error; a serial "
-          "arm's absolute accuracy is a few mm and mrad; the camera corrections above overstate it where a "
-          "rotation and a translation of the camera look alike)");
+          (c.options.method == vpRobotSelfCalibration::HAND_EYE
+               ? "; state the robot's pose error (calibrate --pose-sd T,R or the dataset's robot_error; a serial "
+                 "arm's absolute accuracy is a few mm and mrad; the camera corrections above overstate it where a "
+                 "rotation and a translation of the camera look alike)"
+               : "; state the joint readings' error (calibrate --joint-sd or the dataset's robot_error joint_sd) "
+                 "and, for what no parameter of the model explains, the model's own residual (calibrate --pose-sd "
+                 "T,R)"));
 }
 
 /*

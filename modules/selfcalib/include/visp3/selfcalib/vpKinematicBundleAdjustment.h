@@ -224,7 +224,8 @@ public:
     */
     double robot_rms_ratio = 0;
     /*!
-      With robot pose error modelled (pose_sd_*) and a covariance: the pose error the corrections
+      Hand-eye mode (hand_eye_only) with robot pose error modelled (pose_sd_*) and a covariance:
+      the pose error the corrections
       measure (variance component estimation): for the translations, then the rotations, the sum of
       the squared corrections over their redundancy, sum (1 - posterior variance / stated variance),
       the posterior variances from the covariance at the stated weights (m, rad). A stated sd that
@@ -245,6 +246,7 @@ public:
       does not have), not noise, and the sd computed as if they were noise are too small.
     */
     double reposed_rms = 0;
+    double repose_rms_before = 0; //!< px, the RMS over the same views before re-posing
     unsigned int reposed_views = 0;
     double repose_rms_translation = 0, repose_rms_rotation = 0;
     double repose_f = 0, repose_f_limit = 0;
