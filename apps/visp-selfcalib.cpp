@@ -547,6 +547,7 @@ struct CalibrateArgs {
   bool no_features = false;
   std::string board;
   bool board_geometry = false; //!< the board's layout as a prior on its points
+  double board_sd = 1e-5;       //!< m, sd of each board point's placement on the board
   bool with_features = false;
   bool mask_board = false;     //!< the board only masked out: natural features alone
   std::string mask;            //!< an image: where its pixels are 0, no feature is looked for
@@ -704,11 +705,18 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
                 "for in any view (the robot's own parts, a drawn overlay, a moving background)")
       ->type_name("PNG")
       ->check(CLI::ExistingFile);
-  c->add_flag("--board-geometry", a.board_geometry,
-              "with --board: its layout is known (a 0.1 mm prior on its points, its pose estimated);\n"
-              "without it the board's points are unknown scene points")
-      ->needs(board)
-      ->excludes(mask_board);
+  CLI::Option *board_geometry =
+      c->add_flag("--board-geometry", a.board_geometry,
+                  "with --board: its layout is known (a prior of --board-sd on each point, the board's pose\n"
+                  "estimated); without it the board's points are unknown scene points")
+          ->needs(board)
+          ->excludes(mask_board);
+  c->add_option("--board-sd", a.board_sd,
+                "with --board-geometry: sd of each point's placement on the board, m (default 1e-5: a\n"
+                "printed or machined board's accuracy; the layout then holds the points)")
+      ->type_name("M")
+      ->check(selfcalibCli::number(0, true, 0.01))
+      ->needs(board_geometry);
   c->add_flag("--force", a.force, "replace the results of an earlier run in DIR");
   c->footer("Self-calibrates on every view and cross-validates (--folds), or on the first views and\n"
             "verifies on the last ones (--holdout, --calibration). Writes DIR/model.yaml,\n"
@@ -1027,8 +1035,10 @@ int calibrate(const CalibrateArgs &a)
     po.tolerance_hand_eye_translation = a.tolerance[2];
     po.tolerance_hand_eye_rotation = a.tolerance[3];
   }
-  if (a.board_geometry)
+  if (a.board_geometry) {
     po.bundle.known_points = vpBoardDetector(*co.board).getLayout();
+    po.bundle.known_points_sd = a.board_sd;
+  }
   for (const std::string &e : a.estimate) {
     using KBA = vpKinematicBundleAdjustment;
     po.bundle.intrinsics |= e == "aspect" ? KBA::ASPECT

@@ -45,6 +45,8 @@ catalogue_case(calibrate-board-malformed 2 "--board: board 'chessboard:9x6': exp
 catalogue_case(calibrate-mask-board-without-board 2 "--mask-board requires --board" "calibrate --mask-board without --board" [=[$APP calibrate $G --out o --mask-board]=])
 catalogue_case(calibrate-mask-missing 2 "--mask: File does not exist: none.png" "calibrate --mask with a missing image" [=[$APP calibrate $GI --out o --mask none.png]=])
 catalogue_case(calibrate-mask-wrong-size 1 "mask 0 is 320 x 240, the images 640 x 480" "calibrate --mask of another size than the images" [=[python3 -c 'import struct,zlib;c=lambda t,d:struct.pack(">I",len(d))+t+d+struct.pack(">I",zlib.crc32(t+d)&0xffffffff);open("m.png","wb").write(b"\x89PNG\r\n\x1a\n"+c(b"IHDR",struct.pack(">IIBBBBB",320,240,8,0,0,0,0))+c(b"IDAT",zlib.compress(b"".join(b"\0"+bytes([255]*320) for _ in range(240))))+c(b"IEND",b""))' && $APP calibrate $GI --out o --mask m.png]=])
+catalogue_case(calibrate-board-sd-without-geometry 2 "--board-sd requires --board-geometry" "calibrate --board-sd without --board-geometry" [=[$APP calibrate $G --out o --board-sd 1e-5]=])
+catalogue_case(calibrate-board-sd-zero 2 "--board-sd: expected a number above 0 and at most 0.01, got '0'" "calibrate --board-sd 0" [=[$APP calibrate $G --out o --board chessboard:9x6:0.0236 --board-geometry --board-sd 0]=])
 catalogue_case(calibrate-features-without-board 2 "--with-features requires --board" "calibrate --with-features without --board" [=[$APP calibrate $G --out o --with-features]=])
 catalogue_case(calibrate-without-out 2 "--out is required" "calibrate without --out" [=[$APP calibrate $G]=])
 catalogue_case(plan-poses-negative 2 "--poses: expected a whole number from 6 to 1000, got '-1'" "plan --poses -1" [=[$APP plan p.txt --poses -1]=])

@@ -1274,6 +1274,9 @@ void vpKinematicBundleAdjustment::Options::check() const
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: pose_sd_translation and pose_sd_rotation must be both "
                                "positive (robot pose error modelled) or both 0 (exact poses)");
+  if (!(known_points_sd > 0) || !std::isfinite(known_points_sd))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment: known_points_sd must be positive and finite");
   for (double sd : joint_sd)
     if (!(sd > 0) || !(sd < 1))
       throw vpSelfCalibException(vpSelfCalibException::badValue,
