@@ -547,7 +547,7 @@ struct CalibrateArgs {
   bool no_features = false;
   std::string board;
   bool board_geometry = false; //!< the board's layout as a prior on its points
-  double board_sd = 1e-5;       //!< m, sd of each board point's placement on the board
+  double board_sd = vpKinematicBundleAdjustment::Options().known_points_sd; //!< m, each board point's placement
   bool with_features = false;
   bool mask_board = false;     //!< the board only masked out: natural features alone
   std::string mask;            //!< an image: where its pixels are 0, no feature is looked for
@@ -707,14 +707,14 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
       ->check(CLI::ExistingFile);
   CLI::Option *board_geometry =
       c->add_flag("--board-geometry", a.board_geometry,
-                  "with --board: its layout is known (a prior of --board-sd on each point, the board's pose\n"
-                  "estimated); without it the board's points are unknown scene points")
+                  "with --board: its layout is known (a prior of --board-sd on each point, the\n"
+                  "board's pose estimated); without it the board's points are unknown scene points")
           ->needs(board)
           ->excludes(mask_board);
   c->add_option("--board-sd", a.board_sd,
-                "with --board-geometry: sd of each point's placement on the board, m (default 1e-5: a\n"
-                "printed or machined board's accuracy; the layout then holds the points)")
-      ->type_name("M")
+                "with --board-geometry: sd (m) of each point's placement on the board (default 1e-5,\n"
+                "10 um: a printed or machined board's accuracy; the layout then holds the points)")
+      ->type_name("SD")
       ->check(selfcalibCli::number(0, true, 0.01))
       ->needs(board_geometry);
   c->add_flag("--force", a.force, "replace the results of an earlier run in DIR");
