@@ -624,7 +624,8 @@ int main(int argc, char **argv)
     po.bundle.known_points.clear();
     po.bundle.pose_sd_translation = po.bundle.pose_sd_rotation = 0.002;
     po.estimate_pose_sd = true;
-    rows.push_back(ours("6. ours, f known, pose sd measured from 2 mm / 2 mrad (calibrate's default)", nominal, ds, po));
+    rows.push_back(
+        ours("6. ours, f known, pose sd measured from 2 mm / 2 mrad (calibrate's default)", nominal, ds, po));
 
     for (Row &row : rows)
       compare(row, ref);
@@ -647,8 +648,8 @@ int main(int argc, char **argv)
     }
     for (size_t i = 0; i < rows.size(); ++i)
       if (!rows[i].message.empty())
-        std::cout << "\nrow " << rows[i].method.substr(0, rows[i].method.find('.')) << " (" << rows[i].method << "): " << rows[i].status << ": " << rows[i].message
-                  << "\n";
+        std::cout << "\nrow " << rows[i].method.substr(0, rows[i].method.find('.')) << " (" << rows[i].method
+                  << "): " << rows[i].status << ": " << rows[i].message << "\n";
     std::cout << "\ndt: t_est - t_ref per axis; dtheta-u: theta-u of R_ref^T R_est; max |diff|/sd: over the six\n"
                  "pose-vector components (tx, ty, tz, tux, tuy, tuz), est - ref over the reported sd. The reference\n"
                  "is given to 0.1 mm / 0.1 mrad. Times: run() for ours (the board detection above is shared), PnP\n"

@@ -153,15 +153,15 @@ public:
     std::map<int, vpColVector> known_points;
     /*!
       sd of each known point's placement on its object (m). The default, 10 um, is a printed or
-      machined board's dot placement, and it is what makes the layout known: a point seen N times at
-      depth Z through a focal length f is located by the images alone to about
-      pixel_sd Z / (f sqrt(N)) (0.2 px, 0.5 m, 540 px, 12 views: 53 um). A prior looser than that
-      lets the points take the board's shape from the images: with the 0.1 mm of earlier versions
-      the adjusted grid's spacing was off by 55 um RMS on exact simulated boards (test
+      machined board's dot placement, and it is what makes the layout known: a point seen N times
+      at depth Z through a focal length f is located by the images alone to about
+      pixel_sd Z / (f sqrt(N)) (0.2 px, 0.5 m, 540 px, 12 views: 53 um). A prior looser than that lets the points
+      take the board's shape from the images: with the 0.1 mm of earlier versions the adjusted
+      grid's spacing was off by 55 um RMS on exact simulated boards (test
       HandEye.KnownLayoutIsHeldAndGivesTheIntrinsics), and on the industrial_calibration set the
-      self-calibrated focal length came out at 532.9 px (bench-real's I2; 535.0 at 10 um; `calibrate`
-      with the pixel noise measured 533.8 at 0.1 mm, 538.1 at 10 um; OpenCV's calibrateCamera, which takes the
-      layout as exact, 540.0).
+      self-calibrated focal length came out at 532.9 px (bench-real's I2; 535.0 at 10 um;
+      `calibrate` with the pixel noise measured 533.8 at 0.1 mm, 538.1 at 10 um; OpenCV's
+      calibrateCamera, which takes the layout as exact, 540.0).
     */
     double known_points_sd = 1e-5;
     unsigned int num_threads = 1;       //!< more is faster on large problems, but not bit-reproducible
@@ -237,12 +237,12 @@ public:
     double robot_rms_ratio = 0;
     /*!
       Hand-eye mode (hand_eye_only) with robot pose error modelled (pose_sd_*) and a covariance:
-      the pose error the corrections
-      measure (variance component estimation): for the translations, then the rotations, the sum of
-      the squared corrections over their redundancy, sum (1 - posterior variance / stated variance),
-      the posterior variances from the covariance at the stated weights (m, rad). A stated sd that
-      is right gives about itself back; 0 without pose corrections, without covariance, or when the
-      corrections' redundancy is below 1 (the images do not separate them from the rest).
+      the pose error the corrections measure (variance component estimation): for the
+      translations, then the rotations, the sum of the squared corrections over their redundancy,
+      sum (1 - posterior variance / stated variance), the posterior variances from the covariance
+      at the stated weights (m, rad). A stated sd that is right gives about itself back; 0 without
+      pose corrections, without covariance, or when the corrections' redundancy is below 1 (the
+      images do not separate them from the rest).
     */
     double pose_sd_translation_measured = 0, pose_sd_rotation_measured = 0;
     /*!

@@ -161,15 +161,16 @@ public:
     bool estimate_pixel_sd = false;
     /*!
       The robot pose error measured, not assumed (calibrate --pose-sd auto). HAND_EYE with pose
-      corrections modelled (the controller poses; other methods: no effect): after the run, when the pose error its corrections
-      measure (vpKinematicBundleAdjustment::Result::pose_sd_translation_measured and
+      corrections modelled (the controller poses; other methods: no effect): after the run, when
+      the pose error its corrections measure
+      (vpKinematicBundleAdjustment::Result::pose_sd_translation_measured and
       pose_sd_rotation_measured, variance component estimation) differs from the one used by more
       than 10 % in either part, the method runs again with the measured values (and the measured
       image noise with estimate_pixel_sd), up to 5 times; a run that is not ok ends the rounds and
       the last ok one stands, with the warning "robot-error-not-settled" (also when the level does
-      not settle in 5 rounds or cannot be measured). Result::pose_sd_translation and pose_sd_rotation say which values were
-      used. The start: bundle.pose_sd_*, else the dataset's robot_error; with neither the poses
-      are exact and nothing is measured.
+      not settle in 5 rounds or cannot be measured). Result::pose_sd_translation and
+      pose_sd_rotation say which values were used. The start: bundle.pose_sd_*, else the dataset's
+      robot_error; with neither the poses are exact and nothing is measured.
     */
     bool estimate_pose_sd = false;
     /*!
