@@ -453,12 +453,15 @@ std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinemat
     if (!r.bundle.pose_corrections.empty()) {
       out << YAML::Key << "robot_pose_rms_m" << YAML::Value << r.bundle.pose_rms_translation << YAML::Key
           << "robot_pose_rms_rad" << YAML::Value << r.bundle.pose_rms_rotation;
-      // The pose error (m, rad) the corrections were weighed with, and the one they measure.
-      out << YAML::Key << "robot_pose_sd" << YAML::Value << YAML::Flow << YAML::BeginSeq << r.pose_sd_translation
-          << r.pose_sd_rotation << YAML::EndSeq;
-      if (r.bundle.pose_sd_translation_measured > 0)
+      // The pose error (m, rad) the corrections were weighed with (hand-eye: the controller poses';
+      // bundle: the kinematic model's residual), and the one they measure.
+      const bool controller = r.noise.hasPoseError();
+      out << YAML::Key << "robot_pose_sd" << YAML::Value << YAML::Flow << YAML::BeginSeq
+          << (controller ? r.noise.pose_sd_translation : r.noise.model_sd_translation)
+          << (controller ? r.noise.pose_sd_rotation : r.noise.model_sd_rotation) << YAML::EndSeq;
+      if (r.bundle.measured.pose_sd_translation > 0)
         out << YAML::Key << "robot_pose_sd_measured" << YAML::Value << YAML::Flow << YAML::BeginSeq
-            << r.bundle.pose_sd_translation_measured << r.bundle.pose_sd_rotation_measured << YAML::EndSeq;
+            << r.bundle.measured.pose_sd_translation << r.bundle.measured.pose_sd_rotation << YAML::EndSeq;
     }
     if (!r.bundle.joint_corrections.empty())
       out << YAML::Key << "joint_correction_rms_rad" << YAML::Value << r.bundle.joint_rms;
@@ -472,8 +475,8 @@ std::string resultsYaml(const vpRobotSelfCalibration::Result &r, const vpKinemat
   }
   if (r.method != vpRobotSelfCalibration::PAPER) {
     out << YAML::Key << "noise" << YAML::Comment("px: image noise sd used, and measured by the residuals (robust)")
-        << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "pixel_sd" << YAML::Value << r.pixel_sd
-        << YAML::Key << "measured" << YAML::Value << r.pixel_sd_measured << YAML::EndMap;
+        << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "pixel_sd" << YAML::Value << r.noise.pixel_sd
+        << YAML::Key << "measured" << YAML::Value << r.measured.pixel_sd << YAML::EndMap;
     out << YAML::Key << "fit" << YAML::Comment("px: reprojection RMS on the calibration views, nominal and calibrated model")
         << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "nominal" << YAML::Value << r.fit_nominal_rms
         << YAML::Key << "calibrated" << YAML::Value << r.fit_calibrated_rms << YAML::EndMap;
@@ -1022,9 +1025,9 @@ int calibrate(const CalibrateArgs &a)
   vpRobotSelfCalibration::Options po;
   po.focal_mode = vpRobotSelfCalibration::focalModeFromName(a.focal);
   if (a.pixel_sd == "auto")
-    po.estimate_pixel_sd = true; // from 0.2 px
+    po.noise.pixel_sd_origin = vpSelfCalibNoiseModel::MEASURED; // from 0.2 px
   else
-    po.pixel_sd = std::stod(a.pixel_sd);
+    po.noise.pixel_sd = std::stod(a.pixel_sd);
   if (a.tolerance.size() == 3)
     throw CLI::ValidationError("--tolerance", "give 2 values (joint placements) or 4 (and eMc), not 3");
   if (a.tolerance.size() >= 2) {
@@ -1059,14 +1062,12 @@ int calibrate(const CalibrateArgs &a)
   if (!pose_auto && a.pose_sd.size() == 1)
     throw CLI::ValidationError("--pose-sd", "give two values, T,R (m, rad), or auto");
   // Measured by default from the dataset's robot_error when it states one (below, once it is read).
-  po.estimate_pose_sd = pose_auto || a.pose_sd.empty();
-  if (a.pose_sd.size() == 2) {
-    po.bundle.pose_sd_translation = std::stod(a.pose_sd[0]);
-    po.bundle.pose_sd_rotation = std::stod(a.pose_sd[1]);
-    po.bundle.scale_covariance = true;
-  }
+  if (pose_auto || a.pose_sd.empty())
+    po.noise.pose_sd_origin = vpSelfCalibNoiseModel::MEASURED;
+  if (a.pose_sd.size() == 2)
+    po.bundle.scale_covariance = true; // set in the noise model once the method is known (below)
   if (!a.joint_sd.empty()) {
-    po.bundle.joint_sd = a.joint_sd;
+    po.noise.joint_sd = a.joint_sd;
     po.bundle.scale_covariance = true;
   }
 
@@ -1115,8 +1116,20 @@ int calibrate(const CalibrateArgs &a)
     std::cerr << "warning: --pose-sd auto measures the controller poses' error (hand-eye); the method is "
               << vpRobotSelfCalibration::methodName(po.method) << ", so it is not used\n";
   else if (pose_auto && !(ds.pose_sd_translation > 0)) { // no robot_error to start from: a serial arm's accuracy
-    po.bundle.pose_sd_translation = po.bundle.pose_sd_rotation = 2e-3;
+    po.noise.pose_sd_translation = po.noise.pose_sd_rotation = 2e-3;
     po.bundle.scale_covariance = true;
+  }
+  if (a.pose_sd.size() == 2) {
+    // The controller poses' error (hand-eye), or the kinematic model's residual (bundle); the
+    // paper's method models neither.
+    const double t = std::stod(a.pose_sd[0]), r = std::stod(a.pose_sd[1]);
+    if (po.method == vpRobotSelfCalibration::HAND_EYE) {
+      po.noise.pose_sd_translation = t;
+      po.noise.pose_sd_rotation = r;
+    } else if (po.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT) {
+      po.noise.model_sd_translation = t;
+      po.noise.model_sd_rotation = r;
+    }
   }
   Protocol protocol;
   if (const int bad = prepareProtocol(a, static_cast<unsigned int>(ds.views.size()), po, protocol))

@@ -99,7 +99,7 @@ vpRobotSelfCalibration::Result runPipeline(const vpSelfCalibSimulator &sim, cons
   po.method = method;
   po.focal_mode = mode;
   po.num_calibration_poses = num_calibration;
-  po.pixel_sd = std::max(0.05, noise);
+  po.noise.pixel_sd = std::max(0.05, noise);
   po.paper_focal_all_views = bench::paperFocalAllViews();
   po.multiview.num_threads = threads;
   po.bundle.num_threads = threads;
@@ -230,11 +230,12 @@ int main(int argc, char **argv)
           }
           // Cramér-Rao bound of the bundle adjustment at the truth, propagated to the held-out poses.
           vpKinematicBundleAdjustment::Options bo;
-          bo.pixel_sd = noise;
+          vpSelfCalibNoiseModel bn;
+          bn.pixel_sd = noise;
           bo.intrinsics = mode == vpRobotSelfCalibration::FOCAL_KNOWN ? 0u : vpKinematicBundleAdjustment::FX;
           const std::vector<vpSelfCalibDataset::View> calv(ds.views.begin(), ds.views.begin() + kCalibration);
           const auto crb = vpKinematicBundleAdjustment::information(sim.getTrueChain(), sim.getCamera(), calv,
-                                                                    sim.getYardstick(), sim.getScenePointsById(), bo);
+                                                                    sim.getYardstick(), sim.getScenePointsById(), bo, bn);
           if (!crb.has_covariance) {
             ++bound.failed;
             continue;

@@ -163,9 +163,9 @@ Row ours(const std::string &method, const vpKinematicChain &nominal, const vpSel
     return row;
   }
   row.ok = true;
-  if (po.estimate_pose_sd)
-    row.method += " (measured: " + fixed(1e3 * r.pose_sd_translation, 1) + " mm / " +
-                  fixed(1e3 * r.pose_sd_rotation, 1) + " mrad)";
+  if (po.noise.pose_sd_origin == vpSelfCalibNoiseModel::MEASURED)
+    row.method += " (measured: " + fixed(1e3 * r.noise.pose_sd_translation, 1) + " mm / " +
+                  fixed(1e3 * r.noise.pose_sd_rotation, 1) + " mrad)";
   row.eMc = r.eMc;
   row.has_sd = true;
   row.sd = r.eMc_sd;
@@ -316,13 +316,13 @@ void industrialSection(const std::string &data)
   vpRobotSelfCalibration::Options po;
   po.method = vpRobotSelfCalibration::HAND_EYE;
   po.num_calibration_poses = m;
-  po.pixel_sd = 0.2;
+  po.noise.pixel_sd = 0.2;
   po.focal_mode = vpRobotSelfCalibration::FOCAL_SHARED;
   po.bundle.intrinsics = vpKinematicBundleAdjustment::FX | vpKinematicBundleAdjustment::PRINCIPAL_POINT |
                          vpKinematicBundleAdjustment::DISTORTION;
   po.bundle.distortion_model = vpKinematicBundleAdjustment::DISTORTION_OPENCV;
-  po.bundle.pose_sd_translation = 0.005; // as calibrate --pose-sd 0.005,0.01
-  po.bundle.pose_sd_rotation = 0.01;
+  po.noise.pose_sd_translation = 0.005; // as calibrate --pose-sd 0.005,0.01
+  po.noise.pose_sd_rotation = 0.01;
   po.bundle.scale_covariance = true;
   rows.push_back(ours("I1. ours, dots as unknown points, f, pp, distortion self-calibrated, pose sd 5 mm / 10 mrad",
                       nominal, ds, po));
@@ -553,11 +553,11 @@ int main(int argc, char **argv)
     vpRobotSelfCalibration::Options po;
     po.method = vpRobotSelfCalibration::HAND_EYE;
     po.num_calibration_poses = m;
-    po.pixel_sd = 0.2;
+    po.noise.pixel_sd = 0.2;
     po.focal_mode = vpRobotSelfCalibration::FOCAL_KNOWN;
     rows.push_back(ours("1. ours, f known, poses trusted", nominal, ds, po));
-    po.bundle.pose_sd_translation = 0.003; // as calibrate --pose-sd 0.003,0.003
-    po.bundle.pose_sd_rotation = 0.003;
+    po.noise.pose_sd_translation = 0.003; // as calibrate --pose-sd 0.003,0.003
+    po.noise.pose_sd_rotation = 0.003;
     po.bundle.scale_covariance = true;
     rows.push_back(ours("2. ours, f known, pose sd 3 mm / 3 mrad", nominal, ds, po));
     po.focal_mode = vpRobotSelfCalibration::FOCAL_SHARED; // from the dataset's px
@@ -622,8 +622,8 @@ int main(int argc, char **argv)
     // calibrate's default on this dataset: the pose error measured from the imported 2 mm / 2 mrad
     // (--pose-sd auto), after the OpenCV rows so that the targets' row numbers stay.
     po.bundle.known_points.clear();
-    po.bundle.pose_sd_translation = po.bundle.pose_sd_rotation = 0.002;
-    po.estimate_pose_sd = true;
+    po.noise.pose_sd_translation = po.noise.pose_sd_rotation = 0.002;
+    po.noise.pose_sd_origin = vpSelfCalibNoiseModel::MEASURED;
     rows.push_back(
         ours("6. ours, f known, pose sd measured from 2 mm / 2 mrad (calibrate's default)", nominal, ds, po));
 
@@ -727,7 +727,7 @@ int main(int argc, char **argv)
     // calibrate's default on the imported dataset: its robot_error (the importer's 2 mm / 2 mrad).
     vpRobotSelfCalibration::Options cvo;
     cvo.method = vpRobotSelfCalibration::HAND_EYE;
-    cvo.pixel_sd = 0.2;
+    cvo.noise.pixel_sd = 0.2;
     vpSelfCalibDataset with_error = ds;
     with_error.pose_sd_translation = imp.dataset.pose_sd_translation;
     with_error.pose_sd_rotation = imp.dataset.pose_sd_rotation;

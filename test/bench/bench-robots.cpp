@@ -64,7 +64,7 @@ vpRobotSelfCalibration::Result runDefault(const vpSelfCalibSimulator &sim, const
   vpRobotSelfCalibration::Options po;
   po.focal_mode = mode;
   po.num_calibration_poses = kCalibration;
-  po.pixel_sd = std::max(0.05, noise);
+  po.noise.pixel_sd = std::max(0.05, noise);
   return vpRobotSelfCalibration::run(sim.getNominalChain(), ds, po);
 }
 } // namespace
@@ -123,11 +123,12 @@ int main(int argc, char **argv)
             const std::vector<vpSelfCalibDataset::View> held(ds0.views.begin() + kCalibration, ds0.views.end());
             // The bound at the truth, propagated to the held-out pairs (c_0, c_k).
             vpKinematicBundleAdjustment::Options bo;
-            bo.pixel_sd = noise;
+            vpSelfCalibNoiseModel bn;
+            bn.pixel_sd = noise;
             bo.intrinsics = mode == vpRobotSelfCalibration::FOCAL_KNOWN ? 0u : vpKinematicBundleAdjustment::FX;
             const std::vector<vpSelfCalibDataset::View> calv(ds0.views.begin(), ds0.views.begin() + kCalibration);
             const auto crb = vpKinematicBundleAdjustment::information(clean.getTrueChain(), clean.getCamera(), calv,
-                                                                      clean.getYardstick(), clean.getScenePointsById(), bo);
+                                                                      clean.getYardstick(), clean.getScenePointsById(), bo, bn);
             if (!crb.has_covariance) {
               std::cerr << "\n" << robot << " seed " << seed << ": no Cramer-Rao bound (singular information at the truth); seed left out\n";
               ++no_bound;

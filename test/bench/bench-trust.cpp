@@ -312,8 +312,9 @@ int main(int argc, char **argv)
                   po.method = vpRobotSelfCalibration::methodFromName(method);
                   po.focal_mode = mode;
                   po.num_calibration_poses = kCalibration;
-                  po.pixel_sd = factor * noise;
-                  po.estimate_pixel_sd = auto_noise; // calibrate --pixel-sd auto, from the given value
+                  po.noise.pixel_sd = factor * noise;
+                  if (auto_noise) // calibrate --pixel-sd auto, from the given value
+                    po.noise.pixel_sd_origin = vpSelfCalibNoiseModel::MEASURED;
                   const auto r = vpRobotSelfCalibration::run(clean.getNominalChain(), dd, po);
                   ++row.runs;
                   ++row.statuses[vpRobotSelfCalibration::statusName(r.status)];

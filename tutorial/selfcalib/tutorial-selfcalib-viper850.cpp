@@ -296,7 +296,7 @@ int main(int argc, char **argv)
       data.cam.initPersProjWithoutDistortion(0.93 * opt.px, 0.93 * opt.py, opt.u0, opt.v0);
     vpRobotSelfCalibration::Options po;
     po.method = cr.method;
-    po.pixel_sd = std::max(0.05, opt.pixel_noise_sd);
+    po.noise.pixel_sd = std::max(0.05, opt.pixel_noise_sd);
     po.num_calibration_poses = std::min<unsigned int>(15, poses);
     po.focal_mode = vpRobotSelfCalibration::focalModeFromName(focal);
     if (po.method == vpRobotSelfCalibration::PAPER)

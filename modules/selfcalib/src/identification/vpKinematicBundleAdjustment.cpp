@@ -585,6 +585,32 @@ std::vector<int> estimatedIntrinsics(const vpCameraParameters &camera, const KBA
   return free_in;
 }
 
+/*
+  The robot's error of the noise model, as the mode takes it: hand-eye-only the controller poses'
+  (pose_sd_*), full kinematics the joint readings' (joint_sd: 1 or one per joint) and the model's
+  residual (model_sd_*). A part of the other mode is a caller mistake.
+*/
+void checkRobotError(const vpKinematicChain &start, const KBA::Options &opt, const vpSelfCalibNoiseModel &noise)
+{
+  if (opt.hand_eye_only && !noise.joint_sd.empty())
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment: joint_sd (joint-reading noise) is for the full kinematic "
+                               "mode; in hand-eye-only mode give the controller pose error (pose_sd_*)");
+  if (opt.hand_eye_only && noise.hasModelError())
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment: model_sd_* (the kinematic model's residual) is for the "
+                               "full kinematic mode; in hand-eye-only mode give the controller pose error (pose_sd_*)");
+  if (!opt.hand_eye_only && noise.hasPoseError())
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment: pose_sd_* (the controller poses' error) is for the "
+                               "hand-eye-only mode; in the full kinematic mode the camera pose correction is model_sd_*");
+  if (!noise.joint_sd.empty() && noise.joint_sd.size() != 1 && noise.joint_sd.size() != start.getNumJoints())
+    throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                               "vpKinematicBundleAdjustment: joint_sd needs 1 or " +
+                                   std::to_string(start.getNumJoints()) + " values, got " +
+                                   std::to_string(noise.joint_sd.size()));
+}
+
 //! Everything one adjustment works on, built by the stages and shared by them.
 struct Adjustment {
   Adjustment(const std::map<int, Eigen::Vector3d> &X0, const vpKinematicChain &start, const std::vector<unsigned int> &id,
@@ -605,7 +631,7 @@ struct Adjustment {
   std::vector<double> rho0;
   Eigen::VectorXd scale_dir;
   bool scale_covariance = false, scale_covariance_chi2 = false;
-  double opt_pose_sd[2] = {0, 0}; //!< the stated pose error (m, rad) of the corrections delta
+  vpSelfCalibNoiseModel noise;    //!< the noise of the adjustment (its pixel part, and the robot's)
   bool has_yardstick = false;
   int P = 0;
   //! Known geometry (Options::known_points): the object's pose (t, theta u) in f, when used.
@@ -720,8 +746,8 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
     std::vector<double *> blocks = {a.state.rho.data(), a.in, Xp};
     if (a.state.correctionSize() > 0)
       blocks.push_back(a.state.correction(a.obs[n].view));
-    problem->AddResidualBlock(new ObservationCost(&a.state, a.obs[n].view, a.obs[n].u, a.obs[n].v, opt.pixel_sd),
-                              loss_scale > 0 ? makeLoss(static_cast<RobustLoss>(opt.loss), loss_scale) : nullptr,
+    problem->AddResidualBlock(new ObservationCost(&a.state, a.obs[n].view, a.obs[n].u, a.obs[n].v, a.noise.pixel_sd),
+                              loss_scale > 0 ? makeLoss(static_cast<RobustLoss>(a.noise.loss), loss_scale) : nullptr,
                               blocks);
     // The yardstick residual links its two ends: they stay in the reduced system.
     const bool end = a.has_yardstick && (a.obs[n].id == yardstick.id_a || a.obs[n].id == yardstick.id_b);
@@ -747,7 +773,7 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
   // rejected keeps only its prior: the correction stays 0).
   for (size_t k = 0; k < a.state.delta.size(); ++k) {
     problem->AddResidualBlock(new ceres::AutoDiffCostFunction<PosePriorCost, 6, 6>(
-                                  new PosePriorCost(opt.pose_sd_translation, opt.pose_sd_rotation)),
+                                  new PosePriorCost(a.noise.pose_sd_translation, a.noise.pose_sd_rotation)),
                               nullptr, a.state.delta[k].data());
     order->AddElementToGroup(a.state.delta[k].data(), 4 + static_cast<int>(k));
   }
@@ -784,8 +810,8 @@ std::unique_ptr<ceres::Problem> solveSchedule(Adjustment &a, const vpSelfCalibDa
 {
   RobustSchedule schedule;
   if (solve)
-    schedule = robustSchedule(opt.loss != vpMultiViewReconstruction::LOSS_NONE, opt.loss_scale, opt.outlier_threshold,
-                              a.startErrors(opt.pixel_sd));
+    schedule = robustSchedule(a.noise.loss != vpSelfCalibNoiseModel::LOSS_NONE, a.noise.loss_scale,
+                              a.noise.outlier_threshold, a.startErrors(a.noise.pixel_sd));
   else
     schedule.scales = {0};
   std::unique_ptr<ceres::Problem> problem;
@@ -808,7 +834,7 @@ std::unique_ptr<ceres::Problem> solveSchedule(Adjustment &a, const vpSelfCalibDa
     if (!summary.IsSolutionUsable())
       break;
     if (static_cast<int>(stage) == schedule.trim_after)
-      a.trim(opt.outlier_threshold, opt.pixel_sd);
+      a.trim(a.noise.outlier_threshold, a.noise.pixel_sd);
   }
   return problem;
 }
@@ -896,19 +922,19 @@ void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::
   res.rms = res.num_observations ? std::sqrt(sum / (2.0 * res.num_observations)) : 0;
   // The pose priors add as many residuals as unknowns: the degrees of freedom are the pixels'.
   const double dof = 2.0 * res.num_observations - static_cast<double>(a.P + a.free_in.size() + 3 * kept.size());
-  res.sigma0 = dof > 0 ? res.rms / opt.pixel_sd * std::sqrt(2.0 * res.num_observations / dof) : 0;
+  res.sigma0 = dof > 0 ? res.rms / a.noise.pixel_sd * std::sqrt(2.0 * res.num_observations / dof) : 0;
   if (dof > 0 && !abs_residuals.empty()) {
-    res.pixel_sd_measured = vpSelfCalib::robustNoiseSd(abs_residuals, std::sqrt(2.0 * res.num_observations / dof));
+    res.measured.pixel_sd = vpSelfCalib::robustNoiseSd(abs_residuals, std::sqrt(2.0 * res.num_observations / dof));
     vpSelfCalib::sigma0Interval(dof, res.sigma0_low, res.sigma0_high);
   }
   if (!a.state.delta.empty()) {
-    double chi2 = sum / (opt.pixel_sd * opt.pixel_sd), st = 0, sr = 0;
+    double chi2 = sum / (a.noise.pixel_sd * a.noise.pixel_sd), st = 0, sr = 0;
     for (const auto &d : a.state.delta) {
       const double t2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], r2 = d[3] * d[3] + d[4] * d[4] + d[5] * d[5];
       st += t2;
       sr += r2;
-      const double robot = t2 / (opt.pose_sd_translation * opt.pose_sd_translation) +
-                           r2 / (opt.pose_sd_rotation * opt.pose_sd_rotation);
+      const double robot = t2 / (a.noise.pose_sd_translation * a.noise.pose_sd_translation) +
+                           r2 / (a.noise.pose_sd_rotation * a.noise.pose_sd_rotation);
       chi2 += robot;
       res.robot_chi2 += robot;
       res.robot_dof += 6;
@@ -917,12 +943,12 @@ void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::
     const double views = static_cast<double>(a.state.delta.size());
     res.pose_rms_translation = std::sqrt(st / (3 * views));
     res.pose_rms_rotation = std::sqrt(sr / (3 * views));
-    res.robot_rms_ratio = std::max(res.pose_rms_translation / opt.pose_sd_translation,
-                                   res.pose_rms_rotation / opt.pose_sd_rotation);
+    res.robot_rms_ratio = std::max(res.pose_rms_translation / a.noise.pose_sd_translation,
+                                   res.pose_rms_rotation / a.noise.pose_sd_rotation);
     res.sigma0 = dof > 0 ? std::sqrt(chi2 / dof) : 0;
   }
   if (!a.state.dq.empty()) {
-    double chi2 = sum / (opt.pixel_sd * opt.pixel_sd), sq = 0, st = 0, sr = 0;
+    double chi2 = sum / (a.noise.pixel_sd * a.noise.pixel_sd), sq = 0, st = 0, sr = 0;
     double part[3] = {0, 0, 0}; // whitened squares: joints, camera translation, camera rotation
     const int nj = a.state.n_joint;
     for (const auto &d : a.state.dq) {
@@ -1026,19 +1052,20 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
   // The robot pose error measured (variance component estimation): each correction's redundancy is
   // 1 - its posterior variance over its prior one, at the stated weights (the covariance before any
   // sigma0 scaling); the corrections follow the kept blocks before them.
-  if (!a.state.delta.empty() && a.opt_pose_sd[0] > 0 && a.opt_pose_sd[1] > 0) {
+  const double stated_pose_sd[2] = {a.noise.pose_sd_translation, a.noise.pose_sd_rotation};
+  if (!a.state.delta.empty() && stated_pose_sd[0] > 0 && stated_pose_sd[1] > 0) {
     const int first = N + 3 * static_cast<int>(ends.size());
     double sum[2] = {0, 0}, redundancy[2] = {0, 0};
     for (size_t k = 0; k < a.state.delta.size(); ++k)
       for (int i = 0; i < 6; ++i) {
         const int part = i < 3 ? 0 : 1, r = first + 6 * static_cast<int>(k) + i;
-        const double prior = a.opt_pose_sd[part] * a.opt_pose_sd[part];
+        const double prior = stated_pose_sd[part] * stated_pose_sd[part];
         sum[part] += a.state.delta[k][i] * a.state.delta[k][i];
         redundancy[part] += 1.0 - full(r, r) / prior;
       }
     if (redundancy[0] >= 1 && redundancy[1] >= 1) {
-      res.pose_sd_translation_measured = std::sqrt(sum[0] / redundancy[0]);
-      res.pose_sd_rotation_measured = std::sqrt(sum[1] / redundancy[1]);
+      res.measured.pose_sd_translation = std::sqrt(sum[0] / redundancy[0]);
+      res.measured.pose_sd_rotation = std::sqrt(sum[1] / redundancy[1]);
     }
   }
   // The a posteriori variance factor: the stated noise is too small for the residuals.
@@ -1075,9 +1102,11 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
                                         const std::vector<vpSelfCalibDataset::View> &views,
                                         const vpSelfCalibDataset::Yardstick &yardstick,
                                         const std::map<int, vpColVector> &points0,
-                                        const vpKinematicBundleAdjustment::Options &opt, bool solve)
+                                        const vpKinematicBundleAdjustment::Options &opt,
+                                        const vpSelfCalibNoiseModel &noise, bool solve)
 {
   opt.check();
+  noise.check("vpKinematicBundleAdjustment");
   vpSelfCalib::checkCamera(camera, "vpKinematicBundleAdjustment: the camera");
   vpSelfCalib::checkChain(start, "vpKinematicBundleAdjustment: the model '" + start.getName() + "'");
   // Checked here rather than in check(): the pipeline sets hand_eye_only from its method.
@@ -1104,29 +1133,22 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   res.camera = camera;
   res.sd.resize(start.getNumParameters());
   res.identifiability = estimatedSet(start, q, opt);
+  checkRobotError(start, opt, noise);
   std::vector<double> joint_sd;
-  if (!opt.joint_sd.empty()) {
-    if (opt.hand_eye_only)
-      throw vpSelfCalibException(vpSelfCalibException::badValue,
-                                 "vpKinematicBundleAdjustment: joint_sd (joint-reading noise) is for the full kinematic "
-                                 "mode; in hand-eye-only mode give the controller pose error (pose_sd_*)");
-    if (opt.joint_sd.size() != 1 && opt.joint_sd.size() != start.getNumJoints())
-      throw vpSelfCalibException(vpSelfCalibException::dimensionError,
-                                 "vpKinematicBundleAdjustment: joint_sd needs 1 or " +
-                                     std::to_string(start.getNumJoints()) + " values, got " +
-                                     std::to_string(opt.joint_sd.size()));
-    joint_sd.assign(start.getNumJoints(), opt.joint_sd[0]);
-    if (opt.joint_sd.size() > 1)
-      joint_sd = opt.joint_sd;
+  if (!noise.joint_sd.empty()) {
+    joint_sd.assign(start.getNumJoints(), noise.joint_sd[0]);
+    if (noise.joint_sd.size() > 1)
+      joint_sd = noise.joint_sd;
   }
-  // Full mode: the camera pose error the model leaves (pose_sd_*), after the joint corrections.
-  const bool camera_delta = !opt.hand_eye_only && opt.pose_sd_translation > 0;
+  // Full mode: the camera pose error the model leaves (model_sd_*), after the joint corrections.
+  const bool camera_delta = !opt.hand_eye_only && noise.hasModelError();
   const int n_joint = static_cast<int>(joint_sd.size());
   if (camera_delta)
     for (int i = 0; i < 6; ++i)
-      joint_sd.push_back(i < 3 ? opt.pose_sd_translation : opt.pose_sd_rotation);
-  Adjustment a(X0, start, res.identifiability.identified, q, fMe, opt.hand_eye_only && opt.pose_sd_translation > 0,
-               joint_sd, n_joint, camera_delta);
+      joint_sd.push_back(i < 3 ? noise.model_sd_translation : noise.model_sd_rotation);
+  Adjustment a(X0, start, res.identifiability.identified, q, fMe, opt.hand_eye_only && noise.hasPoseError(), joint_sd,
+               n_joint, camera_delta);
+  a.noise = noise;
   a.P = static_cast<int>(res.identifiability.identified.size());
   for (unsigned int k = 0; k < m; ++k)
     for (const auto &o : views[k].points)
@@ -1136,8 +1158,6 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   a.free_in = estimatedIntrinsics(camera, opt, a.in);
   a.scale_covariance = opt.scale_covariance;
   a.scale_covariance_chi2 = opt.scale_covariance_chi2;
-  a.opt_pose_sd[0] = opt.pose_sd_translation;
-  a.opt_pose_sd[1] = opt.pose_sd_rotation;
   const bool distortion = (opt.intrinsics & KBA::DISTORTION) || a.in[4] != 0;
   const size_t unknowns = a.P + a.free_in.size() + 3 * a.X.size();
   if (a.P == 0 || 2 * a.obs.size() <= unknowns) {
@@ -1264,23 +1284,12 @@ void vpKinematicBundleAdjustment::Options::check() const
   if ((intrinsics & DISTORTION_K3) && !(intrinsics & DISTORTION))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: DISTORTION_K3 goes with DISTORTION");
-  if (!(pixel_sd > 0) || !(yardstick_sd > 0) || !(loss_scale > 0) || !(outlier_threshold >= 0) ||
-      !std::isfinite(outlier_threshold) || !(rank_tolerance > 0 && rank_tolerance < 1))
+  if (!(yardstick_sd > 0) || !(rank_tolerance > 0 && rank_tolerance < 1))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpKinematicBundleAdjustment: pixel_sd, yardstick_sd and loss_scale must be positive, "
-                               "outlier_threshold non-negative, rank_tolerance in (0, 1)");
-  if (!(pose_sd_translation >= 0) || !(pose_sd_rotation >= 0) || !std::isfinite(pose_sd_translation) ||
-      !std::isfinite(pose_sd_rotation) || ((pose_sd_translation > 0) != (pose_sd_rotation > 0)))
-    throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpKinematicBundleAdjustment: pose_sd_translation and pose_sd_rotation must be both "
-                               "positive (robot pose error modelled) or both 0 (exact poses)");
+                               "vpKinematicBundleAdjustment: yardstick_sd must be positive, rank_tolerance in (0, 1)");
   if (!(known_points_sd > 0) || !std::isfinite(known_points_sd))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: known_points_sd must be positive and finite");
-  for (double sd : joint_sd)
-    if (!(sd > 0) || !(sd < 1))
-      throw vpSelfCalibException(vpSelfCalibException::badValue,
-                                 "vpKinematicBundleAdjustment: joint_sd values must be in (0, 1) rad");
   if (max_iterations == 0 || num_threads == 0)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: max_iterations and num_threads must be at least 1");
@@ -1291,18 +1300,20 @@ vpKinematicBundleAdjustment::Result vpKinematicBundleAdjustment::adjust(const vp
                                                                        const std::vector<vpSelfCalibDataset::View> &views,
                                                                        const vpSelfCalibDataset::Yardstick &yardstick,
                                                                        const std::map<int, vpColVector> &points,
-                                                                       const Options &options)
+                                                                       const Options &options,
+                                                                       const vpSelfCalibNoiseModel &noise)
 {
-  return run(start, camera, views, yardstick, points, options, true);
+  return run(start, camera, views, yardstick, points, options, noise, true);
 }
 
 vpKinematicBundleAdjustment::Result vpKinematicBundleAdjustment::information(
     const vpKinematicChain &state, const vpCameraParameters &camera, const std::vector<vpSelfCalibDataset::View> &views,
-    const vpSelfCalibDataset::Yardstick &yardstick, const std::map<int, vpColVector> &points, const Options &options)
+    const vpSelfCalibDataset::Yardstick &yardstick, const std::map<int, vpColVector> &points, const Options &options,
+    const vpSelfCalibNoiseModel &noise)
 {
   Options o = options;
   o.covariance = true;
-  return run(state, camera, views, yardstick, points, o, false);
+  return run(state, camera, views, yardstick, points, o, noise, false);
 }
 
 vpMatrix vpKinematicBundleAdjustment::relativePoseCovariance(const vpKinematicChain &chain,

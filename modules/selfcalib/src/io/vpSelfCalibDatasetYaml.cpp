@@ -188,6 +188,111 @@ void parseRobotError(const Reader &r, const YAML::Node &root, vpSelfCalibDataset
   }
 }
 
+//! A pose's points [id, u, v] (pixels through the inverse of the lens distortion when it has one).
+void parsePoints(const Reader &r, const YAML::Node &pts, const std::string &key, bool has_distortion,
+                 const vpSelfCalib::CameraModel &camera, vpSelfCalibDataset::View &v)
+{
+  if (!pts.IsSequence())
+    r.fail(key + ".points", "expected a list of [id, u, v], got " + Reader::show(pts));
+  std::set<int> ids;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const std::string pk = key + ".points[" + std::to_string(i) + "]";
+    if (!pts[i].IsSequence() || pts[i].size() != 3)
+      r.fail(pk, "expected [id, u, v], got " + Reader::show(pts[i]));
+    const double id = r.number(pts[i][0], pk + "[0]");
+    if (!(id >= 0 && id == std::floor(id) && id < 2147483647.0))
+      r.fail(pk + "[0]", "a point id is a non-negative whole number");
+    vpSelfCalibDataset::Observation o;
+    o.id = static_cast<int>(id);
+    if (!ids.insert(o.id).second)
+      r.fail(pk, "point id " + std::to_string(o.id) + " appears twice in this pose");
+    const double u = r.bounded(pts[i][1], pk + "[1]", -kMaxPixels, kMaxPixels, "px"),
+                 vv = r.bounded(pts[i][2], pk + "[2]", -kMaxPixels, kMaxPixels, "px");
+    if (has_distortion) {
+      // Undistorted pixel: the camera model's exact inverse of k_ud (ViSP's separately fitted
+      // k_du, a first-order inverse, is not used), then the pinhole.
+      const Eigen::Vector2d uv = camera.undistortPixel(Eigen::Vector2d(u, vv));
+      o.ip = vpImagePoint(uv(1), uv(0));
+    } else
+      o.ip = vpImagePoint(vv, u);
+    v.points.push_back(o);
+  }
+}
+
+//! A pose's joints (as many as the earlier poses': num_joints, -1 before the first) or controller pose.
+void parseRobotPose(const Reader &r, const YAML::Node &p, const std::string &key, int &num_joints,
+                    vpSelfCalibDataset::View &v)
+{
+  if (!p["joints"] && !p["fMe"])
+    r.fail(key, "needs joints (rad) or fMe (a controller pose vector)");
+  if (p["joints"] && p["fMe"])
+    r.fail(key, "gives both joints and fMe: give one (joints when the robot model is to be calibrated, fMe for "
+                "the controller's poses)");
+  if (p["joints"]) {
+    const YAML::Node j = p["joints"];
+    if (!j.IsSequence() || j.size() == 0)
+      r.fail(key + ".joints", "expected a list of joint values (rad), got " + Reader::show(j));
+    r.atMost(j, kMaxJoints, key + ".joints", "joint values");
+    if (num_joints >= 0 && static_cast<int>(j.size()) != num_joints)
+      r.fail(key + ".joints", std::to_string(j.size()) + " values, earlier poses have " + std::to_string(num_joints));
+    num_joints = static_cast<int>(j.size());
+    v.q.resize(static_cast<unsigned int>(j.size()));
+    for (size_t i = 0; i < j.size(); ++i)
+      v.q[static_cast<unsigned int>(i)] =
+          r.bounded(j[i], key + ".joints[" + std::to_string(i) + "]", -kMaxAngle, kMaxAngle, "rad");
+  }
+  if (p["fMe"]) {
+    v.fMe = vpHomogeneousMatrix(r.pose(p["fMe"], key + ".fMe"));
+    v.has_fMe = true;
+  }
+}
+
+//! The poses' list: checked, its observations counted before any is read (YAML aliases let a small
+//! file name millions).
+void checkPosesList(const Reader &r, const YAML::Node &poses)
+{
+  if (!poses.IsDefined() || poses.IsNull())
+    r.fail("poses", "missing; expected a list of poses {joints or fMe, image, points}");
+  if (!poses.IsSequence())
+    r.fail("poses", "expected a list, got " + Reader::show(poses));
+  r.atMost(poses, kMaxPoses, "poses", "poses");
+  size_t num_observations = 0;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    const YAML::Node p = poses[k];
+    if (p.IsMap()) {
+      const YAML::Node pts = p["points"];
+      if (pts && pts.IsSequence())
+        num_observations += pts.size();
+    }
+  }
+  if (num_observations > kMaxObservations)
+    r.fail("poses", std::to_string(num_observations) + " observations (YAML aliases expand to that many?): at most " +
+                        std::to_string(kMaxObservations) + " are read");
+}
+
+//! The yardstick {length, ends: [id_a, id_b]} (ends optional: the front end finds its dots).
+void parseYardstick(const Reader &r, const YAML::Node &y, vpSelfCalibDataset &ds)
+{
+  if (!y.IsMap())
+    r.fail("yardstick", "expected a map {length, ends: [id_a, id_b]}, got " + Reader::show(y));
+  r.onlyKeys(y, {"length", "ends"}, "yardstick");
+  ds.yardstick.length = r.bounded(y["length"], "yardstick.length", 0, kMaxLength, "m");
+  if (!(ds.yardstick.length > 0))
+    r.fail("yardstick.length", "must be positive (m)");
+  // Without ends: the front end finds the yardstick's dots in the images.
+  if (y["ends"]) {
+    const YAML::Node e = y["ends"];
+    if (!e.IsSequence() || e.size() != 2)
+      r.fail("yardstick.ends", "expected [id_a, id_b], got " + Reader::show(e));
+    const double a = r.number(e[0], "yardstick.ends[0]"), b = r.number(e[1], "yardstick.ends[1]");
+    if (!(a >= 0 && b >= 0 && a < 2147483647.0 && b < 2147483647.0 && a == std::floor(a) && b == std::floor(b) &&
+          a != b))
+      r.fail("yardstick.ends", "two different non-negative point ids");
+    ds.yardstick.id_a = static_cast<int>(a);
+    ds.yardstick.id_b = static_cast<int>(b);
+  }
+}
+
 vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, const std::string &base_dir)
 {
   const Reader r(kWhat, source);
@@ -207,24 +312,7 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
   ds.robot = std::find(presets.begin(), presets.end(), robot) != presets.end() ? robot : resolve(base_dir, robot);
 
   const YAML::Node poses = root["poses"];
-  if (!poses.IsDefined() || poses.IsNull())
-    r.fail("poses", "missing; expected a list of poses {joints or fMe, image, points}");
-  if (!poses.IsSequence())
-    r.fail("poses", "expected a list, got " + Reader::show(poses));
-  r.atMost(poses, kMaxPoses, "poses", "poses");
-  // The observations counted before any is read: YAML aliases let a small file name millions.
-  size_t num_observations = 0;
-  for (size_t k = 0; k < poses.size(); ++k) {
-    const YAML::Node p = poses[k];
-    if (p.IsMap()) {
-      const YAML::Node pts = p["points"];
-      if (pts && pts.IsSequence())
-        num_observations += pts.size();
-    }
-  }
-  if (num_observations > kMaxObservations)
-    r.fail("poses", std::to_string(num_observations) + " observations (YAML aliases expand to that many?): at most " +
-                        std::to_string(kMaxObservations) + " are read");
+  checkPosesList(r, poses);
   int num_joints = -1;
   for (size_t k = 0; k < poses.size(); ++k) {
     const std::string key = "poses[" + std::to_string(k) + "]";
@@ -233,85 +321,19 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
       r.fail(key, "expected a map {joints or fMe, image, points}, got " + Reader::show(p));
     r.onlyKeys(p, {"joints", "fMe", "image", "points"}, key);
     vpSelfCalibDataset::View v;
-    if (!p["joints"] && !p["fMe"])
-      r.fail(key, "needs joints (rad) or fMe (a controller pose vector)");
-    if (p["joints"] && p["fMe"])
-      r.fail(key, "gives both joints and fMe: give one (joints when the robot model is to be calibrated, fMe for "
-                  "the controller's poses)");
-    if (p["joints"]) {
-      const YAML::Node j = p["joints"];
-      if (!j.IsSequence() || j.size() == 0)
-        r.fail(key + ".joints", "expected a list of joint values (rad), got " + Reader::show(j));
-      r.atMost(j, kMaxJoints, key + ".joints", "joint values");
-      if (num_joints >= 0 && static_cast<int>(j.size()) != num_joints)
-        r.fail(key + ".joints", std::to_string(j.size()) + " values, earlier poses have " + std::to_string(num_joints));
-      num_joints = static_cast<int>(j.size());
-      v.q.resize(static_cast<unsigned int>(j.size()));
-      for (size_t i = 0; i < j.size(); ++i)
-        v.q[static_cast<unsigned int>(i)] =
-            r.bounded(j[i], key + ".joints[" + std::to_string(i) + "]", -kMaxAngle, kMaxAngle, "rad");
-    }
-    if (p["fMe"]) {
-      v.fMe = vpHomogeneousMatrix(r.pose(p["fMe"], key + ".fMe"));
-      v.has_fMe = true;
-    }
+    parseRobotPose(r, p, key, num_joints, v);
     if (p["image"]) {
       v.image = resolve(base_dir, r.text(p["image"], key + ".image"));
       // Image readers choose the format by the extension (ViSP's throws a bare substr error without one).
       if (std::filesystem::path(v.image).extension().string().size() < 2)
         r.fail(key + ".image", "'" + v.image + "' has no extension: expected an image file (.png, .jpg, .pgm...)");
     }
-    if (p["points"]) {
-      const YAML::Node pts = p["points"];
-      if (!pts.IsSequence())
-        r.fail(key + ".points", "expected a list of [id, u, v], got " + Reader::show(pts));
-      std::set<int> ids;
-      for (size_t i = 0; i < pts.size(); ++i) {
-        const std::string pk = key + ".points[" + std::to_string(i) + "]";
-        if (!pts[i].IsSequence() || pts[i].size() != 3)
-          r.fail(pk, "expected [id, u, v], got " + Reader::show(pts[i]));
-        const double id = r.number(pts[i][0], pk + "[0]");
-        if (!(id >= 0 && id == std::floor(id) && id < 2147483647.0))
-          r.fail(pk + "[0]", "a point id is a non-negative whole number");
-        vpSelfCalibDataset::Observation o;
-        o.id = static_cast<int>(id);
-        if (!ids.insert(o.id).second)
-          r.fail(pk, "point id " + std::to_string(o.id) + " appears twice in this pose");
-        const double u = r.bounded(pts[i][1], pk + "[1]", -kMaxPixels, kMaxPixels, "px"),
-                     vv = r.bounded(pts[i][2], pk + "[2]", -kMaxPixels, kMaxPixels, "px");
-        if (has_distortion) {
-          // Undistorted pixel: the camera model's exact inverse of k_ud (ViSP's separately fitted
-          // k_du, a first-order inverse, is not used), then the pinhole.
-          const Eigen::Vector2d uv = camera.undistortPixel(Eigen::Vector2d(u, vv));
-          o.ip = vpImagePoint(uv(1), uv(0));
-        } else
-          o.ip = vpImagePoint(vv, u);
-        v.points.push_back(o);
-      }
-    }
+    if (p["points"])
+      parsePoints(r, p["points"], key, has_distortion, camera, v);
     ds.views.push_back(v);
   }
-  if (root["yardstick"]) {
-    const YAML::Node y = root["yardstick"];
-    if (!y.IsMap())
-      r.fail("yardstick", "expected a map {length, ends: [id_a, id_b]}, got " + Reader::show(y));
-    r.onlyKeys(y, {"length", "ends"}, "yardstick");
-    ds.yardstick.length = r.bounded(y["length"], "yardstick.length", 0, kMaxLength, "m");
-    if (!(ds.yardstick.length > 0))
-      r.fail("yardstick.length", "must be positive (m)");
-    // Without ends: the front end finds the yardstick's dots in the images.
-    if (y["ends"]) {
-      const YAML::Node e = y["ends"];
-      if (!e.IsSequence() || e.size() != 2)
-        r.fail("yardstick.ends", "expected [id_a, id_b], got " + Reader::show(e));
-      const double a = r.number(e[0], "yardstick.ends[0]"), b = r.number(e[1], "yardstick.ends[1]");
-      if (!(a >= 0 && b >= 0 && a < 2147483647.0 && b < 2147483647.0 && a == std::floor(a) && b == std::floor(b) &&
-            a != b))
-        r.fail("yardstick.ends", "two different non-negative point ids");
-      ds.yardstick.id_a = static_cast<int>(a);
-      ds.yardstick.id_b = static_cast<int>(b);
-    }
-  }
+  if (root["yardstick"])
+    parseYardstick(r, root["yardstick"], ds);
   return ds;
 }
 

@@ -454,7 +454,7 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
        << " dropped as outliers), reprojection RMS " << std::setprecision(3) << r.bundle.rms << " px, sigma0 "
        << r.bundle.sigma0 << " |\n";
   if (r.method != vpRobotSelfCalibration::PAPER && r.fit_calibrated_rms > 0)
-    md << "| image noise | " << std::setprecision(3) << r.pixel_sd << " px used, " << r.pixel_sd_measured
+    md << "| image noise | " << std::setprecision(3) << r.noise.pixel_sd << " px used, " << r.measured.pixel_sd
        << " px measured by the residuals |\n"
        << "| calibration views explained | reprojection RMS " << r.fit_nominal_rms << " px (nominal model) -> "
        << r.fit_calibrated_rms << " px (calibrated) |\n";

@@ -11,7 +11,6 @@
 #include <chrono>
 #include <cmath>
 #include <iomanip>
-#include <list>
 #include <optional>
 #include <sstream>
 
@@ -46,6 +45,14 @@ bool same(const vpTwoViewEstimator::Options &a, const vpTwoViewEstimator::Option
          a.refine == b.refine && a.huber == b.huber && a.planar_ratio == b.planar_ratio &&
          a.min_coplanarity == b.min_coplanarity && a.rotation_tolerance == b.rotation_tolerance &&
          a.max_fx_relative_sd == b.max_fx_relative_sd;
+}
+//! True when the run takes the robot's error from the dataset (the options leave it at 0).
+bool usesDatasetRobotError(const vpRobotSelfCalibration::Options &opt, const vpSelfCalibDataset &ds)
+{
+  return (opt.method == vpRobotSelfCalibration::HAND_EYE && !opt.noise.hasPoseError() &&
+          ds.pose_sd_translation > 0) ||
+         (opt.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT && opt.noise.joint_sd.empty() &&
+          !ds.joint_sd.empty());
 }
 } // namespace
 
@@ -86,14 +93,25 @@ vpRobotSelfCalibration::Method vpRobotSelfCalibration::methodFromName(const std:
 
 void vpRobotSelfCalibration::Options::check() const
 {
-  if (!(pixel_sd > 0))
-    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpRobotSelfCalibration: pixel_sd must be positive");
+  noise.check("vpRobotSelfCalibration");
+  if (method == BUNDLE_ADJUSTMENT && noise.hasPoseError())
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpRobotSelfCalibration: noise.pose_sd_* is the controller poses' error (HAND_EYE); "
+                               "the bundle method's per-view camera correction is noise.model_sd_*");
+  if (method == HAND_EYE && (noise.hasModelError() || !noise.joint_sd.empty()))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpRobotSelfCalibration: noise.model_sd_* and noise.joint_sd are the full kinematic "
+                               "model's (BUNDLE_ADJUSTMENT); HAND_EYE takes the controller poses' error, noise.pose_sd_*");
+  if (method == PAPER && noise.hasRobotError())
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpRobotSelfCalibration: PAPER does not model the robot's error (noise.pose_sd_*, "
+                               "model_sd_*, joint_sd): use BUNDLE_ADJUSTMENT or HAND_EYE");
   if (num_calibration_poses < 3)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpRobotSelfCalibration: num_calibration_poses must be at least 3");
-  if (!(pose_sd_rotation > 0 && pose_sd_direction > 0))
+  if (!(twoview_rotation_sd > 0 && twoview_direction_sd > 0))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpRobotSelfCalibration: pose_sd_rotation and pose_sd_direction must be positive");
+                               "vpRobotSelfCalibration: twoview_rotation_sd and twoview_direction_sd must be positive");
   if (!(outlier_warning > 0 && outlier_warning <= 1 && min_posed_fraction >= 0 && min_posed_fraction <= 1 &&
         max_outlier_fraction > 0 && max_outlier_fraction <= 1))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
@@ -109,11 +127,7 @@ void vpRobotSelfCalibration::Options::check() const
   bundle.check();
   data_check.check();
   // The derived fields that conflict whatever the dataset (the builders find the others).
-  derived(data_check.pixel_sd, vpSelfCalibDataCheck::Options().pixel_sd, pixel_sd, "data_check.pixel_sd", "pixel_sd");
-  derived(multiview.pixel_sd, vpMultiViewReconstruction::Options().pixel_sd, pixel_sd, "multiview.pixel_sd",
-          "pixel_sd");
   const vpKinematicBundleAdjustment::Options bundle_default;
-  derived(bundle.pixel_sd, bundle_default.pixel_sd, pixel_sd, "bundle.pixel_sd", "pixel_sd");
   derived(bundle.hand_eye_only, bundle_default.hand_eye_only, method == HAND_EYE, "bundle.hand_eye_only", "method");
 }
 
@@ -157,7 +171,6 @@ vpMultiViewReconstruction::Options vpRobotSelfCalibration::multiViewOptions(cons
                                "at its default");
   mo.focal_known = derived(opt.multiview.focal_known, def.focal_known, resolveFocalMode(opt, ds) == FOCAL_KNOWN,
                            "multiview.focal_known", "focal_mode");
-  mo.pixel_sd = derived(opt.multiview.pixel_sd, def.pixel_sd, opt.pixel_sd, "multiview.pixel_sd", "pixel_sd");
   return mo;
 }
 
@@ -167,7 +180,6 @@ vpKinematicBundleAdjustment::Options vpRobotSelfCalibration::bundleOptions(const
   const unsigned int FX = vpKinematicBundleAdjustment::FX;
   const vpKinematicBundleAdjustment::Options def;
   vpKinematicBundleAdjustment::Options bo = opt.bundle;
-  bo.pixel_sd = derived(opt.bundle.pixel_sd, def.pixel_sd, opt.pixel_sd, "bundle.pixel_sd", "pixel_sd");
   const bool fx = derived((opt.bundle.intrinsics & FX) != 0, (def.intrinsics & FX) != 0,
                           resolveFocalMode(opt, ds) != FOCAL_KNOWN, "the FX flag of bundle.intrinsics", "focal_mode");
   if (fx)
@@ -178,18 +190,10 @@ vpKinematicBundleAdjustment::Options vpRobotSelfCalibration::bundleOptions(const
       derived(opt.bundle.hand_eye_only, def.hand_eye_only, opt.method == HAND_EYE, "bundle.hand_eye_only", "method");
   // The standard deviations follow the residuals when they contradict the stated noise (either way).
   bo.scale_covariance_chi2 = true;
-  // The robot's pose error as the dataset states it, unless the caller states it: controller poses
-  // (hand-eye) or joint readings (full kinematics), with the sd widened by sigma0 when the residuals
-  // say the noise is larger.
-  if (opt.method == HAND_EYE && bo.pose_sd_translation == 0 && ds.pose_sd_translation > 0) {
-    bo.pose_sd_translation = ds.pose_sd_translation;
-    bo.pose_sd_rotation = ds.pose_sd_rotation;
+  // The robot's error as the dataset states it (noiseModel()), with the sd widened by sigma0 when
+  // the residuals say the noise is larger.
+  if (usesDatasetRobotError(opt, ds))
     bo.scale_covariance = true;
-  }
-  if (opt.method == BUNDLE_ADJUSTMENT && bo.joint_sd.empty() && !ds.joint_sd.empty()) {
-    bo.joint_sd = ds.joint_sd;
-    bo.scale_covariance = true;
-  }
   // The dataset's OpenCV lens model: the model of the estimate, its coefficients the start (unless
   // the caller gives other start coefficients).
   if (!ds.opencv_distortion.empty()) {
@@ -200,17 +204,26 @@ vpKinematicBundleAdjustment::Options vpRobotSelfCalibration::bundleOptions(const
   return bo;
 }
 
-vpSelfCalibDataCheck::Options vpRobotSelfCalibration::dataCheckOptions(const Options &opt)
+vpSelfCalibDataCheck::Options vpRobotSelfCalibration::dataCheckOptions(const Options &opt) { return opt.data_check; }
+
+vpSelfCalibNoiseModel vpRobotSelfCalibration::noiseModel(const Options &opt, const vpSelfCalibDataset &ds)
 {
-  vpSelfCalibDataCheck::Options co = opt.data_check;
-  co.pixel_sd = derived(opt.data_check.pixel_sd, vpSelfCalibDataCheck::Options().pixel_sd, opt.pixel_sd,
-                        "data_check.pixel_sd", "pixel_sd");
-  return co;
+  opt.check();
+  vpSelfCalibNoiseModel noise = opt.noise;
+  // The robot's error as the dataset states it, unless the caller states it: controller poses
+  // (hand-eye) or joint readings (full kinematics).
+  if (opt.method == HAND_EYE && !noise.hasPoseError() && ds.pose_sd_translation > 0) {
+    noise.pose_sd_translation = ds.pose_sd_translation;
+    noise.pose_sd_rotation = ds.pose_sd_rotation;
+  }
+  if (opt.method == BUNDLE_ADJUSTMENT && noise.joint_sd.empty() && !ds.joint_sd.empty())
+    noise.joint_sd = ds.joint_sd;
+  return noise;
 }
 
 namespace
 {
-// The method's pipeline; the noise level it used and the one its residuals measure.
+// The method's pipeline; the noise it used and the one its residuals measure.
 void runMethod(const vpSelfCalibPipeline::Context &c, vpRobotSelfCalibration::Result &res)
 {
   if (c.options.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT)
@@ -220,15 +233,16 @@ void runMethod(const vpSelfCalibPipeline::Context &c, vpRobotSelfCalibration::Re
   else
     vpSelfCalibPipeline::runPaper(c, res);
   if (c.options.method != vpRobotSelfCalibration::PAPER) {
-    res.pixel_sd = c.options.pixel_sd;
-    res.pixel_sd_measured = res.bundle.pixel_sd_measured;
-    res.pose_sd_translation = c.bundle.pose_sd_translation;
-    res.pose_sd_rotation = c.bundle.pose_sd_rotation;
+    res.noise = c.noise;
+    res.measured = res.bundle.measured;
   } else {
-    // The paper's pixel residuals are those of its focal length from every view (f shared), if any.
-    if (!(res.pixel_sd > 0))
-      res.pixel_sd = c.options.pixel_sd;
-    res.pixel_sd_measured = res.multiview.status == vpMultiViewReconstruction::OK ? res.multiview.pixel_sd_measured : 0.0;
+    // The paper's pixel residuals are those of its focal length from every view (f shared), if any;
+    // the pipeline says the noise it used there.
+    if (!(res.noise.pixel_sd > 0))
+      res.noise = c.noise;
+    res.measured = vpSelfCalibNoiseModel::unmeasured();
+    if (res.multiview.status == vpMultiViewReconstruction::OK)
+      res.measured.pixel_sd = res.multiview.measured.pixel_sd;
   }
 }
 
@@ -324,84 +338,32 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
   }
   const std::vector<vpSelfCalibDataCheck::Finding> data_findings = res.findings;
   runMethod(context, res);
-  // Later runs at the measured noise levels. Each context refers to its options: both kept in
-  // lists (stable addresses); `current` is the context of the run that stands.
-  std::list<Options> later_options;
-  std::list<vpSelfCalibPipeline::Context> later;
-  const vpSelfCalibPipeline::Context *current = &context;
-  Status failed_status = OK; // of the last later run that did not succeed
-  const auto runAgain = [&](const Options &o) {
-    later_options.push_back(o);
-    later.emplace_back(nominal, data, later_options.back(), N, progress);
+  // Later runs at the measured noise levels; `current` is the context of the run that stands.
+  std::optional<vpSelfCalibPipeline::Context> current;
+  const auto attempt = [&](const vpSelfCalibNoiseModel &noise, bool robot_round) {
+    const vpSelfCalibPipeline::Context c(context, noise, robot_round);
     Result next;
     next.method = opt.method;
     next.calibrated = nominal;
     next.camera = data.cam;
     next.findings = data_findings;
-    runMethod(later.back(), next);
-    if (next.status != OK) {
-      failed_status = next.status;
-      return false;
-    }
+    runMethod(c, next);
+    if (next.status != OK)
+      return vpSelfCalibPipeline::NoiseAttempt{false, statusName(next.status), vpSelfCalibNoiseModel::unmeasured()};
     next.stage_seconds.insert(next.stage_seconds.begin(), res.stage_seconds.begin(), res.stage_seconds.end());
     res = next;
-    current = &later.back();
-    return true;
+    current.emplace(c);
+    return vpSelfCalibPipeline::NoiseAttempt{true, std::string(), res.measured};
   };
-  const auto withPixelSd = [](Options o, double sd) {
-    o.pixel_sd = sd;
-    o.bundle.pixel_sd = o.multiview.pixel_sd = o.data_check.pixel_sd = sd;
-    return o;
-  };
-  // The image noise measured: a second run with the level the residuals give, when it differs.
-  // A run that failed on too many rejected observations is the one a too small pixel_sd breaks: it
-  // runs again too when its residuals measured the noise.
-  if (opt.estimate_pixel_sd && opt.method != PAPER && (res.status == OK || res.status == IDENTIFICATION_FAILED) &&
-      vpSelfCalibPipeline::measuredNoiseDiffers(opt.pixel_sd, res.pixel_sd_measured))
-    runAgain(withPixelSd(opt, res.pixel_sd_measured));
-  // The robot pose error measured (hand-eye: the controller poses): rounds at the measured level
-  // until it settles (10 %); when it does not, or cannot be measured, a warning says so.
-  const auto poseNote = [&res](const std::string &text) {
-    res.findings.push_back({vpSelfCalibDataCheck::WARNING, "robot-error-not-settled", text});
-  };
-  const auto mm = [](double v) {
-    std::ostringstream m;
-    m << std::fixed << std::setprecision(1) << 1e3 * v;
-    return m.str();
-  };
-  const bool measure_pose = opt.estimate_pose_sd && opt.method == HAND_EYE && res.status == OK &&
-                            context.bundle.pose_sd_translation > 0 && context.bundle.pose_sd_rotation > 0;
-  for (int round = 0; measure_pose && res.status == OK; ++round) {
-    const double t = res.bundle.pose_sd_translation_measured, r = res.bundle.pose_sd_rotation_measured;
-    const double t0 = current->bundle.pose_sd_translation, r0 = current->bundle.pose_sd_rotation;
-    if (!(t > 1e-7 && r > 1e-7)) {
-      poseNote("the robot pose error could not be measured (the views do not separate the pose corrections from "
-               "the rest, or no covariance): the stated " + mm(t0) + " mm / " + mm(r0) + " mrad is used");
-      break;
-    }
-    if (std::fabs(t / t0 - 1) <= 0.1 && std::fabs(r / r0 - 1) <= 0.1)
-      break;
-    if (round == 5) {
-      poseNote("the robot pose error did not settle in 5 rounds: the corrections measure " + mm(t) + " mm / " + mm(r) +
-               " mrad where " + mm(t0) + " mm / " + mm(r0) + " mrad was used");
-      break;
-    }
-    Options next = current->options;
-    next.bundle.pose_sd_translation = t;
-    next.bundle.pose_sd_rotation = r;
-    next.bundle.scale_covariance = true;
-    if (opt.estimate_pixel_sd && vpSelfCalibPipeline::measuredNoiseDiffers(next.pixel_sd, res.pixel_sd_measured))
-      next = withPixelSd(next, res.pixel_sd_measured);
-    if (!runAgain(next)) {
-      // Said, not hidden: the result stands at the level used, which the corrections contradict.
-      poseNote("the robot pose error the corrections measure (" + mm(t) + " mm / " + mm(r) +
-               " mrad) is not the one used (" + mm(t0) + " mm / " + mm(r0) +
-               " mrad), and the run at the measured level ended " + statusName(failed_status) +
-               ": the result is the one at the level used; these views may not determine the pose error (add views)");
-      break;
-    }
+  if (opt.method != PAPER) {
+    // A run that failed on too many rejected observations is the one a too small pixel_sd breaks:
+    // it runs again too when its residuals measured the noise.
+    const bool usable = res.status == OK || res.status == IDENTIFICATION_FAILED;
+    vpSelfCalibPipeline::measureNoise(context.noise, res.measured, res.status == OK, usable, opt.method == HAND_EYE,
+                                      attempt, res.findings);
   }
-  const vpSelfCalibPipeline::Context &used = *current;
+  const vpSelfCalibPipeline::Context &used = current ? *current : context;
+
   vpSelfCalibPipeline::checkResult(used, res);
   if (res.status != OK) {
     // What the checks found often explains the failure: say it with the failure.

@@ -111,7 +111,7 @@ bool worse(const vpCalibrationVerifier::Result &model, const vpCalibrationVerifi
 // The image noise the checks assume: the measured one, else the stated one.
 double noiseOf(const Context &c, const Result &res)
 {
-  return res.pixel_sd_measured > 0 ? res.pixel_sd_measured : c.options.pixel_sd;
+  return res.measured.pixel_sd > 0 ? res.measured.pixel_sd : c.noise.pixel_sd;
 }
 
 /*
@@ -224,20 +224,21 @@ void checkNoise(const Context &c, Result &res)
   if (c.options.method == vpRobotSelfCalibration::PAPER)
     return;
   const vpKinematicBundleAdjustment::Result &b = res.bundle;
-  if (res.pixel_sd_measured > c.options.max_pixel_noise)
+  const bool measured_pixel = c.options.noise.pixel_sd_origin == vpSelfCalibNoiseModel::MEASURED;
+  if (res.measured.pixel_sd > c.options.max_pixel_noise)
     add(res, vpSelfCalibDataCheck::DOUBT, "residuals-too-large",
-        "the residuals measure an image noise of " + fixed(res.pixel_sd_measured, 2) + " px, above " +
+        "the residuals measure an image noise of " + fixed(res.measured.pixel_sd, 2) + " px, above " +
             fixed(c.options.max_pixel_noise, 2) +
             " px: the model does not explain the images (a wrong robot model or camera, joints that do not belong "
             "to their images, a moving scene, or wrong matches)");
   else if (b.covariance_scaled &&
-           (!c.options.estimate_pixel_sd || measuredNoiseDiffers(res.pixel_sd, res.pixel_sd_measured)))
+           (!measured_pixel || measuredNoiseDiffers(res.noise.pixel_sd, res.measured.pixel_sd)))
     add(res, vpSelfCalibDataCheck::WARNING, "noise-mismatch",
         "the residuals contradict the stated noise: sigma0 " + fixed(b.sigma0, 2) + " is outside its 99.9 % interval [" +
             fixed(b.sigma0_low, 2) + ", " + fixed(b.sigma0_high, 2) + "]; the image noise is " +
-            fixed(res.pixel_sd_measured, 3) + " px where " + fixed(res.pixel_sd, 3) +
+            fixed(res.measured.pixel_sd, 3) + " px where " + fixed(res.noise.pixel_sd, 3) +
             " px was stated: the standard deviations are scaled by sigma0" +
-            (c.options.estimate_pixel_sd ? std::string() : " (calibrate --pixel-sd auto measures the noise)"));
+            (measured_pixel ? std::string() : " (calibrate --pixel-sd auto measures the noise)"));
 }
 
 /*
@@ -298,9 +299,13 @@ void checkRobotError(const Context &c, Result &res)
   if (!b.joint_corrections.empty())
     stated += std::string(stated.empty() ? "" : ", ") + "joint corrections rms " + fixed(1e3 * b.joint_rms, 2) +
               " mrad";
-  if (c.options.method == vpRobotSelfCalibration::HAND_EYE || !b.pose_corrections.empty())
-    stated += " against a stated pose error of " + fixed(1e3 * c.bundle.pose_sd_translation, 1) + " mm / " +
-              fixed(1e3 * c.bundle.pose_sd_rotation, 1) + " mrad";
+  if (c.options.method == vpRobotSelfCalibration::HAND_EYE || !b.pose_corrections.empty()) {
+    // The per-view correction's prior: the controller poses' error (hand-eye), else the model's residual.
+    const bool hand_eye = c.options.method == vpRobotSelfCalibration::HAND_EYE;
+    const double t = hand_eye ? c.noise.pose_sd_translation : c.noise.model_sd_translation;
+    const double r = hand_eye ? c.noise.pose_sd_rotation : c.noise.model_sd_rotation;
+    stated += " against a stated pose error of " + fixed(1e3 * t, 1) + " mm / " + fixed(1e3 * r, 1) + " mrad";
+  }
   const std::string figures = stated + "; chi-square " + fixed(b.robot_chi2, 0) + " for " +
                               std::to_string(b.robot_dof) + " values, 99.9 % bound " + fixed(robotChi2Bound(b), 0);
   if (robotCorrectionsStandIn(b))

@@ -276,9 +276,9 @@ void checkRotations(const vpKinematicChain &nominal, const std::vector<View> &ca
 constexpr unsigned int kMinHomographyPoints = 15; //!< correspondences of a pair that counts for the verdict
 
 void checkParallax(const vpKinematicChain &nominal, const std::vector<View> &cal,
-                   const vpSelfCalibDataCheck::Options &opt, std::vector<Finding> &out)
+                   const vpSelfCalibDataCheck::Options &opt, double pixel_sd, std::vector<Finding> &out)
 {
-  const double threshold = std::max(1.0, 3.0 * opt.pixel_sd);
+  const double threshold = std::max(1.0, 3.0 * pixel_sd);
   unsigned int pairs = 0, flat = 0, weak = 0;
   size_t most_shared = 0;
   double max_baseline = 0;
@@ -416,10 +416,10 @@ void checkYardstick(const vpSelfCalibDataset &ds, const std::vector<View> &cal, 
 void vpSelfCalibDataCheck::Options::check() const
 {
   if (!(joint_limit_tolerance >= 0 && same_pose_tolerance >= 0 && min_joint_range >= 0 && min_rotation >= 0 &&
-        parallel_axes_tolerance >= 0 && pixel_sd > 0 && homography_inliers > 0 && homography_inliers <= 1))
+        parallel_axes_tolerance >= 0 && homography_inliers > 0 && homography_inliers <= 1))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpSelfCalibDataCheck::Options: tolerances must be non-negative, pixel_sd positive "
-                               "and homography_inliers in (0, 1]");
+                               "vpSelfCalibDataCheck::Options: tolerances must be non-negative and "
+                               "homography_inliers in (0, 1]");
 }
 
 bool vpSelfCalibDataCheck::degenerate(const std::vector<Finding> &findings)
@@ -430,9 +430,11 @@ bool vpSelfCalibDataCheck::degenerate(const std::vector<Finding> &findings)
 std::vector<vpSelfCalibDataCheck::Finding> vpSelfCalibDataCheck::check(const vpKinematicChain &nominal,
                                                                        const vpSelfCalibDataset &ds,
                                                                        unsigned int num_calibration, bool hand_eye,
-                                                                       const Options &opt)
+                                                                       const Options &opt,
+                                                                       const vpSelfCalibNoiseModel &noise)
 {
   opt.check();
+  noise.check("vpSelfCalibDataCheck");
   const unsigned int N = std::min<unsigned int>(num_calibration, static_cast<unsigned int>(ds.views.size()));
   checkInputs(nominal, ds, opt);
   std::vector<Finding> out;
@@ -443,7 +445,7 @@ std::vector<vpSelfCalibDataCheck::Finding> vpSelfCalibDataCheck::check(const vpK
     return out;
   checkJointMotion(nominal, cal, hand_eye, opt, out);
   checkRotations(nominal, cal, hand_eye, opt, out);
-  checkParallax(nominal, cal, opt, out);
+  checkParallax(nominal, cal, opt, noise.pixel_sd, out);
   checkYardstick(ds, cal, out);
   return out;
 }

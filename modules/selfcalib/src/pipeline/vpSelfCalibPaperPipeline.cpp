@@ -58,14 +58,14 @@ double imageSigma0Scale(const vpMultiViewReconstruction::Result &mv, double pixe
     return 1.0;
   // Measured and used: a small disagreement is the robust measurement's own spread, not the user's
   // statement (as the bundle adjustment's noise-mismatch).
-  if (measured && !measuredNoiseDiffers(pixel_sd, mv.pixel_sd_measured))
+  if (measured && !measuredNoiseDiffers(pixel_sd, mv.measured.pixel_sd))
     return mv.sigma0;
   std::ostringstream os;
   os.precision(3);
   os << "the image residuals of the focal length's reconstruction (RMS " << mv.rms
      << " px) contradict the pixel sd (" << pixel_sd << " px): sigma0 " << mv.sigma0
      << " is outside its 99.9 % interval [" << mv.sigma0_low << ", " << mv.sigma0_high
-     << "]; the focal length's sd is scaled by sigma0 (the image noise measured: " << mv.pixel_sd_measured
+     << "]; the focal length's sd is scaled by sigma0 (the image noise measured: " << mv.measured.pixel_sd
      << " px)";
   vpSelfCalibDataCheck::Finding f;
   f.code = "noise-mismatch";
@@ -108,27 +108,26 @@ bool measurePoses(const Context &c, Result &res)
       c.report("focal length from every view", 0, 1);
       vpMultiViewReconstruction::Options mo = c.multiview;
       mo.twoview.fx = sr.fx;
-      res.multiview = vpMultiViewReconstruction::reconstruct(c.calibration, c.dataset.yardstick, mo);
-      // The image noise measured (Options::estimate_pixel_sd): when the residuals give another level,
-      // the reconstruction again at it (a pixel sd too small rejects good observations as outliers,
-      // one too large lets wrong matches in).
-      if (c.options.estimate_pixel_sd && res.multiview.status == vpMultiViewReconstruction::OK &&
-          measuredNoiseDiffers(mo.pixel_sd, res.multiview.pixel_sd_measured)) {
-        vpMultiViewReconstruction::Options measured = mo;
-        measured.pixel_sd = res.multiview.pixel_sd_measured;
+      res.multiview = vpMultiViewReconstruction::reconstruct(c.calibration, c.dataset.yardstick, mo, c.noise);
+      // The image noise measured (the noise model's pixel_sd of origin MEASURED): when the residuals
+      // give another level, the reconstruction again at it (a pixel sd too small rejects good
+      // observations as outliers, one too large lets wrong matches in).
+      const auto attempt = [&](const vpSelfCalibNoiseModel &noise, bool) {
         c.report("focal length from every view, at the measured image noise", 0, 1);
         vpMultiViewReconstruction::Result again =
-            vpMultiViewReconstruction::reconstruct(c.calibration, c.dataset.yardstick, measured);
-        if (again.status == vpMultiViewReconstruction::OK) {
-          res.multiview = std::move(again);
-          mo = measured;
-        }
-      }
-      res.pixel_sd = mo.pixel_sd;
+            vpMultiViewReconstruction::reconstruct(c.calibration, c.dataset.yardstick, mo, noise);
+        if (again.status != vpMultiViewReconstruction::OK)
+          return NoiseAttempt{false, vpMultiViewReconstruction::statusName(again.status), again.measured};
+        res.multiview = std::move(again);
+        return NoiseAttempt{true, std::string(), res.multiview.measured};
+      };
+      const bool ok = res.multiview.status == vpMultiViewReconstruction::OK;
+      res.noise = measureNoise(c.noise, res.multiview.measured, ok, ok, false, attempt, res.findings);
+      const bool measured = c.noise.pixel_sd_origin == vpSelfCalibNoiseModel::MEASURED;
       const vpMultiViewReconstruction::Result &mv = res.multiview;
       if (mv.status == vpMultiViewReconstruction::OK && mv.fx > 0 && std::isfinite(mv.fx) && std::isfinite(mv.fx_sd)) {
         res.fx = mv.fx;
-        res.fx_sd = mv.fx_sd * imageSigma0Scale(mv, mo.pixel_sd, c.options.estimate_pixel_sd, res);
+        res.fx_sd = mv.fx_sd * imageSigma0Scale(mv, res.noise.pixel_sd, measured, res);
         vpTwoViewEstimator::Options known = to;
         known.focal_mode = vpRefinedFactorMethod::KNOWN;
         known.fx = mv.fx;
@@ -203,10 +202,11 @@ bool scalePoses(const Context &c, Result &res)
   }
   if (res.fx > 0) {
     vpPoseScale::YardstickOptions yo;
-    yo.pixel_sd = res.pixel_sd > 0 ? res.pixel_sd : c.options.pixel_sd; // measured with estimate_pixel_sd
+    // The image noise of the focal length's reconstruction (measured when its origin is MEASURED).
+    const vpSelfCalibNoiseModel &noise = res.noise.pixel_sd > 0 ? res.noise : c.noise;
     if (c.mode == vpRobotSelfCalibration::FOCAL_SHARED && std::isfinite(res.fx_sd))
       yo.fx_sd = res.fx_sd;
-    res.scale = vpPoseScale::yardstick(yv, ys.length, res.fx, c.twoview.u0, c.twoview.v0, c.twoview.mu, yo);
+    res.scale = vpPoseScale::yardstick(yv, ys.length, res.fx, c.twoview.u0, c.twoview.v0, c.twoview.mu, yo, noise);
   }
   if (res.scale.status != vpPoseScale::OK) {
     res.status = vpRobotSelfCalibration::SCALE_FAILED;
@@ -278,7 +278,7 @@ void runPaper(const Context &c, Result &res)
       res.parameter_sd = res.parameter_sd * s0;
       std::ostringstream os;
       os.precision(3);
-      os << "the pose measurements' residuals contradict their stated errors (pose_sd_rotation, pose_sd_direction): "
+      os << "the pose measurements' residuals contradict their stated errors (twoview_rotation_sd, twoview_direction_sd): "
          << "sigma0 " << s0 << " is outside its 99.9 % interval [" << low << ", " << high
          << "]; the standard deviations are scaled by sigma0";
       vpSelfCalibDataCheck::Finding f;

@@ -90,7 +90,27 @@ Context::Context(const vpKinematicChain &nominal_, const vpSelfCalibDataset &dat
     twoview(vpRobotSelfCalibration::twoViewOptions(options_, dataset_)),
     multiview(vpRobotSelfCalibration::multiViewOptions(options_, dataset_)),
     bundle(vpRobotSelfCalibration::bundleOptions(options_, dataset_)),
-    data_check(vpRobotSelfCalibration::dataCheckOptions(options_))
+    data_check(vpRobotSelfCalibration::dataCheckOptions(options_)),
+    noise(vpRobotSelfCalibration::noiseModel(options_, dataset_))
+{
+}
+
+namespace
+{
+//! The bundle adjustment's options of a run whose robot error was measured: sds scaled by sigma0 above 1.
+vpKinematicBundleAdjustment::Options withScaledCovariance(vpKinematicBundleAdjustment::Options o, bool robot_round)
+{
+  if (robot_round)
+    o.scale_covariance = true;
+  return o;
+}
+} // namespace
+
+Context::Context(const Context &base, const vpSelfCalibNoiseModel &noise_, bool robot_round)
+  : nominal(base.nominal), dataset(base.dataset), options(base.options), progress(base.progress),
+    num_calibration(base.num_calibration), mode(base.mode), calibration(base.calibration),
+    verification(base.verification), twoview(base.twoview), multiview(base.multiview),
+    bundle(withScaledCovariance(base.bundle, robot_round)), data_check(base.data_check), noise(noise_)
 {
 }
 
@@ -133,15 +153,15 @@ vpKinematicIdentification::Measurement poseMeasurement(const vpColVector &q, con
   m.q = q;
   m.q_ref = q_ref;
   m.M = M;
-  m.sd_rotation = options.pose_sd_rotation;
-  m.sd_position = std::max(1e-6, translation_norm * options.pose_sd_direction);
+  m.sd_rotation = options.twoview_rotation_sd;
+  m.sd_position = std::max(1e-6, translation_norm * options.twoview_direction_sd);
   return m;
 }
 
 bool checkData(const Context &c, Result &res)
 {
   res.findings = vpSelfCalibDataCheck::check(c.nominal, c.dataset, c.num_calibration,
-                                             c.options.method == vpRobotSelfCalibration::HAND_EYE, c.data_check);
+                                             c.options.method == vpRobotSelfCalibration::HAND_EYE, c.data_check, c.noise);
   if (!vpSelfCalibDataCheck::degenerate(res.findings))
     return true;
   res.status = vpRobotSelfCalibration::DEGENERATE_DATA;
@@ -232,7 +252,7 @@ bool multiView(const Context &c, Result &res)
 {
   c.report("multi-view reconstruction", 0, 1);
   res.multiview = vpMultiViewReconstruction::reconstruct(undistorted(c.calibration, lensOf(c.dataset)),
-                                                         c.dataset.yardstick, c.multiview);
+                                                         c.dataset.yardstick, c.multiview, c.noise);
   res.pairs = res.multiview.pairs;
   res.stage_seconds.push_back({"two-view poses", res.multiview.seconds_twoview});
   res.stage_seconds.push_back({"multi-view bundle adjustment", res.multiview.seconds_bundle});
@@ -284,7 +304,7 @@ bool bundleFrom(const Context &c, const vpKinematicChain &start, const std::map<
   CameraModel start_camera = CameraModel::fromVisp(ds.cam);
   start_camera.intrinsics()[0] = fx0;
   const vpCameraParameters cam0 = start_camera.toVisp();
-  res.bundle = vpKinematicBundleAdjustment::adjust(start, cam0, views, ds.yardstick, points, bo);
+  res.bundle = vpKinematicBundleAdjustment::adjust(start, cam0, views, ds.yardstick, points, bo, c.noise);
   res.stage_seconds.push_back({label, res.bundle.seconds_solve});
   res.stage_seconds.push_back({"covariance", res.bundle.seconds_covariance});
   res.calibrated = res.bundle.chain;

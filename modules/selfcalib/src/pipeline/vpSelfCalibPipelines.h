@@ -8,6 +8,7 @@
 #define VP_SELFCALIB_PIPELINES_H
 
 #include <chrono>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -25,17 +26,24 @@ using View = vpSelfCalibDataset::View;
 /*!
   What a run works on: its inputs, the focal mode resolved, the views split (the first
   num_calibration for calibration, the rest for verification) and the options of every step, built
-  once from the caller's Options by vpRobotSelfCalibration's builders. The pipelines read the steps'
-  options from here, never from options.twoview, .multiview, .bundle or .data_check.
+  once from the caller's Options by vpRobotSelfCalibration's builders, and the noise model every
+  step is given. The pipelines read the steps' options and the noise from here, never from
+  options.twoview, .multiview, .bundle, .data_check or .noise. A context owns its options; the
+  nominal model, the dataset and the progress callback are the caller's (they outlive the run).
 */
 struct Context {
   Context(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
           const vpRobotSelfCalibration::Options &options, unsigned int num_calibration,
           const vpRobotSelfCalibration::Progress &progress);
+  /*!
+    The same run at another noise model (measured levels). robot_round: the robot's error was
+    measured, and the covariance is scaled by sigma0 when the residuals say the noise is larger.
+  */
+  Context(const Context &base, const vpSelfCalibNoiseModel &noise, bool robot_round);
 
   const vpKinematicChain &nominal;
   const vpSelfCalibDataset &dataset;
-  const vpRobotSelfCalibration::Options &options;
+  const vpRobotSelfCalibration::Options options;
   const vpRobotSelfCalibration::Progress &progress;
   const unsigned int num_calibration;
   const vpRobotSelfCalibration::FocalMode mode;
@@ -44,6 +52,7 @@ struct Context {
   const vpMultiViewReconstruction::Options multiview;
   const vpKinematicBundleAdjustment::Options bundle;
   const vpSelfCalibDataCheck::Options data_check;
+  const vpSelfCalibNoiseModel noise; //!< the noise of every step (vpRobotSelfCalibration::noiseModel())
 
   //! Reports progress when the caller gave a callback.
   void report(const std::string &stage, unsigned int done, unsigned int total) const;
@@ -136,6 +145,31 @@ void checkResult(const Context &context, Result &result);
 void verify(const Context &context, Result &result);
 //! True when a measured image noise (px, 0.01 or more) differs from the stated one by more than 25 %.
 bool measuredNoiseDiffers(double stated, double measured);
+
+//! A run made at a noise model: whether it is ok (else the status's name), and what its residuals measure.
+struct NoiseAttempt {
+  bool ok = false;
+  std::string failure;
+  vpSelfCalibNoiseModel measured;
+};
+//! Runs the method (or step) at a noise model; robot_round: the robot's error is the measured one.
+//! An ok run stands (the caller keeps it); a failed one is discarded.
+using NoiseAttemptFunction = std::function<NoiseAttempt(const vpSelfCalibNoiseModel &noise, bool robot_round)>;
+/*!
+  The measure-and-run-again step of every method. After a first run at `start` whose residuals
+  measure `measured` (ok: it stands and is OK; usable: its residuals can be trusted for the image
+  noise, an OK run or one that failed on rejected observations):
+  - start.pixel_sd measured (origin MEASURED): one more run at the measured image noise when it
+    differs by more than 25 % (measuredNoiseDiffers());
+  - pose_rounds and start's controller pose error measured: from a run that stands, rounds at the
+    measured pose error (and image noise) until both parts settle within 10 %, 5 at most; a warning
+    "robot-error-not-settled" in findings when it does not settle, cannot be measured, or a round
+    is not ok (the last ok run stands).
+  Returns the noise model of the run that stands.
+*/
+vpSelfCalibNoiseModel measureNoise(const vpSelfCalibNoiseModel &start, const vpSelfCalibNoiseModel &measured,
+                                   bool ok, bool usable, bool pose_rounds, const NoiseAttemptFunction &attempt,
+                                   std::vector<vpSelfCalibDataCheck::Finding> &findings);
 /*!
   The 99.9 % bound of the robot corrections' chi-square (bundle.robot_chi2) for their number, and
   whether the corrections stay within it (true without robot error modelled).

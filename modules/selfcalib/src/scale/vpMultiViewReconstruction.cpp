@@ -24,10 +24,10 @@
 
 using namespace vpSelfCalib;
 
-static_assert(static_cast<int>(RobustLoss::NONE) == vpMultiViewReconstruction::LOSS_NONE &&
-                  static_cast<int>(RobustLoss::HUBER) == vpMultiViewReconstruction::LOSS_HUBER &&
-                  static_cast<int>(RobustLoss::CAUCHY) == vpMultiViewReconstruction::LOSS_CAUCHY,
-              "the core robust losses and vpMultiViewReconstruction::Loss must agree");
+static_assert(static_cast<int>(RobustLoss::NONE) == vpSelfCalibNoiseModel::LOSS_NONE &&
+                  static_cast<int>(RobustLoss::HUBER) == vpSelfCalibNoiseModel::LOSS_HUBER &&
+                  static_cast<int>(RobustLoss::CAUCHY) == vpSelfCalibNoiseModel::LOSS_CAUCHY,
+              "the core robust losses and vpSelfCalibNoiseModel::Loss must agree");
 
 namespace
 {
@@ -85,28 +85,6 @@ struct Observation {
 
 } // namespace
 
-const char *vpMultiViewReconstruction::lossName(Loss loss)
-{
-  switch (loss) {
-  case LOSS_NONE:
-    return "none";
-  case LOSS_HUBER:
-    return "huber";
-  case LOSS_CAUCHY:
-    return "cauchy";
-  }
-  return "unknown";
-}
-
-vpMultiViewReconstruction::Loss vpMultiViewReconstruction::lossFromName(const std::string &name)
-{
-  for (Loss l : {LOSS_NONE, LOSS_HUBER, LOSS_CAUCHY})
-    if (name == lossName(l))
-      return l;
-  throw vpSelfCalibException(vpSelfCalibException::badValue,
-                             "robust loss '" + name + "': use none, huber or cauchy");
-}
-
 const char *vpMultiViewReconstruction::statusName(Status s)
 {
   switch (s) {
@@ -124,10 +102,9 @@ const char *vpMultiViewReconstruction::statusName(Status s)
 
 void vpMultiViewReconstruction::Options::check() const
 {
-  if (!(pixel_sd > 0) || !(loss_scale > 0) || !(init_tolerance > 0) || !(outlier_threshold >= 0) || !std::isfinite(outlier_threshold))
+  if (!(init_tolerance > 0))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpMultiViewReconstruction: pixel_sd, loss_scale and init_tolerance must be positive, "
-                               "outlier_threshold non-negative");
+                               "vpMultiViewReconstruction: init_tolerance must be positive");
   if (min_points < 5 || max_iterations == 0 || num_threads == 0 || (max_pair_points > 0 && max_pair_points < 8))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpMultiViewReconstruction: min_points must be at least 5, max_pair_points 0 or at least "
@@ -149,14 +126,15 @@ using Result = vpMultiViewReconstruction::Result;
 */
 struct State {
   State(const std::vector<vpSelfCalibDataset::View> &views_, const vpSelfCalibDataset::Yardstick &yardstick_,
-        const Options &opt_)
-    : views(views_), yardstick(yardstick_), opt(opt_), m(static_cast<unsigned int>(views_.size())),
+        const Options &opt_, const vpSelfCalibNoiseModel &noise_)
+    : views(views_), yardstick(yardstick_), opt(opt_), noise(noise_), m(static_cast<unsigned int>(views_.size())),
       u0(opt_.twoview.u0), v0(opt_.twoview.v0), mu(opt_.twoview.mu), t0(std::chrono::steady_clock::now())
   {
   }
   const std::vector<vpSelfCalibDataset::View> &views;
   const vpSelfCalibDataset::Yardstick &yardstick;
   const Options &opt;
+  const vpSelfCalibNoiseModel &noise;
   const unsigned int m;
   const double u0, v0, mu;
   const std::chrono::steady_clock::time_point t0;
@@ -229,7 +207,7 @@ double whitened(const State &s, const Observation &o, const Eigen::Vector3d &X)
 {
   if (!(depthInView(s, o, X) > 0))
     return std::numeric_limits<double>::infinity();
-  const Eigen::Vector2d r = residual(s, o, X, s.opt.pixel_sd);
+  const Eigen::Vector2d r = residual(s, o, X, s.noise.pixel_sd);
   return std::hypot(r(0), r(1));
 }
 
@@ -420,7 +398,7 @@ void initializePointsNotSeenFromView0(State &s)
 {
   const Options &opt = s.opt;
   const Result &res = s.res;
-  const double tol = std::max(opt.init_tolerance, opt.outlier_threshold * opt.pixel_sd);
+  const double tol = std::max(opt.init_tolerance, s.noise.outlier_threshold * s.noise.pixel_sd);
   std::map<int, std::vector<unsigned int>> seen_in;
   for (unsigned int k = 1; k < s.m; ++k)
     if (res.posed[k])
@@ -538,14 +516,14 @@ std::unique_ptr<ceres::Problem> solveBundle(State &s, double loss_scale, bool co
       continue;
     const Observation &o = s.obs[n];
     double *Xp = (*s.X)[o.id].data();
-    ceres::LossFunction *loss = robust ? makeLoss(static_cast<RobustLoss>(opt.loss), loss_scale) : nullptr;
+    ceres::LossFunction *loss = robust ? makeLoss(static_cast<RobustLoss>(s.noise.loss), loss_scale) : nullptr;
     if (o.view == 0)
       problem->AddResidualBlock(new ceres::AutoDiffCostFunction<ReprojectionReference, 2, 3, 1>(
-                                    new ReprojectionReference(o.u, o.v, s.u0, s.v0, s.mu, opt.pixel_sd)),
+                                    new ReprojectionReference(o.u, o.v, s.u0, s.v0, s.mu, s.noise.pixel_sd)),
                                 loss, Xp, &s.f);
     else
       problem->AddResidualBlock(new ceres::AutoDiffCostFunction<ReprojectionPosed, 2, 4, 3, 3, 1>(
-                                    new ReprojectionPosed(o.u, o.v, s.u0, s.v0, s.mu, opt.pixel_sd)),
+                                    new ReprojectionPosed(o.u, o.v, s.u0, s.v0, s.mu, s.noise.pixel_sd)),
                                 loss, s.quat[o.view].data(), s.trans[o.view].data(), Xp, &s.f);
     order->AddElementToGroup(Xp, 0);
   }
@@ -583,7 +561,7 @@ bool resectUnexplainedViews(State &s)
 {
   const Options &opt = s.opt;
   bool changed = false;
-  const double thr = std::max(4.0, opt.outlier_threshold * opt.pixel_sd);
+  const double thr = std::max(4.0, s.noise.outlier_threshold * s.noise.pixel_sd);
   for (unsigned int k = 1; k < s.m; ++k) {
     if (k == s.res.reference_view)
       continue;
@@ -592,7 +570,7 @@ bool resectUnexplainedViews(State &s)
     for (size_t n = 0; n < s.obs.size(); ++n)
       if (s.obs[n].view == k) {
         idx.push_back(n);
-        good += s.res.posed[k] && whitened(s, n) * opt.pixel_sd <= thr;
+        good += s.res.posed[k] && whitened(s, n) * s.noise.pixel_sd <= thr;
       }
     const unsigned int needed = std::max<unsigned int>(opt.min_points, static_cast<unsigned int>(idx.size() / 2));
     if (s.res.posed[k] && good >= needed)
@@ -646,9 +624,9 @@ void trimOutliers(State &s)
       abs_residuals.push_back(std::fabs(r(1)));
     }
   }
-  s.noise_factor = std::max(1.0, vpSelfCalib::robustNoiseSd(abs_residuals, 1.0) / s.opt.pixel_sd);
+  s.noise_factor = std::max(1.0, vpSelfCalib::robustNoiseSd(abs_residuals, 1.0) / s.noise.pixel_sd);
   for (size_t n = 0; n < s.obs.size(); ++n)
-    s.inlier[n] = s.res.posed[s.obs[n].view] && whitened(s, n) <= s.opt.outlier_threshold * s.noise_factor;
+    s.inlier[n] = s.res.posed[s.obs[n].view] && whitened(s, n) <= s.noise.outlier_threshold * s.noise_factor;
   dropPoorlyObservedPoints(s.obs, s.inlier);
 }
 
@@ -694,7 +672,7 @@ vpMultiViewReconstruction::Status robustSolve(State &s)
     if (s.inlier[n])
       start_errors.push_back(whitened(s, n));
   const RobustSchedule schedule =
-      robustSchedule(opt.loss != vpMultiViewReconstruction::LOSS_NONE, opt.loss_scale, opt.outlier_threshold,
+      robustSchedule(s.noise.loss != vpSelfCalibNoiseModel::LOSS_NONE, s.noise.loss_scale, s.noise.outlier_threshold,
                      start_errors);
   const size_t last = schedule.scales.size() - 1;
   for (size_t stage = 0; stage <= last; ++stage) {
@@ -732,7 +710,7 @@ vpMultiViewReconstruction::Status robustSolve(State &s)
 */
 void triangulateLeftOutPoints(State &s)
 {
-  const double threshold = s.opt.outlier_threshold * s.noise_factor;
+  const double threshold = s.noise.outlier_threshold * s.noise_factor;
   const CameraModel camera = pinhole(s, s.f);
   std::vector<Rigid> c0Mc(s.m);
   for (unsigned int k = 0; k < s.m; ++k)
@@ -817,9 +795,9 @@ std::set<int> statistics(State &s)
   const double dof = 2.0 * res.num_observations - unknowns;
   if (dof > 0 && res.num_observations > 0) {
     const double inflate = std::sqrt(2.0 * res.num_observations / dof);
-    res.sigma0 = res.rms / s.opt.pixel_sd * inflate;
+    res.sigma0 = res.rms / s.noise.pixel_sd * inflate;
     vpSelfCalib::sigma0Interval(dof, res.sigma0_low, res.sigma0_high);
-    res.pixel_sd_measured = vpSelfCalib::robustNoiseSd(abs_residuals, inflate);
+    res.measured.pixel_sd = vpSelfCalib::robustNoiseSd(abs_residuals, inflate);
   }
   return kept;
 }
@@ -860,11 +838,13 @@ void scaleAndExport(State &s, const std::set<int> &kept)
 
 vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const std::vector<vpSelfCalibDataset::View> &views,
                                                                          const vpSelfCalibDataset::Yardstick &yardstick,
-                                                                         const Options &opt)
+                                                                         const Options &opt,
+                                                                         const vpSelfCalibNoiseModel &noise)
 {
   opt.check();
+  noise.check("vpMultiViewReconstruction");
   const QuietCeres quiet;
-  State s(views, yardstick, opt);
+  State s(views, yardstick, opt, noise);
   collectObservations(s);
   twoViewPoses(s);
   if (!triangulatePairs(s))

@@ -298,9 +298,8 @@ JointScale jointScale(const std::vector<vpPoseScale::YardstickView> &views, doub
 
 void vpPoseScale::YardstickOptions::check() const
 {
-  if (!(pixel_sd > 0 && std::isfinite(pixel_sd)) || !(fx_sd >= 0 && std::isfinite(fx_sd)))
-    throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpPoseScale::YardstickOptions: pixel_sd must be > 0 and fx_sd >= 0");
+  if (!(fx_sd >= 0 && std::isfinite(fx_sd)))
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpPoseScale::YardstickOptions: fx_sd must be >= 0");
 }
 
 std::vector<double> vpPoseScale::nominalRatioSd(const vpKinematicChain &model, const std::vector<vpColVector> &q)
@@ -443,34 +442,88 @@ vpPoseScale::Result vpPoseScale::yardstick(const std::vector<YardstickView> &vie
   return yardstick(views, length, fx, u0, v0, mu, YardstickOptions());
 }
 
-vpPoseScale::Result vpPoseScale::yardstick(const std::vector<YardstickView> &views, double length, double fx,
-                                           double u0, double v0, double mu, const YardstickOptions &options)
+namespace
 {
-  if (!(length > 0 && std::isfinite(length)) || !(fx > 0 && std::isfinite(fx)) || !(mu > 0) || !std::isfinite(u0) ||
-      !std::isfinite(v0))
+using YardstickView = vpPoseScale::YardstickView;
+
+//! The caller mistakes of a yardstick view (non-finite pixels, ratios, p1 and p2 sizes).
+void checkYardstickView(const YardstickView &v)
+{
+  for (const vpImagePoint *p : {&v.a1, &v.b1, &v.a2, &v.b2})
+    if (!std::isfinite(p->get_u()) || !std::isfinite(p->get_v()))
+      throw vpSelfCalibException(vpSelfCalibException::badValue, "vpPoseScale::yardstick: non-finite pixel");
+  if (!(v.ratio > 0 && std::isfinite(v.ratio)) || !(v.ratio_sd >= 0 && std::isfinite(v.ratio_sd)))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpPoseScale::yardstick: length, fx and mu must be positive, u0 and v0 finite");
-  vpSelfCalib::checkIntrinsics(fx, mu * fx, u0, v0, "vpPoseScale::yardstick: the camera (fx, mu fx, u0, v0)");
-  vpSelfCalib::checkLength(length, "the yardstick's length", "vpPoseScale::yardstick");
-  options.check();
-  Result res;
-  if (views.empty()) {
-    res.message = "no pair of images sees both yardstick ends; two views of the yardstick are needed";
-    return res;
+                               "vpPoseScale::yardstick: ratios must be positive and their sd >= 0");
+  if (v.p1.size() != v.p2.size())
+    throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                               "vpPoseScale::yardstick: p1 and p2 of a view must have the same size");
+}
+
+/*
+  Expected variance of a view's unit length l (to first order): the ends' pixel noise (central
+  differences over the 8 end coordinates px) and the pose's two-view covariance (over its 5 degrees
+  of freedom).
+*/
+double unitLengthVariance(const YardstickView &v, const Rigid &M, const Eigen::Matrix3d &R, const Eigen::Vector3d &t,
+                          double px[8], const Intrinsics &K, double l, double pixel_sd)
+{
+  double var = 0;
+  const double hp = 1e-3; // px
+  for (int c = 0; c < 8; ++c) {
+    double lp = 0, lm = 0;
+    const double keep = px[c];
+    px[c] = keep + hp;
+    const bool okp = unitLength(R, t, px, K, lp);
+    px[c] = keep - hp;
+    const bool okm = unitLength(R, t, px, K, lm);
+    px[c] = keep;
+    if (okp && okm)
+      var += std::pow(pixel_sd * (lp - lm) / (2 * hp), 2);
   }
-  const Intrinsics K{fx, u0, v0, mu};
+  const vpMatrix C = vpPoseScale::twoViewCovariance(v.c2Mc1, v.p1, v.p2, K.fx, K.u0, K.v0, K.mu, pixel_sd);
+  if (C.getRows() == 5) {
+    Eigen::Matrix<double, 5, 1> g;
+    const double hq = 1e-7;
+    for (int c = 0; c < 5; ++c) {
+      double dp[5] = {0, 0, 0, 0, 0}, dm[5] = {0, 0, 0, 0, 0};
+      dp[c] = hq;
+      dm[c] = -hq;
+      Eigen::Matrix3d Rp, Rm;
+      Eigen::Vector3d tp, tm;
+      perturbPose(M, dp, Rp, tp);
+      perturbPose(M, dm, Rm, tm);
+      double lp = l, lm = l;
+      unitLength(Rp, tp, px, K, lp);
+      unitLength(Rm, tm, px, K, lm);
+      g(c) = (lp - lm) / (2 * hq);
+    }
+    Eigen::Matrix<double, 5, 5> Ce;
+    for (int r = 0; r < 5; ++r)
+      for (int c = 0; c < 5; ++c)
+        Ce(r, c) = C[static_cast<unsigned int>(r)][static_cast<unsigned int>(c)];
+    var += g.dot(Ce * g);
+  }
+  return var;
+}
+
+//! What the views give before the scale is fitted: their unit lengths, expected relative variances
+//! and sensitivities d log l / d fx (the last two when weighted).
+struct ViewLengths {
   std::vector<double> rel_var, dlogl_df;
+};
+
+/*
+  Each view's unit length into res.lengths (and, weighted, its expected relative sd into
+  res.relative_sd). False (res DEGENERATE) when a view's ends do not triangulate in front of both
+  cameras.
+*/
+bool unitLengths(const std::vector<YardstickView> &views, const Intrinsics &K, const vpPoseScale::YardstickOptions &options,
+                 double pixel_sd, vpPoseScale::Result &res, ViewLengths &out)
+{
   for (size_t j = 0; j < views.size(); ++j) {
     const YardstickView &v = views[j];
-    for (const vpImagePoint *p : {&v.a1, &v.b1, &v.a2, &v.b2})
-      if (!std::isfinite(p->get_u()) || !std::isfinite(p->get_v()))
-        throw vpSelfCalibException(vpSelfCalibException::badValue, "vpPoseScale::yardstick: non-finite pixel");
-    if (!(v.ratio > 0 && std::isfinite(v.ratio)) || !(v.ratio_sd >= 0 && std::isfinite(v.ratio_sd)))
-      throw vpSelfCalibException(vpSelfCalibException::badValue,
-                                 "vpPoseScale::yardstick: ratios must be positive and their sd >= 0");
-    if (v.p1.size() != v.p2.size())
-      throw vpSelfCalibException(vpSelfCalibException::dimensionError,
-                                 "vpPoseScale::yardstick: p1 and p2 of a view must have the same size");
+    checkYardstickView(v);
     const Rigid M = rigidFromVisp(v.c2Mc1);
     const double zero[5] = {0, 0, 0, 0, 0};
     Eigen::Matrix3d R;
@@ -480,61 +533,119 @@ vpPoseScale::Result vpPoseScale::yardstick(const std::vector<YardstickView> &vie
                     v.a2.get_u(), v.a2.get_v(), v.b2.get_u(), v.b2.get_v()};
     double l = 0;
     if (!unitLength(R, t, px, K, l)) {
-      res.status = DEGENERATE;
+      res.status = vpPoseScale::DEGENERATE;
       res.message = "yardstick view " + std::to_string(j) + ": the ends do not triangulate in front of both cameras";
-      return res;
+      return false;
     }
     res.lengths.push_back(l);
     if (!options.weighted)
       continue;
-    // Expected accuracy of l: the ends' pixel noise and the pose's covariance, to first order.
-    double var = 0;
-    const double hp = 1e-3; // px
-    for (int c = 0; c < 8; ++c) {
-      double lp = 0, lm = 0;
-      const double keep = px[c];
-      px[c] = keep + hp;
-      const bool okp = unitLength(R, t, px, K, lp);
-      px[c] = keep - hp;
-      const bool okm = unitLength(R, t, px, K, lm);
-      px[c] = keep;
-      if (okp && okm)
-        var += std::pow(options.pixel_sd * (lp - lm) / (2 * hp), 2);
-    }
-    const vpMatrix C = twoViewCovariance(v.c2Mc1, v.p1, v.p2, fx, u0, v0, mu, options.pixel_sd);
-    if (C.getRows() == 5) {
-      Eigen::Matrix<double, 5, 1> g;
-      const double hq = 1e-7;
-      for (int c = 0; c < 5; ++c) {
-        double dp[5] = {0, 0, 0, 0, 0}, dm[5] = {0, 0, 0, 0, 0};
-        dp[c] = hq;
-        dm[c] = -hq;
-        Eigen::Matrix3d Rp, Rm;
-        Eigen::Vector3d tp, tm;
-        perturbPose(M, dp, Rp, tp);
-        perturbPose(M, dm, Rm, tm);
-        double lp = l, lm = l;
-        unitLength(Rp, tp, px, K, lp);
-        unitLength(Rm, tm, px, K, lm);
-        g(c) = (lp - lm) / (2 * hq);
-      }
-      Eigen::Matrix<double, 5, 5> Ce;
-      for (int r = 0; r < 5; ++r)
-        for (int c = 0; c < 5; ++c)
-          Ce(r, c) = C[static_cast<unsigned int>(r)][static_cast<unsigned int>(c)];
-      var += g.dot(Ce * g);
-    }
+    const double var = unitLengthVariance(v, M, R, t, px, K, l, pixel_sd);
     // Sensitivity to the focal length (pose fixed): the common error of a self-calibrated f.
     {
-      const double hf = 1e-3 * fx;
+      const double hf = 1e-3 * K.fx;
       double lp = l, lm = l;
-      unitLength(R, t, px, Intrinsics{fx + hf, u0, v0, mu}, lp);
-      unitLength(R, t, px, Intrinsics{fx - hf, u0, v0, mu}, lm);
-      dlogl_df.push_back((std::log(lp) - std::log(lm)) / (2 * hf));
+      unitLength(R, t, px, Intrinsics{K.fx + hf, K.u0, K.v0, K.mu}, lp);
+      unitLength(R, t, px, Intrinsics{K.fx - hf, K.u0, K.v0, K.mu}, lm);
+      out.dlogl_df.push_back((std::log(lp) - std::log(lm)) / (2 * hf));
     }
-    rel_var.push_back(var / (l * l) + v.ratio_sd * v.ratio_sd);
-    res.relative_sd.push_back(std::sqrt(rel_var.back()));
+    out.rel_var.push_back(var / (l * l) + v.ratio_sd * v.ratio_sd);
+    res.relative_sd.push_back(std::sqrt(out.rel_var.back()));
   }
+  return true;
+}
+
+/*
+  The joint fit of the ends in every image (the views sharing their first image): res's scale and
+  sd from it, the focal length's common error added. False when it fails (the per-pair combination
+  stands).
+*/
+bool jointYardstick(const std::vector<YardstickView> &views, double length, const Intrinsics &K,
+                    const vpPoseScale::YardstickOptions &options, double pixel_sd, double scale,
+                    const std::vector<double> &rel_var, vpPoseScale::Result &res)
+{
+  size_t best = 0;
+  for (size_t j = 1; j < views.size(); ++j)
+    if (rel_var[j] < rel_var[best])
+      best = j;
+  const JointScale js = jointScale(views, length, K, pixel_sd, scale, best);
+  if (!js.ok)
+    return false;
+  res.scale = js.scale;
+  res.predicted_sd = js.predicted_sd;
+  const double factor = js.dof > 0 ? std::sqrt(js.chi2 / js.dof) : 1.0;
+  res.sd = res.predicted_sd * std::max(1.0, factor);
+  if (options.fx_sd > 0) {
+    // The focal length's common error: d scale / d fx by solving again at fx + hf.
+    const double hf = 1e-3 * K.fx;
+    const JointScale jf = jointScale(views, length, Intrinsics{K.fx + hf, K.u0, K.v0, K.mu}, pixel_sd, js.scale, best);
+    if (jf.ok) {
+      const double f_part = (jf.scale - js.scale) / hf * options.fx_sd;
+      res.predicted_sd = std::sqrt(res.predicted_sd * res.predicted_sd + f_part * f_part);
+      res.sd = std::sqrt(res.sd * res.sd + f_part * f_part);
+    }
+  }
+  return true;
+}
+
+/*
+  The sd of the per-pair combination: weighted, from the expected accuracies (widened by the
+  residuals, the focal length's common error added); plain, from the residuals of the paper's least
+  squares. final_cost: the combination's Ceres cost.
+*/
+void combinationSd(const std::vector<YardstickView> &views, const vpPoseScale::YardstickOptions &options,
+                   const ViewLengths &vl, double scale, double final_cost, vpPoseScale::Result &res)
+{
+  const size_t n = views.size();
+  if (options.weighted) {
+    double info = 0;
+    for (double v : vl.rel_var)
+      info += 1 / std::max(v, 1e-30);
+    res.predicted_sd = scale / std::sqrt(info);
+    const double factor = n > 1 ? std::sqrt(2 * final_cost / (n - 1)) : 1.0;
+    res.sd = res.predicted_sd * std::max(1.0, factor);
+    if (options.fx_sd > 0) {
+      double g = 0;
+      for (size_t j = 0; j < n; ++j)
+        g += vl.dlogl_df[j] / std::max(vl.rel_var[j], 1e-30);
+      g /= info;
+      const double f_part = scale * g * options.fx_sd;
+      res.predicted_sd = std::sqrt(res.predicted_sd * res.predicted_sd + f_part * f_part);
+      res.sd = std::sqrt(res.sd * res.sd + f_part * f_part);
+    }
+  } else if (n > 1) {
+    // sd of the least-squares scale: sigma^2 (a^T a)^-1 with sigma^2 from the residuals.
+    double aa = 0;
+    for (size_t j = 0; j < n; ++j)
+      aa += std::pow(views[j].ratio * res.lengths[j], 2);
+    const double s2 = 2 * final_cost / (n - 1);
+    res.sd = std::sqrt(s2 / aa);
+  }
+}
+} // namespace
+
+vpPoseScale::Result vpPoseScale::yardstick(const std::vector<YardstickView> &views, double length, double fx,
+                                           double u0, double v0, double mu, const YardstickOptions &options,
+                                           const vpSelfCalibNoiseModel &noise)
+{
+  if (!(length > 0 && std::isfinite(length)) || !(fx > 0 && std::isfinite(fx)) || !(mu > 0) || !std::isfinite(u0) ||
+      !std::isfinite(v0))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpPoseScale::yardstick: length, fx and mu must be positive, u0 and v0 finite");
+  vpSelfCalib::checkIntrinsics(fx, mu * fx, u0, v0, "vpPoseScale::yardstick: the camera (fx, mu fx, u0, v0)");
+  vpSelfCalib::checkLength(length, "the yardstick's length", "vpPoseScale::yardstick");
+  options.check();
+  noise.check("vpPoseScale::yardstick");
+  Result res;
+  if (views.empty()) {
+    res.message = "no pair of images sees both yardstick ends; two views of the yardstick are needed";
+    return res;
+  }
+  const Intrinsics K{fx, u0, v0, mu};
+  ViewLengths vl;
+  if (!unitLengths(views, K, options, noise.pixel_sd, res, vl))
+    return res;
+  const std::vector<double> &rel_var = vl.rel_var;
   // Start: the weighted (or plain) mean of the per-view scales.
   double num = 0, den = 0;
   for (size_t j = 0; j < views.size(); ++j) {
@@ -554,58 +665,11 @@ vpPoseScale::Result vpPoseScale::yardstick(const std::vector<YardstickView> &vie
   ceres::Solver::Summary summary;
   vpSelfCalib::solve(so, &problem, &summary);
   res.scale = scale;
-  const size_t n = views.size();
-  if (options.weighted && options.joint && sharedReference(views)) {
-    size_t best = 0;
-    for (size_t j = 1; j < n; ++j)
-      if (rel_var[j] < rel_var[best])
-        best = j;
-    const JointScale js = jointScale(views, length, K, options.pixel_sd, scale, best);
-    if (js.ok) {
-      res.scale = js.scale;
-      res.predicted_sd = js.predicted_sd;
-      const double factor = js.dof > 0 ? std::sqrt(js.chi2 / js.dof) : 1.0;
-      res.sd = res.predicted_sd * std::max(1.0, factor);
-      if (options.fx_sd > 0) {
-        // The focal length's common error: d scale / d fx by solving again at fx + hf.
-        const double hf = 1e-3 * fx;
-        const JointScale jf = jointScale(views, length, Intrinsics{fx + hf, u0, v0, mu}, options.pixel_sd, js.scale, best);
-        if (jf.ok) {
-          const double f_part = (jf.scale - js.scale) / hf * options.fx_sd;
-          res.predicted_sd = std::sqrt(res.predicted_sd * res.predicted_sd + f_part * f_part);
-          res.sd = std::sqrt(res.sd * res.sd + f_part * f_part);
-        }
-      }
-      res.status = OK;
-      res.message = "ok";
-      return res;
-    }
-  }
-  if (options.weighted) {
-    double info = 0;
-    for (double v : rel_var)
-      info += 1 / std::max(v, 1e-30);
-    res.predicted_sd = scale / std::sqrt(info);
-    const double factor = n > 1 ? std::sqrt(2 * summary.final_cost / (n - 1)) : 1.0;
-    res.sd = res.predicted_sd * std::max(1.0, factor);
-    if (options.fx_sd > 0) {
-      double g = 0;
-      for (size_t j = 0; j < n; ++j)
-        g += dlogl_df[j] / std::max(rel_var[j], 1e-30);
-      g /= info;
-      const double f_part = scale * g * options.fx_sd;
-      res.predicted_sd = std::sqrt(res.predicted_sd * res.predicted_sd + f_part * f_part);
-      res.sd = std::sqrt(res.sd * res.sd + f_part * f_part);
-    }
-  } else if (n > 1) {
-    // sd of the least-squares scale: sigma^2 (a^T a)^-1 with sigma^2 from the residuals.
-    double aa = 0;
-    for (size_t j = 0; j < n; ++j)
-      aa += std::pow(views[j].ratio * res.lengths[j], 2);
-    const double s2 = 2 * summary.final_cost / (n - 1);
-    res.sd = std::sqrt(s2 / aa);
-  }
   res.status = OK;
   res.message = "ok";
+  if (options.weighted && options.joint && sharedReference(views) &&
+      jointYardstick(views, length, K, options, noise.pixel_sd, scale, rel_var, res))
+    return res;
+  combinationSd(views, options, vl, scale, summary.final_cost, res);
   return res;
 }

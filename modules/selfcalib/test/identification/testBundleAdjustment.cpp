@@ -261,11 +261,12 @@ TEST(KinematicBundleAdjustment, PredictedStandardDeviationsMatchTheSpreadOverNoi
   const vpSelfCalibDataset clean = sim.makeDataset(sim.generateConfigurations(25));
   const auto cal = slice(clean, 0, 15), ver = slice(clean, 15, 25);
   vpKinematicBundleAdjustment::Options o;
-  o.pixel_sd = sd;
+  vpSelfCalibNoiseModel noise;
+  noise.pixel_sd = sd;
   vpCameraParameters cam0 = sim.getCamera();
   // The noise-free solution: the truth in the estimated coordinates.
   const auto exact = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam0, cal, clean.yardstick,
-                                                         sim.getScenePointsById(), o);
+                                                         sim.getScenePointsById(), o, noise);
   ASSERT_EQ(exact.status, vpKinematicBundleAdjustment::OK) << exact.message;
   const std::vector<unsigned int> &id = exact.identifiability.identified;
   const unsigned int P = static_cast<unsigned int>(id.size());
@@ -289,7 +290,7 @@ TEST(KinematicBundleAdjustment, PredictedStandardDeviationsMatchTheSpreadOverNoi
     vpSelfCalibDataset ds = clean;
     addNoise(ds, sd, rng);
     const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam0, slice(ds, 0, 15), ds.yardstick,
-                                                       sim.getScenePointsById(), o);
+                                                       sim.getScenePointsById(), o, noise);
     ASSERT_EQ(r.status, vpKinematicBundleAdjustment::OK) << r.message;
     ASSERT_EQ(r.identifiability.identified, id);
     f2 += std::pow(r.camera.get_px() - exact.camera.get_px(), 2);
@@ -318,7 +319,8 @@ TEST(KinematicBundleAdjustment, TheEstimateIsTheConvergedOptimum)
   const vpSelfCalibSimulator sim = makeSim("viper850", 45, 0.0);
   const vpSelfCalibDataset clean = sim.makeDataset(sim.generateConfigurations(15));
   vpKinematicBundleAdjustment::Options o, tight;
-  o.pixel_sd = tight.pixel_sd = sd;
+  vpSelfCalibNoiseModel noise;
+  noise.pixel_sd = sd;
   tight.tight = true;
   vpCameraParameters cam0 = sim.getCamera(); // f from a 7 % low guess, as a lens data sheet gives
   cam0.initPersProjWithoutDistortion(0.93 * cam0.get_px(), 0.93 * cam0.get_py(), cam0.get_u0(), cam0.get_v0());
@@ -327,9 +329,9 @@ TEST(KinematicBundleAdjustment, TheEstimateIsTheConvergedOptimum)
     vpSelfCalibDataset ds = clean;
     addNoise(ds, sd, rng);
     const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam0, ds.views, ds.yardstick,
-                                                       sim.getScenePointsById(), o);
+                                                       sim.getScenePointsById(), o, noise);
     const auto c = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam0, ds.views, ds.yardstick,
-                                                       sim.getScenePointsById(), tight);
+                                                       sim.getScenePointsById(), tight, noise);
     ASSERT_EQ(r.status, vpKinematicBundleAdjustment::OK) << r.message;
     ASSERT_EQ(c.status, vpKinematicBundleAdjustment::OK) << c.message;
     ASSERT_EQ(r.identifiability.identified, c.identifiability.identified);
@@ -358,8 +360,8 @@ TEST(KinematicBundleAdjustment, DefaultPipelineIsRobustToWrongMatches)
     ASSERT_EQ(rc.status, vpRobotSelfCalibration::OK) << rc.message;
     ASSERT_EQ(rb.status, vpRobotSelfCalibration::OK) << rb.message;
     EXPECT_GT(rb.bundle.num_outliers, 0.12 * (rb.bundle.num_outliers + rb.bundle.num_observations));
-    o.bundle.loss = vpMultiViewReconstruction::LOSS_NONE;
-    o.bundle.outlier_threshold = 0;
+    o.noise.loss = vpSelfCalibNoiseModel::LOSS_NONE;
+    o.noise.outlier_threshold = 0;
     const auto rp = vpRobotSelfCalibration::run(sim.getNominalChain(), bad, o);
     clean += heldOutRms(sim, rc.calibrated, ds);
     robust += heldOutRms(sim, rb.calibrated, bad);
@@ -428,7 +430,7 @@ TEST(KinematicBundleAdjustment, DegenerateAndBadInput)
   EXPECT_THROW(bo.check(), vpSelfCalibException);
   vpRobotSelfCalibration::Options po;
   EXPECT_THROW(vpRobotSelfCalibration::methodFromName("magic"), vpSelfCalibException);
-  po.pixel_sd = 0;
+  po.noise.pixel_sd = 0;
   EXPECT_THROW(po.check(), vpSelfCalibException);
 }
 
@@ -532,9 +534,10 @@ HandEyeRun handEyeWithPoseError(uint64_t seed, double sd_t, double sd_r, double 
   vpRobotSelfCalibration::Options o;
   o.method = vpRobotSelfCalibration::HAND_EYE;
   o.num_calibration_poses = 12;
-  o.bundle.pose_sd_translation = model_t;
-  o.bundle.pose_sd_rotation = model_r;
-  o.estimate_pose_sd = measure_pose_sd;
+  o.noise.pose_sd_translation = model_t;
+  o.noise.pose_sd_rotation = model_r;
+  if (measure_pose_sd)
+    o.noise.pose_sd_origin = vpSelfCalibNoiseModel::MEASURED;
   const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
   HandEyeRun out;
   out.ok = r.status == vpRobotSelfCalibration::OK;
@@ -553,8 +556,8 @@ HandEyeRun handEyeWithPoseError(uint64_t seed, double sd_t, double sd_r, double 
   }
   out.sigma0 = r.bundle.sigma0;
   out.pose_rms_t = r.bundle.pose_rms_translation;
-  out.pose_sd_t = r.pose_sd_translation;
-  out.pose_sd_r = r.pose_sd_rotation;
+  out.pose_sd_t = r.noise.pose_sd_translation;
+  out.pose_sd_r = r.noise.pose_sd_rotation;
   return out;
 }
 } // namespace
@@ -594,16 +597,15 @@ TEST(HandEye, RobotPoseErrorIsModelledAndTheSdAreHonest)
   if (trusted_ok > 0)
     EXPECT_GT(nees_trust / (6 * trusted_ok), 9.0);
   // Nonsense settings are refused.
-  vpKinematicBundleAdjustment::Options bo;
-  bo.hand_eye_only = true;
-  bo.pose_sd_translation = 1e-3;
-  EXPECT_THROW(bo.check(), vpSelfCalibException);
-  bo.pose_sd_rotation = 1e-3;
-  EXPECT_NO_THROW(bo.check());
+  vpSelfCalibNoiseModel bn;
+  bn.pose_sd_translation = 1e-3;
+  EXPECT_THROW(bn.check(), vpSelfCalibException);
+  bn.pose_sd_rotation = 1e-3;
+  EXPECT_NO_THROW(bn.check());
 }
 
 /*
-  The robot pose error measured (Options::estimate_pose_sd): 2 mm / 2 mrad of true error, stated
+  The robot pose error measured (the noise model's pose_sd of origin MEASURED): 2 mm / 2 mrad of true error, stated
   4x too small and 4x too large, 8 seeds (12 poses each). Each run's measured error within
   1.2-3 mm and mrad (36 values per part: about 12 % sd each), their mean within 15 % of the truth
   (measured: 2.04 mm / 1.87 mrad from below, 2.12 / 2.03 from above), both starts giving each seed
@@ -835,10 +837,11 @@ TEST(HandEye, KnownLayoutIsHeldAndGivesTheIntrinsics)
   o.intrinsics = vpKinematicBundleAdjustment::FX | vpKinematicBundleAdjustment::PRINCIPAL_POINT;
   o.tight = true;
   o.known_points = layout;
-  o.pose_sd_translation = 0.005;
-  o.pose_sd_rotation = 0.01;
+  vpSelfCalibNoiseModel noise;
+  noise.pose_sd_translation = 0.005;
+  noise.pose_sd_rotation = 0.01;
   o.scale_covariance = true;
-  o.pixel_sd = 0.2;
+  noise.pixel_sd = 0.2;
   EXPECT_DOUBLE_EQ(o.known_points_sd, 1e-5);
   std::map<int, vpColVector> X, X0; // the board's points in f; the start, 1 cm off
   for (const auto &e : layout) {
@@ -887,7 +890,7 @@ TEST(HandEye, KnownLayoutIsHeldAndGivesTheIntrinsics)
     vpCameraParameters start;
     start.initPersProjWithoutDistortion(518, 518, 330, 218);
     const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), start, views,
-                                                       vpSelfCalibDataset::Yardstick(), X0, o);
+                                                       vpSelfCalibDataset::Yardstick(), X0, o, noise);
     ASSERT_EQ(r.status, vpKinematicBundleAdjustment::OK) << r.message;
     ASSERT_EQ(r.intrinsics_sd.size(), 3u);
     EXPECT_LT(spacingRms(r.points), 1e-5) << "seed " << seed;
@@ -900,7 +903,7 @@ TEST(HandEye, KnownLayoutIsHeldAndGivesTheIntrinsics)
       vpKinematicBundleAdjustment::Options loose = o;
       loose.known_points_sd = 1e-4;
       const auto l = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), start, views,
-                                                         vpSelfCalibDataset::Yardstick(), X0, loose);
+                                                         vpSelfCalibDataset::Yardstick(), X0, loose, noise);
       ASSERT_EQ(l.status, vpKinematicBundleAdjustment::OK) << l.message;
       EXPECT_GT(spacingRms(l.points), 3e-5);
     }
@@ -994,11 +997,11 @@ struct NoiseFreeReference {
   vpSelfCalibDataset clean;
   vpKinematicBundleAdjustment::Result exact;
   std::vector<std::string> fixed;
-  NoiseFreeReference(uint64_t seed, const vpKinematicBundleAdjustment::Options &o)
+  NoiseFreeReference(uint64_t seed, const vpKinematicBundleAdjustment::Options &o, const vpSelfCalibNoiseModel &noise)
     : sim(makeSim("viper850", seed, 0.0)), clean(sim.makeDataset(sim.generateConfigurations(15)))
   {
     exact = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), sim.getCamera(), clean.views, clean.yardstick,
-                                                sim.getScenePointsById(), o);
+                                                sim.getScenePointsById(), o, noise);
     const std::vector<unsigned int> &id = exact.identifiability.identified;
     const std::vector<std::string> names = sim.getNominalChain().getParameterNames();
     for (unsigned int i = 0; i < names.size(); ++i)
@@ -1033,8 +1036,9 @@ TEST(KinematicBundleAdjustment, JointReadingNoiseIsModelledAndTheSdAreHonest)
 {
   const double pixel_sd = 0.2, joint_sd = 3e-4;
   vpKinematicBundleAdjustment::Options o;
-  o.pixel_sd = pixel_sd;
-  const NoiseFreeReference ref(46, o);
+  vpSelfCalibNoiseModel noise;
+  noise.pixel_sd = pixel_sd;
+  const NoiseFreeReference ref(46, o, noise);
   ASSERT_EQ(ref.exact.status, vpKinematicBundleAdjustment::OK) << ref.exact.message;
   const vpSelfCalibSimulator &sim = ref.sim;
   const vpSelfCalibDataset &clean = ref.clean;
@@ -1046,8 +1050,8 @@ TEST(KinematicBundleAdjustment, JointReadingNoiseIsModelledAndTheSdAreHonest)
   double n_model = 0, n_trust = 0, sigma0 = 0, joint_rms = 0;
   const unsigned int trials = 16;
   unsigned int used = 0, skipped = 0;
-  vpKinematicBundleAdjustment::Options om = o;
-  om.joint_sd = {joint_sd};
+  vpSelfCalibNoiseModel nm = noise;
+  nm.joint_sd = {joint_sd};
   for (unsigned int t = 0; t < trials; ++t) {
     vpSelfCalibDataset ds = clean;
     addNoise(ds, pixel_sd, rng);
@@ -1055,11 +1059,11 @@ TEST(KinematicBundleAdjustment, JointReadingNoiseIsModelledAndTheSdAreHonest)
       for (unsigned int i = 0; i < v.q.size(); ++i)
         v.q[i] += rng.normal(joint_sd);
     const auto m = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam0, ds.views, ds.yardstick,
-                                                       sim.getScenePointsById(), om);
+                                                       sim.getScenePointsById(), o, nm);
     ASSERT_EQ(m.status, vpKinematicBundleAdjustment::OK) << m.message;
     ASSERT_EQ(m.joint_corrections.size(), ds.views.size());
     const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam0, ds.views, ds.yardstick,
-                                                       sim.getScenePointsById(), o);
+                                                       sim.getScenePointsById(), o, noise);
     ASSERT_EQ(r.status, vpKinematicBundleAdjustment::OK) << r.message;
     if (m.identifiability.identified != id || r.identifiability.identified != id) {
       ++skipped;
@@ -1081,22 +1085,23 @@ TEST(KinematicBundleAdjustment, JointReadingNoiseIsModelledAndTheSdAreHonest)
   EXPECT_LT(joint_rms / used, joint_sd);
   EXPECT_GT(n_trust, 2 * n_model);
 
-  vpKinematicBundleAdjustment::Options bad = o;
+  vpSelfCalibNoiseModel bad = noise;
   bad.joint_sd = {-1e-3};
   EXPECT_THROW(bad.check(), vpSelfCalibException);
   bad.joint_sd = {1e-3, 1e-3};
   EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam0, clean.views, clean.yardstick,
-                                                   sim.getScenePointsById(), bad),
+                                                   sim.getScenePointsById(), o, bad),
                vpSelfCalibException);
   bad.joint_sd = {1e-3};
-  bad.hand_eye_only = true;
+  vpKinematicBundleAdjustment::Options hand_eye = o;
+  hand_eye.hand_eye_only = true;
   EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam0, clean.views, clean.yardstick,
-                                                   sim.getScenePointsById(), bad),
+                                                   sim.getScenePointsById(), hand_eye, bad),
                vpSelfCalibException);
 }
 
 /*
-  The kinematic model's own residual in the full mode (pose_sd_*: a camera pose correction per view
+  The kinematic model's own residual in the full mode (model_sd_*: a camera pose correction per view
   in the camera frame): images taken from camera poses off the model by 1 mm / 1 mrad per view (what
   no kinematic parameter explains), 0.2 px noise. Modelled, the normalized estimation error of the
   corrections and f and sigma0 are near 1 over 12 draws, and the robot part of the residuals is
@@ -1106,8 +1111,9 @@ TEST(KinematicBundleAdjustment, ModelResidualIsModelledInTheFullMode)
 {
   const double pixel_sd = 0.2, sd_t = 1e-3, sd_r = 1e-3;
   vpKinematicBundleAdjustment::Options o;
-  o.pixel_sd = pixel_sd;
-  const NoiseFreeReference ref(47, o);
+  vpSelfCalibNoiseModel noise;
+  noise.pixel_sd = pixel_sd;
+  const NoiseFreeReference ref(47, o, noise);
   ASSERT_EQ(ref.exact.status, vpKinematicBundleAdjustment::OK) << ref.exact.message;
   const vpSelfCalibSimulator &sim = ref.sim;
   const vpSelfCalibDataset &clean = ref.clean;
@@ -1115,9 +1121,9 @@ TEST(KinematicBundleAdjustment, ModelResidualIsModelledInTheFullMode)
   const std::vector<unsigned int> &id = ref.exact.identifiability.identified;
   o.fixed = ref.fixed;
   auto nees = [&](const vpKinematicBundleAdjustment::Result &r) { return ref.nees(r); };
-  vpKinematicBundleAdjustment::Options om = o;
-  om.pose_sd_translation = sd_t;
-  om.pose_sd_rotation = sd_r;
+  vpSelfCalibNoiseModel nm = noise;
+  nm.model_sd_translation = sd_t;
+  nm.model_sd_rotation = sd_r;
   Random rng(47, 7);
   const unsigned int trials = 12;
   double n_model = 0, n_trust = 0, sigma0 = 0, pose_rms = 0;
@@ -1135,12 +1141,12 @@ TEST(KinematicBundleAdjustment, ModelResidualIsModelledInTheFullMode)
       }
     }
     const auto m = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam0, ds.views, ds.yardstick,
-                                                       sim.getScenePointsById(), om);
+                                                       sim.getScenePointsById(), o, nm);
     ASSERT_EQ(m.status, vpKinematicBundleAdjustment::OK) << m.message;
     ASSERT_EQ(m.identifiability.identified, id);
     ASSERT_EQ(m.pose_corrections.size(), ds.views.size());
     const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam0, ds.views, ds.yardstick,
-                                                       sim.getScenePointsById(), o);
+                                                       sim.getScenePointsById(), o, noise);
     n_model += nees(m);
     if (r.status == vpKinematicBundleAdjustment::OK) {
       n_trust += nees(r);

@@ -262,7 +262,7 @@ TEST(EstimatedSet, PipelinesEstimateOneSetUnderPixelAndJointNoise)
       }
       vpRobotSelfCalibration::Options po;
       po.method = method;
-      po.pixel_sd = 0.5;
+      po.noise.pixel_sd = 0.5;
       po.num_calibration_poses = 15;
       const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, po);
       // A doubtful run (the paper's method here: its two-view poses at 0.5 px) still has an estimate.

@@ -166,7 +166,7 @@ TEST(RobotSelfCalibration, PaperSharedFocalFromEveryViewIsExactAndBeatsThePairs)
 }
 
 // The paper's focal length from every view against a wrong stated pixel sd (0.3 px noise stated as
-// 1.2 or 0.075 px). Measured (estimate_pixel_sd): the reconstruction runs again at the measured
+// 1.2 or 0.075 px). Measured (the noise model's pixel_sd of origin MEASURED): the reconstruction runs again at the measured
 // level, so f and its sd are those of the right statement. Used as stated: the sd is scaled by
 // sigma0, with a finding (unscaled it was 4x the right one). A right statement gives no finding.
 TEST(RobotSelfCalibration, PaperFocalSdFollowsTheImageNoiseNotTheStatedOne)
@@ -181,8 +181,9 @@ TEST(RobotSelfCalibration, PaperFocalSdFollowsTheImageNoiseNotTheStatedOne)
     o.method = vpRobotSelfCalibration::PAPER;
     o.focal_mode = vpRobotSelfCalibration::FOCAL_SHARED;
     o.num_calibration_poses = 15;
-    o.pixel_sd = factor * so.pixel_noise_sd;
-    o.estimate_pixel_sd = measure;
+    o.noise.pixel_sd = factor * so.pixel_noise_sd;
+    if (measure)
+      o.noise.pixel_sd_origin = vpSelfCalibNoiseModel::MEASURED;
     return vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
   };
   const auto imageNoiseFinding = [](const vpRobotSelfCalibration::Result &r) {
@@ -195,11 +196,11 @@ TEST(RobotSelfCalibration, PaperFocalSdFollowsTheImageNoiseNotTheStatedOne)
   ASSERT_EQ(right.multiview.status, vpMultiViewReconstruction::OK) << right.multiview.message;
   ASSERT_GT(right.fx_sd, 0.0);
   EXPECT_FALSE(imageNoiseFinding(right));
-  EXPECT_NEAR(right.pixel_sd_measured, so.pixel_noise_sd, 0.1 * so.pixel_noise_sd);
+  EXPECT_NEAR(right.measured.pixel_sd, so.pixel_noise_sd, 0.1 * so.pixel_noise_sd);
   for (const double factor : {4.0, 0.25}) {
     const vpRobotSelfCalibration::Result r = run(factor, true);
     ASSERT_EQ(r.multiview.status, vpMultiViewReconstruction::OK) << r.multiview.message;
-    EXPECT_NEAR(r.pixel_sd, so.pixel_noise_sd, 0.1 * so.pixel_noise_sd) << "stated x" << factor;
+    EXPECT_NEAR(r.noise.pixel_sd, so.pixel_noise_sd, 0.1 * so.pixel_noise_sd) << "stated x" << factor;
     EXPECT_EQ(r.multiview.num_outliers, right.multiview.num_outliers) << "stated x" << factor;
     EXPECT_NEAR(r.fx, right.fx, 0.05 * right.fx_sd) << "stated x" << factor;
     EXPECT_NEAR(r.fx_sd / right.fx_sd, 1.0, 0.1) << "stated x" << factor;
@@ -246,7 +247,7 @@ TEST(RobotSelfCalibration, BadInputsGiveAStatusOrAnError)
   EXPECT_THROW(vpRobotSelfCalibration::run(sim.getNominalChain(), bad, o), vpSelfCalibException);
 }
 
-// The options of the steps come from the top-level Options and the dataset, by the builders: pixel_sd
+// The options of the steps come from the top-level Options and the dataset, by the builders: the noise
 // from the top level, the camera from the dataset, the flags from the focal mode and the method; the
 // caller's other settings of each step are kept.
 TEST(RobotSelfCalibration, StepOptionsAreBuiltFromTheTopLevelOptionsAndTheDataset)
@@ -257,7 +258,7 @@ TEST(RobotSelfCalibration, StepOptionsAreBuiltFromTheTopLevelOptionsAndTheDatase
   ds.focal_known = false;
   ds.cam.initPersProjWithoutDistortion(1390, 1410, 318, 243); // a guess: f self-calibrated
   RSC::Options o;
-  o.pixel_sd = 0.7;
+  o.noise.pixel_sd = 0.7;
   o.twoview.ransac.inlier_threshold = 2;
   o.multiview.max_pair_points = 123;
   o.bundle.intrinsics |= vpKinematicBundleAdjustment::ASPECT;
@@ -267,7 +268,6 @@ TEST(RobotSelfCalibration, StepOptionsAreBuiltFromTheTopLevelOptionsAndTheDatase
   EXPECT_EQ(RSC::resolveFocalMode(o, ds), RSC::FOCAL_SHARED);
 
   const vpMultiViewReconstruction::Options mo = RSC::multiViewOptions(o, ds);
-  EXPECT_EQ(mo.pixel_sd, 0.7);
   EXPECT_FALSE(mo.focal_known);
   EXPECT_EQ(mo.max_pair_points, 123u);
   EXPECT_EQ(mo.twoview.fx, 1390);
@@ -280,13 +280,12 @@ TEST(RobotSelfCalibration, StepOptionsAreBuiltFromTheTopLevelOptionsAndTheDatase
   EXPECT_EQ(to.fx, mo.twoview.fx);
   EXPECT_EQ(to.mu, mo.twoview.mu);
   const vpKinematicBundleAdjustment::Options bo = RSC::bundleOptions(o, ds);
-  EXPECT_EQ(bo.pixel_sd, 0.7);
   EXPECT_EQ(bo.intrinsics, vpKinematicBundleAdjustment::FX | vpKinematicBundleAdjustment::ASPECT);
   EXPECT_FALSE(bo.hand_eye_only);
   EXPECT_EQ(bo.fixed, std::vector<std::string>{"j2.tx"});
   const vpSelfCalibDataCheck::Options co = RSC::dataCheckOptions(o);
-  EXPECT_EQ(co.pixel_sd, 0.7);
   EXPECT_EQ(co.min_points, 9u);
+  EXPECT_EQ(RSC::noiseModel(o, ds).pixel_sd, 0.7);
 
   // A builder's output put back into the Options is accepted and builds the same.
   RSC::Options back = o;
@@ -317,21 +316,6 @@ TEST(RobotSelfCalibration, DerivedFieldsSetAgainstTheirSourceThrow)
   vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(6));
   ds.focal_known = false;
   RSC::Options o;
-  o.pixel_sd = 0.5;
-  o.multiview.pixel_sd = 0.3;
-  EXPECT_THROW(o.check(), vpSelfCalibException);
-  EXPECT_THROW(RSC::multiViewOptions(o, ds), vpSelfCalibException);
-  EXPECT_THROW(RSC::run(sim.getNominalChain(), ds, o), vpSelfCalibException);
-  o.multiview.pixel_sd = 0.5; // the same as the top level: accepted
-  EXPECT_NO_THROW(o.check());
-  o.bundle.pixel_sd = 0.3;
-  EXPECT_THROW(o.check(), vpSelfCalibException);
-  EXPECT_THROW(RSC::bundleOptions(o, ds), vpSelfCalibException);
-  o = RSC::Options();
-  o.data_check.pixel_sd = 1;
-  EXPECT_THROW(o.check(), vpSelfCalibException);
-  EXPECT_THROW(RSC::dataCheckOptions(o), vpSelfCalibException);
-  o = RSC::Options();
   o.bundle.hand_eye_only = true;
   EXPECT_THROW(o.check(), vpSelfCalibException);
   o.method = RSC::HAND_EYE;
@@ -362,6 +346,48 @@ TEST(RobotSelfCalibration, DerivedFieldsSetAgainstTheirSourceThrow)
   EXPECT_EQ(RSC::bundleOptions(o, ds).intrinsics, 0u);
 }
 
+// The noise model is the method's: a robot error the method does not model is a caller mistake, and
+// the dataset's robot_error fills the part the method uses when the caller leaves it at 0.
+TEST(RobotSelfCalibration, TheNoiseModelIsTheMethods)
+{
+  using RSC = vpRobotSelfCalibration;
+  const vpSelfCalibSimulator sim = makeSim("viper850", 16, 0.2);
+  vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(6));
+  RSC::Options o;
+  o.noise.pose_sd_translation = o.noise.pose_sd_rotation = 1e-3;
+  EXPECT_THROW(o.check(), vpSelfCalibException); // controller poses with the full kinematics
+  EXPECT_THROW(RSC::run(sim.getNominalChain(), ds, o), vpSelfCalibException);
+  o.method = RSC::HAND_EYE;
+  EXPECT_NO_THROW(o.check());
+  o.noise.joint_sd = {1e-4};
+  EXPECT_THROW(o.check(), vpSelfCalibException); // joint readings with hand-eye
+  o = RSC::Options();
+  o.noise.model_sd_translation = 1e-3;
+  EXPECT_THROW(o.check(), vpSelfCalibException); // one part of a pair
+  o.noise.model_sd_rotation = 1e-3;
+  EXPECT_NO_THROW(o.check());
+  o.method = RSC::PAPER;
+  EXPECT_THROW(o.check(), vpSelfCalibException); // the paper models no robot error
+  o = RSC::Options();
+  o.noise.pixel_sd = 0;
+  EXPECT_THROW(o.check(), vpSelfCalibException);
+  // The dataset's robot_error, in the method's form.
+  ds.pose_sd_translation = 2e-3;
+  ds.pose_sd_rotation = 3e-3;
+  ds.joint_sd = {1e-4};
+  o = RSC::Options();
+  EXPECT_TRUE(RSC::noiseModel(o, ds).joint_sd == std::vector<double>{1e-4});
+  EXPECT_FALSE(RSC::noiseModel(o, ds).hasPoseError());
+  EXPECT_TRUE(RSC::bundleOptions(o, ds).scale_covariance);
+  o.method = RSC::HAND_EYE;
+  EXPECT_EQ(RSC::noiseModel(o, ds).pose_sd_translation, 2e-3);
+  EXPECT_EQ(RSC::noiseModel(o, ds).pose_sd_rotation, 3e-3);
+  EXPECT_TRUE(RSC::noiseModel(o, ds).joint_sd.empty());
+  o.noise.pose_sd_translation = o.noise.pose_sd_rotation = 1e-3; // the caller's stands
+  EXPECT_EQ(RSC::noiseModel(o, ds).pose_sd_translation, 1e-3);
+  EXPECT_FALSE(RSC::bundleOptions(o, ds).scale_covariance);
+}
+
 // run() builds what it needs from the caller's Options and leaves them as they were: a second run
 // with the same Options gives the same result.
 TEST(RobotSelfCalibration, RunLeavesTheOptionsUnchanged)
@@ -371,23 +397,20 @@ TEST(RobotSelfCalibration, RunLeavesTheOptionsUnchanged)
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
   RSC::Options o;
   o.num_calibration_poses = 9;
-  o.pixel_sd = 0.3;
+  o.noise.pixel_sd = 0.3;
   o.bundle.fixed = {"j1.tz"};
   const RSC::Options copy = o;
   const RSC::Result a = RSC::run(sim.getNominalChain(), ds, o);
   ASSERT_EQ(a.status, RSC::OK) << a.message;
-  EXPECT_EQ(o.pixel_sd, copy.pixel_sd);
-  EXPECT_EQ(o.multiview.pixel_sd, copy.multiview.pixel_sd);
+  EXPECT_EQ(o.noise.pixel_sd, copy.noise.pixel_sd);
   EXPECT_EQ(o.multiview.focal_known, copy.multiview.focal_known);
   EXPECT_EQ(o.multiview.twoview.fx, copy.multiview.twoview.fx);
   EXPECT_EQ(o.twoview.fx, copy.twoview.fx);
   EXPECT_EQ(o.twoview.mu, copy.twoview.mu);
   EXPECT_EQ(o.twoview.focal_mode, copy.twoview.focal_mode);
-  EXPECT_EQ(o.bundle.pixel_sd, copy.bundle.pixel_sd);
   EXPECT_EQ(o.bundle.intrinsics, copy.bundle.intrinsics);
   EXPECT_EQ(o.bundle.hand_eye_only, copy.bundle.hand_eye_only);
   EXPECT_EQ(o.bundle.fixed, copy.bundle.fixed); // the run's extra fixed parameters stay in the run
-  EXPECT_EQ(o.data_check.pixel_sd, copy.data_check.pixel_sd);
   const RSC::Result b = RSC::run(sim.getNominalChain(), ds, o);
   ASSERT_EQ(b.status, RSC::OK) << b.message;
   EXPECT_EQ(a.fx, b.fx);

@@ -40,7 +40,8 @@ vpRobotSelfCalibration::Options options(unsigned int N, bool auto_noise = true)
 {
   vpRobotSelfCalibration::Options po;
   po.num_calibration_poses = N;
-  po.estimate_pixel_sd = auto_noise;
+  if (auto_noise)
+    po.noise.pixel_sd_origin = vpSelfCalibNoiseModel::MEASURED;
   return po;
 }
 
@@ -84,7 +85,7 @@ TEST(Trust, GoodRunsStayOk)
     const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(25));
     const Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, options(15));
     EXPECT_EQ(r.status, vpRobotSelfCalibration::OK) << "seed " << seed << ": " << r.message;
-    EXPECT_NEAR(r.pixel_sd_measured, 0.2, 0.04) << "seed " << seed;
+    EXPECT_NEAR(r.measured.pixel_sd, 0.2, 0.04) << "seed " << seed;
     EXPECT_LT(r.fit_calibrated_rms, 0.5 * r.fit_nominal_rms);
     EXPECT_FALSE(hasFinding(r, "noise-mismatch")) << "seed " << seed;
   }
@@ -200,12 +201,12 @@ TEST(Trust, PixelNoiseMeasured)
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(25));
   const Result a = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, options(15, true));
   ASSERT_EQ(a.status, vpRobotSelfCalibration::OK) << a.message;
-  EXPECT_NEAR(a.pixel_sd, 0.5, 0.075);
-  EXPECT_NEAR(a.pixel_sd_measured, 0.5, 0.05);
+  EXPECT_NEAR(a.noise.pixel_sd, 0.5, 0.075);
+  EXPECT_NEAR(a.measured.pixel_sd, 0.5, 0.05);
   EXPECT_LT(a.bundle.num_outliers, 0.01 * (a.bundle.num_observations + a.bundle.num_outliers));
   const Result s = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, options(15, false));
   ASSERT_EQ(s.status, vpRobotSelfCalibration::OK) << s.message;
-  EXPECT_DOUBLE_EQ(s.pixel_sd, 0.2);
+  EXPECT_DOUBLE_EQ(s.noise.pixel_sd, 0.2);
   EXPECT_TRUE(s.bundle.covariance_scaled);
   EXPECT_TRUE(hasFinding(s, "noise-mismatch"));
   EXPECT_LT(s.bundle.num_outliers, 0.01 * (s.bundle.num_observations + s.bundle.num_outliers));
@@ -230,7 +231,7 @@ TEST(Trust, SdsFollowTheResidualsWhenTheStatedNoiseIsWrong)
     std::vector<double> sd_sum(3, 0.0);
     for (unsigned int d = 0; d < draws; ++d) {
       vpRobotSelfCalibration::Options po = options(15, false);
-      po.pixel_sd = stated;
+      po.noise.pixel_sd = stated;
       const Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), noisy(exact, 0.5, d), po);
       // f self-calibrated at 0.5 px: some draws predict an error above the nominal model's misfit
       // (doubtful); their estimate and sds count all the same (leaving them out would bias the spread).
@@ -270,6 +271,6 @@ TEST(Trust, MeasuredNoiseKeepsTheObservationsOfAStatedSdTooSmall)
   EXPECT_TRUE(hasFinding(stated, "noise-mismatch"));
   const Result a = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, options(15, true));
   EXPECT_TRUE(a.status == vpRobotSelfCalibration::OK || a.status == vpRobotSelfCalibration::DOUBTFUL) << a.message;
-  EXPECT_NEAR(a.pixel_sd, 1.2, 0.25);
+  EXPECT_NEAR(a.noise.pixel_sd, 1.2, 0.25);
   EXPECT_LT(a.bundle.num_outliers, 0.02 * (a.bundle.num_observations + a.bundle.num_outliers));
 }

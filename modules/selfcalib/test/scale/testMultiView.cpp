@@ -28,8 +28,15 @@ vpMultiViewReconstruction::Options options(const vpSelfCalibSimulator &sim, bool
   o.twoview.u0 = c.get_u0();
   o.twoview.v0 = c.get_v0();
   o.twoview.mu = c.get_py() / c.get_px();
-  o.pixel_sd = std::max(0.2, sim.getOptions().pixel_noise_sd);
   return o;
+}
+
+//! The noise model of the simulated data: its pixel noise, at least 0.2 px.
+vpSelfCalibNoiseModel noiseOf(const vpSelfCalibSimulator &sim)
+{
+  vpSelfCalibNoiseModel n;
+  n.pixel_sd = std::max(0.2, sim.getOptions().pixel_noise_sd);
+  return n;
 }
 
 // Mean translation-direction error (rad) of the poses against the truth.
@@ -57,7 +64,7 @@ TEST(MultiViewReconstruction, NoiseFreeExactRecoveryWithSelfCalibratedFocal)
   const vpSelfCalibDataset ds = sim.makeDataset(q);
   vpMultiViewReconstruction::Options o = options(sim, false);
   o.tight = true;
-  const vpMultiViewReconstruction::Result r = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, o);
+  const vpMultiViewReconstruction::Result r = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, o, noiseOf(sim));
   ASSERT_EQ(r.status, vpMultiViewReconstruction::OK) << r.message;
   EXPECT_TRUE(r.metric);
   EXPECT_EQ(r.num_outliers, 0u);
@@ -82,7 +89,7 @@ TEST(MultiViewReconstruction, WithoutYardstickTheReferenceBaselineIsTheUnit)
   const vpSelfCalibSimulator sim = makeSim("viper850", 22, 0.0);
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(6));
   const vpMultiViewReconstruction::Result r =
-      vpMultiViewReconstruction::reconstruct(ds.views, vpSelfCalibDataset::Yardstick(), options(sim, true));
+      vpMultiViewReconstruction::reconstruct(ds.views, vpSelfCalibDataset::Yardstick(), options(sim, true), noiseOf(sim));
   ASSERT_EQ(r.status, vpMultiViewReconstruction::OK) << r.message;
   EXPECT_FALSE(r.metric);
   ASSERT_GT(r.reference_view, 0u);
@@ -100,7 +107,7 @@ TEST(MultiViewReconstruction, WrongMatchesAreRejected)
     corrupt(bad, 0.2, seed, 77);
     vpMultiViewReconstruction::Options o = options(sim, false);
     o.tight = true; // both solves to the bottom of a flat valley, so that they can be compared
-    const auto rb = vpMultiViewReconstruction::reconstruct(bad.views, bad.yardstick, o);
+    const auto rb = vpMultiViewReconstruction::reconstruct(bad.views, bad.yardstick, o, noiseOf(sim));
     ASSERT_EQ(rb.status, vpMultiViewReconstruction::OK) << rb.message;
     EXPECT_TRUE(rb.metric);
     // Every wrong match is rejected (but the odd one that lands within a pixel of the right place);
@@ -126,11 +133,11 @@ TEST(MultiViewReconstruction, WrongMatchesAreRejected)
     // stop in another one (seed 33: 4% higher RMS than least squares on the same kept
     // observations from the clean start). The pipeline's kinematic bundle adjustment is (test-bundle).
     // Plain least squares on the corrupted data is far worse than either.
-    vpMultiViewReconstruction::Options plain = o;
-    plain.loss = vpMultiViewReconstruction::LOSS_NONE;
+    vpSelfCalibNoiseModel plain = noiseOf(sim);
+    plain.loss = vpSelfCalibNoiseModel::LOSS_NONE;
     plain.outlier_threshold = 0;
-    const auto rr = vpMultiViewReconstruction::reconstruct(kept.views, kept.yardstick, plain);
-    const auto rp = vpMultiViewReconstruction::reconstruct(bad.views, bad.yardstick, plain);
+    const auto rr = vpMultiViewReconstruction::reconstruct(kept.views, kept.yardstick, o, plain);
+    const auto rp = vpMultiViewReconstruction::reconstruct(bad.views, bad.yardstick, o, plain);
     ASSERT_EQ(rr.status, vpMultiViewReconstruction::OK) << rr.message;
     const std::vector<vpHomogeneousMatrix> T = sim.getTrueCameraPoses(ds.views);
     robust += directionError(rb, T);
@@ -146,22 +153,25 @@ TEST(MultiViewReconstruction, BadInputThrowsAndUselessDataGivesAStatus)
   const vpSelfCalibSimulator sim = makeSim("viper850", 23, 0.2);
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(4));
   const vpMultiViewReconstruction::Options o = options(sim, true);
-  EXPECT_THROW(vpMultiViewReconstruction::reconstruct({ds.views[0]}, ds.yardstick, o), vpSelfCalibException);
+  EXPECT_THROW(vpMultiViewReconstruction::reconstruct({ds.views[0]}, ds.yardstick, o, noiseOf(sim)), vpSelfCalibException);
   vpSelfCalibDataset bad = ds;
   bad.views[1].points.push_back(bad.views[1].points[0]);
-  EXPECT_THROW(vpMultiViewReconstruction::reconstruct(bad.views, ds.yardstick, o), vpSelfCalibException);
+  EXPECT_THROW(vpMultiViewReconstruction::reconstruct(bad.views, ds.yardstick, o, noiseOf(sim)), vpSelfCalibException);
   bad = ds;
   bad.views[2].points[3].ip.set_u(std::nan(""));
-  EXPECT_THROW(vpMultiViewReconstruction::reconstruct(bad.views, ds.yardstick, o), vpSelfCalibException);
-  vpMultiViewReconstruction::Options bo = o;
-  bo.pixel_sd = 0;
-  EXPECT_THROW(vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, bo), vpSelfCalibException);
-  EXPECT_THROW(vpMultiViewReconstruction::lossFromName("l1"), vpSelfCalibException);
+  EXPECT_THROW(vpMultiViewReconstruction::reconstruct(bad.views, ds.yardstick, o, noiseOf(sim)), vpSelfCalibException);
+  vpSelfCalibNoiseModel bn;
+  bn.pixel_sd = 0;
+  EXPECT_THROW(vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, o, bn), vpSelfCalibException);
+  bn.pixel_sd = 0.2;
+  bn.loss_scale = -1;
+  EXPECT_THROW(vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, o, bn), vpSelfCalibException);
+  EXPECT_THROW(vpSelfCalibNoiseModel::lossFromName("l1"), vpSelfCalibException);
   // Views sharing 4 points: no pair can be estimated.
   bad = ds;
   for (size_t k = 1; k < bad.views.size(); ++k)
     bad.views[k].points.resize(4);
-  const auto r = vpMultiViewReconstruction::reconstruct(bad.views, ds.yardstick, o);
+  const auto r = vpMultiViewReconstruction::reconstruct(bad.views, ds.yardstick, o, noiseOf(sim));
   EXPECT_EQ(r.status, vpMultiViewReconstruction::TWO_VIEW_FAILED);
   EXPECT_FALSE(r.message.empty());
 }
@@ -175,7 +185,7 @@ TEST(MultiViewReconstruction, PointsLeftOutOfTheBundleAreTriangulatedExactly)
   vpMultiViewReconstruction::Options o = options(sim, true);
   o.tight = true;
   o.max_bundle_points = 12;
-  const vpMultiViewReconstruction::Result r = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, o);
+  const vpMultiViewReconstruction::Result r = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, o, noiseOf(sim));
   ASSERT_EQ(r.status, vpMultiViewReconstruction::OK) << r.message;
   EXPECT_TRUE(r.metric);
   EXPECT_EQ(r.num_outliers, 0u);
@@ -197,15 +207,15 @@ TEST(MultiViewReconstruction, FocalStandardDeviationIsReproducible)
     const vpSelfCalibSimulator sim = makeSim("viper850", seed, 0.2);
     const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
     const vpMultiViewReconstruction::Options o = options(sim, false);
-    const auto a = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, o);
-    const auto b = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, o);
+    const auto a = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, o, noiseOf(sim));
+    const auto b = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, o, noiseOf(sim));
     ASSERT_EQ(a.status, vpMultiViewReconstruction::OK) << a.message;
     EXPECT_GT(a.fx_sd, 0.0) << seed;
     EXPECT_TRUE(std::isfinite(a.fx_sd)) << seed;
     EXPECT_LT(std::fabs(a.fx - sim.getCamera().get_px()), 4 * a.fx_sd) << seed << ": f " << a.fx << " sd " << a.fx_sd;
     EXPECT_EQ(a.fx_sd, b.fx_sd) << seed;
     EXPECT_EQ(a.fx, b.fx) << seed;
-    const auto k = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, options(sim, true));
+    const auto k = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, options(sim, true), noiseOf(sim));
     ASSERT_EQ(k.status, vpMultiViewReconstruction::OK) << k.message;
     EXPECT_EQ(k.fx_sd, 0.0);
   }
@@ -221,8 +231,8 @@ TEST(MultiViewReconstruction, TheFocalLengthIsTheConvergedOptimum)
     const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(15));
     vpMultiViewReconstruction::Options o = options(sim, false), tight = o;
     tight.tight = true;
-    const auto r = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, o);
-    const auto c = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, tight);
+    const auto r = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, o, noiseOf(sim));
+    const auto c = vpMultiViewReconstruction::reconstruct(ds.views, ds.yardstick, tight, noiseOf(sim));
     ASSERT_EQ(r.status, vpMultiViewReconstruction::OK) << r.message;
     ASSERT_EQ(c.status, vpMultiViewReconstruction::OK) << c.message;
     ASSERT_GT(c.fx_sd, 0.0);

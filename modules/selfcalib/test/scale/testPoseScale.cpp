@@ -107,7 +107,6 @@ TEST(PoseScale, WeightedYardstickIsUnbiasedWithAnHonestSd)
     double truth = 0;
     const auto v = views(sim, q, t, 0.2, truth);
     vpPoseScale::YardstickOptions o;
-    o.pixel_sd = 0.2;
     const auto w = vpPoseScale::yardstick(v, sim.getYardstick().length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1, o);
     o.joint = false;
     const auto pw = vpPoseScale::yardstick(v, sim.getYardstick().length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1, o);
@@ -227,7 +226,10 @@ TEST(PoseScale, BadInputsThrowOrGiveAStatus)
   EXPECT_THROW(vpPoseScale::yardstick({v}, 0.1, 300, 320, 240, 1), vpSelfCalibException);
   v.ratio_sd = 0;
   vpPoseScale::YardstickOptions o;
-  o.pixel_sd = 0;
+  vpSelfCalibNoiseModel noise;
+  noise.pixel_sd = 0;
+  EXPECT_THROW(vpPoseScale::yardstick({v}, 0.1, 300, 320, 240, 1, o, noise), vpSelfCalibException);
+  o.fx_sd = -1;
   EXPECT_THROW(vpPoseScale::yardstick({v}, 0.1, 300, 320, 240, 1, o), vpSelfCalibException);
   EXPECT_EQ(vpPoseScale::yardstick({}, 0.1, 300, 320, 240, 1).status, vpPoseScale::TOO_FEW_VIEWS);
   EXPECT_EQ(vpPoseScale::twoViewCovariance(v.c2Mc1, {v.a1}, {v.a2}, 300, 320, 240, 1, 0.2).getRows(), 0u);

@@ -23,6 +23,7 @@
 #include <visp3/selfcalib/vpKinematicIdentification.h>
 #include <visp3/selfcalib/vpMultiViewReconstruction.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
+#include <visp3/selfcalib/vpSelfCalibNoiseModel.h>
 
 /*!
   \class vpKinematicBundleAdjustment
@@ -59,6 +60,19 @@
     axis) is held at its start value (SCALE_NOMINAL: the start model's scale, the nominal one in
     the pipeline), and the result says so.
 
+  Noise (vpSelfCalibNoiseModel, passed to adjust() and information()): pixel_sd weighs the
+  reprojection residuals, loss and loss_scale make the robust stages, outlier_threshold the rejection.
+  The robot's error adds a correction per view with a prior residual (correction / sd) beside the
+  pixel residuals, so that the estimate weighs pixel noise and robot error together and its
+  covariance accounts for both:
+  - hand-eye-only mode, the controller poses (pose_sd_*): each view k gets delta_k = (t, theta u)
+    in its end-effector frame, fMe_k' = fMe_k [exp([theta u]x) | t];
+  - full kinematic mode, the kinematic model's residual (model_sd_*): a correction of each view's
+    camera pose in the camera frame, fMc_k' = fMc(q_k; rho) [exp([theta u]x) | t]; and the joint
+    readings (joint_sd): joint corrections dq_k, the pose fMc(q_k + dq_k; rho).
+  A robot error of the other mode (pose_sd in full mode, model_sd or joint_sd in hand-eye mode) is a
+  caller mistake.
+
   Solver: Ceres Levenberg-Marquardt with the Schur complement (points eliminated, DENSE_SCHUR on the
   small reduced system), robust loss on the whitened residuals (Cauchy by default), then the
   observations above outlier_threshold sd are dropped and the problem is solved again with plain
@@ -89,11 +103,7 @@ public:
     DistortionModel distortion_model = DISTORTION_VISP;
     std::vector<double> opencv_distortion; //!< (k1, k2, p1, p2, k3); empty: all 0
     std::vector<std::string> fixed;    //!< kinematic parameters kept at their start value by the caller
-    double pixel_sd = 0.2;             //!< px
     double yardstick_sd = 1e-5;        //!< m, uncertainty of the yardstick's length
-    vpMultiViewReconstruction::Loss loss = vpMultiViewReconstruction::LOSS_CAUCHY;
-    double loss_scale = 3;             //!< in units of pixel_sd
-    double outlier_threshold = 5;      //!< in noise sds (pixel_sd, or the residuals' robust sd when larger); 0 keeps every observation
     double rank_tolerance = 1e-6;      //!< estimated-set threshold (vpKinematicIdentification::Options)
     unsigned int max_iterations = 100;
     bool tight = false;                //!< tolerances 1e-15 (exact recovery on noise-free data)
@@ -107,30 +117,8 @@ public:
     */
     bool hand_eye_only = false;
     /*!
-      Hand-eye-only mode: the expected error of the controller poses fMe (robot pose error). Each
-      view k gets a correction delta_k = (t, theta u) in its end-effector frame,
-      fMe_k' = fMe_k [exp([theta u]x) | t], estimated with the prior residual
-      (t / pose_sd_translation, theta u / pose_sd_rotation) beside the pixel residuals, so that the
-      estimate weighs pixel noise and robot pose noise together and its covariance accounts for
-      both. 0 and 0 (default): the poses are exact (no correction). Both positive or both 0.
-      Full kinematic mode: the kinematic model's own residual (what no parameter of the error model
-      explains: link deflection, gear eccentricity), a correction of each view's camera pose in the
-      camera frame, fMc_k' = fMc(q_k; rho) [exp([theta u]x) | t], with the same prior; with
-      joint_sd too, both corrections.
-    */
-    double pose_sd_translation = 0; //!< m
-    double pose_sd_rotation = 0;    //!< rad
-    /*!
-      Full kinematic mode: the expected error of the joint readings (rad; one value for every joint,
-      or one per joint): encoder resolution, backlash, joint compliance under the camera's weight.
-      Each view k gets joint corrections dq_k, the pose is fMc(q_k + dq_k; rho), estimated with the
-      prior residual dq_k,i / joint_sd_i beside the pixel residuals. Empty (default): the readings
-      are exact.
-    */
-    std::vector<double> joint_sd;
-    /*!
       Scale the covariance by sigma0^2 when sigma0 > 1: the residuals say the stated noise (pixel
-      and robot pose) is too small, and the standard deviations are widened accordingly (the a
+      and robot) is too small, and the standard deviations are widened accordingly (the a
       posteriori variance factor). Off by default.
     */
     bool scale_covariance = false;
@@ -138,7 +126,7 @@ public:
       Scale the covariance by sigma0^2 whenever sigma0 is outside the two-sided 99.9 % interval of
       sqrt(chi2(dof) / dof): the residuals contradict the stated noise in either direction (too
       small a pixel_sd gives too small standard deviations, too large a pixel_sd too large ones).
-      With robot pose or joint corrections (pose_sd_*, joint_sd) only a sigma0 above 1 scales (as
+      With robot error modelled (the noise model's pose, joint or model sd) only a sigma0 above 1 scales (as
       scale_covariance): their priors absorb what the pixels leave, and a sigma0 below 1 then says
       the priors were loose, not that the estimate is better. Takes precedence over
       scale_covariance. Off by default.
@@ -155,13 +143,8 @@ public:
       sd of each known point's placement on its object (m). The default, 10 um, is a printed or
       machined board's dot placement, and it is what makes the layout known: a point seen N times
       at depth Z through a focal length f is located by the images alone to about
-      pixel_sd Z / (f sqrt(N)) (0.2 px, 0.5 m, 540 px, 12 views: 53 um). A prior looser than that lets the points
-      take the board's shape from the images: with the 0.1 mm of earlier versions the adjusted
-      grid's spacing was off by 55 um RMS on exact simulated boards (test
-      HandEye.KnownLayoutIsHeldAndGivesTheIntrinsics), and on the industrial_calibration set the
-      self-calibrated focal length came out at 532.9 px (bench-real's I2; 535.0 at 10 um;
-      `calibrate` with the pixel noise measured 533.8 at 0.1 mm, 538.1 at 10 um; OpenCV's
-      calibrateCamera, which takes the layout as exact, 540.0).
+      pixel_sd Z / (f sqrt(N)) (0.2 px, 0.5 m, 540 px, 12 views: 53 um). A prior looser than that
+      lets the points take the board's shape from the images (and the focal length with it).
     */
     double known_points_sd = 1e-5;
     unsigned int num_threads = 1;       //!< more is faster on large problems, but not bit-reproducible
@@ -201,23 +184,32 @@ public:
     double sigma0 = 0;                       //!< sqrt(2 cost / dof): about 1 when pixel_sd is right
     bool covariance_scaled = false;          //!< the covariance was multiplied by sigma0^2 (scale_covariance)
     /*!
-      px, the image noise the residuals measure, robustly: 1.4826 x the median absolute residual
-      coordinate over every observation that projects (the rejected ones included, so that a too
-      small pixel_sd does not hide the noise), times sqrt(observations / dof) for the estimated
-      unknowns. Independent of pixel_sd; 0 without observations.
+      The noise the residuals measure (origin MEASURED; a level not measured is 0):
+      - pixel_sd (px), robustly: 1.4826 x the median absolute residual coordinate over every
+        observation that projects (the rejected ones included, so that a too small pixel_sd does
+        not hide the noise), times sqrt(observations / dof) for the estimated unknowns. Independent
+        of the stated pixel_sd; 0 without observations.
+      - pose_sd_translation (m) and pose_sd_rotation (rad), hand-eye mode (hand_eye_only) with the
+        controller pose error modelled and a covariance, by variance component estimation: for the
+        translations, then the rotations, the sum of the squared corrections over their redundancy,
+        sum (1 - posterior variance / stated variance), the posterior variances from the covariance
+        at the stated weights. A stated sd that is right gives about itself back; 0 without pose
+        corrections, without covariance, or when the corrections' redundancy is below 1 (the images
+        do not separate them from the rest).
     */
-    double pixel_sd_measured = 0;
+    vpSelfCalibNoiseModel measured = vpSelfCalibNoiseModel::unmeasured();
     //! The two-sided 99.9 % interval of sigma0 for the degrees of freedom of the solution.
     double sigma0_low = 0, sigma0_high = 0;
     /*!
-      With robot pose error modelled (pose_sd_*): the estimated correction delta_k of each view's
+      With a per-view pose correction modelled (the noise model's pose_sd in hand-eye mode, model_sd
+      in full mode): the estimated correction delta_k of each view's
       controller pose (hand-eye) or camera pose (full mode) (t, theta u; empty otherwise), and the RMS
       of their translation (m) and rotation (rad) parts: the robot part of the residuals, beside rms
       (the pixel part).
     */
     std::vector<vpColVector> pose_corrections;
     double pose_rms_translation = 0, pose_rms_rotation = 0;
-    //! With joint-reading noise modelled (joint_sd): each view's estimated joint corrections (rad) and their RMS.
+    //! With joint-reading noise modelled (the noise model's joint_sd): each view's estimated joint corrections (rad) and their RMS.
     std::vector<vpColVector> joint_corrections;
     double joint_rms = 0;
     /*!
@@ -236,17 +228,7 @@ public:
     */
     double robot_rms_ratio = 0;
     /*!
-      Hand-eye mode (hand_eye_only) with robot pose error modelled (pose_sd_*) and a covariance:
-      the pose error the corrections measure (variance component estimation): for the
-      translations, then the rotations, the sum of the squared corrections over their redundancy,
-      sum (1 - posterior variance / stated variance), the posterior variances from the covariance
-      at the stated weights (m, rad). A stated sd that is right gives about itself back; 0 without
-      pose corrections, without covariance, or when the corrections' redundancy is below 1 (the
-      images do not separate them from the rest).
-    */
-    double pose_sd_translation_measured = 0, pose_sd_rotation_measured = 0;
-    /*!
-      Without robot error modelled (no pose_sd_*, no joint_sd): each view's camera re-posed alone on
+      Without robot error modelled (vpSelfCalibNoiseModel::hasRobotError() false): each view's camera re-posed alone on
       its kept observations, the points and intrinsics held (a rigid correction per view, 6 values).
       reposed_rms: the reprojection RMS then (px, over the views with 4 kept observations or more;
       0 when not computed), over reposed_views views; repose_rms_translation (m) and
@@ -270,23 +252,23 @@ public:
     Bundle adjustment from the start chain and camera, with initial scene points in f (every point
     observed in two or more views needs one; others are ignored). Views need joint vectors of the
     chain's size. Throws vpSelfCalibException on caller mistakes (sizes, non-finite values, an
-    unknown fixed name, nonsense options); too few observations, rank deficiency and no convergence
-    are statuses.
+    unknown fixed name, nonsense options or noise model, a robot error of the other mode); too few
+    observations, rank deficiency and no convergence are statuses.
   */
   static Result adjust(const vpKinematicChain &start, const vpCameraParameters &camera,
                        const std::vector<vpSelfCalibDataset::View> &views,
                        const vpSelfCalibDataset::Yardstick &yardstick, const std::map<int, vpColVector> &points,
-                       const Options &options);
+                       const Options &options, const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
 
   /*!
     The covariance of the same problem at the given state, without solving and without robust loss
-    or outlier rejection. At the true chain, camera and points with the true pixel_sd this is the
+    or outlier rejection. At the true chain, camera and points with the true noise this is the
     Cramér-Rao bound of the kinematic parameters and intrinsics.
   */
   static Result information(const vpKinematicChain &state, const vpCameraParameters &camera,
                             const std::vector<vpSelfCalibDataset::View> &views,
                             const vpSelfCalibDataset::Yardstick &yardstick, const std::map<int, vpColVector> &points,
-                            const Options &options);
+                            const Options &options, const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
 
   /*!
     First-order covariance (6 x 6: position in m, then rotation in rad, both in the frame of c_ref)

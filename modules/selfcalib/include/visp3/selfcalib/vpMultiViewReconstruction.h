@@ -19,6 +19,7 @@
 #include <visp3/core/vpColVector.h>
 #include <visp3/core/vpHomogeneousMatrix.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
+#include <visp3/selfcalib/vpSelfCalibNoiseModel.h>
 #include <visp3/selfcalib/vpTwoViewEstimator.h>
 
 /*!
@@ -60,18 +61,9 @@
 class VISP_SELFCALIB_EXPORT vpMultiViewReconstruction
 {
 public:
-  enum Loss { LOSS_NONE, LOSS_HUBER, LOSS_CAUCHY };
-  static const char *lossName(Loss loss);
-  //! "none", "huber" or "cauchy"; throws vpSelfCalibException otherwise.
-  static Loss lossFromName(const std::string &name);
-
   struct Options {
     bool focal_known = true;        //!< false: one f for all views, self-calibrated
     vpTwoViewEstimator::Options twoview; //!< fx (known value or first guess), u0, v0, mu: the camera
-    double pixel_sd = 0.2;          //!< px, image noise sd (residual weights, loss scale, outlier test)
-    Loss loss = LOSS_CAUCHY;
-    double loss_scale = 3;          //!< in units of pixel_sd
-    double outlier_threshold = 5;   //!< in noise sds (pixel_sd, or the residuals' robust sd when larger); 0 keeps every observation
     unsigned int min_points = 8;    //!< triangulated points a pair needs to be chained
     unsigned int max_pair_points = 300; //!< correspondences per pair for the two-view step (0: all)
     unsigned int max_bundle_points = 400; //!< points in the bundle adjustment (0: all; see step 3)
@@ -102,13 +94,13 @@ public:
     std::vector<std::vector<bool>> inliers;
     unsigned int num_observations = 0, num_outliers = 0;
     double rms = 0;                         //!< px, reprojection RMS over the inliers
-    //! rms over Options::pixel_sd for the degrees of freedom, and its 99.9 % chi-square interval (0
+    //! rms over the noise model's pixel_sd for the degrees of freedom, and its 99.9 % chi-square interval (0
     //! when there are no degrees of freedom).
     double sigma0 = 0, sigma0_low = 0, sigma0_high = 0;
-    //! px: the image noise measured from the residuals of every observation, the rejected ones too
-    //! (1.4826 x their median absolute value, for the degrees of freedom): right even when a stated
-    //! pixel_sd too small rejected good observations (0 without degrees of freedom).
-    double pixel_sd_measured = 0;
+    //! The image noise measured (measured.pixel_sd, px) from the residuals of every observation, the
+    //! rejected ones too (1.4826 x their median absolute value, for the degrees of freedom): right
+    //! even when a stated pixel_sd too small rejected good observations (0 without degrees of freedom).
+    vpSelfCalibNoiseModel measured = vpSelfCalibNoiseModel::unmeasured();
     std::vector<vpTwoViewEstimator::Result> pairs; //!< pair (0, k) at index k - 1
     double seconds_twoview = 0, seconds_bundle = 0;
   };
@@ -116,11 +108,13 @@ public:
   /*!
     Reconstruction of the views (their image points; joints are not used). Throws
     vpSelfCalibException on caller mistakes: fewer than 2 views, a non-finite pixel, an id seen twice
-    in one view, nonsense options. A failure of the data (no pair gives a pose, the solver does not
-    converge) is a status.
+    in one view, nonsense options or noise model. A failure of the data (no pair gives a pose, the
+    solver does not converge) is a status. The noise model's image part weighs the residuals (pixel_sd),
+    sets the robust loss and the outlier test; its robot part is not used.
   */
   static Result reconstruct(const std::vector<vpSelfCalibDataset::View> &views,
-                            const vpSelfCalibDataset::Yardstick &yardstick, const Options &options);
+                            const vpSelfCalibDataset::Yardstick &yardstick, const Options &options,
+                            const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
 };
 
 #endif

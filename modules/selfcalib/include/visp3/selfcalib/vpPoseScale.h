@@ -20,6 +20,7 @@
 #include <visp3/core/vpImagePoint.h>
 #include <visp3/core/vpMatrix.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpSelfCalibNoiseModel.h>
 
 /*!
   \class vpPoseScale
@@ -106,7 +107,6 @@ public:
       independent: the pairs' errors are correlated, the more the closer their geometry).
     */
     bool joint = true;
-    double pixel_sd = 0.2; //!< px, image noise of the expected accuracies
     //! px, sd of a self-calibrated focal length (0: known). Its error is common to every view: it
     //! adds (scale g fx_sd)^2 to the variance, g the weighted mean of d log l_j / d fx.
     double fx_sd = 0;
@@ -141,7 +141,7 @@ public:
     B = M - (L/2) u (c_1 frame, metres) reprojected in the first image and in every view j, whose pose
     is (exp([w_j]x) R_j, scale ratio_j exp(rho_j) normalize(t_j + a_j e1 + b_j e2)): the 5 pose
     corrections held by the pair's two-view covariance, rho_j by ratio_sd_j, the reprojections by
-    pixel_sd; scale, M, u and the corrections by least squares (Ceres); predicted_sd from its
+    the noise model's pixel_sd; scale, M, u and the corrections by least squares (Ceres); predicted_sd from its
     covariance, sd = predicted_sd max(1, sqrt(chi2 / dof)), and the focal length's part
     (d scale / d fx by a second solve) added to both. Falls back to the per-pair combination when
     the joint fit fails. lengths and relative_sd stay per pair.
@@ -149,10 +149,12 @@ public:
 
     One view (two images) is enough (the paper's minimum). A view whose ends do not triangulate
     in front of both cameras is DEGENERATE. Throws vpSelfCalibException on a non-positive length or
-    focal length, a non-finite pixel, or p1, p2 of different sizes.
+    focal length, a non-finite pixel, p1, p2 of different sizes, or a nonsense noise model (its
+    pixel_sd is the image noise of the expected accuracies; the rest of it is not used).
   */
   static Result yardstick(const std::vector<YardstickView> &views, double length, double fx, double u0, double v0,
-                          double mu, const YardstickOptions &options);
+                          double mu, const YardstickOptions &options,
+                          const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
   //! yardstick() with the default options (weighted, 0.2 px).
   static Result yardstick(const std::vector<YardstickView> &views, double length, double fx, double u0, double v0,
                           double mu);

@@ -69,9 +69,11 @@
   Views are used in dataset order: the first num_calibration_poses for calibration, the rest for
   verification.
 
-  <b>Options of the steps.</b> Each setting has one source: pixel_sd is THE image noise, the
-  dataset's camera gives the camera (the known focal length, or the first guess of a self-calibrated
-  one), focal_mode and method give the flags that follow from them; the nested structs (twoview,
+  <b>Options of the steps.</b> Each setting has one source: Options::noise is THE noise of the data
+  (image noise, robust loss, outlier rule, robot error; vpSelfCalibNoiseModel), passed as it is to
+  every step that weighs a residual (noiseModel() gives the one a run starts from); the dataset's
+  camera gives the camera (the known focal length, or the first guess of a self-calibrated one),
+  focal_mode and method give the flags that follow from them; the nested structs (twoview,
   multiview, bundle, data_check) carry the caller's other settings of each step. The options each
   step runs with are built from these by twoViewOptions(), multiViewOptions(), bundleOptions() and
   dataCheckOptions(), public so that a caller can see exactly what will run; run() uses them and
@@ -111,11 +113,13 @@ public:
     //! The two-view step of every method (PAPER's pairs, the multi-view step's pairs). Derived, not
     //! read: fx, u0, v0, mu (the dataset's camera) and focal_mode (focal_mode above); see twoViewOptions().
     vpTwoViewEstimator::Options twoview;
-    double pose_sd_rotation = 5e-3;           //!< rad, expected two-view rotation error (weights)
-    double pose_sd_direction = 5e-3;          //!< rad, expected translation-direction error (weights)
+    //! PAPER: the expected error of a two-view pose measurement (rad), rotation and translation
+    //! direction: the weights of its pose-based identification (not the robot's error, which is in noise).
+    double twoview_rotation_sd = 5e-3;
+    double twoview_direction_sd = 5e-3;
     vpKinematicIdentification::Options identification;
     //! BUNDLE_ADJUSTMENT, HAND_EYE, and PAPER's shared focal length (paper_focal_all_views). Derived,
-    //! not read: pixel_sd, focal_known and twoview (the whole struct, from twoview above); see
+    //! not read: focal_known and twoview (the whole struct, from twoview above); see
     //! multiViewOptions().
     vpMultiViewReconstruction::Options multiview;
     /*!
@@ -123,19 +127,44 @@ public:
       calibration view jointly (vpMultiViewReconstruction's bundle adjustment, its points shared by
       all views, started from the pairs' shared estimate) and measures the pairs again with it known;
       false keeps vpTwoViewEstimator::estimateShared's (one f over the pairs (1, i), each pair with
-      its own points). On the paper scene at 0.2 px (bench-paper, random poses) the focal length's
-      error drops from 0.27-0.32 to 0.05-0.08 px and the yardstick scale's from 0.21-0.27 % to
-      0.09-0.10 %. When the
+      its own points): points shared by every view fix the focal length, and the yardstick scale
+      with it, several times better than the pairs' (bench-paper measures both). When the
       reconstruction fails, the pairs' estimate is kept (Result::multiview says why).
     */
     bool paper_focal_all_views = true;
     //! BUNDLE_ADJUSTMENT, HAND_EYE (`fixed` also counts in the identifiability finding of every method).
-    //! Derived, not read: pixel_sd, the FX flag of intrinsics and hand_eye_only; see bundleOptions().
+    //! Derived, not read: the FX flag of intrinsics and hand_eye_only; see bundleOptions().
     vpKinematicBundleAdjustment::Options bundle;
-    //! px, THE image noise sd: the pixel_sd of multiview, bundle and data_check are derived from it
-    //! (residual weights, robust loss scales, outlier tests, the data check's homography threshold).
-    double pixel_sd = 0.2;
-    //! The checks run before calibrating. Derived, not read: pixel_sd; see dataCheckOptions().
+    /*!
+      THE noise of the data, passed to every step (residual weights, robust loss, outlier tests, the
+      data check's homography threshold, the robot's error in the bundle adjustment). Its robot
+      part as the method uses it: HAND_EYE the controller poses' error (pose_sd_*), BUNDLE_ADJUSTMENT
+      the joint readings' (joint_sd) and the kinematic model's residual (model_sd_*); a part the
+      method does not use is a caller mistake. A robot error left at 0 is taken from the dataset's
+      robot_error when it states one (noiseModel()).
+
+      A level whose origin is MEASURED is measured, not assumed, starting from the value given:
+      - pixel_sd (calibrate's default, --pixel-sd auto). BUNDLE_ADJUSTMENT and HAND_EYE: after the
+        method's run, when the noise level its residuals measure (robust) differs from pixel_sd by
+        more than 25 % and is at least 0.01 px (below, the data are exact to the level that
+        matters), the method runs again with that value: outlier thresholds, robust loss and weights
+        follow the real noise. PAPER: only its focal length from every view (f shared,
+        paper_focal_all_views) has pixel residuals; that reconstruction runs again at the measured
+        level, the rest of the method has none. In every mode the covariance (PAPER: f's sd) is
+        scaled by sigma0 when sigma0 is outside its 99.9 % chi-square interval, with a
+        "noise-mismatch" finding naming both values.
+      - pose_sd_* (calibrate --pose-sd auto). HAND_EYE with the controller poses' error modelled:
+        after the run, when the pose error its corrections measure (variance component estimation)
+        differs from the one used by more than 10 % in either part, the method runs again with the
+        measured values (and the measured image noise when pixel_sd is measured too), up to 5
+        times; a run that is not ok ends the rounds and the last ok one stands, with the warning
+        "robot-error-not-settled" (also when the level does not settle in 5 rounds or cannot be
+        measured). The start: pose_sd_*, else the dataset's robot_error; with neither the poses are
+        exact and nothing is measured. Other methods: no effect.
+      Result::noise says which levels were used.
+    */
+    vpSelfCalibNoiseModel noise;
+    //! The checks run before calibrating (its noise: the noise above).
     vpSelfCalibDataCheck::Options data_check;
     //! After a run: a warning when more than this fraction of the calibration observations was not
     //! used (rejected as wrong matches, or on points the reconstruction could not place).
@@ -146,33 +175,6 @@ public:
     //! 1 - max_outlier_fraction of the calibration observations.
     double min_posed_fraction = 0.5;
     double max_outlier_fraction = 0.5;
-    /*!
-      The image noise measured, not assumed (calibrate's default, --pixel-sd auto). BUNDLE_ADJUSTMENT
-      and HAND_EYE: after the method's run, when the noise level its residuals measure
-      (vpKinematicBundleAdjustment::Result::pixel_sd_measured, robust) differs from pixel_sd by more
-      than 25 % and is at least 0.01 px (below, the data are exact to the level that matters), the
-      method runs again with that value as pixel_sd: outlier thresholds, robust loss and weights
-      follow the real noise. Result::pixel_sd says which value was used. PAPER: only its focal length
-      from every view (f shared, paper_focal_all_views) has pixel residuals; that reconstruction runs
-      again at the measured level, the rest of the method has none. In every mode the covariance
-      (PAPER: f's sd) is scaled by sigma0 when sigma0 is outside its 99.9 % chi-square interval, with
-      a "noise-mismatch" finding naming both values.
-    */
-    bool estimate_pixel_sd = false;
-    /*!
-      The robot pose error measured, not assumed (calibrate --pose-sd auto). HAND_EYE with pose
-      corrections modelled (the controller poses; other methods: no effect): after the run, when
-      the pose error its corrections measure
-      (vpKinematicBundleAdjustment::Result::pose_sd_translation_measured and
-      pose_sd_rotation_measured, variance component estimation) differs from the one used by more
-      than 10 % in either part, the method runs again with the measured values (and the measured
-      image noise with estimate_pixel_sd), up to 5 times; a run that is not ok ends the rounds and
-      the last ok one stands, with the warning "robot-error-not-settled" (also when the level does
-      not settle in 5 rounds or cannot be measured). Result::pose_sd_translation and
-      pose_sd_rotation say which values were used. The start: bundle.pose_sd_*, else the dataset's
-      robot_error; with neither the poses are exact and nothing is measured.
-    */
-    bool estimate_pose_sd = false;
     /*!
       The nominal model's stated tolerance: the largest error expected of a joint placement or the
       base (m, rad), and of the hand-eye transform eMc (a guess, often rough). An estimated
@@ -187,10 +189,9 @@ public:
     //! px: a calibration whose residuals measure more image noise than this does not explain its images (DOUBTFUL).
     double max_pixel_noise = 3.0;
     /*!
-      Throws vpSelfCalibException on nonsense values, and on a derived field that conflicts with its
-      source without the dataset: multiview.pixel_sd, bundle.pixel_sd or data_check.pixel_sd neither
-      at its default nor equal to pixel_sd; bundle.hand_eye_only set with another method than
-      HAND_EYE. The conflicts that depend on the dataset are found by the builders (run() calls them
+      Throws vpSelfCalibException on nonsense values (the noise model's included, and a robot error
+      the method does not use), and on a derived field that conflicts with its source without the
+      dataset: bundle.hand_eye_only set with another method than HAND_EYE. The conflicts that depend on the dataset are found by the builders (run() calls them
       before any work).
     */
     void check() const;
@@ -240,12 +241,14 @@ public:
     vpColVector eMc_sd;
     vpKinematicChain calibrated;           //!< the nominal model with the identified corrections
     vpCameraParameters camera;             //!< with the focal length used
-    //! px: the image noise sd the final run used (Options::pixel_sd, or the measured one with
-    //! estimate_pixel_sd), and the one its residuals measure (PAPER: those of its focal length from
-    //! every view, 0 without).
-    double pixel_sd = 0, pixel_sd_measured = 0;
-    //! m, rad: the robot pose error the final run's corrections were weighed with (0: none modelled).
-    double pose_sd_translation = 0, pose_sd_rotation = 0;
+    /*!
+      The noise the final run used (Options::noise, with the dataset's robot error where the options
+      left it at 0, and the measured levels where they are measured; a robot error of 0: none
+      modelled), and the one its residuals measure (pixel_sd; PAPER: that of its focal length from
+      every view, 0 without; HAND_EYE with the controller poses' error modelled: pose_sd_*).
+    */
+    vpSelfCalibNoiseModel noise = vpSelfCalibNoiseModel::unmeasured();
+    vpSelfCalibNoiseModel measured = vpSelfCalibNoiseModel::unmeasured();
     /*!
       How well each model explains the calibration views (BUNDLE_ADJUSTMENT, HAND_EYE): the
       reprojection RMS (px) of the points triangulated from these views through the nominal model
@@ -315,9 +318,16 @@ public:
   static vpTwoViewEstimator::Options twoViewOptions(const Options &options, const vpSelfCalibDataset &dataset);
 
   /*!
+    The noise model a run starts from: options.noise with, where it leaves the robot's error at 0,
+    the dataset's robot_error in the method's form (HAND_EYE: the controller poses' pose_sd_*;
+    BUNDLE_ADJUSTMENT: joint_sd). Throws vpSelfCalibException on a robot error the method does not
+    use (pose_sd_* with BUNDLE_ADJUSTMENT, model_sd_* or joint_sd with HAND_EYE, any with PAPER).
+  */
+  static vpSelfCalibNoiseModel noiseModel(const Options &options, const vpSelfCalibDataset &dataset);
+
+  /*!
     The multi-view reconstruction options a run uses (BUNDLE_ADJUSTMENT, HAND_EYE): options.multiview
     with, derived,
-    - pixel_sd = options.pixel_sd;
     - focal_known true when resolveFocalMode() is FOCAL_KNOWN;
     - twoview = twoViewOptions(options, dataset).
 
@@ -329,7 +339,6 @@ public:
   /*!
     The kinematic bundle adjustment options a run uses (BUNDLE_ADJUSTMENT, HAND_EYE): options.bundle
     with, derived,
-    - pixel_sd = options.pixel_sd;
     - the FX flag of intrinsics cleared when resolveFocalMode() is FOCAL_KNOWN, set otherwise (the
       other flags are the caller's);
     - hand_eye_only true for HAND_EYE.
@@ -344,10 +353,7 @@ public:
   */
   static vpKinematicBundleAdjustment::Options bundleOptions(const Options &options, const vpSelfCalibDataset &dataset);
 
-  /*!
-    The data check options a run uses: options.data_check with pixel_sd = options.pixel_sd (derived).
-    Throws vpSelfCalibException when options.data_check.pixel_sd is neither its default nor pixel_sd.
-  */
+  //! The data check options a run uses: options.data_check (its noise: noiseModel()).
   static vpSelfCalibDataCheck::Options dataCheckOptions(const Options &options);
 };
 

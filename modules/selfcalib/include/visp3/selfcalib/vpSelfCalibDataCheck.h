@@ -17,6 +17,7 @@
 
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
+#include <visp3/selfcalib/vpSelfCalibNoiseModel.h>
 
 /*!
   \class vpSelfCalibDataCheck
@@ -62,8 +63,7 @@ public:
     double min_joint_range = 2.0 * M_PI / 180.0;   //!< rad: a joint moving less "barely moves"
     double min_rotation = 2.0 * M_PI / 180.0;      //!< rad: largest relative camera rotation below this
     double parallel_axes_tolerance = 2.0 * M_PI / 180.0; //!< rad between rotation axes
-    double pixel_sd = 0.2;                         //!< px: the homography test's threshold is max(1, 3 sd)
-    //! Fraction of a pair's points within max(1, 3 pixel_sd) of a homography: the pair has no
+    //! Fraction of a pair's points within max(1, 3 pixel_sd) (the noise model's) of a homography: the pair has no
     //! parallax. Measured on the reference scenario at 0.2 px: 0.95-1 for a plane, 0-0.1 for the
     //! 8 cm deep scene, 0.05-0.4 with 1 cm of relief.
     double homography_inliers = 0.9;
@@ -73,10 +73,12 @@ public:
   /*!
     Checks the calibration views (the first num_calibration of the dataset) and the yardstick.
     hand_eye: views may have a controller pose fMe in place of joints, and the parallel-axes test
-    applies. Throws vpSelfCalibException on the caller mistakes listed above.
+    applies. The noise model's pixel_sd sets the homography test's threshold, max(1, 3 pixel_sd).
+    Throws vpSelfCalibException on the caller mistakes listed above and on a nonsense noise model.
   */
   static std::vector<Finding> check(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
-                                    unsigned int num_calibration, bool hand_eye, const Options &options);
+                                    unsigned int num_calibration, bool hand_eye, const Options &options,
+                                    const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
 
   //! True when a finding is DEGENERATE.
   static bool degenerate(const std::vector<Finding> &findings);

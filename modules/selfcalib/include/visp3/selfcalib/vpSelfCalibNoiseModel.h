@@ -1,0 +1,103 @@
+/*
+ * ViSP SelfCalib: self-calibration of camera-equipped robot manipulators.
+ * SPDX-License-Identifier: GPL-2.0-or-later
+ */
+/*!
+  \file vpSelfCalibNoiseModel.h
+  \brief The noise of a calibration's data: the image noise and how residuals are weighed, tested and
+  rejected, and the robot's error (controller poses, joint readings, the kinematic model's residual).
+*/
+#ifndef VP_SELFCALIB_NOISE_MODEL_H
+#define VP_SELFCALIB_NOISE_MODEL_H
+
+#include <visp3/selfcalib/vpSelfCalibExport.h>
+
+#include <string>
+#include <vector>
+
+/*!
+  \class vpSelfCalibNoiseModel
+  \ingroup group_selfcalib_core
+  \brief The noise of a calibration's data, held once and passed to every estimator that weighs,
+  tests or rejects a residual.
+
+  Real data bring two noises, not one:
+  - the image noise: pixel_sd (px, per image coordinate) weighs every reprojection residual; the
+    robust loss (loss, loss_scale in units of pixel_sd) and the outlier rule (outlier_threshold in
+    noise sds) follow it;
+  - the robot's error, in the form the data give it:
+    - controller poses fMe (hand-eye): pose_sd_translation (m) and pose_sd_rotation (rad), the error
+      of each recorded flange pose, corrected in the end-effector frame;
+    - joint readings (full kinematics): joint_sd (rad; one value for every joint, or one per joint),
+      the error of the encoder readings;
+    - the kinematic model's own residual (full kinematics): model_sd_translation (m) and
+      model_sd_rotation (rad), what no parameter of the error model explains (link deflection, gear
+      eccentricity), a correction of each camera pose in its own frame.
+    Zero (empty for joint_sd) means exact: no correction is estimated.
+
+  Each level is stated (given by the caller or the dataset) or measured (from the residuals of an
+  earlier run: variance components for the robot's error, a robust spread for the image noise); the
+  origin fields say which. An estimator that measures the noise returns its measurement in a noise
+  model of its own (origin MEASURED), so the level used and the level measured are never confused.
+*/
+class VISP_SELFCALIB_EXPORT vpSelfCalibNoiseModel
+{
+public:
+  //! The robust loss on whitened residuals.
+  enum Loss { LOSS_NONE, LOSS_HUBER, LOSS_CAUCHY };
+  //! "none", "huber" or "cauchy".
+  static const char *lossName(Loss loss);
+  //! "none", "huber" or "cauchy"; throws vpSelfCalibException otherwise.
+  static Loss lossFromName(const std::string &name);
+
+  //! Where a level comes from.
+  enum Origin {
+    STATED,  //!< given by the caller or the dataset
+    MEASURED //!< measured from the residuals of a run
+  };
+  //! "stated" or "measured".
+  static const char *originName(Origin origin);
+
+  double pixel_sd = 0.2;            //!< px, the image noise sd per image coordinate
+  Origin pixel_sd_origin = STATED;
+  Loss loss = LOSS_CAUCHY;          //!< the robust loss of the robust stages
+  double loss_scale = 3;            //!< in units of pixel_sd
+  //! In noise sds (pixel_sd, or the residuals' robust sd when larger): an observation beyond it is
+  //! rejected after the robust stage; 0 keeps every observation.
+  double outlier_threshold = 5;
+
+  double pose_sd_translation = 0;   //!< m, controller pose error (hand-eye); 0: exact poses
+  double pose_sd_rotation = 0;      //!< rad, controller pose error (hand-eye); 0: exact poses
+  Origin pose_sd_origin = STATED;
+  //! rad, joint reading error (full kinematics), one value for every joint or one per joint; empty: exact.
+  std::vector<double> joint_sd;
+  double model_sd_translation = 0;  //!< m, the kinematic model's residual (full kinematics); 0: none
+  double model_sd_rotation = 0;     //!< rad, the kinematic model's residual (full kinematics); 0: none
+
+  //! A model for measurements not made yet: every level 0, origin MEASURED (check() refuses it).
+  static vpSelfCalibNoiseModel unmeasured();
+
+  //! px, the robust loss's scale: loss_scale * pixel_sd.
+  double lossScalePixels() const { return loss_scale * pixel_sd; }
+  //! True when the controller poses carry an error (both parts positive).
+  bool hasPoseError() const { return pose_sd_translation > 0 && pose_sd_rotation > 0; }
+  //! True when the kinematic model's residual is modelled (both parts positive).
+  bool hasModelError() const { return model_sd_translation > 0 && model_sd_rotation > 0; }
+  //! True when any robot error is modelled (controller poses, joint readings or the model's residual).
+  bool hasRobotError() const { return hasPoseError() || hasModelError() || !joint_sd.empty(); }
+
+  //! This model with the image noise `sd`, its origin `origin`.
+  vpSelfCalibNoiseModel withPixelNoise(double sd, Origin origin) const;
+  //! This model with the controller pose error (t m, r rad), its origin `origin`.
+  vpSelfCalibNoiseModel withPoseError(double t, double r, Origin origin) const;
+
+  /*!
+    Throws vpSelfCalibException on nonsense: pixel_sd not positive or not finite, a negative or
+    non-finite loss_scale or outlier_threshold, a loss_scale of 0 with a robust loss, a pose or model
+    error with one part 0 and the other not (both positive or both 0), a negative or non-finite
+    level, a joint_sd entry not positive. `who` starts the message (the estimator that was given it).
+  */
+  void check(const std::string &who = "vpSelfCalibNoiseModel") const;
+};
+
+#endif

@@ -1,0 +1,100 @@
+/*
+ * ViSP SelfCalib: the measure-and-run-again step of every method. A level of the noise model whose
+ * origin is MEASURED is measured from the residuals of a run, and the run is made again at the
+ * measured level when it differs from the one used (vpSelfCalibPipelines.h).
+ */
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+#include "vpSelfCalibPipelines.h"
+
+namespace vpSelfCalibPipeline
+{
+namespace
+{
+std::string mm(double v)
+{
+  std::ostringstream m;
+  m << std::fixed << std::setprecision(1) << 1e3 * v;
+  return m.str();
+}
+
+void note(std::vector<vpSelfCalibDataCheck::Finding> &findings, const std::string &text)
+{
+  findings.push_back({vpSelfCalibDataCheck::WARNING, "robot-error-not-settled", text});
+}
+
+//! The run that stands: the noise it used, the one its residuals measure, and whether it is ok.
+struct State {
+  vpSelfCalibNoiseModel used, measured;
+  bool ok;
+};
+
+constexpr int kMaxPoseRounds = 5;      //!< runs again at the measured robot pose error, at most
+constexpr double kPoseSettled = 0.1;   //!< relative change of both parts below which the level has settled
+
+/*
+  The controller poses' error measured: rounds at the measured level until it settles; a warning
+  when it does not, cannot be measured, or the run at the measured level is not ok (the standing
+  run is then the last ok one).
+*/
+void measurePoseError(State &st, const NoiseAttemptFunction &attempt, std::vector<vpSelfCalibDataCheck::Finding> &findings)
+{
+  for (int round = 0;; ++round) {
+    const double t = st.measured.pose_sd_translation, r = st.measured.pose_sd_rotation;
+    const double t0 = st.used.pose_sd_translation, r0 = st.used.pose_sd_rotation;
+    if (!(t > 1e-7 && r > 1e-7)) {
+      note(findings, "the robot pose error could not be measured (the views do not separate the pose corrections from "
+                     "the rest, or no covariance): the stated " + mm(t0) + " mm / " + mm(r0) + " mrad is used");
+      return;
+    }
+    if (std::fabs(t / t0 - 1) <= kPoseSettled && std::fabs(r / r0 - 1) <= kPoseSettled)
+      return;
+    if (round == kMaxPoseRounds) {
+      note(findings, "the robot pose error did not settle in 5 rounds: the corrections measure " + mm(t) + " mm / " +
+                         mm(r) + " mrad where " + mm(t0) + " mm / " + mm(r0) + " mrad was used");
+      return;
+    }
+    vpSelfCalibNoiseModel next = st.used.withPoseError(t, r, vpSelfCalibNoiseModel::MEASURED);
+    if (st.used.pixel_sd_origin == vpSelfCalibNoiseModel::MEASURED &&
+        measuredNoiseDiffers(next.pixel_sd, st.measured.pixel_sd))
+      next = next.withPixelNoise(st.measured.pixel_sd, vpSelfCalibNoiseModel::MEASURED);
+    const NoiseAttempt a = attempt(next, true);
+    if (!a.ok) {
+      // Said, not hidden: the result stands at the level used, which the corrections contradict.
+      note(findings, "the robot pose error the corrections measure (" + mm(t) + " mm / " + mm(r) +
+                         " mrad) is not the one used (" + mm(t0) + " mm / " + mm(r0) +
+                         " mrad), and the run at the measured level ended " + a.failure +
+                         ": the result is the one at the level used; these views may not determine the pose "
+                         "error (add views)");
+      return;
+    }
+    st.used = next;
+    st.measured = a.measured;
+  }
+}
+} // namespace
+
+vpSelfCalibNoiseModel measureNoise(const vpSelfCalibNoiseModel &start, const vpSelfCalibNoiseModel &measured,
+                                   bool ok, bool usable, bool pose_rounds, const NoiseAttemptFunction &attempt,
+                                   std::vector<vpSelfCalibDataCheck::Finding> &findings)
+{
+  State st{start, measured, ok};
+  // The image noise measured: once more at the level the residuals give, when it differs.
+  if (start.pixel_sd_origin == vpSelfCalibNoiseModel::MEASURED && usable &&
+      measuredNoiseDiffers(start.pixel_sd, measured.pixel_sd)) {
+    const vpSelfCalibNoiseModel next = start.withPixelNoise(measured.pixel_sd, vpSelfCalibNoiseModel::MEASURED);
+    const NoiseAttempt a = attempt(next, false);
+    if (a.ok) {
+      st.used = next;
+      st.measured = a.measured;
+      st.ok = true;
+    }
+  }
+  // The controller poses' error measured, from a run that stands.
+  if (pose_rounds && st.ok && start.pose_sd_origin == vpSelfCalibNoiseModel::MEASURED && start.hasPoseError())
+    measurePoseError(st, attempt, findings);
+  return st.used;
+}
+} // namespace vpSelfCalibPipeline
