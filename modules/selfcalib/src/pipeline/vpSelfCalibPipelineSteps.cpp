@@ -273,6 +273,16 @@ bool multiView(const Context &c, Result &res)
                   " needed): too many wrong matches, or too little overlap between the views";
     return false;
   }
+  if (!(res.multiview.fx > 0) || !std::isfinite(res.multiview.fx)) {
+    // A failure of the data, not a camera to start from (with plain least squares on wrong matches
+    // the focal length can end up negative).
+    std::ostringstream os;
+    os << "multi-view reconstruction: its focal length (" << res.multiview.fx
+       << " px) is not a camera's: too many wrong matches for a non-robust loss, or too little overlap";
+    res.status = vpRobotSelfCalibration::TWO_VIEW_FAILED;
+    res.message = os.str();
+    return false;
+  }
   res.fx = res.multiview.fx;
   res.fx_sd = res.multiview.fx_sd;
   return true;
