@@ -81,6 +81,10 @@ std::string show(const YAML::Node &node)
 {
   if (!node.IsDefined())
     return "(absent)";
+  if (node.IsMap())
+    return "a map of " + std::to_string(node.size()) + " entries";
+  if (node.IsSequence())
+    return "a sequence of " + std::to_string(node.size()) + " entries";
   YAML::Emitter out;
   out << YAML::Flow << node;
   return out.c_str();
