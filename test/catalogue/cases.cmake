@@ -124,7 +124,7 @@ catalogue_case(calibrate-out-foreign-files 1 "holds files that are not results o
 catalogue_case(calibrate-out-earlier-results 1 "holds the results of an earlier run. use --force to replace them" "an --out with earlier results, no --force" [=[mkdir out && echo old > out/results.yaml && $APP calibrate $G --out out]=])
 catalogue_case(calibrate-out-is-a-file 1 "exists and is not a directory" "--out is a file" [=[echo x > out && $APP calibrate $G --out out]=])
 catalogue_case(calibrate-out-parent-missing 1 "its parent '.*/no/such' is not there: No such file or directory" "--out's parent does not exist" [=[$APP calibrate $G --out no/such/dir]=])
-catalogue_case(calibrate-out-locked 1 "is being written by another run .it holds the lock" "--out locked by a run in progress" [=[flock .out.lock sleep 3 & sleep 0.5; $APP calibrate $G --out out]=])
+catalogue_case(calibrate-out-locked 1 "is being written by another run .it holds the lock" "--out locked by a run in progress" [=[mkfifo held release || exit 97; { flock .out.lock sh -c 'echo locked > held; cat release > /dev/null' || echo "flock failed" > held; } & read state < held; [ "$state" = locked ] || { echo "the holder did not take the lock: $state"; exit 98; }; $APP calibrate $G --out out; e=$?; echo > release; wait; exit $e]=])
 
 # Data that cannot determine a calibration (exit 3): a status and what to add.
 catalogue_case(calibrate-identical-poses 3 "degenerate data: all calibration poses are the same .*record poses that move every joint" "every pose the same" [=[awk '/- joints:/{if(!j) j=$0; else $0=j} {print}' $G > ds.yaml && $APP calibrate ds.yaml --out o]=])

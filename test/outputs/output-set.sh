@@ -2,6 +2,7 @@
 # Tests of calibrate's output set (README "No data loss"): output-set.sh APP WORK_DIR CASE
 #   quote       a ' and a $(...) in --out: no shell runs them (gnuplot is started without a shell)
 #   concurrent  two calibrations into one --out: the second refused (exit 1), the first's set intact
+#               (the first is paused while it holds the lock, the second runs meanwhile)
 #   kill        kill -9 at 17 moments of a run with --force (dense in its second half, where it
 #               writes): the earlier set or the new one, never a mix; no temporaries after the next run
 #   full-disk   a full file system (tmpfs in a private mount namespace; skipped, exit 77, without
@@ -34,14 +35,38 @@ quote)
   ;;
 concurrent)
   "$APP" calibrate ds.yaml --out ref --calibration 7 > /dev/null 2>&1 || fail "reference run"
-  "$APP" calibrate ds.yaml --out out --calibration 7 > a.log 2>&1 &
-  pid=$!
-  # Wait for the first run to hold the lock (a loaded machine can take seconds to get there).
-  i=0; while [ ! -e .out.lock ] && kill -0 $pid 2> /dev/null && [ $i -lt 6000 ]; do sleep 0.01; i=$((i + 1)); done
-  [ -e .out.lock ] || fail "the first run never held the lock (exited or took over 60 s)"
-  sleep 0.05
+  # The first run is paused (SIGSTOP) at a moment it holds the lock on out, seen in /proc/locks
+  # without taking it; the second runs while it is paused, then the first goes on: the order holds
+  # under any load. A first run that ends before it is caught holding the lock is run again.
+  [ -r /proc/locks ] || { echo "SKIPPED: no /proc/locks"; exit 77; }
+  holds_lock() { # holds_lock PID: PID holds the flock of .out.lock (no lock taken to find out)
+    ino=$(stat -c %i .out.lock 2> /dev/null) || return 1
+    grep -q "^[0-9]*: FLOCK  *ADVISORY  *WRITE $1 [0-9a-f]*:[0-9a-f]*:$ino " /proc/locks
+  }
+  running() { # running PID: not ended (an ended child not yet waited for is a zombie, Z)
+    st=$(sed 's/^.*) //' /proc/$1/stat 2> /dev/null | cut -c1) && [ -n "$st" ] && [ "$st" != Z ]
+  }
+  caught=no
+  for attempt in 1 2 3 4 5 6 7 8 9 10; do
+    rm -rf out
+    "$APP" calibrate ds.yaml --out out --calibration 7 > a.log 2>&1 &
+    pid=$!
+    while running $pid; do # (polled every 10 ms; the order comes from the pause)
+      if holds_lock $pid; then
+        kill -STOP $pid
+        # paused: it cannot release the lock now; make sure it had not just done so
+        if holds_lock $pid; then caught=yes; break; fi
+        kill -CONT $pid
+      fi
+      sleep 0.01
+    done
+    [ $caught = yes ] && break
+    wait $pid || { cat a.log; fail "first run (attempt $attempt) exit $?"; }
+  done
+  [ $caught = yes ] || fail "the first run was never caught holding the lock (10 runs)"
   "$APP" calibrate ds.yaml --out out --calibration 8 --force > b.log 2>&1
   b=$?
+  kill -CONT $pid
   wait $pid; a=$?
   [ $a -eq 0 ] || { cat a.log; fail "first run exit $a"; }
   [ $b -eq 1 ] || { cat b.log; fail "second run exit $b, expected 1"; }
@@ -61,6 +86,8 @@ kill)
   for k in 8 10 11 12 13 14 15 16 17 18 19 20 21 22 24; do
     delays="$delays $(awk -v ms=$ms -v k=$k 'BEGIN { printf "%.3f", ms * k / 20000 }')"
   done
+  # The sleeps choose the moments of the kills, they order nothing: whenever a kill lands (a loaded
+  # machine shifts them), the set must be the earlier one or the new one.
   for delay in $delays; do
     "$APP" calibrate ds.yaml --out out --calibration 8 --force > /dev/null 2>&1 &
     pid=$!
