@@ -273,30 +273,49 @@ void heldOutSection(std::ostream &md, const vpSelfCalibCrossValidation::HeldOut 
   else
     md << "\nNo yardstick seen in two of its views: no 3-D error.\n";
 }
-} // namespace
+//! The data files of the figures, and the figures' numbers report.md quotes.
+struct ReportData {
+  std::string files[8]; //!< one per figure of kFigures, in its order
+  std::vector<double> ver_rms; //!< reprojection RMS of each held-out view (px)
+  double sum2 = 0;             //!< sum of the squared residuals on the calibration views (px^2)
+  size_t count = 0;            //!< their number
+};
 
-vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const vpKinematicChain &nominal,
-                                                   const vpSelfCalibDataset &ds,
-                                                   const vpRobotSelfCalibration::Options &po,
-                                                   const vpRobotSelfCalibration::Result &r,
-                                                   const vpFeatureFrontEnd::Result *fe,
-                                                   const vpSelfCalibPoseStudy::Result *study, const Options &ro,
-                                                   const vpSelfCalibCrossValidation::Result *cv,
-                                                   const vpSelfCalibCrossValidation::HeldOut *held)
+//! The views of a report: the first N calibrate, the others are held out.
+struct Views {
+  unsigned int N = 0;
+  std::vector<vpSelfCalibDataset::View> cal, ver;
+};
+
+//! The front end's data files: the match matrix, symmetric (the front end fills the upper triangle), and track lengths.
+void frontEndData(const vpFeatureFrontEnd::Result &fe, std::ostringstream &match_matrix, std::ostringstream &lengths)
 {
-  std::error_code ec;
-  std::filesystem::create_directory(dir, ec);
-  if (ec || !std::filesystem::is_directory(dir, ec))
-    throw vpSelfCalibException(vpSelfCalibException::ioError,
-                               "vpSelfCalibReport: cannot create the directory '" + dir + "'");
-  Result res;
-  const unsigned int N = std::min<unsigned int>(po.num_calibration_poses, static_cast<unsigned int>(ds.views.size()));
-  const std::vector<vpSelfCalibDataset::View> cal(ds.views.begin(), ds.views.begin() + N),
-      ver(ds.views.begin() + N, ds.views.end());
-  const bool ok = r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL;
-  const vpKinematicChain &model = ok ? r.calibrated : nominal;
+  // One row per image.
+  match_matrix << "# verified matches of image pair (row, column), images numbered from 0\n";
+  const size_t m = fe.matches.size();
+  if (m >= 2)
+    for (size_t i = 0; i < m; ++i) {
+      for (size_t j = 0; j < m; ++j) {
+        const unsigned int v = i < j ? (j < fe.matches[i].size() ? fe.matches[i][j] : 0)
+                                     : (i < fe.matches[j].size() && i != j ? fe.matches[j][i] : 0);
+        match_matrix << (j ? " " : "") << v;
+      }
+      match_matrix << "\n";
+    }
+  lengths << "# images per track, tracks\n";
+  for (size_t n = 2; n < fe.track_lengths.size(); ++n)
+    if (fe.track_lengths[n] > 0)
+      lengths << n << " " << fe.track_lengths[n] << "\n";
+}
 
-  // Data files.
+//! The data files of the figures, from the model the report shows (calibrated, or nominal when the run failed).
+ReportData reportData(const vpSelfCalibReport::Record &run, const Views &views, const vpKinematicChain &model)
+{
+  const vpSelfCalibDataset &ds = run.dataset;
+  const vpRobotSelfCalibration::Result &r = run.result;
+  const unsigned int N = views.N;
+  const std::vector<vpSelfCalibDataset::View> &cal = views.cal, &ver = views.ver;
+  ReportData out;
   std::ostringstream traj, norms, resid, verif, curve;
   traj << std::setprecision(10) << "# x y z (m): calibration views, then (index 1) held-out views\n";
   for (size_t k = 0; k < ds.views.size(); ++k) {
@@ -312,31 +331,28 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
           << (vpCalibrationVerifier::cameraPose(model, cal[k]).inverse() * fMc1).getTranslationVector().frobeniusNorm()
           << "\n";
   const auto rc = residuals(model, r.camera, cal);
-  double sum2 = 0;
-  size_t count = 0;
   resid << std::setprecision(6) << "# reprojection residual (px), calibration views\n";
   for (const auto &v : rc)
     for (double e : v) {
       resid << e << "\n";
-      sum2 += e * e;
-      ++count;
+      out.sum2 += e * e;
+      ++out.count;
     }
   const auto rv = residuals(model, r.camera, ver);
   verif << std::setprecision(6) << "# held-out view, reprojection RMS (px)\n";
-  std::vector<double> ver_rms;
   for (size_t k = 0; k < rv.size(); ++k) {
     double s = 0;
     for (double e : rv[k])
       s += e * e;
-    ver_rms.push_back(rv[k].empty() ? 0 : std::sqrt(s / rv[k].size()));
-    verif << k + 1 << " " << ver_rms.back() << "\n";
+    out.ver_rms.push_back(rv[k].empty() ? 0 : std::sqrt(s / rv[k].size()));
+    verif << k + 1 << " " << out.ver_rms.back() << "\n";
   }
   curve << std::setprecision(6) << "# calibration poses, yardstick 3-D error (mm): calibrated, nominal\n";
-  if (study)
-    for (const vpSelfCalibPoseStudy::Point &p : study->points)
-      curve << p.poses << " " << 1e3 * p.yardstick_error << " " << 1e3 * study->nominal_error << "\n";
+  if (run.errors_vs_poses)
+    for (const vpSelfCalibPoseStudy::Point &p : run.errors_vs_poses->points)
+      curve << p.poses << " " << 1e3 * p.yardstick_error << " " << 1e3 * run.errors_vs_poses->nominal_error << "\n";
   // Each calibration view's reprojection RMS, calibrated and nominal: where a user looks for a bad view.
-  const auto rn = residuals(nominal, ds.cam, cal);
+  const auto rn = residuals(run.nominal, ds.cam, cal);
   const auto rms = [](const std::vector<double> &e) {
     double s = 0;
     for (double x : e)
@@ -345,40 +361,71 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
   };
   std::ostringstream view_resid, match_matrix, lengths;
   view_resid << std::setprecision(6) << "# calibration view, reprojection RMS (px): calibrated model, nominal model\n";
-  if (count > 0)
+  if (out.count > 0)
     for (size_t k = 0; k < rc.size(); ++k)
       view_resid << k + 1 << " " << rms(rc[k]) << " " << (k < rn.size() ? rms(rn[k]) : 0.0) << "\n";
-  if (fe) {
-    // The match matrix, symmetric (the front end fills the upper triangle); one row per image.
-    match_matrix << "# verified matches of image pair (row, column), images numbered from 0\n";
-    const size_t m = fe->matches.size();
-    if (m >= 2)
-      for (size_t i = 0; i < m; ++i) {
-        for (size_t j = 0; j < m; ++j) {
-          const unsigned int v = i < j ? (j < fe->matches[i].size() ? fe->matches[i][j] : 0)
-                                       : (i < fe->matches[j].size() && i != j ? fe->matches[j][i] : 0);
-          match_matrix << (j ? " " : "") << v;
-        }
-        match_matrix << "\n";
-      }
-    lengths << "# images per track, tracks\n";
-    for (size_t n = 2; n < fe->track_lengths.size(); ++n)
-      if (fe->track_lengths[n] > 0)
-        lengths << n << " " << fe->track_lengths[n] << "\n";
-  }
-  const std::string data[] = {traj.str(),       norms.str(),        resid.str(),  verif.str(),
-                              curve.str(),      view_resid.str(),   match_matrix.str(), lengths.str()};
+  if (run.front_end)
+    frontEndData(*run.front_end, match_matrix, lengths);
+  const std::string data[] = {traj.str(),  norms.str(),      resid.str(),        verif.str(),
+                              curve.str(), view_resid.str(), match_matrix.str(), lengths.str()};
   constexpr size_t kNumFigures = sizeof(kFigures) / sizeof(kFigures[0]);
   static_assert(sizeof(data) / sizeof(data[0]) == kNumFigures, "one data file per figure");
-  // plots.gp draws the figures that have data; the others are named in the message. The front end's
-  // figures exist only when it ran.
+  static_assert(sizeof(out.files) / sizeof(out.files[0]) == kNumFigures, "one data file per figure");
+  for (size_t i = 0; i < kNumFigures; ++i)
+    out.files[i] = data[i];
+  return out;
+}
+
+//! The message of the figures drawn by gnuplot (or why not); the decoded PNG files into res.files.
+void drawFigures(const std::string &dir, const std::vector<std::string> &drawable, const std::string &no_data,
+                 const vpSelfCalibReport::Options &ro, vpSelfCalibReport::Result &res)
+{
+  int spawn_error = 0;
+  const int rc_plot = runProgram(ro.gnuplot, dir, "plots.gp", spawn_error);
+  std::vector<std::string> bad;
+  if (rc_plot == 0)
+    for (const std::string &n : drawable) {
+      // A figure is kept only when it decodes (gnuplot does not always report a failed write).
+      const std::string png = dir + "/" + n + ".png";
+      if (cv::imread(png, cv::IMREAD_UNCHANGED).empty()) {
+        bad.push_back(n);
+        std::error_code ec;
+        std::filesystem::remove(png, ec);
+      } else
+        res.files.push_back(png);
+    }
+  res.figures = rc_plot == 0 && bad.empty();
+  if (rc_plot < 0 && spawn_error == ENOENT)
+    res.message = "figures not drawn: '" + ro.gnuplot + "' is not installed (Debian package gnuplot-nox)" + no_data;
+  else if (rc_plot == -2)
+    res.message = "figures not drawn: cannot write gnuplot.log: " + errnoText(spawn_error) + no_data;
+  else if (rc_plot < 0)
+    res.message = "figures not drawn: cannot run '" + ro.gnuplot + "': " + errnoText(spawn_error) + no_data;
+  else if (rc_plot != 0)
+    res.message = "figures not drawn: '" + ro.gnuplot + "' failed (exit " + std::to_string(rc_plot) +
+                  "); see gnuplot.log" + no_data;
+  else if (!bad.empty())
+    res.message = "figures drawn with " + ro.gnuplot + " except " + std::to_string(bad.size()) +
+                  " that did not write completely (disk full?)" + no_data;
+  else
+    res.message = "figures drawn with " + ro.gnuplot + no_data;
+}
+
+/*!
+  Writes the data files and plots.gp, which draws the figures that have data (the front end's
+  figures exist only when it ran), then runs gnuplot; the figures without data into `empty`.
+*/
+void writeFigures(const std::string &dir, const ReportData &data, bool front_end, const vpSelfCalibReport::Options &ro,
+                  vpSelfCalibReport::Result &res, std::vector<std::string> &empty)
+{
+  constexpr size_t kNumFigures = sizeof(kFigures) / sizeof(kFigures[0]);
   std::string plots = kPlotsHeader;
-  std::vector<std::string> drawable, empty;
+  std::vector<std::string> drawable;
   for (size_t i = 0; i < kNumFigures; ++i) {
-    if (!fe && i + kFrontEndFigures >= kNumFigures)
+    if (!front_end && i + kFrontEndFigures >= kNumFigures)
       continue;
-    writeText(dir + "/" + kFigures[i].name + ".dat", data[i], res.files);
-    if (hasData(data[i])) {
+    writeText(dir + "/" + kFigures[i].name + ".dat", data.files[i], res.files);
+    if (hasData(data.files[i])) {
       plots += kFigures[i].commands;
       drawable.push_back(kFigures[i].name);
     } else
@@ -396,58 +443,38 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
     res.message = "figures not requested";
   else if (drawable.empty())
     res.message = "figures not drawn: no figure has data" + no_data;
-  else {
-    int spawn_error = 0;
-    const int rc_plot = runProgram(ro.gnuplot, dir, "plots.gp", spawn_error);
-    std::vector<std::string> bad;
-    if (rc_plot == 0)
-      for (const std::string &n : drawable) {
-        // A figure is kept only when it decodes (gnuplot does not always report a failed write).
-        const std::string png = dir + "/" + n + ".png";
-        if (cv::imread(png, cv::IMREAD_UNCHANGED).empty()) {
-          bad.push_back(n);
-          std::error_code ec;
-          std::filesystem::remove(png, ec);
-        } else
-          res.files.push_back(png);
-      }
-    res.figures = rc_plot == 0 && bad.empty();
-    if (rc_plot < 0 && spawn_error == ENOENT)
-      res.message = "figures not drawn: '" + ro.gnuplot + "' is not installed (Debian package gnuplot-nox)" + no_data;
-    else if (rc_plot == -2)
-      res.message = "figures not drawn: cannot write gnuplot.log: " + errnoText(spawn_error) + no_data;
-    else if (rc_plot < 0)
-      res.message = "figures not drawn: cannot run '" + ro.gnuplot + "': " + errnoText(spawn_error) + no_data;
-    else if (rc_plot != 0)
-      res.message = "figures not drawn: '" + ro.gnuplot + "' failed (exit " + std::to_string(rc_plot) +
-                    "); see gnuplot.log" + no_data;
-    else if (!bad.empty())
-      res.message = "figures drawn with " + ro.gnuplot + " except " + std::to_string(bad.size()) +
-                    " that did not write completely (disk full?)" + no_data;
-    else
-      res.message = "figures drawn with " + ro.gnuplot + no_data;
-  }
+  else
+    drawFigures(dir, drawable, no_data, ro, res);
+}
 
-  // A figure's link when it was drawn; otherwise why it is not there (no data: the reason given).
-  auto figure = [&](const std::string &name, const std::string &alt, const std::string &no_data_reason) {
+//! A figure's link when it was drawn; otherwise why it is not there (no data: the reason given).
+struct FigureLink {
+  const std::string &dir;
+  const vpSelfCalibReport::Result &res;
+  const std::vector<std::string> &empty;
+  std::string operator()(const std::string &name, const std::string &alt, const std::string &no_data_reason) const
+  {
     const std::string png = dir + "/" + name + ".png";
     if (std::find(res.files.begin(), res.files.end(), png) != res.files.end())
       return "![" + alt + "](" + name + ".png)";
     if (std::find(empty.begin(), empty.end(), name) != empty.end())
       return "(figure " + name + ".png not drawn, no data: " + no_data_reason + ")";
     return "(figure " + name + ".png not drawn: " + res.message + ")";
-  };
+  }
+};
 
-  // report.md
-  std::ostringstream md;
+//! report.md's head: the run's table, the message, the data check and the stage times.
+void runSection(std::ostream &md, const vpSelfCalibReport::Record &run, const Views &views)
+{
+  const vpRobotSelfCalibration::Result &r = run.result;
   md << "# ViSP SelfCalib report\n\n"
      << "| | |\n|---|---|\n"
-     << "| robot | " << nominal.getName() << " |\n"
+     << "| robot | " << run.nominal.getName() << " |\n"
      << "| method | " << vpRobotSelfCalibration::methodName(r.method) << " |\n"
      << "| status | " << vpRobotSelfCalibration::statusName(r.status) << " |\n"
-     << "| views | " << N << " calibrating, " << ver.size() << " held out |\n"
+     << "| views | " << views.N << " calibrating, " << views.ver.size() << " held out |\n"
      << "| f_x | " << std::setprecision(7) << r.camera.get_px() << " px (sd " << std::setprecision(3) << r.fx_sd
-     << "), " << (ds.focal_known ? "known" : "self-calibrated") << " |\n";
+     << "), " << (run.dataset.focal_known ? "known" : "self-calibrated") << " |\n";
   if (r.method != vpRobotSelfCalibration::PAPER && r.bundle.num_observations)
     md << "| scale | from " << vpKinematicBundleAdjustment::scaleSourceName(r.bundle.scale_source) << " |\n"
        << "| bundle adjustment | " << r.bundle.num_observations << " observations (" << r.bundle.num_outliers
@@ -475,20 +502,30 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
   md << "\n## Stage times\n\n| stage | s |\n|---|---|\n";
   for (const auto &s : r.stage_seconds)
     md << "| " << s.first << " | " << std::setprecision(3) << s.second << " |\n";
-  if (fe) {
-    md << "\n## Image front end\n\n" << fe->num_tracks << " tracks (scene points seen in two or more images), "
-       << std::setprecision(3) << fe->seconds << " s.\n\n| image | features | yardstick |\n|---|---|---|\n";
-    for (size_t k = 0; k < fe->features.size(); ++k)
-      md << "| " << k + 1 << " | " << fe->features[k] << " | " << (fe->yardstick_seen[k] ? "yes" : "no") << " |\n";
-    md << "\nTrack lengths (images per track):\n\n| length | tracks |\n|---|---|\n";
-    for (size_t n = 2; n < fe->track_lengths.size(); ++n)
-      md << "| " << n << " | " << fe->track_lengths[n] << " |\n";
-    md << "\n" << figure("track_lengths", "track lengths", "no track") << "\n\n"
-       << "Which image pairs matched (images numbered from 1; a view that matches few others is weakly tied "
-          "to the rest):\n\n"
-       << figure("matches", "matches per image pair", "fewer than 2 images") << "\n";
-  }
-  const std::vector<std::string> names = nominal.getParameterNames();
+}
+
+//! The image front end: features per image, track lengths, the match matrix.
+void frontEndSection(std::ostream &md, const vpFeatureFrontEnd::Result &fe, const FigureLink &figure)
+{
+  md << "\n## Image front end\n\n" << fe.num_tracks << " tracks (scene points seen in two or more images), "
+     << std::setprecision(3) << fe.seconds << " s.\n\n| image | features | yardstick |\n|---|---|---|\n";
+  for (size_t k = 0; k < fe.features.size(); ++k)
+    md << "| " << k + 1 << " | " << fe.features[k] << " | " << (fe.yardstick_seen[k] ? "yes" : "no") << " |\n";
+  md << "\nTrack lengths (images per track):\n\n| length | tracks |\n|---|---|\n";
+  for (size_t n = 2; n < fe.track_lengths.size(); ++n)
+    md << "| " << n << " | " << fe.track_lengths[n] << " |\n";
+  md << "\n" << figure("track_lengths", "track lengths", "no track") << "\n\n"
+     << "Which image pairs matched (images numbered from 1; a view that matches few others is weakly tied "
+        "to the rest):\n\n"
+     << figure("matches", "matches per image pair", "fewer than 2 images") << "\n";
+}
+
+//! The estimated parameters, those not estimated, and the residuals on the calibration views.
+void parametersSection(std::ostream &md, const vpSelfCalibReport::Record &run, const ReportData &data,
+                       const FigureLink &figure)
+{
+  const vpRobotSelfCalibration::Result &r = run.result;
+  const std::vector<std::string> names = run.nominal.getParameterNames();
   md << "\n## Estimated parameters\n\n| parameter | estimate (mm or mrad) | sd (mm or mrad) |\n|---|---|---|\n";
   for (unsigned int k : r.identifiability.identified)
     md << "| " << names[k] << " | " << mm(r.calibrated.getParameters()[k]) << " | "
@@ -500,33 +537,105 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
   for (const auto &u : r.identifiability.unidentifiable)
     md << "| " << u.name << " | " << u.reason << " |\n";
   md << "\n## Residuals\n\nReprojection RMS on the calibration views (points triangulated with the calibrated model): "
-     << std::setprecision(3) << (count ? std::sqrt(sum2 / count) : 0.0) << " px over " << count
+     << std::setprecision(3) << (data.count ? std::sqrt(data.sum2 / data.count) : 0.0) << " px over " << data.count
      << " observations.\n\n" << figure("residuals", "residuals", "no residual") << "\n\n"
      << "Each calibration view, calibrated against nominal model (a view far above the others is the first "
         "suspect: a wrong joint reading, a moved scene, a blurred image):\n\n"
      << figure("view_residuals", "residuals per view", "no residual") << "\n";
+}
+
+//! The verification on the held-out views (or why there is none).
+void verificationSection(std::ostream &md, const vpSelfCalibReport::Record &run, const Views &views,
+                         const ReportData &data, const FigureLink &figure)
+{
+  const vpRobotSelfCalibration::Result &r = run.result;
   md << "\n## Verification on the held-out views\n\n";
-  if (ver.empty())
-    md << "No view was held out: all " << N << " views calibrate, so there is no 3-D yardstick error on "
+  if (views.ver.empty())
+    md << "No view was held out: all " << views.N << " views calibrate, so there is no 3-D yardstick error on "
        << "held-out views and neither the per-view figure nor the figure of that error against the number of "
        << "calibration poses is drawn (they would be empty)."
-       << (cv ? " The cross-validation below measures the model on views it was not calibrated on." : "") << "\n";
+       << (run.cross_validation ? " The cross-validation below measures the model on views it was not calibrated on."
+                                : "")
+       << "\n";
   else {
     if (r.verified)
       md << "3-D yardstick error (the paper's): nominal " << mm(r.before.yardstick_error) << " mm, calibrated "
          << mm(r.after.yardstick_error) << " mm.\n\n";
     md << "| held-out view | reprojection RMS (px) |\n|---|---|\n";
-    for (size_t k = 0; k < ver_rms.size(); ++k)
-      md << "| " << k + 1 << " | " << std::setprecision(3) << ver_rms[k] << " |\n";
+    for (size_t k = 0; k < data.ver_rms.size(); ++k)
+      md << "| " << k + 1 << " | " << std::setprecision(3) << data.ver_rms[k] << " |\n";
     md << "\n" << figure("verification", "verification", "fewer than 2 held-out views") << "\n\n"
        << figure("errors_vs_poses", "errors against poses",
-                 study ? study->message : std::string("no study of the errors against the number of poses was run"))
+                 run.errors_vs_poses ? run.errors_vs_poses->message
+                                     : std::string("no study of the errors against the number of poses was run"))
        << "\n";
   }
-  if (cv)
-    crossValidationSection(md, *cv);
-  if (held)
-    heldOutSection(md, *held);
+}
+} // namespace
+
+vpSelfCalibReport::Record::Record(const vpKinematicChain &nominal_model, const vpSelfCalibDataset &run_dataset,
+                                  const vpRobotSelfCalibration::Options &run_options,
+                                  const vpRobotSelfCalibration::Result &run_result)
+  : nominal(nominal_model), dataset(run_dataset), options(run_options), result(run_result)
+{
+}
+
+vpSelfCalibReport::Record::Record(const vpKinematicChain &nominal_model, const vpSelfCalibDataset &run_dataset,
+                                  const vpSelfCalibProtocol::Result &protocol)
+  : nominal(nominal_model), dataset(run_dataset), options(protocol.options), result(protocol.calibration),
+    cross_validation(protocol.cv ? &*protocol.cv : nullptr), held_out(protocol.verified ? &*protocol.verified : nullptr)
+{
+}
+
+vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const vpKinematicChain &nominal,
+                                                   const vpSelfCalibDataset &ds,
+                                                   const vpRobotSelfCalibration::Options &po,
+                                                   const vpRobotSelfCalibration::Result &r,
+                                                   const vpFeatureFrontEnd::Result *fe,
+                                                   const vpSelfCalibPoseStudy::Result *study, const Options &ro,
+                                                   const vpSelfCalibCrossValidation::Result *cv,
+                                                   const vpSelfCalibCrossValidation::HeldOut *held)
+{
+  Record run(nominal, ds, po, r);
+  run.front_end = fe;
+  run.errors_vs_poses = study;
+  run.cross_validation = cv;
+  run.held_out = held;
+  return write(dir, run, ro);
+}
+
+vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const Record &run, const Options &ro)
+{
+  std::error_code ec;
+  std::filesystem::create_directory(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir, ec))
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               "vpSelfCalibReport: cannot create the directory '" + dir + "'");
+  Result res;
+  const vpSelfCalibDataset &ds = run.dataset;
+  const vpRobotSelfCalibration::Result &r = run.result;
+  Views views;
+  views.N = std::min<unsigned int>(run.options.num_calibration_poses, static_cast<unsigned int>(ds.views.size()));
+  views.cal.assign(ds.views.begin(), ds.views.begin() + views.N);
+  views.ver.assign(ds.views.begin() + views.N, ds.views.end());
+  const bool ok = r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL;
+  const vpKinematicChain &model = ok ? r.calibrated : run.nominal;
+
+  const ReportData data = reportData(run, views, model);
+  std::vector<std::string> empty;
+  writeFigures(dir, data, run.front_end != nullptr, ro, res, empty);
+  const FigureLink figure{dir, res, empty};
+
+  std::ostringstream md;
+  runSection(md, run, views);
+  if (run.front_end)
+    frontEndSection(md, *run.front_end, figure);
+  parametersSection(md, run, data, figure);
+  verificationSection(md, run, views, data, figure);
+  if (run.cross_validation)
+    crossValidationSection(md, *run.cross_validation);
+  if (run.held_out)
+    heldOutSection(md, *run.held_out);
   md << "\n## Trajectory\n\n" << figure("trajectory", "trajectory", "no view") << "\n\n"
      << figure("position_norms", "position norms", "one calibration view") << "\n\n"
      << "Figures: " << res.message << ". Data files beside them; `gnuplot plots.gp` redraws them.\n";

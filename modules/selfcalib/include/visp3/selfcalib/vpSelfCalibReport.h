@@ -19,6 +19,7 @@
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibCrossValidation.h>
 #include <visp3/selfcalib/vpSelfCalibPoseStudy.h>
+#include <visp3/selfcalib/vpSelfCalibProtocol.h>
 
 /*!
   \class vpSelfCalibReport
@@ -63,11 +64,35 @@ public:
     std::vector<std::string> files; //!< everything written
   };
   /*!
-    Writes the report of `result` (run with `options` on `dataset`) into `directory` (created if
-    missing). front_end and errors_vs_poses (vpSelfCalibPoseStudy::run() on the same dataset and
-    options), cross_validation and held_out (the caller's, computed apart: writing a report never
-    calibrates) may be null. Throws vpSelfCalibException when the directory cannot be written; a
-    missing or failing gnuplot is reported in the result.
+    The record of a run that a report presents: the nominal model, the dataset, the options and the
+    result of the calibration, and what was computed beside it (each may be null): the front end's
+    result, the errors against the number of poses (vpSelfCalibPoseStudy::run() on the same dataset
+    and options), the cross-validation and the held-out dataset's verification (computed apart:
+    writing a report never calibrates). The record refers to these objects: they must outlive it.
+  */
+  struct Record {
+    //! A calibration alone.
+    Record(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
+           const vpRobotSelfCalibration::Options &options, const vpRobotSelfCalibration::Result &result);
+    //! A protocol's run: its options, its calibration (with the verdicts), cross-validation and held-out dataset.
+    Record(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const vpSelfCalibProtocol::Result &protocol);
+    const vpKinematicChain &nominal;
+    const vpSelfCalibDataset &dataset;
+    const vpRobotSelfCalibration::Options &options;
+    const vpRobotSelfCalibration::Result &result;
+    const vpFeatureFrontEnd::Result *front_end = nullptr;
+    const vpSelfCalibPoseStudy::Result *errors_vs_poses = nullptr;
+    const vpSelfCalibCrossValidation::Result *cross_validation = nullptr;
+    const vpSelfCalibCrossValidation::HeldOut *held_out = nullptr;
+  };
+  /*!
+    Writes the report of `run` into `directory` (created if missing). Throws vpSelfCalibException
+    when the directory cannot be written; a missing or failing gnuplot is reported in the result.
+  */
+  static Result write(const std::string &directory, const Record &run, const Options &report_options);
+  /*!
+    The same as write(directory, run, report_options) with the record's parts given one by one:
+    front_end, errors_vs_poses, cross_validation and held_out may be null.
   */
   static Result write(const std::string &directory, const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
                       const vpRobotSelfCalibration::Options &options, const vpRobotSelfCalibration::Result &result,

@@ -1,0 +1,43 @@
+/*
+ * visp-selfcalib calibrate: the pieces its files share (calibrateOptions.cpp: the command line and
+ * the library options it gives; calibrateCommand.cpp: the run; calibrateOutput.cpp: the output
+ * directory and what is printed).
+ */
+#ifndef VISP_SELFCALIB_CALIBRATE_H
+#define VISP_SELFCALIB_CALIBRATE_H
+
+#include <string>
+#include <vector>
+
+#include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibDataset.h>
+#include <visp3/selfcalib/vpSelfCalibFileWriter.h>
+#include <visp3/selfcalib/vpSelfCalibImageCorrespondences.h>
+#include <visp3/selfcalib/vpSelfCalibProtocol.h>
+
+#include "commands.h"
+
+//! The front end's options from the command line (throws on a bad --mask image).
+vpSelfCalibImageCorrespondences::Options frontEndOptions(const CalibrateArgs &a);
+//! The calibration's options from the command line; CLI::ValidationError for options that disagree.
+vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
+                                                   const vpSelfCalibImageCorrespondences::Options &co);
+//! --pose-sd T,R into the noise model of po's method: the controller poses' error (hand-eye), the
+//! kinematic model's residual (bundle); none for the paper's method, which models no robot error.
+void statePoseError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po);
+
+//! The files a calibration reads: the dataset, its robot model file, camera XML and images.
+std::vector<std::string> calibrationInputs(const std::string &dataset, const vpSelfCalibDataset &ds);
+/*!
+  Refuses an output directory that holds an input of the run, files that are not an earlier run's
+  results (they would be lost with the earlier set), or an earlier run's results without --force.
+  Returns 0 when the run may go on, else the exit code (1) after the message.
+*/
+int checkOutputDirectory(const vpSelfCalibOutputDirectory &outdir, const std::string &out,
+                         const std::vector<std::string> &inputs, bool force);
+//! The protocol's figures on stdout, one line each.
+void printProtocol(const vpSelfCalibProtocol::Result &p);
+//! calibrate's summary on stdout: what was estimated, eMc with its sd, the residuals, the intrinsics.
+void printSummary(const vpRobotSelfCalibration::Result &r, unsigned int num_calibration);
+
+#endif

@@ -1,0 +1,174 @@
+/*
+ * visp-selfcalib calibrate: the front end, the protocol (vpSelfCalibProtocol), the result files
+ * (vpSelfCalibResultsFile, vpSelfCalibReport) and the summary.
+ */
+#include "calibrate.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+
+#include <opencv2/core.hpp>
+
+#include <visp3/selfcalib/vpBoardDetector.h>
+#include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpModelExport.h>
+#include <visp3/selfcalib/vpSelfCalibPoseStudy.h>
+#include <visp3/selfcalib/vpSelfCalibReport.h>
+#include <visp3/selfcalib/vpSelfCalibResultsFile.h>
+
+namespace fs = std::filesystem;
+
+namespace
+{
+//! The image front end on the dataset's images (when it has no points), its figures on stderr.
+vpSelfCalibImageCorrespondences::Result runFrontEnd(vpSelfCalibDataset &ds,
+                                                    const vpSelfCalibImageCorrespondences::Options &co)
+{
+  const size_t num_images = ds.views.size();
+  if (vpSelfCalibImageCorrespondences::needsFrontEnd(ds))
+    std::cerr << "... image front end (" << num_images << " images)\n";
+  else if (co.board)
+    std::cerr << "warning: --board: the dataset's views come with their points; the board is not looked for\n";
+  const vpSelfCalibImageCorrespondences::Result cr = vpSelfCalibImageCorrespondences::fromDatasetImages(ds, co);
+  if (cr.front_end_ran) {
+    if (!co.front_end.dot_grids.empty())
+      std::cerr << "... dot grids found " << cr.grids_found << " times in " << num_images << " images\n";
+    std::cerr << "... " << cr.front_end.num_tracks << " tracks, yardstick in " << cr.yardstick_images << " images, "
+              << std::setprecision(2) << cr.front_end.seconds << " s\n";
+  }
+  if (cr.board_ran) {
+    std::cerr << "... board " << vpBoardDetector::toString(*co.board) << " found in " << cr.board_images << " of "
+              << num_images << " images\n";
+    if (cr.board_yardstick)
+      std::cerr << "... yardstick: the ends of the board's first row (ids " << ds.yardstick.id_a << ", "
+                << ds.yardstick.id_b << "), " << std::setprecision(6) << ds.yardstick.length << " m\n";
+  }
+  for (const std::string &w : cr.warnings)
+    std::cerr << "warning: " << w << "\n";
+  if (cr.front_end_ran || cr.board_ran) {
+    for (auto d = cr.dropped.rbegin(); d != cr.dropped.rend(); ++d)
+      std::cerr << "warning: view " << d->index << " (" << d->image << "): no correspondence found; left out\n";
+  }
+  return cr;
+}
+
+//! The protocol's options from the command line; the held-out dataset's front end runs as the dataset's.
+vpSelfCalibProtocol::Options protocolOptions(const CalibrateArgs &a, const vpSelfCalibImageCorrespondences::Options &co)
+{
+  vpSelfCalibProtocol::Options p;
+  p.calibration = a.calibration;
+  p.holdout = a.holdout;
+  p.folds = a.folds;
+  p.folds_given = a.folds_given;
+  p.heldout = a.heldout;
+  const int threads = a.threads;
+  p.held_out_front_end = [co, threads](vpSelfCalibDataset &held) {
+    if (vpSelfCalibImageCorrespondences::needsFrontEnd(held)) {
+      std::cerr << "... image front end of the held-out dataset (" << held.views.size() << " images)\n";
+      cv::setNumThreads(threads);
+      vpSelfCalibImageCorrespondences::fromDatasetImages(held, co);
+      cv::setNumThreads(1);
+    }
+  };
+  return p;
+}
+
+//! The protocol's notes, progress and warnings on stderr.
+void printEvent(vpSelfCalibProtocol::EventKind kind, const std::string &message)
+{
+  std::cerr << (kind == vpSelfCalibProtocol::NOTE ? "note: " : kind == vpSelfCalibProtocol::WARNING ? "warning: " : "... ")
+            << message << "\n";
+}
+
+/*!
+  The result set in the output directory's staging place: model.yaml, model.urdf, camera.xml,
+  results.yaml and the report; returns the report's message.
+*/
+std::string writeResults(const fs::path &stage, const std::string &dataset, const vpKinematicChain &nominal,
+                         const vpSelfCalibDataset &ds, const vpSelfCalibImageCorrespondences::Result &cr,
+                         const vpSelfCalibProtocol::Result &p)
+{
+  const vpRobotSelfCalibration::Result &r = p.calibration;
+  // A doubtful model is written all the same, marked so (its name, results.yaml's status, the report).
+  const bool doubtful = r.status == vpRobotSelfCalibration::DOUBTFUL;
+  vpKinematicChain model = r.calibrated;
+  model.setName(nominal.getName() + (doubtful ? "-calibrated-DOUBTFUL" : "-calibrated"));
+  model.saveYaml((stage / "model.yaml").string());
+  vpModelExport::saveURDF(model, (stage / "model.urdf").string());
+  vpSelfCalibFileWriter::writeCameraXml((stage / "camera.xml").string(), r.camera, "Camera", ds.width, ds.height,
+                                        "self-calibrated by visp-selfcalib");
+  vpSelfCalibResultsFile::write((stage / "results.yaml").string(),
+                                vpSelfCalibResultsFile::fromRun(r, nominal, dataset, p));
+  std::cerr << "... report\n";
+  const vpSelfCalibPoseStudy::Result study = // Figure 6
+      vpSelfCalibPoseStudy::run(nominal, ds, p.options, vpSelfCalibPoseStudy::Options(), {}, &p.run);
+  vpSelfCalibReport::Record run(nominal, ds, p);
+  run.front_end = cr.front_end_ran ? &cr.front_end : nullptr;
+  run.errors_vs_poses = &study;
+  return vpSelfCalibReport::write((stage / "report").string(), run, vpSelfCalibReport::Options()).message;
+}
+} // namespace
+
+int calibrate(const CalibrateArgs &a)
+{
+  const std::string &dataset = a.dataset, &out = a.out;
+  vpSelfCalibImageCorrespondences::Options co = frontEndOptions(a);
+  vpRobotSelfCalibration::Options po = calibrationOptions(a, co);
+  const bool pose_auto = std::count(a.pose_sd.begin(), a.pose_sd.end(), "auto") > 0;
+  // The image front end runs on `threads` OpenCV threads: its results do not depend on them (test
+  // app-deterministic). Everything after it runs on one thread, OpenMP included (OpenCV's
+  // setNumThreads sets OpenMP's count, which CHOLMOD/SPQR in the covariance use, and their sums
+  // change with it); Ceres's multi-threaded Schur elimination also sums in a scheduling-dependent
+  // order. The result files must be bit-reproducible.
+  cv::setNumThreads(a.threads);
+  vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
+  const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
+  co.prior = nominal; // the front end's matching is guided by the nominal kinematics
+  // Outputs: a set written in a private directory beside --out, moved into place at once, under
+  // a lock on --out; never over an input, never over files that are not an earlier run's results.
+  vpSelfCalibOutputDirectory outdir(out);
+  if (const int refused = checkOutputDirectory(outdir, out, calibrationInputs(dataset, ds), a.force))
+    return refused;
+  const vpSelfCalibImageCorrespondences::Result cr = runFrontEnd(ds, co);
+  cv::setNumThreads(1);
+  po.method = cr.method;
+  if (pose_auto && po.method != vpRobotSelfCalibration::HAND_EYE)
+    std::cerr << "warning: --pose-sd auto measures the controller poses' error (hand-eye); the method is "
+              << vpRobotSelfCalibration::methodName(po.method) << ", so it is not used\n";
+  else if (pose_auto && !(ds.pose_sd_translation > 0)) { // no robot_error to start from: a serial arm's accuracy
+    po.noise.pose_sd_translation = po.noise.pose_sd_rotation = 2e-3;
+    po.bundle.scale_covariance = true;
+  }
+  statePoseError(a, po);
+  const vpSelfCalibProtocol::Options protocol_options = protocolOptions(a, co);
+  const vpSelfCalibProtocol::Plan plan =
+      vpSelfCalibProtocol::plan(protocol_options, static_cast<unsigned int>(ds.views.size()));
+  const vpSelfCalibProtocol::Result p =
+      vpSelfCalibProtocol::run(nominal, ds, po, plan, protocol_options, printEvent);
+  if (!p.calibrated()) {
+    std::cerr << "calibration failed: " << vpRobotSelfCalibration::statusName(p.run.status) << ": " << p.run.message
+              << "\n";
+    return 3;
+  }
+  const vpRobotSelfCalibration::Result &r = p.calibration;
+  for (const auto &f : r.findings)
+    std::cerr << vpSelfCalibDataCheck::severityName(f.severity) << ": " << f.message << "\n";
+  const std::string report = writeResults(outdir.staging(), dataset, nominal, ds, cr, p);
+  outdir.commit();
+
+  const std::string files[4] = {(fs::path(out) / "model.yaml").string(), (fs::path(out) / "camera.xml").string(),
+                                (fs::path(out) / "results.yaml").string(), (fs::path(out) / "model.urdf").string()};
+  printSummary(r, p.options.num_calibration_poses);
+  std::cout << "\n";
+  printProtocol(p);
+  std::cout << "wrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
+  std::cout << "report: " << (fs::path(out) / "report").string() << "/report.md (" << report << ")\n";
+  if (r.status == vpRobotSelfCalibration::DOUBTFUL) {
+    std::cerr << "calibration doubtful: the model is written (marked so) but failed the checks above; "
+                 "see results.yaml's findings of severity doubt\n";
+    return 3;
+  }
+  return 0;
+}

@@ -1,0 +1,309 @@
+/*
+ * visp-selfcalib calibrate: its command line, and the library options it gives (see calibrate.h).
+ */
+#include "calibrate.h"
+
+#include <algorithm>
+
+#include <visp3/core/vpException.h>
+#include <visp3/io/vpImageIo.h>
+#include <visp3/selfcalib/vpBoardDetector.h>
+#include <visp3/selfcalib/vpDotGrid.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+
+#include "selfcalibCli.h"
+
+namespace
+{
+//! "CxR": C columns, R rows of an asymmetric circle grid; false when it is not that.
+bool parseDotGrid(const std::string &item, vpFeatureFrontEnd::DotGrid &g)
+{
+  const size_t x = item.find('x');
+  const std::string digits = "0123456789";
+  if (x == std::string::npos || x == 0 || x + 1 == item.size() ||
+      item.substr(0, x).find_first_not_of(digits) != std::string::npos ||
+      item.substr(x + 1).find_first_not_of(digits) != std::string::npos || item.size() > 12)
+    return false;
+  const unsigned long cols = std::stoul(item.substr(0, x)), rows = std::stoul(item.substr(x + 1));
+  if (cols == 0 || rows == 0 || cols > 1000 || rows > 1000)
+    return false;
+  g.cols = static_cast<unsigned int>(cols);
+  g.rows = static_cast<unsigned int>(rows);
+  return true;
+}
+
+//! The protocol: the method, the split of the views, the folds, a held-out dataset.
+void addProtocolOptions(CLI::App *c, CalibrateArgs &a)
+{
+  std::vector<std::string> methods;
+  for (vpRobotSelfCalibration::Method m :
+       {vpRobotSelfCalibration::BUNDLE_ADJUSTMENT, vpRobotSelfCalibration::PAPER, vpRobotSelfCalibration::HAND_EYE})
+    methods.push_back(vpRobotSelfCalibration::methodName(m));
+  c->add_option("--method", a.method,
+                "bundle (default; hand-eye when the poses have fMe and no joints): multi-view\n"
+                "reconstruction + kinematic bundle adjustment; paper: the paper's procedure;\n"
+                "hand-eye: kinematics trusted, eMc, f and points estimated")
+      ->type_name("M")
+      ->check(CLI::IsMember(methods));
+  c->add_option("--calibration", a.calibration,
+                "the paper's split: the first N views calibrate, the others verify (3-D yardstick\n"
+                "error); at least 3 (default: every view calibrates)")
+      ->type_name("N")
+      ->check(selfcalibCli::wholeNumber(3, 100000));
+  c->add_option("--holdout", a.holdout,
+                "the paper's split counted from the end: the last N views verify, the others\n"
+                "calibrate; 2 to 100000 (the yardstick error needs two views; with --calibration,\n"
+                "the two must add up to the views)")
+      ->type_name("N")
+      ->check(selfcalibCli::wholeNumber(2, 100000));
+  CLI::Option *folds =
+      c->add_option("--folds", a.folds,
+                    "K-fold cross-validation (view i held out in fold i mod K), 0 or 2 to 100: the\n"
+                    "held-out views' reprojection error through the calibrated model vs the nominal\n"
+                    "one, the figure to trust on real data (default 5 when every view calibrates,\n"
+                    "skipped with a note under 6 views; with --holdout / --calibration none unless\n"
+                    "given: then over the calibration views); 0: none")
+          ->type_name("K")
+          ->check(selfcalibCli::zeroOrWholeNumber(2, 100));
+  folds->each([&a](const std::string &) { a.folds_given = true; });
+  c->add_option("--heldout", a.heldout,
+                "a second dataset of the same robot and camera, not used to calibrate: the model is\n"
+                "verified on it (3-D yardstick error when it has one; its views' reprojection error,\n"
+                "calibrated vs nominal, the scene triangulated from them)")
+      ->type_name("FILE");
+}
+
+//! The model: the focal length, the noise, the tolerance, the robot's error, the intrinsics.
+void addModelOptions(CLI::App *c, CalibrateArgs &a)
+{
+  c->add_option("--focal", a.focal, "auto (default: known when the dataset gives px, py), known, shared, per-pair")
+      ->type_name("MODE")
+      ->check(
+          CLI::IsMember(focalNames({vpRobotSelfCalibration::FOCAL_AUTO, vpRobotSelfCalibration::FOCAL_KNOWN,
+                                    vpRobotSelfCalibration::FOCAL_SHARED, vpRobotSelfCalibration::FOCAL_PER_PAIR})));
+  c->add_option("--pixel-sd", a.pixel_sd,
+                "image noise sd (px): auto (default) measures it from the residuals (a second run\n"
+                "with the measured value when it differs from 0.2 px by more than 25 %); a number is\n"
+                "used as stated, and the sd are scaled when the residuals contradict it")
+      ->type_name("auto|PX")
+      ->check(selfcalibCli::wordOrNumber("auto", 0, true, 1000));
+  c->add_option("--tolerance", a.tolerance,
+                "the nominal model's tolerance: largest error of a joint placement (m, rad), then\n"
+                "optionally of eMc (m, rad); a correction or an sd beyond it makes the run doubtful\n"
+                "(default 0.01,0.05,0.1,0.5; hand-eye does not check eMc)")
+      ->type_name("T,R[,TE,RE]")
+      ->delimiter(',')
+      ->expected(2, 4)
+      ->check(selfcalibCli::number(0, true, 100));
+  c->add_option("--pose-sd", a.pose_sd,
+                "hand-eye: the controller poses' error, translation (m) and rotation (rad) sd,\n"
+                "e.g. 0.002,0.002: each pose gets a correction with that prior, and the sd are\n"
+                "widened by sigma0 when the residuals say the noise is larger (default: the dataset's\n"
+                "robot_error, else exact poses); bundle-adjustment: the kinematic model's own residual\n"
+                "(each camera pose corrected in its own frame with that prior; default: none);\n"
+                "auto: measured from the corrections (variance components), from the dataset's\n"
+                "robot_error or 2 mm / 2 mrad, runs again until it settles within 10 % (the default\n"
+                "when the dataset states a robot_error)")
+      ->type_name("T,R|auto")
+      ->delimiter(',')
+      ->expected(1, 2)
+      ->check(selfcalibCli::wordOrNumber("auto", 0, true, 10));
+  c->add_option("--joint-sd", a.joint_sd,
+                "bundle-adjustment: the joint readings' error (rad), one value for every joint or one\n"
+                "per joint, e.g. 1e-4: each view gets joint corrections with that prior, and the sd are\n"
+                "widened by sigma0 when the residuals say the noise is larger (default: the dataset's\n"
+                "robot_error, else exact readings)")
+      ->type_name("RAD[,RAD...]")
+      ->delimiter(',')
+      ->check(selfcalibCli::number(0, true, 1));
+  c->add_option("--estimate", a.estimate,
+                "intrinsics estimated with the calibration besides f (--focal): aspect (p_y / p_x),\n"
+                "pp (principal point), distortion (OpenCV's k1, k2, p1, p2), k3 (and OpenCV's k3),\n"
+                "kud (ViSP's one radial coefficient instead); for nominal intrinsics")
+      ->type_name("WHAT[,WHAT...]")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"aspect", "pp", "distortion", "k3", "kud"}));
+  c->add_option("--threads", a.threads,
+                "threads of the image front end (default: all cores); the results do not depend on it")
+      ->type_name("N")
+      ->check(selfcalibCli::wholeNumber(1, 1024));
+}
+
+//! The front end: dot grids, natural features, a board, a mask.
+void addFrontEndOptions(CLI::App *c, CalibrateArgs &a)
+{
+  c->add_option("--dot-grids", a.dot_grids,
+                "dot targets for the front end: asymmetric circle grids, C columns x R rows (R odd),\n"
+                "grid g numbered from 1000000 + 1000 g; their dots must differ in size")
+      ->type_name("CxR[,CxR...]")
+      ->delimiter(',')
+      ->check(CLI::Validator(
+          [](std::string &item) -> std::string {
+            vpFeatureFrontEnd::DotGrid g;
+            return parseDotGrid(item, g) ? std::string() : "expected COLSxROWS[,COLSxROWS...], got '" + item + "'";
+          },
+          std::string()));
+  CLI::Option *no_features = c->add_flag("--no-features", a.no_features, "no natural features (dot targets only)");
+  CLI::Option *board =
+      c->add_option("--board", a.board,
+                    "a calibration board whose points are the observations (their ids from\n"
+                    "2000000 + row * cols + col): chessboard:ROWSxCOLS:SPACING (inner corners),\n"
+                    "circles:, acircles: or modified-circles:ROWSxCOLS:SPACING (dots), spacing in m,\n"
+                    "e.g. chessboard:9x6:0.0236, modified-circles:10x10:0.0254; ':upright' accepts a\n"
+                    "board that looks the same turned. Without a yardstick in the dataset, the ends\n"
+                    "of the board's first row are the yardstick")
+          ->type_name("SPEC")
+          ->check(CLI::Validator(
+              [](std::string &spec) -> std::string {
+                try {
+                  vpBoardDetector::parse(spec);
+                  return std::string();
+                } catch (const vpSelfCalibException &e) {
+                  return e.getStringMessage();
+                }
+              },
+              std::string()));
+  c->add_flag("--with-features", a.with_features, "with --board: natural features too")->needs(board)->excludes(no_features);
+  CLI::Option *mask_board = c->add_flag("--mask-board", a.mask_board,
+              "with --board: the board is found only to be masked out (its region, 15 px beyond its\n"
+              "outer points); the calibration uses the natural features around it, target-free")
+      ->needs(board)
+      ->excludes(no_features);
+  c->add_option("--mask", a.mask,
+                "an image of the camera's size: where it is black (0) no natural feature is looked\n"
+                "for in any view (the robot's own parts, a drawn overlay, a moving background)")
+      ->type_name("PNG")
+      ->check(CLI::ExistingFile);
+  CLI::Option *board_geometry =
+      c->add_flag("--board-geometry", a.board_geometry,
+                  "with --board: its layout is known (a prior of --board-sd on each point, the\n"
+                  "board's pose estimated); without it the board's points are unknown scene points")
+          ->needs(board)
+          ->excludes(mask_board);
+  c->add_option("--board-sd", a.board_sd,
+                "with --board-geometry: sd (m) of each point's placement on the board (default 1e-5,\n"
+                "10 um: a printed or machined board's accuracy; the layout then holds the points)")
+      ->type_name("SD")
+      ->check(selfcalibCli::number(0, true, 0.01))
+      ->needs(board_geometry);
+}
+} // namespace
+
+void addCalibrate(CLI::App &app, CalibrateArgs &a)
+{
+  CLI::App *c = app.add_subcommand("calibrate", "calibrated model, camera and results in DIR");
+  c->add_option("DATASET", a.dataset, "the dataset file (README: Data formats)")->type_name("FILE")->required();
+  c->add_option("--out", a.out, "the output directory (created when missing)")->type_name("DIR")->required();
+  addProtocolOptions(c, a);
+  addModelOptions(c, a);
+  addFrontEndOptions(c, a);
+  c->add_flag("--force", a.force, "replace the results of an earlier run in DIR");
+  c->footer("Self-calibrates on every view and cross-validates (--folds), or on the first views and\n"
+            "verifies on the last ones (--holdout, --calibration). Writes DIR/model.yaml,\n"
+            "DIR/model.urdf, DIR/camera.xml, DIR/results.yaml and DIR/report/ (report.md, gnuplot figures)\n"
+            "as one set: written beside DIR, then moved into place at once, under a lock on DIR (a second run\n"
+            "into the same DIR is refused). DIR must not hold an input or files that are not results; an\n"
+            "earlier run's results are replaced only with --force. The data check's findings are printed\n"
+            "as warnings.\n"
+            "Exit codes: 0 calibrated, 1 bad input, 2 bad usage, 3 failed or degenerate data (message on stderr).");
+}
+
+vpSelfCalibImageCorrespondences::Options frontEndOptions(const CalibrateArgs &a)
+{
+  vpSelfCalibImageCorrespondences::Options co;
+  // A board alone unless natural features are asked for too.
+  co.front_end.features = a.board.empty() ? !a.no_features : (a.with_features || a.mask_board);
+  if (!a.board.empty())
+    co.board = vpBoardDetector::parse(a.board);
+  co.mask_board = a.mask_board;
+  if (!a.mask.empty()) {
+    vpImage<unsigned char> mask;
+    try {
+      vpImageIo::read(mask, a.mask);
+    } catch (const vpException &e) {
+      throw vpSelfCalibException(vpSelfCalibException::ioError,
+                                 "--mask: cannot read the image '" + a.mask + "': " + e.getStringMessage());
+    }
+    co.front_end.masks.push_back(mask);
+  }
+  // C x R; grid g numbered from 1000000 + 1000 g (as simulate --target dots).
+  for (const std::string &item : a.dot_grids) {
+    vpFeatureFrontEnd::DotGrid g;
+    parseDotGrid(item, g);
+    g.first_id = vpDotGrid::kDefaultFirstId + 1000 * static_cast<int>(co.front_end.dot_grids.size());
+    co.front_end.dot_grids.push_back(g);
+  }
+  if (!a.method.empty())
+    co.method = vpRobotSelfCalibration::methodFromName(a.method);
+  return co;
+}
+
+vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
+                                                   const vpSelfCalibImageCorrespondences::Options &co)
+{
+  vpRobotSelfCalibration::Options po;
+  po.focal_mode = vpRobotSelfCalibration::focalModeFromName(a.focal);
+  if (a.pixel_sd == "auto")
+    po.noise.pixel_sd_origin = vpSelfCalibNoiseModel::MEASURED; // from 0.2 px
+  else
+    po.noise.pixel_sd = std::stod(a.pixel_sd);
+  if (a.tolerance.size() == 3)
+    throw CLI::ValidationError("--tolerance", "give 2 values (joint placements) or 4 (and eMc), not 3");
+  if (a.tolerance.size() >= 2) {
+    po.tolerance_translation = a.tolerance[0];
+    po.tolerance_rotation = a.tolerance[1];
+  }
+  if (a.tolerance.size() == 4) {
+    po.tolerance_hand_eye_translation = a.tolerance[2];
+    po.tolerance_hand_eye_rotation = a.tolerance[3];
+  }
+  if (a.board_geometry) {
+    po.bundle.known_points = vpBoardDetector(*co.board).getLayout();
+    po.bundle.known_points_sd = a.board_sd;
+  }
+  for (const std::string &e : a.estimate) {
+    using KBA = vpKinematicBundleAdjustment;
+    po.bundle.intrinsics |= e == "aspect" ? KBA::ASPECT
+                            : e == "pp"   ? KBA::PRINCIPAL_POINT
+                            : e == "k3"   ? KBA::DISTORTION | KBA::DISTORTION_K3
+                                          : KBA::DISTORTION;
+    if (e == "distortion" || e == "k3")
+      po.bundle.distortion_model = KBA::DISTORTION_OPENCV;
+  }
+  if (std::count(a.estimate.begin(), a.estimate.end(), "kud") && po.bundle.distortion_model != 0)
+    throw CLI::ValidationError("--estimate", "kud (ViSP's model) and distortion / k3 (OpenCV's) exclude each other");
+  const bool pose_auto = std::count(a.pose_sd.begin(), a.pose_sd.end(), "auto") > 0;
+  if (pose_auto && a.pose_sd.size() != 1)
+    throw CLI::ValidationError("--pose-sd", "give T,R (two numbers) or auto, not both");
+  if (pose_auto && !a.method.empty() && co.method != vpRobotSelfCalibration::HAND_EYE)
+    throw CLI::ValidationError("--pose-sd", "auto measures the controller poses' error: it needs --method hand-eye "
+                                            "(the joint readings' error is stated with --joint-sd)");
+  if (!pose_auto && a.pose_sd.size() == 1)
+    throw CLI::ValidationError("--pose-sd", "give two values, T,R (m, rad), or auto");
+  // Measured by default from the dataset's robot_error when it states one (below, once it is read).
+  if (pose_auto || a.pose_sd.empty())
+    po.noise.pose_sd_origin = vpSelfCalibNoiseModel::MEASURED;
+  if (a.pose_sd.size() == 2)
+    po.bundle.scale_covariance = true; // the values go to the noise model once the method is known
+  if (!a.joint_sd.empty()) {
+    po.noise.joint_sd = a.joint_sd;
+    po.bundle.scale_covariance = true;
+  }
+  return po;
+}
+
+void statePoseError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po)
+{
+  if (a.pose_sd.size() != 2 || a.pose_sd[0] == "auto")
+    return;
+  // The controller poses' error (hand-eye), or the kinematic model's residual (bundle); the
+  // paper's method models neither.
+  const double t = std::stod(a.pose_sd[0]), r = std::stod(a.pose_sd[1]);
+  if (po.method == vpRobotSelfCalibration::HAND_EYE) {
+    po.noise.pose_sd_translation = t;
+    po.noise.pose_sd_rotation = r;
+  } else if (po.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT) {
+    po.noise.model_sd_translation = t;
+    po.noise.model_sd_rotation = r;
+  }
+}

@@ -1,0 +1,125 @@
+/*
+ * visp-selfcalib calibrate: its output directory's checks and what it prints (see calibrate.h).
+ */
+#include "calibrate.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+
+#include <yaml-cpp/yaml.h>
+
+#include <visp3/selfcalib/vpKinematicChain.h>
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> calibrationInputs(const std::string &dataset, const vpSelfCalibDataset &ds)
+{
+  std::vector<std::string> in = {dataset};
+  const std::vector<std::string> presets = vpKinematicChain::presetNames();
+  if (std::find(presets.begin(), presets.end(), ds.robot) == presets.end())
+    in.push_back(ds.robot);
+  for (const auto &v : ds.views)
+    if (!v.image.empty())
+      in.push_back(v.image);
+  // The camera XML's path is not kept in the dataset: read it from the file (already parsed once).
+  try {
+    const YAML::Node root = YAML::LoadFile(dataset);
+    if (root["camera_xml"] && root["camera_xml"]["file"]) {
+      fs::path xml = root["camera_xml"]["file"].as<std::string>();
+      if (xml.is_relative())
+        xml = fs::path(dataset).parent_path() / xml;
+      in.push_back(xml.string());
+    }
+  } catch (const YAML::Exception &) {
+  }
+  return in;
+}
+
+int checkOutputDirectory(const vpSelfCalibOutputDirectory &outdir, const std::string &out,
+                         const std::vector<std::string> &inputs, bool force)
+{
+  const std::string target = canonical(outdir.target());
+  if (!target.empty())
+    for (const std::string &in : inputs) {
+      const std::string c = canonical(in);
+      if (!c.empty() && (c == target || c.rfind(target + "/", 0) == 0)) {
+        std::cerr << "error: '" << in << "' is an input of this run and lies in the output directory '" << out
+                  << "', whose content is replaced: choose another --out\n";
+        return 1;
+      }
+    }
+  const std::vector<std::string> entries = outdir.existingEntries();
+  if (entries.empty())
+    return 0;
+  const std::vector<std::string> ours = {"model.yaml", "model.urdf", "camera.xml", "results.yaml", "report"};
+  std::string foreign;
+  for (const std::string &e : entries)
+    if (std::find(ours.begin(), ours.end(), e) == ours.end())
+      foreign += (foreign.empty() ? "'" : ", '") + e + "'";
+  if (!foreign.empty()) {
+    std::cerr << "error: the output directory '" << out << "' holds files that are not results of calibrate ("
+              << foreign << "); they would be lost: choose a new or empty --out\n";
+    return 1;
+  }
+  if (!force) {
+    std::cerr << "error: '" << out << "' holds the results of an earlier run; use --force to replace them\n";
+    return 1;
+  }
+  return 0;
+}
+
+void printProtocol(const vpSelfCalibProtocol::Result &p)
+{
+  if (p.cv)
+    std::cout << "cross-validation (" << p.cv->folds << " folds of " << p.cv->views << " views): " << p.cv->message
+              << "\n";
+  if (p.verified) {
+    const vpSelfCalibCrossValidation::HeldOut &h = *p.verified;
+    std::cout << std::setprecision(3) << "held-out dataset " << p.plan.heldout_file << " (" << h.views
+              << " views): reprojection RMS " << h.calibrated.rms << " px calibrated vs " << h.nominal.rms
+              << " px nominal";
+    if (h.has_yardstick)
+      std::cout << ", yardstick 3-D error " << 1e3 * h.yardstick_error_nominal << " mm (nominal) -> "
+                << 1e3 * h.yardstick_error_calibrated << " mm";
+    std::cout << std::defaultfloat << "\n";
+  }
+}
+
+void printSummary(const vpRobotSelfCalibration::Result &r, unsigned int num_calibration)
+{
+  std::cout << "calibrated " << r.identifiability.identified.size() << " parameters on " << num_calibration
+            << " views (" << vpRobotSelfCalibration::methodName(r.method) << "), f_x " << std::setprecision(6)
+            << r.camera.get_px() << " px";
+  if (r.verified)
+    std::cout << "; yardstick 3-D error on the held-out views " << std::setprecision(3)
+              << 1e3 * r.before.yardstick_error << " mm (nominal) -> " << 1e3 * r.after.yardstick_error << " mm";
+  if (r.has_eMc) {
+    std::cout << "\neMc: t = (" << std::fixed << std::setprecision(2);
+    for (unsigned int k = 0; k < 3; ++k)
+      std::cout << (k ? ", " : "") << 1e3 * r.eMc[k] << " +- " << 1e3 * r.eMc_sd[k];
+    std::cout << ") mm, theta-u = (";
+    for (unsigned int k = 3; k < 6; ++k)
+      std::cout << (k > 3 ? ", " : "") << 1e3 * r.eMc[k] << " +- " << 1e3 * r.eMc_sd[k];
+    std::cout << ") mrad";
+    if (r.method != vpRobotSelfCalibration::PAPER) {
+      std::cout << "; pixel rms " << std::setprecision(3) << r.bundle.rms << " px";
+      if (!r.bundle.pose_corrections.empty())
+        std::cout << ", robot pose corrections rms " << 1e3 * r.bundle.pose_rms_translation << " mm / "
+                  << 1e3 * r.bundle.pose_rms_rotation << " mrad";
+      std::cout << ", sigma0 " << std::setprecision(2) << r.bundle.sigma0;
+    }
+    std::cout << std::defaultfloat;
+  }
+  if (!r.bundle.joint_corrections.empty())
+    std::cout << "\njoint corrections rms " << std::setprecision(3) << 1e3 * r.bundle.joint_rms << " mrad, sigma0 "
+              << std::setprecision(2) << r.bundle.sigma0 << std::defaultfloat;
+  if (r.bundle.has_covariance && r.bundle.intrinsic_names.size() > 1) {
+    std::cout << "\nintrinsics:";
+    for (unsigned int i = 0; i < r.bundle.intrinsics.size(); ++i)
+      std::cout << " " << r.bundle.intrinsic_names[i] << " " << std::setprecision(5) << r.bundle.intrinsics[i]
+                << " +- " << std::setprecision(2) << r.bundle.intrinsics_sd[i];
+    std::cout << std::defaultfloat;
+  }
+}

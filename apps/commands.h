@@ -1,0 +1,123 @@
+/*
+ * visp-selfcalib: the commands of the tool (one file each, COMMANDCommand.cpp) and what they share.
+ * Each command has its arguments (a struct the CLI11 options fill), an add function that declares
+ * it on the application and a function that runs it and returns the exit code: 0 success, 1 bad
+ * input (message on stderr), 3 the command's work failed (message on stderr); usage errors (2) are
+ * CLI11's. The acquire command is in acquireCommand.h.
+ */
+#ifndef VISP_SELFCALIB_COMMANDS_H
+#define VISP_SELFCALIB_COMMANDS_H
+
+#include <algorithm>
+#include <filesystem>
+#include <initializer_list>
+#include <istream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include <visp3/core/vpColVector.h>
+#include <visp3/selfcalib/vpKinematicBundleAdjustment.h>
+#include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibSimulator.h>
+
+// ---------------------------------------------------------------------------------------------
+// Shared by the commands (commandCommon.cpp)
+
+extern const char *const kProgram;  //!< the program's name, in messages
+extern const char *const kModelHelp; //!< the help of a MODEL argument
+
+//! Joint vectors, one per line (rad, spaces or commas, '#' comments); false with a message on error.
+bool readJoints(std::istream &in, const std::string &source, unsigned int n, std::vector<vpColVector> &out);
+//! Canonical path of an existing file or directory, or "" when it does not exist.
+std::string canonical(const std::string &p);
+//! Creates a directory unless it exists; false when that fails.
+bool makeDirectory(const std::filesystem::path &dir);
+//! The names of focal modes, as the command lines spell them.
+std::vector<std::string> focalNames(std::initializer_list<vpRobotSelfCalibration::FocalMode> modes);
+//! --robot NAME: a preset or a robot-model file (YAML or URDF).
+CLI::Option *addRobotOption(CLI::App &app, std::string &robot);
+
+// ---------------------------------------------------------------------------------------------
+// info, predict, verify: a model, and a joints file or a dataset
+
+struct ModelArgs {
+  std::string model, second; //!< predict: the joints file; verify: the dataset
+};
+void addInfo(CLI::App &app, ModelArgs &a);
+int info(const ModelArgs &a);
+void addPredict(CLI::App &app, ModelArgs &a);
+int predict(const ModelArgs &a);
+void addVerify(CLI::App &app, ModelArgs &a);
+int verify(const ModelArgs &a);
+
+// ---------------------------------------------------------------------------------------------
+// plan, simulate
+
+struct PlanArgs {
+  std::string out, robot = "viper850", method = "observability";
+  vpSelfCalibSimulator::Options so;
+  unsigned int poses = 15, held_out = 10;
+  bool force = false;
+};
+void addPlan(CLI::App &app, PlanArgs &a);
+int plan(const PlanArgs &a);
+
+struct SimulateArgs {
+  std::string out, robot = "viper850", focal = "known", target = "textured", joints_file;
+  vpSelfCalibSimulator::Options so;
+  unsigned int poses = 25;
+  bool force = false, controller = false, images = false;
+};
+void addSimulate(CLI::App &app, SimulateArgs &a);
+int simulate(const SimulateArgs &a);
+
+// ---------------------------------------------------------------------------------------------
+// import, export
+
+struct ImportArgs {
+  std::string path, out, robot, intrinsics;
+  bool force = false;
+};
+void addImport(CLI::App &app, ImportArgs &a);
+int importData(const ImportArgs &a);
+
+struct ExportArgs {
+  std::string model, urdf, dh, mdh;
+  bool force = false;
+};
+void addExport(CLI::App &app, ExportArgs &a);
+int exportModel(const ExportArgs &a);
+
+// ---------------------------------------------------------------------------------------------
+// calibrate (calibrateOptions.cpp, calibrateCommand.cpp, calibrateOutput.cpp)
+
+struct CalibrateArgs {
+  std::string dataset, out, method, focal = "auto";
+  unsigned int calibration = 0;
+  std::string pixel_sd = "auto";
+  std::vector<double> tolerance; //!< links (m, rad), then optionally eMc (m, rad)
+  unsigned int holdout = 0;       //!< --holdout N: the last N views verify (0: none)
+  unsigned int folds = 5;         //!< --folds K: k-fold cross-validation (0: none)
+  bool folds_given = false;
+  std::string heldout;            //!< --heldout FILE: a second dataset to verify on
+  std::vector<std::string> pose_sd; //!< robot pose error (m, rad) of controller poses, or "auto"; empty: exact
+  std::vector<double> joint_sd; //!< joint-reading noise (rad), one or one per joint; empty: exact
+  std::vector<std::string> estimate; //!< intrinsics estimated beside f: aspect, pp, distortion
+  int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::string> dot_grids;
+  bool no_features = false;
+  std::string board;
+  bool board_geometry = false; //!< the board's layout as a prior on its points
+  double board_sd = vpKinematicBundleAdjustment::Options().known_points_sd; //!< m, each board point's placement
+  bool with_features = false;
+  bool mask_board = false;     //!< the board only masked out: natural features alone
+  std::string mask;            //!< an image: where its pixels are 0, no feature is looked for
+  bool force = false; //!< replace an earlier run's results in --out
+};
+void addCalibrate(CLI::App &app, CalibrateArgs &a);
+int calibrate(const CalibrateArgs &a);
+
+#endif

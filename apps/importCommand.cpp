@@ -1,0 +1,92 @@
+/*
+ * visp-selfcalib import: a dataset from a ViSP hand-eye folder or an industrial_calibration cal_data.yaml.
+ */
+#include "commands.h"
+
+#include <iostream>
+
+#include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpSelfCalibImporter.h>
+
+void addImport(CLI::App &app, ImportArgs &a)
+{
+  CLI::App *c =
+      app.add_subcommand("import", "a dataset from a ViSP hand-eye folder or an industrial_calibration cal_data.yaml");
+  c->footer("Reads PATH: a ViSP hand-eye folder (<prefix>_pose_rPe_N.yaml or _fPe_N.yaml, <prefix>_image-N.png,\n"
+            "a camera XML), or industrial_calibration's cal_data.yaml (the file or its folder), and writes a\n"
+            "dataset of controller poses fMe and images (calibrate runs the front end on them). Pose files:\n"
+            "ViSP pose vectors, x y z qx qy qz qw, or 4 x 4 matrices. Prints what it found and what it could not\n"
+            "use. A robot model, when one is needed (an eMc guess in the data, or no --robot for a robot without\n"
+            "a preset), is written beside OUT.yaml as OUT-robot.yaml. Refuses to replace an existing file\n"
+            "without --force, and never writes over an input.\n"
+            "Exit codes: 0 imported, 1 bad input (message on stderr), 2 bad usage.");
+  c->add_option("PATH", a.path, "the folder, or the cal_data.yaml file")->type_name("PATH")->required();
+  c->add_option("--out", a.out, "the dataset file to write")->type_name("OUT.yaml")->required();
+  std::string presets;
+  for (const std::string &p : vpKinematicChain::presetNames())
+    presets += (presets.empty() ? "" : ", ") + p;
+  c->add_option("--robot", a.robot,
+                "a preset (" + presets +
+                    ") or a robot-model file (default: panda for ViSP\n"
+                    "franka_ folders, else a generic hand-eye model: the hand-eye calibration uses only\n"
+                    "its eMc guess)")
+      ->type_name("NAME|FILE");
+  c->add_option("--intrinsics", a.intrinsics,
+                "known: the focal length is fixed; guess: it is self-calibrated from the given one\n"
+                "(default: known for a ViSP camera XML, guess for cal_data.yaml's nominal intrinsics)")
+      ->type_name("known|guess")
+      ->check(CLI::IsMember({"known", "guess"}));
+  c->add_flag("--force", a.force, "replace an existing OUT.yaml (and OUT-robot.yaml)");
+}
+
+int importData(const ImportArgs &a)
+{
+  if (!a.force && !canonical(a.out).empty()) {
+    std::cerr << "error: '" << a.out << "' exists; use --force to replace it\n";
+    return 1;
+  }
+  vpSelfCalibImporter::Options io;
+  io.robot = a.robot;
+  io.intrinsics = a.intrinsics.empty() ? vpSelfCalibImporter::INTRINSICS_DEFAULT
+                                       : (a.intrinsics == "known" ? vpSelfCalibImporter::INTRINSICS_KNOWN
+                                                                  : vpSelfCalibImporter::INTRINSICS_GUESS);
+  const vpSelfCalibImporter::Result res = vpSelfCalibImporter::import(a.path, io);
+  std::vector<std::string> outputs = {a.out};
+  if (res.has_robot_model)
+    outputs.push_back(vpSelfCalibImporter::robotModelFileFor(a.out));
+  for (const std::string &f : outputs) {
+    const std::string c = canonical(f);
+    if (c.empty())
+      continue;
+    for (const std::string &in : res.inputs)
+      if (c == canonical(in)) {
+        std::cerr << "error: '" << f << "' is an input of this import; choose another --out\n";
+        return 1;
+      }
+    if (!a.force) {
+      std::cerr << "error: '" << f << "' exists; use --force to replace it\n";
+      return 1;
+    }
+  }
+  res.save(a.out);
+  const vpSelfCalibImporter::Report &r = res.report;
+  std::cout << "found " << vpSelfCalibImporter::layoutName(r.layout) << " " << r.source << "\n"
+            << "  poses:  " << r.num_pose_files << " pose files, " << r.num_images << " images: " << r.num_views
+            << " views; " << r.pose_format << "\n"
+            << "  camera: " << r.camera << "\n"
+            << "  robot:  " << r.robot << "\n"
+            << "  board:  " << (r.board.empty() ? "none described" : r.board)
+            << (r.board.empty() ? "" : "; used only with calibrate --board TYPE:RxC:SPACING (else natural features)")
+            << "\n"
+            << "  robot error: " << r.robot_error << "\n";
+  if (!r.unused.empty()) {
+    std::cout << "not used:\n";
+    for (const vpSelfCalibImporter::Unused &u : r.unused)
+      std::cout << "  " << u.what << ": " << u.reason << "\n";
+  }
+  std::cout << "wrote " << a.out;
+  if (res.has_robot_model)
+    std::cout << " and " << vpSelfCalibImporter::robotModelFileFor(a.out);
+  std::cout << ": " << r.num_views << " views\nnext: " << kProgram << " calibrate " << a.out << " --out DIR\n";
+  return 0;
+}

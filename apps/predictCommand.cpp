@@ -1,0 +1,54 @@
+/*
+ * visp-selfcalib predict: the camera pose fMc of a model for each joint vector read.
+ */
+#include "commands.h"
+
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+
+#include <visp3/core/vpPoseVector.h>
+#include <visp3/selfcalib/vpKinematicChain.h>
+
+namespace
+{
+int predictFrom(const vpKinematicChain &c, std::istream &in, const std::string &source)
+{
+  std::vector<vpColVector> qs;
+  if (!readJoints(in, source, c.getNumJoints(), qs))
+    return 1;
+  std::cout << std::setprecision(17);
+  for (const vpColVector &q : qs) {
+    if (!c.isInJointLimits(q))
+      std::cerr << source << ": warning: joints outside the model's limits\n";
+    const vpPoseVector p(c.get_fMc(q));
+    for (unsigned int k = 0; k < 6; ++k)
+      std::cout << p[k] << (k < 5 ? " " : "\n");
+  }
+  return 0;
+}
+} // namespace
+
+void addPredict(CLI::App &app, ModelArgs &a)
+{
+  CLI::App *c = app.add_subcommand("predict", "fMc for each joint vector (one per line, rad)");
+  c->footer("Reads one joint vector per line (rad, separated by spaces or commas; '#' starts a comment) from\n"
+            "JOINTS_FILE or standard input and prints the camera pose fMc as 'tx ty tz tux tuy tuz' (m, rad)\n"
+            "per line.");
+  c->add_option("MODEL", a.model, kModelHelp)->type_name("NAME|FILE")->required();
+  c->add_option("JOINTS_FILE", a.second, "joint vectors (default: standard input)")->type_name("FILE");
+}
+
+int predict(const ModelArgs &a)
+{
+  const vpKinematicChain chain = vpKinematicChain::fromPresetOrFile(a.model);
+  if (!a.second.empty()) {
+    std::ifstream in(a.second);
+    if (!in) {
+      std::cerr << "error: cannot open joints file '" << a.second << "'\n";
+      return 1;
+    }
+    return predictFrom(chain, in, a.second);
+  }
+  return predictFrom(chain, std::cin, "<stdin>");
+}

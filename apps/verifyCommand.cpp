@@ -1,0 +1,38 @@
+/*
+ * visp-selfcalib verify: the paper's 3-D yardstick error of a model on a dataset's views.
+ */
+#include "commands.h"
+
+#include <iomanip>
+#include <iostream>
+
+#include <visp3/selfcalib/vpCalibrationVerifier.h>
+#include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpSelfCalibDataset.h>
+
+void addVerify(CLI::App &app, ModelArgs &a)
+{
+  CLI::App *c = app.add_subcommand("verify", "the paper's 3-D yardstick error of a model");
+  c->footer("Prints the paper's 3-D yardstick error of MODEL on the dataset's views.");
+  c->add_option("MODEL", a.model, kModelHelp)->type_name("NAME|FILE")->required();
+  c->add_option("DATASET", a.second, "a dataset YAML file")->type_name("FILE")->required();
+}
+
+int verify(const ModelArgs &a)
+{
+  const std::string &dataset = a.second;
+  const vpKinematicChain model = vpKinematicChain::fromPresetOrFile(a.model);
+  const vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
+  if (!ds.yardstick.isSet()) {
+    std::cerr << "error: dataset '" << dataset << "' has no yardstick to verify against\n";
+    return 1;
+  }
+  const vpCalibrationVerifier::Result v = vpCalibrationVerifier::verify(model, ds.cam, ds.views, ds.yardstick);
+  if (!v.has_yardstick) {
+    std::cerr << "error: the yardstick's ends are not seen in two views of '" << dataset << "'\n";
+    return 1;
+  }
+  std::cout << std::setprecision(6) << "yardstick length " << v.yardstick_length << " m (true " << ds.yardstick.length
+            << "), 3-D error " << 1e3 * v.yardstick_error << " mm, " << v.points.size() << " points triangulated\n";
+  return 0;
+}
