@@ -385,6 +385,88 @@ vpKinematicIdentification::Result vpKinematicIdentification::identify(const vpKi
   return identify(start, ms, opt, analyse(start, ms, opt));
 }
 
+namespace
+{
+using Identifiability = vpKinematicIdentification::Identifiability;
+using Measurement = vpKinematicIdentification::Measurement;
+
+/*
+  Do these measurements determine every parameter of the estimated set? The same rule restricted to
+  it; missing: the parameters of the set it leaves out, when not.
+*/
+bool determinesSet(const vpKinematicChain &start, const std::vector<Measurement> &ms,
+                   const vpKinematicIdentification::Options &opt, const Identifiability &estimated, std::string &missing)
+{
+  const unsigned int N = start.getNumParameters();
+  vpKinematicIdentification::Options only = opt;
+  only.fixed.clear();
+  const std::vector<std::string> names = start.getParameterNames();
+  for (unsigned int i = 0; i < N; ++i)
+    if (!std::binary_search(estimated.identified.begin(), estimated.identified.end(), i))
+      only.fixed.push_back(names[i]);
+  const Identifiability here = vpKinematicIdentification::analyse(start, ms, only);
+  if (here.identified != estimated.identified) {
+    for (unsigned int i : estimated.identified)
+      if (!std::binary_search(here.identified.begin(), here.identified.end(), i))
+        missing += (missing.empty() ? "" : ", ") + names[i];
+    return false;
+  }
+  return true;
+}
+
+//! Residual RMS, Jacobian of the identified parameters, observability, at res.chain.
+void fillFit(const std::vector<Measurement> &ms, vpKinematicIdentification::Result &res)
+{
+  const std::vector<unsigned int> &id = res.identifiability.identified;
+  const size_t p = id.size();
+  const vpMatrix Jall = vpKinematicIdentification::jacobian(res.chain, ms);
+  vpMatrix Jid(Jall.getRows(), static_cast<unsigned int>(p));
+  for (unsigned int i = 0; i < Jall.getRows(); ++i)
+    for (size_t k = 0; k < p; ++k)
+      Jid[i][static_cast<unsigned int>(k)] = Jall[i][id[k]];
+  res.observability = vpObservabilityIndices::fromJacobian(Jid, static_cast<unsigned int>(ms.size()));
+  double sp = 0, sr = 0;
+  for (const Measurement &m : ms) {
+    double r[6];
+    evaluate(res.chain, m, r, nullptr);
+    for (int i = 0; i < 3; ++i) {
+      sp += std::pow(r[i] * m.sd_position, 2);
+      sr += std::pow(r[3 + i] * m.sd_rotation, 2);
+    }
+  }
+  res.rms_position = std::sqrt(sp / (3 * ms.size()));
+  res.rms_rotation = std::sqrt(sr / (3 * ms.size()));
+}
+
+//! Covariance (J^T J)^-1 of the identified parameters x from Ceres at the solution, their sds and
+//! strong correlations; false when singular.
+bool fillCovariance(ceres::Problem &problem, std::vector<double> &x, const std::vector<std::string> &names,
+                    const vpKinematicIdentification::Options &opt, vpKinematicIdentification::Result &res)
+{
+  const std::vector<unsigned int> &id = res.identifiability.identified;
+  const size_t p = id.size();
+  ceres::Covariance cov(covarianceOptions());
+  std::vector<std::pair<const double *, const double *>> blocks = {{x.data(), x.data()}};
+  if (!computeCovariance(cov, blocks, &problem))
+    return false;
+  std::vector<double> C(p * p);
+  cov.GetCovarianceBlock(x.data(), x.data(), C.data());
+  res.covariance.resize(static_cast<unsigned int>(p), static_cast<unsigned int>(p));
+  for (size_t a = 0; a < p; ++a) {
+    for (size_t b = 0; b < p; ++b)
+      res.covariance[static_cast<unsigned int>(a)][static_cast<unsigned int>(b)] = C[a * p + b];
+    res.sd[id[a]] = std::sqrt(std::max(0.0, C[a * p + a]));
+  }
+  for (size_t a = 0; a < p; ++a)
+    for (size_t b = a + 1; b < p; ++b) {
+      const double rho = C[a * p + b] / std::sqrt(C[a * p + a] * C[b * p + b]);
+      if (std::fabs(rho) > opt.correlation_threshold)
+        res.correlations.push_back({names[id[a]], names[id[b]], rho});
+    }
+  return true;
+}
+} // namespace
+
 vpKinematicIdentification::Result vpKinematicIdentification::identify(const vpKinematicChain &start,
                                                                       const std::vector<Measurement> &ms,
                                                                       const Options &opt,
@@ -409,25 +491,12 @@ vpKinematicIdentification::Result vpKinematicIdentification::identify(const vpKi
     return res;
   }
   res.identifiability = estimated;
-  {
-    // Do these measurements determine every parameter of the set? The same rule restricted to it.
-    Options only = opt;
-    only.fixed.clear();
-    const std::vector<std::string> names = start.getParameterNames();
-    for (unsigned int i = 0; i < N; ++i)
-      if (!std::binary_search(estimated.identified.begin(), estimated.identified.end(), i))
-        only.fixed.push_back(names[i]);
-    const Identifiability here = analyse(start, ms, only);
-    if (here.identified != estimated.identified) {
-      std::string missing;
-      for (unsigned int i : estimated.identified)
-        if (!std::binary_search(here.identified.begin(), here.identified.end(), i))
-          missing += (missing.empty() ? "" : ", ") + names[i];
-      res.status = RANK_DEFICIENT;
-      res.message = "these " + std::to_string(ms.size()) + " measurements do not determine " + missing +
-                    " of the estimated set (pose measurements lost?)";
-      return res;
-    }
+  std::string missing;
+  if (!determinesSet(start, ms, opt, estimated, missing)) {
+    res.status = RANK_DEFICIENT;
+    res.message = "these " + std::to_string(ms.size()) + " measurements do not determine " + missing +
+                  " of the estimated set (pose measurements lost?)";
+    return res;
   }
   const std::vector<unsigned int> &id = res.identifiability.identified;
   const size_t p = id.size();
@@ -466,47 +535,10 @@ vpKinematicIdentification::Result vpKinematicIdentification::identify(const vpKi
   const double dof = static_cast<double>(6 * ms.size() - p);
   res.sigma0 = std::sqrt(2 * summary.final_cost / dof);
 
-  // Residual RMS, Jacobian of the identified parameters, observability.
-  const vpMatrix Jall = jacobian(res.chain, ms);
-  vpMatrix Jid(Jall.getRows(), static_cast<unsigned int>(p));
-  for (unsigned int i = 0; i < Jall.getRows(); ++i)
-    for (size_t k = 0; k < p; ++k)
-      Jid[i][static_cast<unsigned int>(k)] = Jall[i][id[k]];
-  res.observability = vpObservabilityIndices::fromJacobian(Jid, static_cast<unsigned int>(ms.size()));
-  double sp = 0, sr = 0;
-  for (const Measurement &m : ms) {
-    double r[6];
-    evaluate(res.chain, m, r, nullptr);
-    for (int i = 0; i < 3; ++i) {
-      sp += std::pow(r[i] * m.sd_position, 2);
-      sr += std::pow(r[3 + i] * m.sd_rotation, 2);
-    }
-  }
-  res.rms_position = std::sqrt(sp / (3 * ms.size()));
-  res.rms_rotation = std::sqrt(sr / (3 * ms.size()));
-
-  // Covariance (J^T J)^-1 from Ceres at the solution.
-  ceres::Covariance cov(covarianceOptions());
-  std::vector<std::pair<const double *, const double *>> blocks = {{x.data(), x.data()}};
-  if (!computeCovariance(cov, blocks, &problem)) {
+  fillFit(ms, res);
+  if (!fillCovariance(problem, x, start.getParameterNames(), opt, res)) {
     res.status = RANK_DEFICIENT;
     res.message = "the normal matrix of the identified parameters is singular at the solution";
-    return res;
   }
-  std::vector<double> C(p * p);
-  cov.GetCovarianceBlock(x.data(), x.data(), C.data());
-  res.covariance.resize(static_cast<unsigned int>(p), static_cast<unsigned int>(p));
-  const std::vector<std::string> names = start.getParameterNames();
-  for (size_t a = 0; a < p; ++a) {
-    for (size_t b = 0; b < p; ++b)
-      res.covariance[static_cast<unsigned int>(a)][static_cast<unsigned int>(b)] = C[a * p + b];
-    res.sd[id[a]] = std::sqrt(std::max(0.0, C[a * p + a]));
-  }
-  for (size_t a = 0; a < p; ++a)
-    for (size_t b = a + 1; b < p; ++b) {
-      const double rho = C[a * p + b] / std::sqrt(C[a * p + a] * C[b * p + b]);
-      if (std::fabs(rho) > opt.correlation_threshold)
-        res.correlations.push_back({names[id[a]], names[id[b]], rho});
-    }
   return res;
 }

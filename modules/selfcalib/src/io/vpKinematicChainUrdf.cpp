@@ -350,52 +350,35 @@ bool pathDown(const urdf::ModelInterface &model, const std::string &top, const s
   std::reverse(joints.begin(), joints.end());
   return static_cast<bool>(l);
 }
-} // namespace
 
-bool vpKinematicChainUrdf::isUrdfFile(const std::string &filename)
+// Parses the text, urdfdom's messages collected (console_bridge's handler is global: one parse at a time).
+urdf::ModelInterfaceSharedPtr parseModel(const std::string &urdf_text, const std::string &source)
 {
-  const std::string l = lower(filename);
-  return l.size() > 5 && l.compare(l.size() - 5, 5, ".urdf") == 0;
-}
-
-vpKinematicChain vpKinematicChainUrdf::load(const std::string &filename) { return load(filename, Options()); }
-
-vpKinematicChain vpKinematicChainUrdf::load(const std::string &filename, const Options &options)
-{
-  std::ifstream in(filename, std::ios::binary);
-  if (!in)
-    fail("'" + filename + "'", "cannot open the file for reading", vpSelfCalibException::ioError);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return fromString(ss.str(), options, "'" + filename + "'");
-}
-
-vpKinematicChain vpKinematicChainUrdf::fromString(const std::string &urdf_text, const Options &opt,
-                                                  const std::string &source)
-{
-  // Parse, urdfdom's messages collected (console_bridge's handler is global: one parse at a time).
   urdf::ModelInterfaceSharedPtr model;
-  {
-    static std::mutex mutex;
-    const std::lock_guard<std::mutex> lock(mutex);
-    CollectingHandler handler;
-    console_bridge::useOutputHandler(&handler);
-    try {
-      model = urdf::parseURDF(urdf_text);
-    } catch (const std::exception &e) {
-      handler.text += (handler.text.empty() ? "" : "; ") + std::string(e.what());
-      model.reset();
-    }
-    console_bridge::restorePreviousOutputHandler();
-    if (!model) {
-      if (handler.text.find("No root link") != std::string::npos)
-        fail(source, "the joints form a loop (no root link; a URDF must be a tree): " + handler.text);
-      fail(source, "malformed URDF: " + (handler.text.empty() ? std::string("urdfdom could not parse it") : handler.text));
-    }
+  static std::mutex mutex;
+  const std::lock_guard<std::mutex> lock(mutex);
+  CollectingHandler handler;
+  console_bridge::useOutputHandler(&handler);
+  try {
+    model = urdf::parseURDF(urdf_text);
+  } catch (const std::exception &e) {
+    handler.text += (handler.text.empty() ? "" : "; ") + std::string(e.what());
+    model.reset();
   }
-  // A link that is the child of two joints closes a loop (urdfdom keeps the last one silently).
+  console_bridge::restorePreviousOutputHandler();
+  if (!model) {
+    if (handler.text.find("No root link") != std::string::npos)
+      fail(source, "the joints form a loop (no root link; a URDF must be a tree): " + handler.text);
+    fail(source, "malformed URDF: " + (handler.text.empty() ? std::string("urdfdom could not parse it") : handler.text));
+  }
+  return model;
+}
+
+// A link that is the child of two joints closes a loop (urdfdom keeps the last one silently).
+void checkTree(const urdf::ModelInterface &model, const std::string &source)
+{
   std::map<std::string, std::string> parent_of;
-  for (const auto &kv : model->joints_) {
+  for (const auto &kv : model.joints_) {
     const std::string &child = kv.second->child_link_name;
     auto it = parent_of.find(child);
     if (it != parent_of.end())
@@ -403,40 +386,51 @@ vpKinematicChain vpKinematicChainUrdf::fromString(const std::string &urdf_text, 
                        kv.first + "' (a URDF must be a tree; closed chains are not supported)");
     parent_of[child] = kv.first;
   }
+}
 
-  const urdf::LinkConstSharedPtr root = model->getRoot();
-  const std::string base = opt.base_link.empty() ? root->name : opt.base_link;
-  if (!model->getLink(base))
-    fail(source, "no link named '" + base + "' (the base link)");
-
-  // Camera link and tip link.
-  std::string camera = opt.camera_link, tip = opt.tip_link;
-  std::vector<urdf::JointConstSharedPtr> path;
-  if (!camera.empty() && !model->getLink(camera))
+/*
+  The camera link and the tip link (given, or found: the "camera_optical_frame" link below the tip
+  or the base, the camera link's parent, the end of the unbranched chain from the base), checked;
+  path: the joints from the base down to the tip.
+*/
+void findLinks(const urdf::ModelInterface &model, const vpKinematicChainUrdf::Options &opt, const std::string &base,
+               const std::string &source, std::string &camera, std::string &tip,
+               std::vector<urdf::JointConstSharedPtr> &path)
+{
+  camera = opt.camera_link;
+  tip = opt.tip_link;
+  if (!camera.empty() && !model.getLink(camera))
     fail(source, "no link named '" + camera + "' (the camera link)");
-  if (camera.empty() && model->getLink("camera_optical_frame") &&
-      pathDown(*model, tip.empty() ? base : tip, "camera_optical_frame", path))
+  if (camera.empty() && model.getLink("camera_optical_frame") &&
+      pathDown(model, tip.empty() ? base : tip, "camera_optical_frame", path))
     camera = "camera_optical_frame";
   if (tip.empty()) {
     if (!camera.empty()) {
-      const urdf::JointConstSharedPtr j = model->getLink(camera)->parent_joint;
+      const urdf::JointConstSharedPtr j = model.getLink(camera)->parent_joint;
       if (!j)
         fail(source, "the camera link '" + camera + "' is the root link: give the tip link");
       tip = j->parent_link_name;
     } else {
       // The end of the unbranched chain from the base.
-      urdf::LinkConstSharedPtr l = model->getLink(base);
+      urdf::LinkConstSharedPtr l = model.getLink(base);
       while (l->child_joints.size() == 1)
-        l = model->getLink(l->child_joints[0]->child_link_name);
+        l = model.getLink(l->child_joints[0]->child_link_name);
       tip = l->name;
     }
   }
-  if (!model->getLink(tip))
+  if (!model.getLink(tip))
     fail(source, "no link named '" + tip + "' (the tip link)");
-  if (!pathDown(*model, base, tip, path))
+  if (!pathDown(model, base, tip, path))
     fail(source, "the tip link '" + tip + "' is not below the base link '" + base + "'");
+}
 
-  // The chain at q = 0.
+/*
+  The chain's revolute joints at q = 0 along path (the fixed joints folded into the next one's
+  origin); F: f to the tip link, tail: the last revolute joint's child link to the tip link.
+*/
+std::vector<ChainJoint> chainJoints(const std::vector<urdf::JointConstSharedPtr> &path, const std::string &base,
+                                    const std::string &tip, const std::string &source, Frame &F, Frame &tail)
+{
   std::vector<ChainJoint> joints;
   Frame T;     // f to the current link
   Frame since; // the last revolute joint's child link (f before the first) to the current link
@@ -473,13 +467,19 @@ vpKinematicChain vpKinematicChainUrdf::fromString(const std::string &urdf_text, 
   }
   if (joints.empty())
     fail(source, "no revolute joint between '" + base + "' and '" + tip + "'");
-  const Frame F = T, tail = since;
+  F = T;
+  tail = since;
+  return joints;
+}
 
-  // The camera: below the tip through fixed joints only.
+// The camera: below the tip through fixed joints only (opt.eMc when no camera link).
+vpPoseVector cameraPose(const urdf::ModelInterface &model, const vpKinematicChainUrdf::Options &opt,
+                        const std::string &tip, const std::string &camera, const std::string &source)
+{
   vpPoseVector eMc = opt.eMc;
   if (!camera.empty()) {
     std::vector<urdf::JointConstSharedPtr> cpath;
-    if (!pathDown(*model, tip, camera, cpath))
+    if (!pathDown(model, tip, camera, cpath))
       fail(source, "the camera link '" + camera + "' is not below the tip link '" + tip + "'");
     Frame eMc_f;
     for (const urdf::JointConstSharedPtr &j : cpath) {
@@ -490,18 +490,28 @@ vpKinematicChain vpKinematicChainUrdf::fromString(const std::string &urdf_text, 
     }
     eMc = cleanPose(toVisp(eMc_f));
   }
+  return eMc;
+}
 
-  // The table.
+// The table of the convention asked (or, automatic, the one closer to the URDF's frames).
+Table chosenTable(const std::vector<ChainJoint> &joints, const Frame &F, vpKinematicChainUrdf::Convention convention)
+{
   Table table;
-  if (opt.convention == DH || opt.convention == MDH) {
-    table = buildTable(joints, F, opt.convention == MDH);
+  if (convention == vpKinematicChainUrdf::DH || convention == vpKinematicChainUrdf::MDH) {
+    table = buildTable(joints, F, convention == vpKinematicChainUrdf::MDH);
   } else {
     const Table dh = buildTable(joints, F, false), mdh = buildTable(joints, F, true);
     table = mdh.distance < dh.distance - 1e-9 ? mdh : dh;
   }
+  return table;
+}
+
+// The table's rows, rounded, with the joints' limits; size: the table's largest length (m, at least 1).
+std::vector<vpKinematicChain::Joint> tableRows(const Table &table, const std::vector<ChainJoint> &joints, double &size)
+{
   const size_t n = joints.size();
   std::vector<vpKinematicChain::Joint> rows(n);
-  double size = 1; // m: the table's largest length, which scales the rounding of its transforms
+  size = 1; // m: the table's largest length, which scales the rounding of its transforms
   for (size_t i = 0; i < n; ++i) {
     rows[i].theta_offset = cleanAngle(table.rows[i].theta);
     rows[i].d = cleanLength(table.rows[i].d);
@@ -511,12 +521,14 @@ vpKinematicChain vpKinematicChainUrdf::fromString(const std::string &urdf_text, 
     rows[i].max = joints[i].max;
     size = std::max({size, std::fabs(rows[i].a), std::fabs(rows[i].d)});
   }
-  const vpKinematicChain chain(opt.name.empty() ? model->getName() : opt.name,
-                               table.mdh ? vpKinematicChain::MDH : vpKinematicChain::DH, rows,
-                               cleanPose(toVisp(table.frames[0])), cleanPose(toVisp(table.frames[n].inverse() * F)),
-                               eMc);
+  return rows;
+}
 
-  // The table's forward kinematics against the URDF's, at q = 0 and at another joint vector.
+// The table's forward kinematics against the URDF's, at q = 0 and at another joint vector.
+void checkForwardKinematics(const vpKinematicChain &chain, const std::vector<ChainJoint> &joints, const Frame &tail,
+                            bool mdh, double size, const std::string &source)
+{
+  const size_t n = joints.size();
   for (int k = 0; k < 2; ++k) {
     vpColVector q(static_cast<unsigned int>(n));
     Frame U;
@@ -534,11 +546,59 @@ vpKinematicChain vpKinematicChainUrdf::fromString(const std::string &urdf_text, 
         err = std::max(err, std::fabs(fMe[r][c] - fMe_urdf[r][c]));
     if (!(err < 1e-10 * size)) {
       std::ostringstream os;
-      os << "the " << (table.mdh ? "modified-DH" : "DH") << " table built from the joint axes does not reproduce the "
+      os << "the " << (mdh ? "modified-DH" : "DH") << " table built from the joint axes does not reproduce the "
          << "URDF's forward kinematics (error " << err << " for lengths up to " << size
          << " m): the axes are numerically degenerate";
       fail(source, os.str());
     }
   }
+}
+} // namespace
+
+bool vpKinematicChainUrdf::isUrdfFile(const std::string &filename)
+{
+  const std::string l = lower(filename);
+  return l.size() > 5 && l.compare(l.size() - 5, 5, ".urdf") == 0;
+}
+
+vpKinematicChain vpKinematicChainUrdf::load(const std::string &filename) { return load(filename, Options()); }
+
+vpKinematicChain vpKinematicChainUrdf::load(const std::string &filename, const Options &options)
+{
+  std::ifstream in(filename, std::ios::binary);
+  if (!in)
+    fail("'" + filename + "'", "cannot open the file for reading", vpSelfCalibException::ioError);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return fromString(ss.str(), options, "'" + filename + "'");
+}
+
+vpKinematicChain vpKinematicChainUrdf::fromString(const std::string &urdf_text, const Options &opt,
+                                                  const std::string &source)
+{
+  const urdf::ModelInterfaceSharedPtr model = parseModel(urdf_text, source);
+  checkTree(*model, source);
+
+  const urdf::LinkConstSharedPtr root = model->getRoot();
+  const std::string base = opt.base_link.empty() ? root->name : opt.base_link;
+  if (!model->getLink(base))
+    fail(source, "no link named '" + base + "' (the base link)");
+  std::string camera, tip;
+  std::vector<urdf::JointConstSharedPtr> path;
+  findLinks(*model, opt, base, source, camera, tip, path);
+
+  // The chain at q = 0, the camera below its tip, the table.
+  Frame F, tail;
+  const std::vector<ChainJoint> joints = chainJoints(path, base, tip, source, F, tail);
+  const vpPoseVector eMc = cameraPose(*model, opt, tip, camera, source);
+  const Table table = chosenTable(joints, F, opt.convention);
+  const size_t n = joints.size();
+  double size = 1;
+  const std::vector<vpKinematicChain::Joint> rows = tableRows(table, joints, size);
+  const vpKinematicChain chain(opt.name.empty() ? model->getName() : opt.name,
+                               table.mdh ? vpKinematicChain::MDH : vpKinematicChain::DH, rows,
+                               cleanPose(toVisp(table.frames[0])), cleanPose(toVisp(table.frames[n].inverse() * F)),
+                               eMc);
+  checkForwardKinematics(chain, joints, tail, table.mdh, size, source);
   return chain;
 }

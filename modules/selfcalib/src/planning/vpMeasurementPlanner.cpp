@@ -735,6 +735,160 @@ double vpMeasurementPlanner::costAndGradient(const std::vector<vpColVector> &q, 
   return c;
 }
 
+namespace
+{
+using TrajectoryOptions = vpMeasurementPlanner::TrajectoryOptions;
+
+//! The NLopt algorithm of the options' choice.
+nlopt::algorithm nloptAlgorithm(vpMeasurementPlanner::Algorithm a)
+{
+  nlopt::algorithm algo = nlopt::LD_MMA;
+  if (a == vpMeasurementPlanner::ALGO_SLSQP)
+    algo = nlopt::LD_SLSQP;
+  else if (a == vpMeasurementPlanner::ALGO_LBFGS)
+    algo = nlopt::LD_LBFGS;
+  else if (a == vpMeasurementPlanner::ALGO_BOBYQA)
+    algo = nlopt::LN_BOBYQA;
+  return algo;
+}
+
+//! The optimizer's variables: m configurations of n joints one after the other, with their bounds
+//! (the joint limits) and start (the initial configurations).
+struct JointVariables {
+  size_t m = 0, n = 0;
+  std::vector<double> lb, ub, x0;
+  std::vector<vpColVector> configurations(const std::vector<double> &x) const
+  {
+    std::vector<vpColVector> q(m, vpColVector(static_cast<unsigned int>(n)));
+    for (size_t k = 0; k < m; ++k)
+      for (unsigned int j = 0; j < n; ++j)
+        q[k][j] = x[k * n + j];
+    return q;
+  }
+};
+
+JointVariables jointVariables(const vpKinematicChain &chain, const std::vector<vpColVector> &initial)
+{
+  JointVariables v;
+  v.m = initial.size();
+  v.n = chain.getNumJoints();
+  const size_t m = v.m, n = v.n;
+  const vpColVector qmin = chain.getJointMin(), qmax = chain.getJointMax();
+  v.lb.resize(n * m);
+  v.ub.resize(n * m);
+  v.x0.resize(n * m);
+  for (size_t k = 0; k < m; ++k)
+    for (unsigned int j = 0; j < n; ++j) {
+      v.lb[k * n + j] = qmin[j];
+      v.ub[k * n + j] = qmax[j];
+      v.x0[k * n + j] = initial[k][j];
+    }
+  return v;
+}
+
+//! The optimizer of one start: bounds, objective, tolerance and evaluation budget.
+void configureOptimizer(nlopt::opt &opt, nlopt::algorithm algo, const JointVariables &v, nlopt::vfunc objective,
+                        void *data, const TrajectoryOptions &o)
+{
+  opt.set_lower_bounds(v.lb);
+  opt.set_upper_bounds(v.ub);
+  opt.set_min_objective(objective, data);
+  opt.set_ftol_rel(o.relative_tolerance);
+  opt.set_maxeval(static_cast<int>(o.max_evaluations));
+  if (algo == nlopt::LN_BOBYQA)
+    opt.set_initial_step(0.02);
+}
+
+/*
+  A plan's configurations are valid: the view valid (scene margin) through the nominal model, the
+  configurations min_joint_distance apart, and the view valid through every sampled model.
+*/
+bool isFeasible(const vpMeasurementPlanner &planner, const std::vector<vpColVector> &q, const TrajectoryOptions &o,
+                double margin)
+{
+  const size_t m = q.size();
+  bool feasible = true;
+  for (size_t k = 0; k < m && feasible; ++k)
+    feasible = planner.isVisible(q[k], margin);
+  // Distinct at the checked distance (the penalty's hinge is joint_distance_margin beyond it).
+  for (size_t k = 0; k < m && feasible; ++k)
+    for (size_t l = k + 1; l < m && feasible; ++l)
+      feasible = (q[k] - q[l]).frobeniusNorm() >= o.min_joint_distance;
+  // Robust: visible through every model sampled from the nominal model's tolerance.
+  feasible = feasible && planner.robustFailures(q, o) == 0;
+  return feasible;
+}
+
+//! Why no start gave a valid plan (q: the best of them); robust_failures: its failures through the
+//! sampled models.
+std::string infeasibleMessage(const vpMeasurementPlanner &planner, const std::vector<vpColVector> &q,
+                              const TrajectoryOptions &o, double margin, unsigned int &robust_failures)
+{
+  const size_t m = q.size();
+  std::ostringstream os;
+  os << "no start ended with a valid view (margin " << margin
+     << " px) at every configuration through the nominal model and the " << o.robust_samples
+     << " models sampled from its tolerance, and configurations " << o.min_joint_distance
+     << " rad apart; first violation at configuration ";
+  size_t k = 0;
+  while (k < m && planner.isVisible(q[k], margin))
+    ++k;
+  std::string why;
+  robust_failures = planner.robustFailures(q, o, &why);
+  if (k < m)
+    os << k;
+  else if (robust_failures)
+    os << "(sampled models: " << why << ")";
+  else
+    os << "(joint distance)";
+  os << " (the scene may be out of reach or wider than the field of view; planning margin "
+     << o.planning_margin << " px)";
+  return os.str();
+}
+
+//! The information of each candidate's pair with the reference pool[0]; usable: not the reference
+//! itself nor a pure rotation about the optical centre.
+void pairInformation(const vpKinematicChain &chain, const std::vector<unsigned int> &identified,
+                     const std::vector<vpColVector> &pool, const vpMeasurementPlanner::SelectionOptions &o,
+                     std::vector<Eigen::MatrixXd> &info, std::vector<bool> &usable)
+{
+  const PoseKin P0 = poseKin(chain, identified, pool[0]);
+  info.assign(pool.size(), Eigen::MatrixXd());
+  usable.assign(pool.size(), false);
+  for (size_t i = 1; i < pool.size(); ++i) {
+    const Block b = pairBlock(poseKin(chain, identified, pool[i]), P0);
+    if (!(b.t.norm() > 1e-9))
+      continue; // the reference itself, or a pure rotation about the optical centre
+    const Eigen::MatrixXd rows = weightedRows(b, o.direction_sd, o.rotation_sd);
+    info[i] = rows.transpose() * rows;
+    usable[i] = true;
+  }
+}
+
+/*
+  The score of a selection of information I over its pairs: full rank sets by the index, the others
+  (only during the first additions) by log det(I + info / eps), which favours what fills the most
+  new directions.
+*/
+std::pair<double, double> selectionScore(const Eigen::MatrixXd &I, unsigned int pairs, vpMeasurementPlanner::Index index)
+{
+  const std::vector<double> s = singularValuesOfInformation(I);
+  const double smax = *std::max_element(s.begin(), s.end()), smin = *std::min_element(s.begin(), s.end());
+  if (smin > smax * 1e-9)
+    return std::make_pair(1.0, indexValue(vpObservabilityIndices::fromSingularValues(s, pairs), index));
+  double ld = 0;
+  for (double v : s)
+    ld += std::log1p(v * v / (1e-6 * smax * smax + 1e-300));
+  return std::make_pair(0.0, ld);
+}
+
+//! Lexicographic (full rank first), with a relative tolerance so that round-off cannot cycle.
+bool betterScore(const std::pair<double, double> &a, const std::pair<double, double> &b)
+{
+  return a.first > b.first || (a.first == b.first && a.second > b.second + 1e-9 * std::fabs(b.second));
+}
+} // namespace
+
 vpMeasurementPlanner::Result vpMeasurementPlanner::planTrajectory(const std::vector<vpColVector> &initial) const
 {
   return planTrajectory(initial, TrajectoryOptions());
@@ -754,7 +908,7 @@ vpMeasurementPlanner::Result vpMeasurementPlanner::planTrajectory(const std::vec
   Result res;
   res.planning_margin = o.planning_margin;
   res.configurations = initial;
-  const size_t m = initial.size(), n = m_chain.getNumJoints();
+  const size_t m = initial.size();
   if (m < 2 || 6 * (m - 1) <= m_identified.size()) {
     res.status = TOO_FEW_CONFIGURATIONS;
     res.message = std::to_string(m) + " configurations give " + std::to_string(6 * (m > 0 ? m - 1 : 0)) +
@@ -766,21 +920,8 @@ vpMeasurementPlanner::Result vpMeasurementPlanner::planTrajectory(const std::vec
   evaluate(initial, o, &res.before, nullptr);
   res.observability_before = observability(initial, o.direction_sd, o.rotation_sd);
 
-  const vpColVector qmin = m_chain.getJointMin(), qmax = m_chain.getJointMax();
-  std::vector<double> lb(n * m), ub(n * m), x0(n * m);
-  for (size_t k = 0; k < m; ++k)
-    for (unsigned int j = 0; j < n; ++j) {
-      lb[k * n + j] = qmin[j];
-      ub[k * n + j] = qmax[j];
-      x0[k * n + j] = initial[k][j];
-    }
-  auto toConfigurations = [&](const std::vector<double> &x) {
-    std::vector<vpColVector> q(m, vpColVector(static_cast<unsigned int>(n)));
-    for (size_t k = 0; k < m; ++k)
-      for (unsigned int j = 0; j < n; ++j)
-        q[k][j] = x[k * n + j];
-    return q;
-  };
+  const JointVariables vars = jointVariables(m_chain, initial);
+  auto toConfigurations = [&](const std::vector<double> &x) { return vars.configurations(x); };
   struct Context {
     const vpMeasurementPlanner *self;
     const TrajectoryOptions *o;
@@ -792,13 +933,7 @@ vpMeasurementPlanner::Result vpMeasurementPlanner::planTrajectory(const std::vec
     ++c->evaluations;
     return c->self->evaluate(c->unpack(x), *c->o, nullptr, grad.empty() ? nullptr : &grad);
   };
-  nlopt::algorithm algo = nlopt::LD_MMA;
-  if (o.algorithm == ALGO_SLSQP)
-    algo = nlopt::LD_SLSQP;
-  else if (o.algorithm == ALGO_LBFGS)
-    algo = nlopt::LD_LBFGS;
-  else if (o.algorithm == ALGO_BOBYQA)
-    algo = nlopt::LN_BOBYQA;
+  const nlopt::algorithm algo = nloptAlgorithm(o.algorithm);
 
   Random rng(o.seed, kMultistart);
   bool have_feasible = false, have_any = false;
@@ -808,18 +943,12 @@ vpMeasurementPlanner::Result vpMeasurementPlanner::planTrajectory(const std::vec
   for (unsigned int s = 0; s <= o.multistart; ++s) {
     if (progress)
       progress("trajectory optimization", s, o.multistart + 1);
-    std::vector<double> x = x0;
+    std::vector<double> x = vars.x0;
     if (s > 0)
       for (size_t i = 0; i < x.size(); ++i)
-        x[i] = std::min(ub[i], std::max(lb[i], x[i] + rng.normal(o.multistart_sd)));
+        x[i] = std::min(vars.ub[i], std::max(vars.lb[i], x[i] + rng.normal(o.multistart_sd)));
     nlopt::opt opt(algo, static_cast<unsigned int>(x.size()));
-    opt.set_lower_bounds(lb);
-    opt.set_upper_bounds(ub);
-    opt.set_min_objective(objective, &ctx);
-    opt.set_ftol_rel(o.relative_tolerance);
-    opt.set_maxeval(static_cast<int>(o.max_evaluations));
-    if (algo == nlopt::LN_BOBYQA)
-      opt.set_initial_step(0.02);
+    configureOptimizer(opt, algo, vars, objective, &ctx, o);
     double f = 0;
     try {
       opt.optimize(x, f);
@@ -833,15 +962,7 @@ vpMeasurementPlanner::Result vpMeasurementPlanner::planTrajectory(const std::vec
     const std::vector<vpColVector> q = toConfigurations(x);
     CostTerms t;
     evaluate(q, o, &t, nullptr);
-    bool feasible = true;
-    for (size_t k = 0; k < m && feasible; ++k)
-      feasible = isVisible(q[k], m_scene.margin);
-    // Distinct at the checked distance (the penalty's hinge is joint_distance_margin beyond it).
-    for (size_t k = 0; k < m && feasible; ++k)
-      for (size_t l = k + 1; l < m && feasible; ++l)
-        feasible = (q[k] - q[l]).frobeniusNorm() >= o.min_joint_distance;
-    // Robust: visible through every model sampled from the nominal model's tolerance.
-    feasible = feasible && robustFailures(q, o) == 0;
+    const bool feasible = isFeasible(*this, q, o, m_scene.margin);
     // A feasible plan beats any infeasible one; among equals the lower cost wins.
     if (!have_any || (feasible && !have_feasible) || (feasible == have_feasible && t.total < best)) {
       best = t.total;
@@ -856,26 +977,7 @@ vpMeasurementPlanner::Result vpMeasurementPlanner::planTrajectory(const std::vec
     res.message = "the optimizer failed on every start: " + last_error;
   } else if (!have_feasible) {
     res.status = INFEASIBLE;
-    const std::vector<vpColVector> q = toConfigurations(best_x);
-    std::ostringstream os;
-    os << "no start ended with a valid view (margin " << m_scene.margin
-       << " px) at every configuration through the nominal model and the " << o.robust_samples
-       << " models sampled from its tolerance, and configurations " << o.min_joint_distance
-       << " rad apart; first violation at configuration ";
-    size_t k = 0;
-    while (k < m && isVisible(q[k], m_scene.margin))
-      ++k;
-    std::string why;
-    res.robust_failures = robustFailures(q, o, &why);
-    if (k < m)
-      os << k;
-    else if (res.robust_failures)
-      os << "(sampled models: " << why << ")";
-    else
-      os << "(joint distance)";
-    os << " (the scene may be out of reach or wider than the field of view; planning margin "
-       << o.planning_margin << " px)";
-    res.message = os.str();
+    res.message = infeasibleMessage(*this, toConfigurations(best_x), o, m_scene.margin, res.robust_failures);
   } else {
     res.status = OK;
     res.configurations = toConfigurations(best_x);
@@ -922,29 +1024,10 @@ vpMeasurementPlanner::Result vpMeasurementPlanner::selectObservable(const std::v
     return res;
   }
   // Information of each candidate's pair with the reference pool[0].
-  const PoseKin P0 = poseKin(m_chain, m_identified, pool[0]);
-  std::vector<Eigen::MatrixXd> info(pool.size());
-  std::vector<bool> usable(pool.size(), false);
-  for (size_t i = 1; i < pool.size(); ++i) {
-    const Block b = pairBlock(poseKin(m_chain, m_identified, pool[i]), P0);
-    if (!(b.t.norm() > 1e-9))
-      continue; // the reference itself, or a pure rotation about the optical centre
-    const Eigen::MatrixXd rows = weightedRows(b, o.direction_sd, o.rotation_sd);
-    info[i] = rows.transpose() * rows;
-    usable[i] = true;
-  }
-  // Score: full rank sets by the index, the others (only during the first additions) by
-  // log det(I + info / eps), which favours what fills the most new directions.
-  auto score = [&](const Eigen::MatrixXd &I, unsigned int pairs) {
-    const std::vector<double> s = singularValuesOfInformation(I);
-    const double smax = *std::max_element(s.begin(), s.end()), smin = *std::min_element(s.begin(), s.end());
-    if (smin > smax * 1e-9)
-      return std::make_pair(1.0, indexValue(vpObservabilityIndices::fromSingularValues(s, pairs), o.index));
-    double ld = 0;
-    for (double v : s)
-      ld += std::log1p(v * v / (1e-6 * smax * smax + 1e-300));
-    return std::make_pair(0.0, ld);
-  };
+  std::vector<Eigen::MatrixXd> info;
+  std::vector<bool> usable;
+  pairInformation(m_chain, m_identified, pool, o, info, usable);
+  auto score = [&](const Eigen::MatrixXd &I, unsigned int pairs) { return selectionScore(I, pairs, o.index); };
   auto distance = [&](size_t a, size_t b) { return (pool[a] - pool[b]).frobeniusNorm(); };
   std::vector<size_t> sel = {0};
   Eigen::MatrixXd I = Eigen::MatrixXd::Zero(K, K);
@@ -955,10 +1038,6 @@ vpMeasurementPlanner::Result vpMeasurementPlanner::selectObservable(const std::v
     return false;
   };
   auto taken = [&](size_t c) { return std::find(sel.begin(), sel.end(), c) != sel.end(); };
-  // Lexicographic (full rank first), with a relative tolerance so that round-off cannot cycle.
-  auto better = [](const std::pair<double, double> &a, const std::pair<double, double> &b) {
-    return a.first > b.first || (a.first == b.first && a.second > b.second + 1e-9 * std::fabs(b.second));
-  };
   // Greedy additions.
   while (sel.size() < m) {
     if (progress)
@@ -969,7 +1048,7 @@ vpMeasurementPlanner::Result vpMeasurementPlanner::selectObservable(const std::v
       if (!usable[c] || taken(c) || tooClose(c, sel, sel.size()))
         continue;
       const auto sc = score(I + info[c], static_cast<unsigned int>(sel.size()));
-      if (better(sc, best_score)) {
+      if (betterScore(sc, best_score)) {
         best_score = sc;
         best = c;
       }
@@ -997,7 +1076,7 @@ vpMeasurementPlanner::Result vpMeasurementPlanner::selectObservable(const std::v
         if (!usable[c] || taken(c) || tooClose(c, sel, k))
           continue;
         const auto sc = score(I - info[sel[k]] + info[c], m - 1);
-        if (better(sc, best_score)) {
+        if (betterScore(sc, best_score)) {
           best_score = sc;
           best_out = k;
           best_in = c;

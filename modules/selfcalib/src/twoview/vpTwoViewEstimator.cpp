@@ -94,6 +94,103 @@ bool homographyExplains(const std::vector<vpImagePoint> &p1, const std::vector<v
     R = -R;
   return true;
 }
+
+/*
+  Planar scene, known intrinsics: the five-point solver (valid for planes), then the refinement with
+  f fixed. Classic RANSAC, not USAC: OpenCV 4.6's USAC essential matrix on this planar scene returns a
+  wrong pose (0.1-0.3 rad of rotation error on TwoView.PlanarSceneIsReported..., with or without
+  local optimisation: its final least-squares polish of E on all inliers is rank-deficient on a
+  plane), where the classic five-point RANSAC recovers it to 1e-6. So this call takes no seed: it is
+  deterministic with OpenCV's fixed seed (the classic RANSAC draws from RNG((uint64)-1) created in
+  each call, calib3d's ptsetreg.cpp) and thread-safe. False (message set) when the solver fails.
+*/
+bool fivePointPose(const std::vector<vpImagePoint> &a, const std::vector<vpImagePoint> &b,
+                   const vpTwoViewEstimator::Options &o, vpTwoViewEstimator::Result &res)
+{
+  const cv::Mat K = (cv::Mat_<double>(3, 3) << o.fx, 0, o.u0, 0, o.mu * o.fx, o.v0, 0, 0, 1);
+  cv::Mat mask, R, t;
+  const cv::Mat E = cv::findEssentialMat(toCv(a), toCv(b), K, cv::RANSAC, o.ransac.confidence,
+                                         o.ransac.inlier_threshold, mask);
+  if (E.empty() || E.rows != 3 || cv::recoverPose(E(cv::Rect(0, 0, 3, 3)), toCv(a), toCv(b), K, R, t, mask) == 0) {
+    res.message = "planar scene and the five-point solver failed";
+    return false;
+  }
+  Rigid M;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j)
+      M.R(i, j) = R.at<double>(i, j);
+    M.t(i) = t.at<double>(i);
+  }
+  res.c2Mc1 = toVisp(M);
+  res.fx = o.fx;
+  res.message = "the scene is (nearly) planar: pose from the five-point solver with the known focal length";
+  return true;
+}
+
+/*
+  General scene: the focal length (given, or from F) and the factor method's pose. False (status
+  FOCAL_UNOBSERVABLE) when F does not give the focal length.
+*/
+bool factorPose(const vpMatrix &F, const std::vector<vpImagePoint> &a, const std::vector<vpImagePoint> &b,
+                const vpTwoViewEstimator::Options &o, bool known, vpTwoViewEstimator::Result &res)
+{
+  double f = o.fx;
+  if (!known) {
+    const vpFocalFromFundamental::Result fo =
+        vpFocalFromFundamental::estimate(F, o.u0, o.v0, o.mu, o.fx, o.min_coplanarity);
+    if (fo.status != vpFocalFromFundamental::OK) {
+      // Report it, with the pose computed from the initial guess so that a caller can still use it
+      // (for example as the start of a shared-focal estimate).
+      const vpFactorMethod::Result fm = vpFactorMethod::estimate(F, o.fx, o.u0, o.v0, o.mu, a, b);
+      res.c2Mc1 = fm.c2Mc1;
+      res.fx = 0;
+      res.status = vpTwoViewEstimator::FOCAL_UNOBSERVABLE;
+      res.message = fo.message + "; the pose was computed with the initial guess fx = " + std::to_string(o.fx);
+      return false;
+    }
+    f = fo.fx;
+  }
+  const vpFactorMethod::Result fm = vpFactorMethod::estimate(F, f, o.u0, o.v0, o.mu, a, b);
+  res.c2Mc1 = fm.c2Mc1;
+  res.fx = f;
+  res.status = vpTwoViewEstimator::OK;
+  res.message = "ok";
+  return true;
+}
+
+/*
+  The refined factor method from the pose found (f fixed when known); a focal length it does not
+  determine is FOCAL_UNOBSERVABLE. False (status NO_CONVERGENCE) when it does not converge.
+*/
+bool refinePose(const std::vector<vpImagePoint> &a, const std::vector<vpImagePoint> &b,
+                const vpTwoViewEstimator::Options &o, bool known, vpTwoViewEstimator::Result &res)
+{
+  vpRefinedFactorMethod::Options ro;
+  ro.focal_mode = known ? vpRefinedFactorMethod::KNOWN : vpRefinedFactorMethod::PER_PAIR;
+  ro.u0 = o.u0;
+  ro.v0 = o.v0;
+  ro.mu = o.mu;
+  ro.huber = o.huber;
+  vpRefinedFactorMethod::Pair pair{a, b, res.c2Mc1};
+  const vpRefinedFactorMethod::Result rr = vpRefinedFactorMethod::refine({pair}, res.fx, ro);
+  if (!rr.converged) {
+    res.status = vpTwoViewEstimator::NO_CONVERGENCE;
+    res.message = "refined factor method: " + rr.message;
+    return false;
+  }
+  res.c2Mc1 = rr.c2Mc1[0];
+  res.fx = rr.fx;
+  res.fx_sd = rr.fx_sd;
+  if (!known && !(res.fx_sd <= o.max_fx_relative_sd * res.fx)) {
+    res.status = vpTwoViewEstimator::FOCAL_UNOBSERVABLE;
+    std::ostringstream os;
+    os << "f_x = " << res.fx << " px with standard deviation " << res.fx_sd
+       << " px: this pair does not determine the focal length (optical axes nearly meet); "
+          "use a known or shared focal length";
+    res.message = os.str();
+  }
+  return true;
+}
 } // namespace
 
 const char *vpTwoViewEstimator::statusName(Status s)
@@ -173,30 +270,8 @@ vpTwoViewEstimator::Result vpTwoViewEstimator::estimate(const std::vector<vpImag
                     "cannot be self-calibrated from this pair (give it, or use a non-planar scene)";
       return res;
     }
-    // Known intrinsics: five-point solver (valid for planes), then the refinement with f fixed.
-    // Classic RANSAC, not USAC: OpenCV 4.6's USAC essential matrix on this planar scene returns a
-    // wrong pose (0.1-0.3 rad of rotation error on TwoView.PlanarSceneIsReported..., with or
-    // without local optimisation: its final least-squares polish of E on all inliers is
-    // rank-deficient on a plane), where the classic five-point RANSAC recovers it to 1e-6. So this
-    // call takes no seed: it is deterministic with OpenCV's fixed seed (the classic RANSAC draws
-    // from RNG((uint64)-1) created in each call, calib3d's ptsetreg.cpp) and thread-safe.
-    const cv::Mat K = (cv::Mat_<double>(3, 3) << o.fx, 0, o.u0, 0, o.mu * o.fx, o.v0, 0, 0, 1);
-    cv::Mat mask, R, t;
-    const cv::Mat E = cv::findEssentialMat(toCv(a), toCv(b), K, cv::RANSAC, o.ransac.confidence,
-                                           o.ransac.inlier_threshold, mask);
-    if (E.empty() || E.rows != 3 || cv::recoverPose(E(cv::Rect(0, 0, 3, 3)), toCv(a), toCv(b), K, R, t, mask) == 0) {
-      res.message = "planar scene and the five-point solver failed";
+    if (!fivePointPose(a, b, o, res))
       return res;
-    }
-    Rigid M;
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j)
-        M.R(i, j) = R.at<double>(i, j);
-      M.t(i) = t.at<double>(i);
-    }
-    res.c2Mc1 = toVisp(M);
-    res.fx = o.fx;
-    res.message = "the scene is (nearly) planar: pose from the five-point solver with the known focal length";
   } else {
     if (fr.status != vpFundamentalMatrix::OK) {
       res.status = TOO_FEW_POINTS;
@@ -207,55 +282,11 @@ vpTwoViewEstimator::Result vpTwoViewEstimator::estimate(const std::vector<vpImag
     res.inliers = fr.inliers;
     res.num_inliers = fr.num_inliers;
     select(p1, p2, fr.inliers, a, b);
-    // Focal length.
-    double f = o.fx;
-    if (!known) {
-      const vpFocalFromFundamental::Result fo =
-          vpFocalFromFundamental::estimate(fr.F, o.u0, o.v0, o.mu, o.fx, o.min_coplanarity);
-      if (fo.status != vpFocalFromFundamental::OK) {
-        // Report it, with the pose computed from the initial guess so that a caller can still use it
-        // (for example as the start of a shared-focal estimate).
-        const vpFactorMethod::Result fm = vpFactorMethod::estimate(fr.F, o.fx, o.u0, o.v0, o.mu, a, b);
-        res.c2Mc1 = fm.c2Mc1;
-        res.fx = 0;
-        res.status = FOCAL_UNOBSERVABLE;
-        res.message = fo.message + "; the pose was computed with the initial guess fx = " + std::to_string(o.fx);
-        return res;
-      }
-      f = fo.fx;
-    }
-    const vpFactorMethod::Result fm = vpFactorMethod::estimate(fr.F, f, o.u0, o.v0, o.mu, a, b);
-    res.c2Mc1 = fm.c2Mc1;
-    res.fx = f;
-    res.status = OK;
-    res.message = "ok";
-  }
-  if (o.refine) {
-    vpRefinedFactorMethod::Options ro;
-    ro.focal_mode = known ? vpRefinedFactorMethod::KNOWN : vpRefinedFactorMethod::PER_PAIR;
-    ro.u0 = o.u0;
-    ro.v0 = o.v0;
-    ro.mu = o.mu;
-    ro.huber = o.huber;
-    vpRefinedFactorMethod::Pair pair{a, b, res.c2Mc1};
-    const vpRefinedFactorMethod::Result rr = vpRefinedFactorMethod::refine({pair}, res.fx, ro);
-    if (!rr.converged) {
-      res.status = NO_CONVERGENCE;
-      res.message = "refined factor method: " + rr.message;
+    if (!factorPose(fr.F, a, b, o, known, res))
       return res;
-    }
-    res.c2Mc1 = rr.c2Mc1[0];
-    res.fx = rr.fx;
-    res.fx_sd = rr.fx_sd;
-    if (!known && !(res.fx_sd <= o.max_fx_relative_sd * res.fx)) {
-      res.status = FOCAL_UNOBSERVABLE;
-      std::ostringstream os;
-      os << "f_x = " << res.fx << " px with standard deviation " << res.fx_sd
-         << " px: this pair does not determine the focal length (optical axes nearly meet); "
-            "use a known or shared focal length";
-      res.message = os.str();
-    }
   }
+  if (o.refine && !refinePose(a, b, o, known, res))
+    return res;
   res.rms = vpRefinedFactorMethod::rmsSymmetricEpipolarDistance(res.c2Mc1, res.fx, o.u0, o.v0, o.mu, a, b);
   return res;
 }
