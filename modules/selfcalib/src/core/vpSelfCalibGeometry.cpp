@@ -99,6 +99,58 @@ bool triangulateMidpoint(const std::vector<Ray> &rays, Eigen::Vector3d &X)
   return true;
 }
 
+void PointViews::add(const Rigid &fMc, const CameraModel &camera, const Eigen::Vector2d &pixel)
+{
+  uv.push_back(pixel);
+  rays.push_back(rayThrough(fMc, camera, pixel));
+  cMf.push_back(fMc.inverse());
+}
+
+namespace
+{
+// Triangulation::LINEAR_DLT (see there).
+bool triangulateLinear(const CameraModel &camera, const PointViews &views, Eigen::Vector3d &X)
+{
+  if (views.cMf.size() != 2 || views.uv.size() != 2)
+    return false;
+  cv::Mat P[2];
+  std::vector<cv::Point2d> x[2];
+  for (int k = 0; k < 2; ++k) {
+    P[k].create(3, 4, CV_64F);
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c)
+        P[k].at<double>(r, c) = views.cMf[static_cast<size_t>(k)].R(r, c);
+      P[k].at<double>(r, 3) = views.cMf[static_cast<size_t>(k)].t(r);
+    }
+    const Eigen::Vector2d xy = camera.unproject(views.uv[static_cast<size_t>(k)]);
+    x[k].emplace_back(xy(0), xy(1));
+  }
+  cv::Mat H;
+  cv::triangulatePoints(P[0], P[1], x[0], x[1], H);
+  const double w = H.at<double>(3, 0);
+  X = Eigen::Vector3d(H.at<double>(0, 0), H.at<double>(1, 0), H.at<double>(2, 0)) / w;
+  if (!X.allFinite())
+    return false;
+  for (const Rigid &cMf : views.cMf)
+    if (!((cMf * X).z() > 0))
+      return false;
+  return true;
+}
+} // namespace
+
+bool triangulate(const CameraModel &camera, const PointViews &views, Triangulation method, Eigen::Vector3d &X)
+{
+  switch (method) {
+  case Triangulation::MIDPOINT:
+    return triangulateMidpoint(views.rays, X);
+  case Triangulation::MIDPOINT_REFINED:
+    return triangulateMidpoint(views.rays, X) && refineTriangulation(camera, views.cMf, views.uv, X);
+  case Triangulation::LINEAR_DLT:
+    return triangulateLinear(camera, views, X);
+  }
+  return false;
+}
+
 /*
   Ceres' TinySolver (dense Levenberg-Marquardt, no problem or program to build) on the residuals
   of `Residuals` over N unknowns x, as solverOptions(50, true): converged to the last digits (the

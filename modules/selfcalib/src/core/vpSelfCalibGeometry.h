@@ -36,6 +36,41 @@ Ray rayThrough(const Rigid &fMc, const CameraModel &camera, const Eigen::Vector2
 bool triangulateMidpoint(const std::vector<Ray> &rays, Eigen::Vector3d &X);
 
 /*!
+  One scene point's views for triangulate(): per view, the ray through the pixel (frame f), the
+  camera pose cMf and the pixel uv. add() fills the three; LINEAR_DLT reads cMf and uv only.
+*/
+struct PointViews {
+  std::vector<Ray> rays;
+  std::vector<Rigid> cMf;
+  std::vector<Eigen::Vector2d> uv;
+  //! The view of a camera at fMc that sees the point at pixel `pixel`.
+  void add(const Rigid &fMc, const CameraModel &camera, const Eigen::Vector2d &pixel);
+};
+
+//! How triangulate() finds the point of its views.
+enum class Triangulation {
+  //! triangulateMidpoint() on the rays.
+  MIDPOINT,
+  //! triangulateMidpoint(), then refineTriangulation() on the reprojection error.
+  MIDPOINT_REFINED,
+  /*!
+    Linear DLT of exactly two views (OpenCV's triangulatePoints: the null vector of the 4 x 4 system
+    of the projection matrices [R t] of cMf, by SVD) on the pixels' normalized coordinates
+    (CameraModel::unproject), the homogeneous solution divided by its last coordinate. X is set
+    whatever the result (the scale's finite differences read it); false when X is not finite or
+    not in front of both cameras (z > 0 in each).
+  */
+  LINEAR_DLT
+};
+
+/*!
+  The multi-ray triangulation every layer uses: the point X (frame f) of a scene point's views by
+  `method`. False when fewer than two views are given, or as the method says (parallel rays, a
+  point behind a camera, an unusable refinement); X may be written even then.
+*/
+bool triangulate(const CameraModel &camera, const PointViews &views, Triangulation method, Eigen::Vector3d &X);
+
+/*!
   Refines X (frame f) on the reprojection error of its observations uv[i] in cameras cMf[i], by
   Ceres' TinySolver. False when the solve is not usable, X is not finite or not in front of every camera.
 */

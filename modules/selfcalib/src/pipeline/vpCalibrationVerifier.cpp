@@ -7,11 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <set>
 
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
-#include "vpSelfCalibPipelines.h"
 #include "../core/vpSelfCalibRange.h"
 
 using namespace vpSelfCalib;
@@ -29,17 +29,15 @@ vpHomogeneousMatrix vpCalibrationVerifier::cameraPose(const vpKinematicChain &mo
 
 namespace
 {
-struct Seen {
-  std::vector<Ray> rays;
-  std::vector<Rigid> cMf;
-  std::vector<Eigen::Vector2d> uv;
+// A point's views, and the dataset's view of each.
+struct Seen : PointViews {
   std::vector<size_t> view;
 };
 
 // The point of the rays: midpoint, then reprojection error minimized; false behind a camera.
 bool pointOf(const CameraModel &camera, const Seen &s, Eigen::Vector3d &X)
 {
-  return s.rays.size() >= 2 && triangulateMidpoint(s.rays, X) && refineTriangulation(camera, s.cMf, s.uv, X);
+  return triangulate(camera, s, Triangulation::MIDPOINT_REFINED, X);
 }
 
 // Largest coordinate error of each observation of a point.
@@ -76,9 +74,7 @@ std::map<int, vpColVector> robustTriangulation(const vpKinematicChain &model, co
     const Rigid fMc = rigidFromVisp(vpCalibrationVerifier::cameraPose(model, views[k]));
     for (const auto &o : views[k].points) {
       Seen &s = seen[o.id];
-      s.uv.emplace_back(o.ip.get_u(), o.ip.get_v());
-      s.rays.push_back(rayThrough(fMc, camera, s.uv.back()));
-      s.cMf.push_back(fMc.inverse());
+      s.add(fMc, camera, Eigen::Vector2d(o.ip.get_u(), o.ip.get_v()));
       s.view.push_back(k);
     }
   }

@@ -434,23 +434,14 @@ PredictedStart predictedStart(const std::vector<View> &views, const std::vector<
 std::map<int, Eigen::Vector3d> triangulateViews(const std::vector<View> &views, const std::vector<Rigid> &fMc,
                                                 const CameraModel &camera)
 {
-  struct Seen {
-    std::vector<Ray> rays;
-    std::vector<Rigid> cMf;
-    std::vector<Eigen::Vector2d> uv;
-  };
-  std::map<int, Seen> seen;
+  std::map<int, PointViews> seen;
   for (size_t k = 0; k < views.size(); ++k)
-    for (const auto &o : views[k].points) {
-      Seen &s = seen[o.id];
-      s.uv.emplace_back(o.ip.get_u(), o.ip.get_v());
-      s.rays.push_back(rayThrough(fMc[k], camera, s.uv.back()));
-      s.cMf.push_back(fMc[k].inverse());
-    }
+    for (const auto &o : views[k].points)
+      seen[o.id].add(fMc[k], camera, Eigen::Vector2d(o.ip.get_u(), o.ip.get_v()));
   std::map<int, Eigen::Vector3d> out;
   for (const auto &kv : seen) {
     Eigen::Vector3d X;
-    if (triangulateMidpoint(kv.second.rays, X) && refineTriangulation(camera, kv.second.cMf, kv.second.uv, X))
+    if (triangulate(camera, kv.second, Triangulation::MIDPOINT_REFINED, X))
       out[kv.first] = X;
   }
   return out;

@@ -12,9 +12,9 @@
 
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
-#include <opencv2/calib3d.hpp>
 
 #include "../core/vpSelfCalibCeres.h"
+#include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibRange.h"
 
@@ -142,30 +142,27 @@ struct Intrinsics {
     K << fx, 0, u0, 0, mu * fx, v0, 0, 0, 1;
     return K.inverse();
   }
-  cv::Point2d normalize(double u, double v) const { return cv::Point2d((u - u0) / fx, (v - v0) / (mu * fx)); }
 };
 
-// Yardstick length with the unit translation, from ends (u, v) x 4 = a1, b1, a2, b2; false when the
-// ends do not triangulate in front of both cameras.
+// Yardstick length with the unit translation, from ends (u, v) x 4 = a1, b1, a2, b2, each end
+// triangulated by the linear DLT of the two views (camera 2 at x2 = R x1 + t); false when the ends
+// do not triangulate in front of both cameras. l and ends are set in any case.
 bool unitLength(const Eigen::Matrix3d &R, const Eigen::Vector3d &t, const double *px, const Intrinsics &k, double &l,
                 Eigen::Vector3d *ends = nullptr)
 {
-  const std::vector<cv::Point2d> x1 = {k.normalize(px[0], px[1]), k.normalize(px[2], px[3])},
-                                 x2 = {k.normalize(px[4], px[5]), k.normalize(px[6], px[7])};
-  cv::Mat P1 = cv::Mat::eye(3, 4, CV_64F), P2(3, 4, CV_64F), X;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c)
-      P2.at<double>(r, c) = R(r, c);
-    P2.at<double>(r, 3) = t(r);
-  }
-  cv::triangulatePoints(P1, P2, x1, x2, X);
+  const double in[4] = {k.fx, k.mu, k.u0, k.v0};
+  const CameraModel camera(Distortion::NONE, in);
+  Rigid c2Mc1;
+  c2Mc1.R = R;
+  c2Mc1.t = t;
   Eigen::Vector3d E[2];
   bool front = true;
   for (int e = 0; e < 2; ++e) {
-    const double w = X.at<double>(3, e);
-    E[e] = Eigen::Vector3d(X.at<double>(0, e), X.at<double>(1, e), X.at<double>(2, e)) / w;
-    const Eigen::Vector3d in2 = R * E[e] + t;
-    front = front && std::isfinite(E[e].z()) && E[e].z() > 0 && in2.z() > 0;
+    PointViews views;
+    views.cMf = {Rigid(), c2Mc1};
+    views.uv = {Eigen::Vector2d(px[2 * e], px[2 * e + 1]), Eigen::Vector2d(px[4 + 2 * e], px[5 + 2 * e])};
+    const bool ok = triangulate(camera, views, Triangulation::LINEAR_DLT, E[e]);
+    front = front && ok;
   }
   l = (E[0] - E[1]).norm();
   if (ends) {

@@ -4,9 +4,13 @@
 #include <visp3/selfcalib/vpFundamentalMatrix.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 #include <Eigen/SVD>
+
+#include <opencv2/calib3d.hpp>
 
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibRansac.h"
@@ -35,6 +39,71 @@ bool normalization(const std::vector<vpImagePoint> &p, Eigen::Matrix3d &T)
   T << s, 0, -s * cu, 0, s, -s * cv, 0, 0, 1;
   return true;
 }
+
+//! The pixels as OpenCV's float points.
+std::vector<cv::Point2f> toCvPoints(const std::vector<vpImagePoint> &p)
+{
+  std::vector<cv::Point2f> out;
+  out.reserve(p.size());
+  for (const vpImagePoint &ip : p)
+    out.emplace_back(static_cast<float>(ip.get_u()), static_cast<float>(ip.get_v()));
+  return out;
+}
+
+//! A 3 x 3 OpenCV matrix of doubles as a vpMatrix; false when it is not 3 x 3.
+bool fromCvMatrix(const cv::Mat &M, vpMatrix &F)
+{
+  if (M.rows != 3 || M.cols != 3)
+    return false;
+  F.resize(3, 3);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 3; ++x)
+      F[static_cast<unsigned int>(y)][static_cast<unsigned int>(x)] = M.at<double>(y, x);
+  return true;
+}
+
+//! estimate() with Method USAC_MSAC (see there).
+vpFundamentalMatrix::Result estimateUsac(const std::vector<vpImagePoint> &p1, const std::vector<vpImagePoint> &p2,
+                                         const vpFundamentalMatrix::Options &opt)
+{
+  vpFundamentalMatrix::Result res;
+  res.inliers.assign(p1.size(), false);
+  if (p1.size() < 8) {
+    res.status = vpFundamentalMatrix::TOO_FEW_POINTS;
+    res.message = std::to_string(p1.size()) + " correspondences; USAC needs 8";
+    return res;
+  }
+  cv::UsacParams p;
+  p.threshold = opt.inlier_threshold;
+  p.confidence = opt.confidence;
+  p.maxIterations = static_cast<int>(opt.max_iterations);
+  p.randomGeneratorState = static_cast<int>(opt.seed & 0x7fffffffULL);
+  p.isParallel = false;
+  std::vector<unsigned char> inl;
+  cv::Mat Fcv;
+  try {
+    Fcv = cv::findFundamentalMat(toCvPoints(p1), toCvPoints(p2), inl, p);
+  } catch (const cv::Exception &) {
+    Fcv = cv::Mat(); // a degenerate configuration: no model
+  }
+  if (Fcv.empty() || inl.size() != p1.size() || !fromCvMatrix(Fcv, res.F)) {
+    res.status = vpFundamentalMatrix::DEGENERATE;
+    res.message = "USAC found no fundamental matrix";
+    return res;
+  }
+  double ss = 0;
+  for (size_t i = 0; i < p1.size(); ++i)
+    if (inl[i]) {
+      res.inliers[i] = true;
+      ++res.num_inliers;
+      const double d = vpFundamentalMatrix::sampsonDistance(res.F, p1[i], p2[i]);
+      ss += d * d;
+    }
+  res.rms_sampson = std::sqrt(ss / std::max(1u, res.num_inliers));
+  res.status = vpFundamentalMatrix::OK;
+  res.message = "ok";
+  return res;
+}
 } // namespace
 
 void vpFundamentalMatrix::Options::check() const
@@ -43,6 +112,8 @@ void vpFundamentalMatrix::Options::check() const
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpFundamentalMatrix: inlier_threshold must be > 0");
   if (!(confidence > 0 && confidence < 1))
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpFundamentalMatrix: confidence must be in (0, 1)");
+  if (method != RANSAC_8POINT && method != USAC_MSAC)
+    throw vpSelfCalibException(vpSelfCalibException::badValue, "vpFundamentalMatrix: unknown method");
   if (max_iterations < 1)
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpFundamentalMatrix: max_iterations must be >= 1");
 }
@@ -117,6 +188,20 @@ bool vpFundamentalMatrix::eightPoint(const std::vector<vpImagePoint> &p1, const 
   return true;
 }
 
+bool vpFundamentalMatrix::eightPointOpenCV(const std::vector<vpImagePoint> &p1, const std::vector<vpImagePoint> &p2,
+                                           vpMatrix &F)
+{
+  if (p1.size() < 8 || p1.size() != p2.size())
+    return false;
+  cv::Mat Fcv;
+  try {
+    Fcv = cv::findFundamentalMat(toCvPoints(p1), toCvPoints(p2), cv::FM_8POINT);
+  } catch (const cv::Exception &) {
+    return false;
+  }
+  return fromCvMatrix(Fcv, F);
+}
+
 double vpFundamentalMatrix::sampsonDistance(const vpMatrix &F, const vpImagePoint &p1, const vpImagePoint &p2)
 {
   const Eigen::Matrix3d E = toEigen3(F);
@@ -132,6 +217,8 @@ vpFundamentalMatrix::Result vpFundamentalMatrix::estimate(const std::vector<vpIm
 {
   opt.check();
   checkCorrespondences(p1, p2, "vpFundamentalMatrix::estimate");
+  if (opt.method == USAC_MSAC)
+    return estimateUsac(p1, p2, opt);
   Result res;
   res.inliers.assign(p1.size(), false);
   const unsigned int distinct = countDistinct(p1, p2);

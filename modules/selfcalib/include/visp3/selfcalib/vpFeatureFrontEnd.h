@@ -55,9 +55,9 @@
      - fallback: when the prior disagrees with the images (prior_agreement < min_prior_agreement,
        or the guided search finds fewer than half the probes' unguided matches on the probe pairs),
        every pair is matched without the prior and Result::warnings says why.
-     Then geometric verification: OpenCV's USAC fundamental matrix (ransac_threshold px, seeded
-     from Options::seed and the pair); a pair with fewer than min_matches verified matches is left
-     out.
+     Then geometric verification: the fundamental matrix by vpFundamentalMatrix with OpenCV's USAC
+     (vpFundamentalMatrix::USAC_MSAC, ransac_threshold px, seeded from Options::seed and the
+     pair); a pair with fewer than min_matches verified matches is left out.
   3. Tracks: the verified matches, pair by pair in a fixed order, join their features' tracks
      unless the two tracks already hold features of a same image (a track holds at most one
      feature per image). Then each track of three views or more is checked: two of its features
