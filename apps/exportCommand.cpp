@@ -5,6 +5,7 @@
 
 #include <iostream>
 
+#include <visp3/selfcalib/vpDHTableFit.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpModelExport.h>
 
@@ -40,8 +41,8 @@ int exportModel(const ExportArgs &a)
     std::cout << "wrote " << out << "\n";
     return 0;
   }
-  const vpModelExport::DHFit fit =
-      vpModelExport::fitDH(model, !a.dh.empty() ? vpKinematicChain::DH : vpKinematicChain::MDH);
+  const vpDHTableFit::Result fit =
+      vpDHTableFit::fit(model, !a.dh.empty() ? vpKinematicChain::DH : vpKinematicChain::MDH);
   std::cerr << fit.message << "\n";
   if (!fit.representable)
     return 3;

@@ -1,14 +1,13 @@
 #!/usr/bin/env python3
-"""Checks that no function of the selfcalib module is longer than 120 lines (DESIGN.md's taste for
-small functions): the lines of its body, from the line of the opening brace to the line of the
+"""Checks that no function of the selfcalib module is longer than 120 lines (doc/architecture.md): the lines of its body, from the line of the opening brace to the line of the
 closing one, both counted. Lambdas inside a function are part of it; namespaces, classes, structs,
 unions, enums and initializer lists are not functions (a member function defined inside a class is).
 
     cmake/check-functions.py [MODULE_DIR] [--allow FILE] [--limit N]
 
 MODULE_DIR defaults to modules/selfcalib beside this script; its src/ and include/ are read
-(.h, .hpp, .cpp). FILE (default: long-functions.txt beside this script) lists the functions known
-to be longer, one a line, `PATH NAME LENGTH` (PATH relative to MODULE_DIR, NAME as printed by this
+(.h, .hpp, .cpp). FILE (optional: long-functions.txt beside this script when it exists) lists
+functions known to be longer while they are being split, one a line, `PATH NAME LENGTH` (PATH relative to MODULE_DIR, NAME as printed by this
 script); such a function passes while it is no longer than its LENGTH. Prints every function over
 the limit; the exit status is 1 when one is neither allowed nor within its allowed length, 2 on a
 malformed allow list.
@@ -256,7 +255,10 @@ def main(argv):
         print(f'{len(bad)} function(s) longer than {limit} lines and not in {allow_file} (or longer than '
               'listed): split them')
         return 1
-    print(f'no function is longer than {limit} lines, except {len(long_ones)} listed in {allow_file}')
+    if long_ones:
+        print(f'no function is longer than {limit} lines, except {len(long_ones)} listed in {allow_file}')
+    else:
+        print(f'no function is longer than {limit} lines')
     return 0
 
 

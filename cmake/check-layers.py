@@ -1,10 +1,14 @@
 #!/usr/bin/env python3
-"""Checks the layering of the selfcalib module (DESIGN.md, "Layers"; issue 17): each layer depends
+"""Checks the layering of the selfcalib module (doc/architecture.md, "Layers"): each layer depends
 only on those before it, so a file may include files of its own topic and of layers of a lower rank,
 never of a higher rank:
 
-    core (0) < kinematics, twoview (1) < scale (2) < identification (3) < planning, pipeline (4)
-    < simulation, frontend, io (5) < acquisition (6)
+    core (0) < kinematics, twoview (1) < reconstruction, scale (2) < identification (3)
+    < planning, validation (4) < pipeline (5) < protocol (6) < simulation, frontend, io (7)
+    < acquisition (8)
+
+(validation: the data check and the verification, which the pipeline runs; protocol: what runs the
+pipeline, cross-validation, the pose study and the calibrate-then-cross-validate protocol.)
 
 (acquisition drives a robot and writes datasets: it uses io, and simulation for its rendering grabber.)
 
@@ -26,11 +30,13 @@ import sys
 RANK = {
     'core': 0,
     'kinematics': 1, 'twoview': 1,
-    'scale': 2,
+    'reconstruction': 2, 'scale': 2,
     'identification': 3,
-    'planning': 4, 'pipeline': 4,
-    'simulation': 5, 'frontend': 5, 'io': 5,
-    'acquisition': 6,
+    'planning': 4, 'validation': 4,
+    'pipeline': 5,
+    'protocol': 6,
+    'simulation': 7, 'frontend': 7, 'io': 7,
+    'acquisition': 8,
 }
 # Public headers with no source file of their name, or whose type belongs higher than the file
 # that implements part of it.

@@ -6,7 +6,7 @@
  *               [--blocks B]
  *
  * The hidden-robot style of check: a UR5 (preset, home as in bench-robots) and a modified-DH PUMA 560
- * (the preset refitted as an MDH table, vpModelExport::fitDH), camera 800 x 600, f 1200 px, the
+ * (the preset refitted as an MDH table, vpDHTableFit::fit), camera 800 x 600, f 1200 px, the
  * reference scene (80 points and a yardstick), 25 random feasible poses per seed (15 calibrating, 10
  * held out). Per seed (one geometry) K noise draws of the pixels (the same draws for every method,
  * focal mode and given sd); each draw is calibrated with --pixel-sd set to the true sd times each
@@ -44,6 +44,7 @@
 #include <vector>
 
 #include <visp3/core/vpException.h>
+#include <visp3/selfcalib/vpDHTableFit.h>
 #include <visp3/selfcalib/vpKinematicBundleAdjustment.h>
 #include <visp3/selfcalib/vpKinematicIdentification.h>
 #include <visp3/selfcalib/vpModelExport.h>
@@ -73,7 +74,7 @@ vpSelfCalibSimulator makeSim(const std::string &robot, unsigned int seed)
     return vpSelfCalibSimulator(vpKinematicChain::preset("ur5"), so);
   }
   // puma-mdh: the PUMA 560 preset as a modified-DH table (same fMc(q), so the preset's home).
-  const vpModelExport::DHFit fit = vpModelExport::fitDH(vpKinematicChain::preset("puma560"), vpKinematicChain::MDH);
+  const vpDHTableFit::Result fit = vpDHTableFit::fit(vpKinematicChain::preset("puma560"), vpKinematicChain::MDH);
   if (!fit.representable)
     throw std::runtime_error("the PUMA 560 is not representable as an MDH table: " + fit.message);
   vpKinematicChain mdh = fit.table;

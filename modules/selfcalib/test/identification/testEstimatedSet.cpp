@@ -9,6 +9,7 @@
 #include <cmath>
 #include <string>
 
+#include <visp3/selfcalib/vpDHTableFit.h>
 #include <visp3/selfcalib/vpKinematicBundleAdjustment.h>
 #include <visp3/selfcalib/vpKinematicIdentification.h>
 #include <visp3/selfcalib/vpModelExport.h>
@@ -29,7 +30,7 @@ using Measurements = std::vector<vpKinematicIdentification::Measurement>;
 // The PUMA 560 as a modified-DH table: the preset refitted (same fMc(q), so the same home works).
 vpKinematicChain pumaMdh()
 {
-  const vpModelExport::DHFit fit = vpModelExport::fitDH(vpKinematicChain::preset("puma560"), vpKinematicChain::MDH);
+  const vpDHTableFit::Result fit = vpDHTableFit::fit(vpKinematicChain::preset("puma560"), vpKinematicChain::MDH);
   EXPECT_TRUE(fit.representable) << fit.message;
   vpKinematicChain c = fit.table;
   c.setName("puma560-mdh");

@@ -9,6 +9,7 @@
 
 #include <visp3/core/vpRotationMatrix.h>
 #include <visp3/core/vpRxyzVector.h>
+#include <visp3/selfcalib/vpDHTableFit.h>
 #include <visp3/selfcalib/vpKinematicIdentification.h>
 #include <visp3/selfcalib/vpModelExport.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
@@ -99,7 +100,7 @@ TEST(ModelExport, DhTableOfADhRepresentableModel)
   }
   const auto id = vpKinematicIdentification::identify(nominal, ms, vpKinematicIdentification::Options());
   ASSERT_EQ(id.status, vpKinematicIdentification::OK) << id.message;
-  const vpModelExport::DHFit fit = vpModelExport::fitDH(id.chain, vpKinematicChain::DH);
+  const vpDHTableFit::Result fit = vpDHTableFit::fit(id.chain, vpKinematicChain::DH);
   EXPECT_TRUE(fit.representable) << fit.message;
   EXPECT_TRUE(fit.well_conditioned) << fit.message;
   EXPECT_LT(fit.max_position_error, 1e-9);
@@ -116,9 +117,9 @@ TEST(ModelExport, DhFitReportsHonestly)
   for (const std::string robot : {"puma560", "viper850"}) {
     const vpSelfCalibSimulator sim = makeSim(robot, 83);
     for (auto conv : {vpKinematicChain::DH, vpKinematicChain::MDH}) {
-      vpModelExport::DHOptions o;
+      vpDHTableFit::Options o;
       o.samples = 40;
-      const vpModelExport::DHFit fit = vpModelExport::fitDH(sim.getTrueChain(), conv, o);
+      const vpDHTableFit::Result fit = vpDHTableFit::fit(sim.getTrueChain(), conv, o);
       EXPECT_EQ(fit.representable, fit.max_position_error <= 1e-9 && fit.max_rotation_error <= 1e-9) << fit.message;
       if (fit.representable) {
         EXPECT_FALSE(fit.well_conditioned) << fit.message;
@@ -127,8 +128,8 @@ TEST(ModelExport, DhFitReportsHonestly)
         EXPECT_NE(fit.message.find("parallel"), std::string::npos) << fit.message;
     }
   }
-  vpModelExport::DHOptions bad;
+  vpDHTableFit::Options bad;
   bad.samples = 1;
-  EXPECT_THROW(vpModelExport::fitDH(vpKinematicChain::preset("puma560"), vpKinematicChain::DH, bad),
+  EXPECT_THROW(vpDHTableFit::fit(vpKinematicChain::preset("puma560"), vpKinematicChain::DH, bad),
                vpSelfCalibException);
 }

@@ -23,7 +23,7 @@
 
 /*!
   \class vpCalibrationVerifier
-  \ingroup group_selfcalib_pipeline
+  \ingroup group_selfcalib_validation
   \brief The paper's verification (Section 4.1, step 5) and held-out pose errors.
 
   - 3-D error: every scene point seen in at least two verification views is triangulated in the

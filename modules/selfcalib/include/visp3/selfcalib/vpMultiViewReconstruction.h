@@ -24,7 +24,7 @@
 
 /*!
   \class vpMultiViewReconstruction
-  \ingroup group_selfcalib_scale
+  \ingroup group_selfcalib_reconstruction
   \brief Scale-consistent camera poses of all views and the scene points, with one focal length
   (beyond the paper: the paper scales each two-view pose separately with the nominal model, eq. 21).
 

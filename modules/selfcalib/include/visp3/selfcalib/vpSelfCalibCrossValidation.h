@@ -23,7 +23,7 @@
 
 /*!
   \class vpSelfCalibCrossValidation
-  \ingroup group_selfcalib_pipeline
+  \ingroup group_selfcalib_protocol
   \brief k-fold cross-validation of vpRobotSelfCalibration::run() on a dataset: the figure a user
   without a laser tracker (no true pose) can trust.
 

@@ -21,7 +21,7 @@
 
 /*!
   \class vpSelfCalibDataCheck
-  \ingroup group_selfcalib_pipeline
+  \ingroup group_selfcalib_validation
   \brief What is wrong with a calibration dataset before it is calibrated, in words that say what
   to do (layer pipeline; vpRobotSelfCalibration runs it first).
 

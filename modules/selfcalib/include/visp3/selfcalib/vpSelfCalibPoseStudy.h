@@ -23,7 +23,7 @@
 
 /*!
   \class vpSelfCalibPoseStudy
-  \ingroup group_selfcalib_pipeline
+  \ingroup group_selfcalib_protocol
   \brief The paper's Figure 6: the 3-D yardstick error on the held-out views against the number of
   calibration poses.
 

@@ -22,7 +22,7 @@
 
 /*!
   \class vpSelfCalibProtocol
-  \ingroup group_selfcalib_pipeline
+  \ingroup group_selfcalib_protocol
   \brief The protocol of a calibration run (README "calibrate"): by default every view calibrates
   and a k-fold cross-validation (vpSelfCalibCrossValidation) measures the model on views it was not
   calibrated on; Options::calibration or Options::holdout keep the paper's split, the last views

@@ -14,7 +14,7 @@
 
 #include "../core/vpSelfCalibCamera.h"
 #include "../core/vpSelfCalibMath.h"
-#include "vpSelfCalibPipelines.h"
+#include "../pipeline/vpSelfCalibPipelines.h"
 
 using namespace vpSelfCalib;
 
