@@ -22,9 +22,6 @@ vpSelfCalibImageCorrespondences::Options frontEndOptions(const CalibrateArgs &a)
 //! The calibration's options from the command line; CLI::ValidationError for options that disagree.
 vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
                                                    const vpSelfCalibImageCorrespondences::Options &co);
-//! --pose-sd T,R into the noise model of po's method: the controller poses' error (hand-eye), the
-//! kinematic model's residual (bundle); none for the paper's method, which models no robot error.
-void statePoseError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po);
 
 //! The files a calibration reads: the dataset, its robot model file, camera XML and images.
 std::vector<std::string> calibrationInputs(const std::string &dataset, const vpSelfCalibDataset &ds);

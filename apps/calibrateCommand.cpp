@@ -109,6 +109,30 @@ std::string writeResults(const fs::path &stage, const std::string &dataset, cons
   run.errors_vs_poses = &study;
   return vpSelfCalibReport::write((stage / "report").string(), run, vpSelfCalibReport::Options()).message;
 }
+/*
+  --pose-sd T,R and --joint-sd into the noise model of po's method: the controller poses' error
+  (hand-eye), the kinematic model's residual and the joint readings' error (bundle; the joints' with
+  hand-eye is refused by the run); none for the paper's method, which models no robot error (the
+  options are not used, as before).
+*/
+void stateRobotError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po)
+{
+  if (!a.joint_sd.empty() && po.method != vpRobotSelfCalibration::PAPER)
+    po.noise.joint_sd = a.joint_sd;
+  if (a.pose_sd.size() != 2 || a.pose_sd[0] == "auto")
+    return;
+  // The controller poses' error (hand-eye), or the kinematic model's residual (bundle); the
+  // paper's method models neither.
+  const double t = std::stod(a.pose_sd[0]), r = std::stod(a.pose_sd[1]);
+  if (po.method == vpRobotSelfCalibration::HAND_EYE) {
+    po.noise.pose_sd_translation = t;
+    po.noise.pose_sd_rotation = r;
+  } else if (po.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT) {
+    po.noise.model_sd_translation = t;
+    po.noise.model_sd_rotation = r;
+  }
+}
+
 } // namespace
 
 int calibrate(const CalibrateArgs &a)
@@ -141,7 +165,7 @@ int calibrate(const CalibrateArgs &a)
     po.noise.pose_sd_translation = po.noise.pose_sd_rotation = 2e-3;
     po.bundle.scale_covariance = true;
   }
-  statePoseError(a, po);
+  stateRobotError(a, po);
   const vpSelfCalibProtocol::Options protocol_options = protocolOptions(a, co);
   const vpSelfCalibProtocol::Plan plan =
       vpSelfCalibProtocol::plan(protocol_options, static_cast<unsigned int>(ds.views.size()));

@@ -285,25 +285,7 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
     po.noise.pose_sd_origin = vpSelfCalibNoiseModel::MEASURED;
   if (a.pose_sd.size() == 2)
     po.bundle.scale_covariance = true; // the values go to the noise model once the method is known
-  if (!a.joint_sd.empty()) {
-    po.noise.joint_sd = a.joint_sd;
-    po.bundle.scale_covariance = true;
-  }
+  if (!a.joint_sd.empty())
+    po.bundle.scale_covariance = true; // the values go to the noise model once the method is known
   return po;
-}
-
-void statePoseError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po)
-{
-  if (a.pose_sd.size() != 2 || a.pose_sd[0] == "auto")
-    return;
-  // The controller poses' error (hand-eye), or the kinematic model's residual (bundle); the
-  // paper's method models neither.
-  const double t = std::stod(a.pose_sd[0]), r = std::stod(a.pose_sd[1]);
-  if (po.method == vpRobotSelfCalibration::HAND_EYE) {
-    po.noise.pose_sd_translation = t;
-    po.noise.pose_sd_rotation = r;
-  } else if (po.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT) {
-    po.noise.model_sd_translation = t;
-    po.noise.model_sd_rotation = r;
-  }
 }

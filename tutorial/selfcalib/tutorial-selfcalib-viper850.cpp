@@ -390,8 +390,10 @@ int main(int argc, char **argv)
     }
     std::cout << "== Pipeline time " << std::setprecision(2) << r.seconds << " s\n";
     if (report != "none") {
-      const vpSelfCalibReport::Result rep = vpSelfCalibReport::write(
-          report, nominal, data, po, r, cr.front_end_ran ? &cr.front_end : nullptr, &*study, vpSelfCalibReport::Options());
+      vpSelfCalibReport::Record run(nominal, data, po, r);
+      run.front_end = cr.front_end_ran ? &cr.front_end : nullptr;
+      run.errors_vs_poses = &*study;
+      const vpSelfCalibReport::Result rep = vpSelfCalibReport::write(report, run, vpSelfCalibReport::Options());
       std::cout << "== Report: " << report << "/report.md (" << rep.message << ")\n";
     }
     return EXIT_SUCCESS;

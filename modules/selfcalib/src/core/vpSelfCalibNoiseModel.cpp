@@ -73,6 +73,9 @@ void vpSelfCalibNoiseModel::check(const std::string &who) const
                                      "outlier_threshold non-negative and finite");
   if (loss != LOSS_NONE && loss != LOSS_HUBER && loss != LOSS_CAUCHY)
     throw vpSelfCalibException(vpSelfCalibException::badValue, who + ": the noise model's loss is unknown");
+  for (Origin o : {pixel_sd_origin, pose_sd_origin})
+    if (o != STATED && o != MEASURED)
+      throw vpSelfCalibException(vpSelfCalibException::badValue, who + ": the noise model's origin is unknown");
   if (!pairValid(pose_sd_translation, pose_sd_rotation))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                who + ": pose_sd_translation and pose_sd_rotation must be both positive (robot pose "

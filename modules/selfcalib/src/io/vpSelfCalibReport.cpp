@@ -587,23 +587,6 @@ vpSelfCalibReport::Record::Record(const vpKinematicChain &nominal_model, const v
 {
 }
 
-vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const vpKinematicChain &nominal,
-                                                   const vpSelfCalibDataset &ds,
-                                                   const vpRobotSelfCalibration::Options &po,
-                                                   const vpRobotSelfCalibration::Result &r,
-                                                   const vpFeatureFrontEnd::Result *fe,
-                                                   const vpSelfCalibPoseStudy::Result *study, const Options &ro,
-                                                   const vpSelfCalibCrossValidation::Result *cv,
-                                                   const vpSelfCalibCrossValidation::HeldOut *held)
-{
-  Record run(nominal, ds, po, r);
-  run.front_end = fe;
-  run.errors_vs_poses = study;
-  run.cross_validation = cv;
-  run.held_out = held;
-  return write(dir, run, ro);
-}
-
 vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const Record &run, const Options &ro)
 {
   std::error_code ec;

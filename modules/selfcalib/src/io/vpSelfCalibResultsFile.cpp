@@ -49,7 +49,7 @@ RF::BundleAdjustment bundleOf(const vpRobotSelfCalibration::Result &r)
   a.robot_pose_rms_rad = b.pose_rms_rotation;
   // The pose error (m, rad) the corrections were weighed with (hand-eye: the controller poses';
   // bundle: the kinematic model's residual), and the one they measure.
-  const bool controller = r.noise.hasPoseError();
+  const bool controller = r.method == vpRobotSelfCalibration::HAND_EYE;
   a.robot_pose_sd_m = controller ? r.noise.pose_sd_translation : r.noise.model_sd_translation;
   a.robot_pose_sd_rad = controller ? r.noise.pose_sd_rotation : r.noise.model_sd_rotation;
   a.has_robot_pose_sd_measured = b.measured.pose_sd_translation > 0;

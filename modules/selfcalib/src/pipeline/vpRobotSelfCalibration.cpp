@@ -358,9 +358,14 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
   if (opt.method != PAPER) {
     // A run that failed on too many rejected observations is the one a too small pixel_sd breaks:
     // it runs again too when its residuals measured the noise.
+    // The attempts replace res: what the first run measured is copied first, and the notes of the
+    // rounds join the findings of the run that stands at the end.
     const bool usable = res.status == OK || res.status == IDENTIFICATION_FAILED;
-    vpSelfCalibPipeline::measureNoise(context.noise, res.measured, res.status == OK, usable, opt.method == HAND_EYE,
-                                      attempt, res.findings);
+    const vpSelfCalibNoiseModel first_measured = res.measured;
+    std::vector<vpSelfCalibDataCheck::Finding> notes;
+    vpSelfCalibPipeline::measureNoise(context.noise, first_measured, res.status == OK, usable, opt.method == HAND_EYE,
+                                      attempt, notes);
+    res.findings.insert(res.findings.end(), notes.begin(), notes.end());
   }
   const vpSelfCalibPipeline::Context &used = current ? *current : context;
 

@@ -432,7 +432,9 @@ TEST(Report, WithoutGnuplotTheDataAndTheTextAreStillWritten)
   vpSelfCalibReport::Options ro;
   ro.gnuplot = "/nonexistent/gnuplot";
   const vpSelfCalibPoseStudy::Result study = vpSelfCalibPoseStudy::run(sim.getNominalChain(), ds, o);
-  const auto rep = vpSelfCalibReport::write(dir, sim.getNominalChain(), ds, o, r, nullptr, &study, ro);
+  vpSelfCalibReport::Record run(sim.getNominalChain(), ds, o, r);
+  run.errors_vs_poses = &study;
+  const auto rep = vpSelfCalibReport::write(dir, run, ro);
   EXPECT_FALSE(rep.figures);
   EXPECT_NE(rep.message.find("gnuplot-nox"), std::string::npos);
   std::ifstream md(std::string(dir) + "/report.md");
@@ -474,7 +476,8 @@ TEST(Report, WithoutGnuplotTheDataAndTheTextAreStillWritten)
   fe.num_tracks = 35;
   char dir2[] = "/tmp/selfcalib-report-XXXXXX";
   ASSERT_NE(mkdtemp(dir2), nullptr);
-  vpSelfCalibReport::write(dir2, sim.getNominalChain(), ds, o, r, &fe, &study, ro);
+  run.front_end = &fe;
+  vpSelfCalibReport::write(dir2, run, ro);
   std::ifstream mm(std::string(dir2) + "/matches.dat");
   std::vector<std::vector<unsigned int>> matrix;
   while (std::getline(mm, line))
@@ -494,7 +497,6 @@ TEST(Report, WithoutGnuplotTheDataAndTheTextAreStillWritten)
   const std::string text2((std::istreambuf_iterator<char>(md2)), std::istreambuf_iterator<char>());
   EXPECT_NE(text2.find("(figure matches.png not drawn: figures not drawn: '/nonexistent/gnuplot'"), std::string::npos);
   std::filesystem::remove_all(dir2);
-  EXPECT_THROW(
-      vpSelfCalibReport::write("/nonexistent/dir/report", sim.getNominalChain(), ds, o, r, nullptr, &study, ro),
-      vpSelfCalibException);
+  run.front_end = nullptr;
+  EXPECT_THROW(vpSelfCalibReport::write("/nonexistent/dir/report", run, ro), vpSelfCalibException);
 }

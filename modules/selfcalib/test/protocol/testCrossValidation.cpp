@@ -280,7 +280,9 @@ TEST(CrossValidation, ReportHasTheFoldsAndNoEmptyFigure)
   ASSERT_NE(mkdtemp(dir), nullptr);
   vpSelfCalibReport::Options ro;
   ro.gnuplot = "/nonexistent/gnuplot";
-  vpSelfCalibReport::write(dir, sim.getNominalChain(), ds, o, r, nullptr, nullptr, ro, &cv);
+  vpSelfCalibReport::Record run(sim.getNominalChain(), ds, o, r);
+  run.cross_validation = &cv;
+  vpSelfCalibReport::write(dir, run, ro);
   std::ifstream md(std::string(dir) + "/report.md");
   const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("No view was held out: all 9 views calibrate"), std::string::npos) << text;

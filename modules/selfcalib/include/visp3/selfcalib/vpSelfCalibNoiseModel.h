@@ -37,8 +37,12 @@
 
   Each level is stated (given by the caller or the dataset) or measured (from the residuals of an
   earlier run: variance components for the robot's error, a robust spread for the image noise); the
-  origin fields say which. An estimator that measures the noise returns its measurement in a noise
-  model of its own (origin MEASURED), so the level used and the level measured are never confused.
+  origin fields say which. In the options of a run (vpRobotSelfCalibration::Options::noise) MEASURED
+  asks for the level to be measured, starting from the value given; in its result it says the level
+  was measured (the value used is the measured one, or the start when the measurement agreed with
+  it). An estimator that measures the noise returns its measurement in a noise model of its own
+  (unmeasured() filled with what was measured; a level left at 0 was not measured, and its loss and
+  outlier fields carry no meaning), so the level used and the level measured are never confused.
 */
 class VISP_SELFCALIB_EXPORT vpSelfCalibNoiseModel
 {
@@ -92,10 +96,11 @@ public:
   vpSelfCalibNoiseModel withPoseError(double t, double r, Origin origin) const;
 
   /*!
-    Throws vpSelfCalibException on nonsense: pixel_sd not positive or not finite, a negative or
-    non-finite loss_scale or outlier_threshold, a loss_scale of 0 with a robust loss, a pose or model
-    error with one part 0 and the other not (both positive or both 0), a negative or non-finite
-    level, a joint_sd entry not positive. `who` starts the message (the estimator that was given it).
+    Throws vpSelfCalibException on nonsense: pixel_sd or loss_scale not positive or not finite, a
+    negative or non-finite outlier_threshold, an unknown loss or origin, a pose or model error with
+    one part 0 and the other not (both positive or both 0), a negative or non-finite level, a
+    joint_sd entry outside (0, 1) rad. Every part is checked, also by the estimators that use only
+    the image part. `who` starts the message (the estimator that was given it).
   */
   void check(const std::string &who = "vpSelfCalibNoiseModel") const;
 };

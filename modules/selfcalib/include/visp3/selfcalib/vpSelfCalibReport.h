@@ -90,16 +90,6 @@ public:
     when the directory cannot be written; a missing or failing gnuplot is reported in the result.
   */
   static Result write(const std::string &directory, const Record &run, const Options &report_options);
-  /*!
-    The same as write(directory, run, report_options) with the record's parts given one by one:
-    front_end, errors_vs_poses, cross_validation and held_out may be null.
-  */
-  static Result write(const std::string &directory, const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
-                      const vpRobotSelfCalibration::Options &options, const vpRobotSelfCalibration::Result &result,
-                      const vpFeatureFrontEnd::Result *front_end, const vpSelfCalibPoseStudy::Result *errors_vs_poses,
-                      const Options &report_options,
-                      const vpSelfCalibCrossValidation::Result *cross_validation = nullptr,
-                      const vpSelfCalibCrossValidation::HeldOut *held_out = nullptr);
 };
 
 #endif
