@@ -113,13 +113,16 @@ std::string writeResults(const fs::path &stage, const std::string &dataset, cons
   --pose-sd T,R and --joint-sd into the noise model of po's method: the controller poses' error
   (hand-eye), the kinematic model's residual and the joint readings' error (bundle; the joints' with
   hand-eye is refused by the run); none for the paper's method, which models no robot error (the
-  options are not used, as before).
+  options are not used).
 */
 void stateRobotError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po)
 {
+  // A stated robot error: the sd are widened by sigma0 when the residuals say the noise is larger.
+  if (!a.joint_sd.empty() || a.pose_sd.size() == 2) // two numbers (auto comes alone)
+    po.bundle.scale_covariance = true;
   if (!a.joint_sd.empty() && po.method != vpRobotSelfCalibration::PAPER)
     po.noise.joint_sd = a.joint_sd;
-  if (a.pose_sd.size() != 2 || a.pose_sd[0] == "auto")
+  if (a.pose_sd.size() != 2)
     return;
   // The controller poses' error (hand-eye), or the kinematic model's residual (bundle); the
   // paper's method models neither.

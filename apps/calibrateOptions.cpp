@@ -283,9 +283,6 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
   // Measured by default from the dataset's robot_error when it states one (below, once it is read).
   if (pose_auto || a.pose_sd.empty())
     po.noise.pose_sd_origin = vpSelfCalibNoiseModel::MEASURED;
-  if (a.pose_sd.size() == 2)
-    po.bundle.scale_covariance = true; // the values go to the noise model once the method is known
-  if (!a.joint_sd.empty())
-    po.bundle.scale_covariance = true; // the values go to the noise model once the method is known
+  // --pose-sd T,R and --joint-sd go to the noise model once the method is known (stateRobotError).
   return po;
 }

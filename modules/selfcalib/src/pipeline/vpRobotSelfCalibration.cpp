@@ -46,13 +46,20 @@ bool same(const vpTwoViewEstimator::Options &a, const vpTwoViewEstimator::Option
          a.min_coplanarity == b.min_coplanarity && a.rotation_tolerance == b.rotation_tolerance &&
          a.max_fx_relative_sd == b.max_fx_relative_sd;
 }
-//! True when the run takes the robot's error from the dataset (the options leave it at 0).
-bool usesDatasetRobotError(const vpRobotSelfCalibration::Options &opt, const vpSelfCalibDataset &ds)
+/*
+  The options' noise model with, where it leaves the robot's error at 0, the dataset's robot_error
+  in the method's form: controller poses (hand-eye) or joint readings (full kinematics).
+*/
+vpSelfCalibNoiseModel withDatasetRobotError(const vpRobotSelfCalibration::Options &opt, const vpSelfCalibDataset &ds)
 {
-  return (opt.method == vpRobotSelfCalibration::HAND_EYE && !opt.noise.hasPoseError() &&
-          ds.pose_sd_translation > 0) ||
-         (opt.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT && opt.noise.joint_sd.empty() &&
-          !ds.joint_sd.empty());
+  vpSelfCalibNoiseModel noise = opt.noise;
+  if (opt.method == vpRobotSelfCalibration::HAND_EYE && !noise.hasPoseError() && ds.pose_sd_translation > 0) {
+    noise.pose_sd_translation = ds.pose_sd_translation;
+    noise.pose_sd_rotation = ds.pose_sd_rotation;
+  }
+  if (opt.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT && noise.joint_sd.empty() && !ds.joint_sd.empty())
+    noise.joint_sd = ds.joint_sd;
+  return noise;
 }
 } // namespace
 
@@ -192,7 +199,8 @@ vpKinematicBundleAdjustment::Options vpRobotSelfCalibration::bundleOptions(const
   bo.scale_covariance_chi2 = true;
   // The robot's error as the dataset states it (noiseModel()), with the sd widened by sigma0 when
   // the residuals say the noise is larger.
-  if (usesDatasetRobotError(opt, ds))
+  const vpSelfCalibNoiseModel noise = withDatasetRobotError(opt, ds);
+  if (noise.hasPoseError() != opt.noise.hasPoseError() || noise.joint_sd != opt.noise.joint_sd)
     bo.scale_covariance = true;
   // The dataset's OpenCV lens model: the model of the estimate, its coefficients the start (unless
   // the caller gives other start coefficients).
@@ -209,16 +217,7 @@ vpSelfCalibDataCheck::Options vpRobotSelfCalibration::dataCheckOptions(const Opt
 vpSelfCalibNoiseModel vpRobotSelfCalibration::noiseModel(const Options &opt, const vpSelfCalibDataset &ds)
 {
   opt.check();
-  vpSelfCalibNoiseModel noise = opt.noise;
-  // The robot's error as the dataset states it, unless the caller states it: controller poses
-  // (hand-eye) or joint readings (full kinematics).
-  if (opt.method == HAND_EYE && !noise.hasPoseError() && ds.pose_sd_translation > 0) {
-    noise.pose_sd_translation = ds.pose_sd_translation;
-    noise.pose_sd_rotation = ds.pose_sd_rotation;
-  }
-  if (opt.method == BUNDLE_ADJUSTMENT && noise.joint_sd.empty() && !ds.joint_sd.empty())
-    noise.joint_sd = ds.joint_sd;
-  return noise;
+  return withDatasetRobotError(opt, ds);
 }
 
 namespace
