@@ -2,6 +2,7 @@
  * visp-selfcalib acquire (see acquireCommand.h).
  */
 #include "acquireCommand.h"
+#include "commands.h"
 
 #include <filesystem>
 #include <fstream>
@@ -40,43 +41,7 @@ public:
 // Joint vectors, one per line ('#' comments, spaces or commas), as `visp-selfcalib plan` writes them.
 std::vector<vpColVector> readPlan(const std::string &file, unsigned int n)
 {
-  std::ifstream in(file);
-  if (!in)
-    throw vpSelfCalibException(vpSelfCalibException::ioError, "cannot open plan '" + file + "'");
-  std::vector<vpColVector> out;
-  std::string line;
-  unsigned int lineno = 0;
-  while (std::getline(in, line)) {
-    ++lineno;
-    line = line.substr(0, line.find('#'));
-    for (char &c : line)
-      if (c == ',')
-        c = ' ';
-    std::istringstream ls(line);
-    std::vector<double> v;
-    std::string tok;
-    while (ls >> tok) {
-      size_t used = 0;
-      double x = 0;
-      try {
-        x = std::stod(tok, &used);
-      } catch (const std::exception &) {
-        used = 0;
-      }
-      if (used != tok.size() || !std::isfinite(x))
-        throw vpSelfCalibException(vpSelfCalibException::badValue,
-                                   file + ":" + std::to_string(lineno) + ": '" + tok + "' is not a number");
-      v.push_back(x);
-    }
-    if (v.empty())
-      continue;
-    if (v.size() != n)
-      throw vpSelfCalibException(vpSelfCalibException::dimensionError, file + ":" + std::to_string(lineno) +
-                                                                           ": expected " + std::to_string(n) +
-                                                                           " joint values, got " +
-                                                                           std::to_string(v.size()));
-    out.push_back(vpColVector(v));
-  }
+  const std::vector<vpColVector> out = readJoints(file, "plan", n);
   if (out.empty())
     throw vpSelfCalibException(vpSelfCalibException::badValue, "plan '" + file + "' has no configuration");
   return out;

@@ -3,23 +3,58 @@
  */
 #include "commands.h"
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
 #include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
 
 namespace fs = std::filesystem;
 
 const char *const kProgram = "visp-selfcalib";
 const char *const kModelHelp = "a preset (puma560, viper850, panda, ur5), a robot-model YAML or a URDF file";
 
-bool readJoints(std::istream &in, const std::string &source, unsigned int n, std::vector<vpColVector> &out)
+namespace
 {
+constexpr size_t kMaxJointsLineBytes = size_t(1) << 16; //!< a line of joint values (64 joints take 2 kB)
+constexpr size_t kMaxJointVectors = 100000;            //!< joint vectors in a file, as poses in a dataset
+constexpr double kMaxJointValue = 1000;                //!< rad, as in a dataset
+
+//! One line of `in`, at most kMaxJointsLineBytes counted while reading (an input without end, such
+//! as /dev/zero, is refused at once); false at the end of the input.
+bool boundedLine(std::istream &in, const std::string &source, unsigned int lineno, std::string &line)
+{
+  line.clear();
+  std::streambuf *buf = in.rdbuf();
+  for (;;) {
+    const int c = buf->sbumpc();
+    if (c == std::char_traits<char>::eof())
+      return !line.empty();
+    if (c == '\n')
+      return true;
+    if (c == '\0')
+      throw vpSelfCalibException(vpSelfCalibException::ioError,
+                                 source + ":" + std::to_string(lineno) +
+                                     ": a NUL byte: not a text file of joint vectors (one per line, rad)");
+    if (line.size() == kMaxJointsLineBytes)
+      throw vpSelfCalibException(vpSelfCalibException::ioError,
+                                 source + ":" + std::to_string(lineno) + ": a line longer than " +
+                                     std::to_string(kMaxJointsLineBytes) +
+                                     " bytes: not a file of joint vectors (one per line, rad)");
+    line.push_back(static_cast<char>(c));
+  }
+}
+
+std::vector<vpColVector> readJointLines(std::istream &in, const std::string &source, unsigned int n)
+{
+  std::vector<vpColVector> out;
   std::string line;
-  unsigned int lineno = 0;
-  while (std::getline(in, line)) {
-    ++lineno;
+  for (unsigned int lineno = 1; boundedLine(in, source, lineno, line); ++lineno) {
+    const std::string where = source + ":" + std::to_string(lineno) + ": ";
     const size_t hash = line.find('#');
     if (hash != std::string::npos)
       line.resize(hash);
@@ -30,25 +65,53 @@ bool readJoints(std::istream &in, const std::string &source, unsigned int n, std
     std::vector<double> v;
     std::string tok;
     while (ls >> tok) {
+      size_t used = 0;
+      double x = 0;
       try {
-        size_t used = 0;
-        v.push_back(std::stod(tok, &used));
-        if (used != tok.size() || !std::isfinite(v.back()))
-          throw std::invalid_argument(tok);
+        x = std::stod(tok, &used);
       } catch (const std::exception &) {
-        std::cerr << source << ":" << lineno << ": '" << tok << "' is not a number\n";
-        return false;
+        used = 0;
       }
+      if (used != tok.size() || !std::isfinite(x))
+        throw vpSelfCalibException(vpSelfCalibException::badValue, where + "'" + tok + "' is not a number");
+      if (std::abs(x) > kMaxJointValue)
+        throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                   where + "expected a joint value from -1000 to 1000 rad, got '" + tok + "'");
+      v.push_back(x);
     }
     if (v.empty())
       continue;
-    if (v.size() != n) {
-      std::cerr << source << ":" << lineno << ": expected " << n << " joint values, got " << v.size() << "\n";
-      return false;
-    }
+    if (v.size() != n)
+      throw vpSelfCalibException(vpSelfCalibException::dimensionError, where + "expected " + std::to_string(n) +
+                                                                           " joint values, got " +
+                                                                           std::to_string(v.size()));
+    if (out.size() == kMaxJointVectors)
+      throw vpSelfCalibException(vpSelfCalibException::badValue, where + "more than " +
+                                                                     std::to_string(kMaxJointVectors) +
+                                                                     " joint vectors: at most that many are read");
     out.push_back(vpColVector(v));
   }
-  return true;
+  return out;
+}
+} // namespace
+
+std::vector<vpColVector> readJoints(const std::string &file, const std::string &what, unsigned int n)
+{
+  if (file.empty() || file == "-")
+    return readJointLines(std::cin, "<stdin>", n);
+  std::error_code ec;
+  if (fs::is_directory(file, ec))
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               "cannot open " + what + " '" + file + "': it is a directory");
+  errno = 0;
+  std::ifstream in(file, std::ios::binary);
+  if (!in)
+    throw vpSelfCalibException(vpSelfCalibException::ioError, "cannot open " + what + " '" + file + "'" +
+                                                                  (errno ? ": " + std::string(std::strerror(errno)) : ""));
+  std::vector<vpColVector> out = readJointLines(in, file, n);
+  if (in.bad())
+    throw vpSelfCalibException(vpSelfCalibException::ioError, "cannot read " + what + " '" + file + "'");
+  return out;
 }
 
 std::string canonical(const std::string &p)
@@ -56,6 +119,48 @@ std::string canonical(const std::string &p)
   std::error_code ec;
   const fs::path c = fs::canonical(p, ec);
   return ec ? std::string() : c.string();
+}
+
+namespace
+{
+std::string specialKind(fs::file_type t)
+{
+  switch (t) {
+  case fs::file_type::character:
+    return "a character device";
+  case fs::file_type::block:
+    return "a block device";
+  case fs::file_type::fifo:
+    return "a FIFO";
+  case fs::file_type::socket:
+    return "a socket";
+  default:
+    return "";
+  }
+}
+} // namespace
+
+bool outputRefused(const std::string &out, bool force)
+{
+  if (out.empty()) {
+    std::cerr << "error: the output path is empty: give a file name\n";
+    return true;
+  }
+  std::error_code ec;
+  std::string kind = specialKind(fs::symlink_status(out, ec).type());
+  if (kind.empty())
+    kind = specialKind(fs::status(out, ec).type());
+  if (!kind.empty()) {
+    std::cerr << "error: '" << out << "' is " << kind
+              << ", not a regular file: outputs are written only as regular files (and directories); choose "
+                 "another path\n";
+    return true;
+  }
+  if (!force && !canonical(out).empty()) {
+    std::cerr << "error: '" << out << "' exists; use --force to replace it\n";
+    return true;
+  }
+  return false;
 }
 
 bool makeDirectory(const fs::path &dir)

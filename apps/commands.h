@@ -29,10 +29,21 @@
 extern const char *const kProgram;  //!< the program's name, in messages
 extern const char *const kModelHelp; //!< the help of a MODEL argument
 
-//! Joint vectors, one per line (rad, spaces or commas, '#' comments); false with a message on error.
-bool readJoints(std::istream &in, const std::string &source, unsigned int n, std::vector<vpColVector> &out);
+/*!
+  Joint vectors of `n` values, one per line (rad, spaces or commas, '#' comments), from `file` (""
+  or "-": standard input), `what` naming it in messages ("joints file"). Read with bounds counted
+  while reading (a line of at most 64 KiB, at most 100000 vectors, values within 1000 rad): an
+  input without end (/dev/zero) is refused at once. Throws vpSelfCalibException with the file, the
+  line and the reason.
+*/
+std::vector<vpColVector> readJoints(const std::string &file, const std::string &what, unsigned int n);
 //! Canonical path of an existing file or directory, or "" when it does not exist.
 std::string canonical(const std::string &p);
+/*!
+  True, with the error on stderr, when `out` may not be written: a device node, a FIFO or a socket
+  (or a link to one), --force or not; or an existing file without `force`.
+*/
+bool outputRefused(const std::string &out, bool force);
 //! Creates a directory unless it exists; false when that fails.
 bool makeDirectory(const std::filesystem::path &dir);
 //! The names of focal modes, as the command lines spell them.

@@ -32,10 +32,8 @@ int exportModel(const ExportArgs &a)
     std::cerr << "error: '" << out << "' is the input model\n";
     return 1;
   }
-  if (!a.force && !canonical(out).empty()) {
-    std::cerr << "error: '" << out << "' exists; use --force to replace it\n";
+  if (outputRefused(out, a.force))
     return 1;
-  }
   if (!a.urdf.empty()) {
     vpModelExport::saveURDF(model, out);
     std::cout << "wrote " << out << "\n";

@@ -41,10 +41,8 @@ void addImport(CLI::App &app, ImportArgs &a)
 
 int importData(const ImportArgs &a)
 {
-  if (!a.force && !canonical(a.out).empty()) {
-    std::cerr << "error: '" << a.out << "' exists; use --force to replace it\n";
+  if (outputRefused(a.out, a.force))
     return 1;
-  }
   vpSelfCalibImporter::Options io;
   io.robot = a.robot;
   io.intrinsics = a.intrinsics.empty() ? vpSelfCalibImporter::INTRINSICS_DEFAULT

@@ -40,10 +40,8 @@ int plan(const PlanArgs &a)
   const std::string &out = a.out, &robot = a.robot, &method = a.method;
   const vpSelfCalibSimulator::Options &so = a.so;
   const unsigned int poses = a.poses, held_out = a.held_out;
-  if (!a.force && !canonical(out).empty()) {
-    std::cerr << "error: '" << out << "' exists; use --force to replace it\n";
+  if (outputRefused(out, a.force))
     return 1;
-  }
   const vpSelfCalibSimulator sim(vpKinematicChain::fromPresetOrFile(robot), so);
   const unsigned int pool = method == "observability" ? 60 : 0;
   std::cerr << "... random feasible configurations\n";

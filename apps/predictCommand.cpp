@@ -12,11 +12,8 @@
 
 namespace
 {
-int predictFrom(const vpKinematicChain &c, std::istream &in, const std::string &source)
+int predictFrom(const vpKinematicChain &c, const std::vector<vpColVector> &qs, const std::string &source)
 {
-  std::vector<vpColVector> qs;
-  if (!readJoints(in, source, c.getNumJoints(), qs))
-    return 1;
   std::cout << std::setprecision(17);
   for (const vpColVector &q : qs) {
     if (!c.isInJointLimits(q))
@@ -42,13 +39,6 @@ void addPredict(CLI::App &app, ModelArgs &a)
 int predict(const ModelArgs &a)
 {
   const vpKinematicChain chain = vpKinematicChain::fromPresetOrFile(a.model);
-  if (!a.second.empty()) {
-    std::ifstream in(a.second);
-    if (!in) {
-      std::cerr << "error: cannot open joints file '" << a.second << "'\n";
-      return 1;
-    }
-    return predictFrom(chain, in, a.second);
-  }
-  return predictFrom(chain, std::cin, "<stdin>");
+  return predictFrom(chain, readJoints(a.second, "joints file", chain.getNumJoints()),
+                     a.second.empty() ? "<stdin>" : a.second);
 }

@@ -66,21 +66,13 @@ int simulate(const SimulateArgs &a)
   const std::string &out = a.out;
   const vpSelfCalibSimulator::Options &so = a.so;
   unsigned int poses = a.poses;
-  if (!a.force && !canonical(out).empty()) {
-    std::cerr << "error: '" << out << "' exists; use --force to replace it\n";
+  if (outputRefused(out, a.force))
     return 1;
-  }
   const vpSelfCalibSimulator sim(vpKinematicChain::fromPresetOrFile(a.robot), so);
   std::vector<vpColVector> configurations;
   if (!a.joints_file.empty()) {
     // The given configurations (a plan), each checked for joint limits and visibility.
-    std::ifstream in(a.joints_file);
-    if (!in) {
-      std::cerr << "error: cannot open joints file '" << a.joints_file << "'\n";
-      return 1;
-    }
-    if (!readJoints(in, a.joints_file, sim.getNominalChain().getNumJoints(), configurations))
-      return 1;
+    configurations = readJoints(a.joints_file, "joints file", sim.getNominalChain().getNumJoints());
     for (size_t k = 0; k < configurations.size(); ++k)
       if (!sim.getNominalChain().isInJointLimits(configurations[k]) || !sim.isVisible(configurations[k])) {
         std::cerr << "error: " << a.joints_file << ": configuration " << k + 1

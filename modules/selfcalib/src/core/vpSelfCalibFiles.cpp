@@ -9,7 +9,10 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <cstdint>
 #include <fstream>
+#include <iomanip>
+#include <new>
 #include <random>
 #include <sstream>
 #include <system_error>
@@ -164,6 +167,85 @@ void renameIntoPlace(const fs::path &tmp, const std::string &filename, const std
   syncDirectory(directoryOf(filename));
 }
 
+//! The kind of a special file ("a character device"...), empty for a regular file, a directory or a symbolic link.
+std::string specialKind(mode_t m)
+{
+  if (S_ISCHR(m))
+    return "a character device";
+  if (S_ISBLK(m))
+    return "a block device";
+  if (S_ISFIFO(m))
+    return "a FIFO";
+  if (S_ISSOCK(m))
+    return "a socket";
+  return "";
+}
+
+//! Big-endian 16 and 32 bits.
+unsigned long long be(const unsigned char *p, int n)
+{
+  unsigned long long v = 0;
+  for (int i = 0; i < n; ++i)
+    v = (v << 8) | p[i];
+  return v;
+}
+
+//! The size in a JPEG's first SOFn segment (the segments before it skipped by their lengths).
+ImageHeader jpegHeader(FILE *f)
+{
+  ImageHeader h;
+  unsigned char b[8];
+  for (int segments = 0; segments < 10000; ++segments) {
+    int c = std::fgetc(f);
+    if (c != 0xFF)
+      return h;
+    while (c == 0xFF)
+      c = std::fgetc(f);
+    if (c == EOF || c == 0xD9 || c == 0xDA)
+      return h;
+    if ((c >= 0xD0 && c <= 0xD7) || c == 0x01)
+      continue;
+    if (std::fread(b, 1, 2, f) != 2)
+      return h;
+    const long len = static_cast<long>(be(b, 2));
+    if (c >= 0xC0 && c <= 0xCF && c != 0xC4 && c != 0xC8 && c != 0xCC) {
+      if (len < 7 || std::fread(b, 1, 5, f) != 5)
+        return h;
+      h.known = true;
+      h.height = be(b + 1, 2);
+      h.width = be(b + 3, 2);
+      return h;
+    }
+    if (len < 2 || std::fseek(f, len - 2, SEEK_CUR) != 0)
+      return h;
+  }
+  return h;
+}
+
+//! The size in a PGM/PPM header (P1 to P6: magic, width, height, '#' comments).
+ImageHeader pnmHeader(FILE *f)
+{
+  ImageHeader h;
+  unsigned long long v[2] = {0, 0};
+  for (int k = 0; k < 2; ++k) {
+    int c = std::fgetc(f);
+    while (c == '#' || std::isspace(c)) {
+      if (c == '#')
+        while (c != '\n' && c != EOF)
+          c = std::fgetc(f);
+      c = std::fgetc(f);
+    }
+    if (!std::isdigit(c))
+      return h;
+    for (int digits = 0; std::isdigit(c) && digits < 19; ++digits, c = std::fgetc(f))
+      v[k] = v[k] * 10 + static_cast<unsigned long long>(c - '0');
+  }
+  h.known = true;
+  h.width = v[0];
+  h.height = v[1];
+  return h;
+}
+
 //! The process's umask, read without changing it (umask(2) would, for every thread).
 mode_t currentUmask()
 {
@@ -180,6 +262,129 @@ std::string errnoText(int err)
 {
   std::error_code ec(err, std::generic_category());
   return ec.message();
+}
+
+std::string specialFileKind(const std::string &path)
+{
+  struct stat st;
+  std::string kind;
+  if (::lstat(path.c_str(), &st) == 0)
+    kind = specialKind(st.st_mode);
+  if (kind.empty() && ::stat(path.c_str(), &st) == 0) // a symbolic link to one
+    kind = specialKind(st.st_mode);
+  return kind;
+}
+
+void refuseSpecialOutput(const std::string &filename, const std::string &what)
+{
+  const std::string kind = specialFileKind(filename);
+  if (!kind.empty())
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               what + " '" + filename + "': is " + kind +
+                                   ", not a regular file: outputs are written only as regular files (and "
+                                   "directories); choose another path");
+}
+
+std::string readTextFileBounded(const std::string &filename, const std::string &what, size_t max_bytes)
+{
+  const int fd = ::open(filename.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0)
+    fail(what, filename, "cannot read", errno);
+  struct stat st;
+  if (::fstat(fd, &st) == 0 && S_ISDIR(st.st_mode)) {
+    ::close(fd);
+    fail(what, filename, "cannot read", EISDIR);
+  }
+  const std::string limit = std::to_string(max_bytes >> 20) + " MiB";
+  if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && static_cast<uint64_t>(st.st_size) > max_bytes) {
+    ::close(fd);
+    throw vpSelfCalibException(vpSelfCalibException::ioError, what + " '" + filename + "': " +
+                                                                  std::to_string(st.st_size) + " bytes, more than the " +
+                                                                  limit + " read");
+  }
+  // Counted while reading: a device or a pipe has no size to check first (/dev/zero never ends).
+  std::string text;
+  try {
+    if (S_ISREG(st.st_mode))
+      text.reserve(static_cast<size_t>(st.st_size) + 1);
+    char buf[1 << 16];
+    for (;;) {
+      const ssize_t n = ::read(fd, buf, sizeof buf);
+      if (n < 0 && errno == EINTR)
+        continue;
+      if (n < 0) {
+        const int err = errno;
+        ::close(fd);
+        fail(what, filename, "read error", err);
+      }
+      if (n == 0)
+        break;
+      if (const void *nul = std::memchr(buf, '\0', static_cast<size_t>(n))) {
+        ::close(fd);
+        const size_t at = text.size() + static_cast<size_t>(static_cast<const char *>(nul) - buf);
+        throw vpSelfCalibException(vpSelfCalibException::parseError,
+                                   what + " '" + filename + "': a NUL byte at offset " + std::to_string(at) +
+                                       ": not a text file; give a " + what + " file");
+      }
+      if (text.size() + static_cast<size_t>(n) > max_bytes) {
+        ::close(fd);
+        throw vpSelfCalibException(vpSelfCalibException::ioError,
+                                   what + " '" + filename + "': more than the " + limit +
+                                       " read (a device or a stream without end?); give a " + what + " file");
+      }
+      text.append(buf, static_cast<size_t>(n));
+    }
+  } catch (const std::bad_alloc &) {
+    ::close(fd);
+    throw vpSelfCalibException(vpSelfCalibException::ioError, what + " '" + filename + "': out of memory after " +
+                                                                  std::to_string(text.size() >> 20) + " MiB read");
+  }
+  ::close(fd);
+  return text;
+}
+
+ImageHeader checkImageFile(const std::string &file, const std::string &context, double max_pixels)
+{
+  const auto refuse = [&](const std::string &why) {
+    throw vpSelfCalibException(vpSelfCalibException::ioError, context + ": " + why);
+  };
+  struct stat st;
+  if (::stat(file.c_str(), &st) != 0)
+    refuse(errnoText(errno));
+  if (S_ISDIR(st.st_mode))
+    refuse("is a directory, not an image file");
+  if (!S_ISREG(st.st_mode))
+    refuse("is " + specialFileKind(file) + ", not an image file");
+  constexpr uint64_t kMaxImageBytes = uint64_t(256) << 20;
+  if (static_cast<uint64_t>(st.st_size) > kMaxImageBytes)
+    refuse(std::to_string(st.st_size) + " bytes, more than the 256 MiB read");
+  FILE *f = std::fopen(file.c_str(), "rb");
+  if (!f)
+    refuse(errnoText(errno));
+  unsigned char b[24] = {0};
+  const size_t n = std::fread(b, 1, sizeof b, f);
+  ImageHeader h;
+  static const unsigned char png[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+  if (n >= 24 && std::memcmp(b, png, 8) == 0 && std::memcmp(b + 12, "IHDR", 4) == 0) {
+    h.known = true;
+    h.width = be(b + 16, 4);
+    h.height = be(b + 20, 4);
+  } else if (n >= 2 && b[0] == 0xFF && b[1] == 0xD8) {
+    std::fseek(f, 2, SEEK_SET);
+    h = jpegHeader(f);
+  } else if (n >= 2 && b[0] == 'P' && b[1] >= '1' && b[1] <= '6') {
+    std::fseek(f, 2, SEEK_SET);
+    h = pnmHeader(f);
+  }
+  std::fclose(f);
+  if (h.known && static_cast<double>(h.width) * static_cast<double>(h.height) > max_pixels) {
+    std::ostringstream os;
+    os << "its header says " << h.width << " x " << h.height << " px, more than the " << std::fixed
+       << std::setprecision(0) << max_pixels
+       << " pixels decoded: refused before decoding";
+    refuse(os.str());
+  }
+  return h;
 }
 
 fs::path createTemporaryFileFor(const fs::path &file, const std::string &what)
@@ -202,6 +407,7 @@ fs::path createTemporaryFileFor(const fs::path &file, const std::string &what)
 void writeFileAtomicallyWith(const std::string &filename, const std::function<bool(const std::string &)> &fill,
                              const std::string &what)
 {
+  refuseSpecialOutput(filename, what);
   const FileLock lock(filename, what);
   removeStaleTemporaries(filename);
   const fs::path tmp = createTemporaryFileFor(filename, what);
@@ -224,6 +430,7 @@ void writeFileAtomicallyWith(const std::string &filename, const std::function<bo
 
 void writeFileAtomically(const std::string &filename, const std::string &content, const std::string &what)
 {
+  refuseSpecialOutput(filename, what);
   const FileLock lock(filename, what);
   removeStaleTemporaries(filename);
   const fs::path tmp = createTemporaryFileFor(filename, what);
@@ -268,6 +475,7 @@ OutputDirectory::OutputDirectory(const std::string &target)
   struct stat st;
   if (::stat(parent.c_str(), &st) != 0)
     fail(what, target, "its parent '" + parent.string() + "' is not there", errno);
+  refuseSpecialOutput(t.string(), what);
   if (::lstat(t.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
     throw vpSelfCalibException(vpSelfCalibException::ioError,
                                what + " '" + target + "': exists and is not a directory");

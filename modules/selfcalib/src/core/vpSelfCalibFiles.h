@@ -24,6 +24,49 @@ namespace vpSelfCalib
 std::string errnoText(int err);
 
 /*!
+  What `path` is when it is a device node, a FIFO or a socket, or a symbolic link to one ("a
+  character device", "a block device", "a FIFO", "a socket"); empty otherwise (absent, a regular
+  file, a directory).
+*/
+std::string specialFileKind(const std::string &path);
+
+/*!
+  Throws (ioError) naming `what` and the kind when `filename` is a device node, a FIFO or a socket
+  (specialFileKind): outputs go only where a regular file or a directory may be, with --force or
+  not. Every writer below calls it before it writes anything (its lock file included).
+*/
+void refuseSpecialOutput(const std::string &filename, const std::string &what);
+
+/*!
+  The content of the text file `filename`, at most `max_bytes` of it, counted while reading: a
+  device or a pipe that never ends is refused with the limit's message once the limit is passed, a
+  regular file larger than the limit before reading, and a NUL byte (never in a text file: /dev/zero,
+  /dev/urandom, a binary file) as soon as it is read. Throws vpSelfCalibException (ioError, or
+  parseError for a NUL byte) naming `what` and the file: cannot open (errno text), a directory, a
+  read error, beyond the limit, out of memory.
+*/
+std::string readTextFileBounded(const std::string &filename, const std::string &what, size_t max_bytes);
+
+//! Pixels of an image decoded at most (width x height), as the dataset reader allows.
+constexpr double kMaxDecodedPixels = 2.5e8;
+
+//! An image's size as its header gives it (known: PNG, JPEG, PGM/PPM headers were read).
+struct ImageHeader
+{
+  bool known = false;
+  unsigned long long width = 0, height = 0;
+};
+
+/*!
+  Checks an image file before it is decoded: a regular file (not a directory, a device, a FIFO, a
+  socket, a symbolic link loop or nothing), of at most 256 MiB, whose header (PNG IHDR, JPEG SOFn,
+  PGM/PPM) gives at most `max_pixels` pixels. Throws vpSelfCalibException (ioError) with
+  `context` (e.g. "view 3: cannot read image 'a.png'"), ": " and the reason. Returns the header's
+  size (unknown for other formats, which the decoder then checks).
+*/
+ImageHeader checkImageFile(const std::string &file, const std::string &context, double max_pixels = kMaxDecodedPixels);
+
+/*!
   Creates an empty file beside `file` under a fresh name, `.NAME.tmp-XXXXXXXX` with the extension
   of `file` kept (writers such as image encoders choose the format by it), exclusively (O_EXCL,
   O_NOFOLLOW): a planted file or symbolic link is never written through. Throws (ioError) naming

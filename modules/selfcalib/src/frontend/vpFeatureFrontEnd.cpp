@@ -7,6 +7,7 @@
 #include <visp3/selfcalib/vpFeatureFrontEnd.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
+#include "../core/vpSelfCalibFiles.h" // checkImageFile
 #include "vpDotTargets.h"
 #include "vpFeatureDetection.h"
 #include "vpFeatureMatching.h"
@@ -171,6 +172,14 @@ std::vector<vpImage<unsigned char>> vpFeatureFrontEnd::readImages(const vpSelfCa
     const std::string &file = ds.views[k].image, view = who + ": view " + std::to_string(k);
     if (file.empty())
       throw vpSelfCalibException(vpSelfCalibException::badValue, view + " has no image");
+    // The file and its header's size checked before decoding (a directory, a device, a size that
+    // is not the camera's, or a decompression bomb are refused without reading the pixels).
+    const vpSelfCalib::ImageHeader h = vpSelfCalib::checkImageFile(file, view + ": cannot read image '" + file + "'");
+    if (h.known && (h.width != ds.width || h.height != ds.height))
+      throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                                 view + ": image '" + file + "' is " + std::to_string(h.width) + " x " +
+                                     std::to_string(h.height) + ", the camera says " + std::to_string(ds.width) +
+                                     " x " + std::to_string(ds.height));
     try {
       vpImageIo::read(images[k], file);
     } catch (const vpException &e) {

@@ -16,6 +16,8 @@
 #include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
 
+#include "vpSelfCalibYaml.h" // kMaxJoints, readTextFile
+
 namespace
 {
 using Vec3 = Eigen::Vector3d;
@@ -565,12 +567,7 @@ vpKinematicChain vpKinematicChainUrdf::load(const std::string &filename) { retur
 
 vpKinematicChain vpKinematicChainUrdf::load(const std::string &filename, const Options &options)
 {
-  std::ifstream in(filename, std::ios::binary);
-  if (!in)
-    fail("'" + filename + "'", "cannot open the file for reading", vpSelfCalibException::ioError);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return fromString(ss.str(), options, "'" + filename + "'");
+  return fromString(vpSelfCalib::readTextFile(filename, "URDF"), options, "'" + filename + "'");
 }
 
 vpKinematicChain vpKinematicChainUrdf::fromString(const std::string &urdf_text, const Options &opt,
@@ -586,6 +583,11 @@ vpKinematicChain vpKinematicChainUrdf::fromString(const std::string &urdf_text, 
   std::string camera, tip;
   std::vector<urdf::JointConstSharedPtr> path;
   findLinks(*model, opt, base, source, camera, tip, path);
+  const size_t moving = static_cast<size_t>(std::count_if(
+      path.begin(), path.end(), [](const urdf::JointConstSharedPtr &j) { return j->type != urdf::Joint::FIXED; }));
+  if (moving > vpSelfCalib::kMaxJoints)
+    fail(source, "the chain from '" + base + "' to '" + tip + "' has " + std::to_string(moving) + " joints: at most " +
+                     std::to_string(vpSelfCalib::kMaxJoints) + " are read (as in a robot-model YAML)");
 
   // The chain at q = 0, the camera below its tip, the table.
   Frame F, tail;

@@ -8,7 +8,15 @@
 #include <mutex>
 #include <sstream>
 
+#include <cerrno>
+#include <cstdint>
+
+#include <sys/stat.h>
+
 #include <visp3/core/vpXmlParserCamera.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+
+#include "../core/vpSelfCalibFiles.h" // readTextFileBounded, specialFileKind
 
 namespace vpSelfCalib
 {
@@ -28,11 +36,37 @@ private:
 };
 
 std::mutex g_parse_mutex;
+
+//! Bytes of a camera XML file (a few cameras take a few kB).
+constexpr size_t kMaxCameraXmlBytes = size_t(16) << 20;
+
+/*
+  ViSP's parser reads the file itself, without a bound: only a regular file of at most
+  kMaxCameraXmlBytes goes to it (a device or a pipe would be read without end, or wait forever).
+*/
+void checkCameraXmlFile(const std::string &file)
+{
+  struct stat st;
+  if (::stat(file.c_str(), &st) != 0)
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               "camera XML '" + file + "': cannot read: " + errnoText(errno));
+  if (S_ISDIR(st.st_mode))
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               "camera XML '" + file + "': cannot read: " + errnoText(EISDIR));
+  if (!S_ISREG(st.st_mode))
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               "camera XML '" + file + "': is " + specialFileKind(file) + ", not a regular file");
+  if (static_cast<uint64_t>(st.st_size) > kMaxCameraXmlBytes)
+    throw vpSelfCalibException(vpSelfCalibException::ioError, "camera XML '" + file + "': " +
+                                                                  std::to_string(st.st_size) + " bytes, more than the " +
+                                                                  std::to_string(kMaxCameraXmlBytes >> 20) + " MiB read");
+}
 } // namespace
 
 bool readCameraXml(const std::string &file, const std::string &name,
                    vpCameraParameters::vpCameraParametersProjType model, CameraXml &out)
 {
+  checkCameraXmlFile(file);
   std::lock_guard<std::mutex> lock(g_parse_mutex);
   const SilentCout silent;
   vpXmlParserCamera parser;
@@ -47,12 +81,8 @@ bool readCameraXml(const std::string &file, const std::string &name,
 
 std::vector<std::string> cameraXmlNames(const std::string &file)
 {
-  std::ifstream in(file, std::ios::binary);
-  if (!in)
-    return {};
-  std::ostringstream os;
-  os << in.rdbuf();
-  std::string text = os.str();
+  checkCameraXmlFile(file);
+  std::string text = readTextFileBounded(file, "camera XML", kMaxCameraXmlBytes);
   for (size_t c = text.find("<!--"); c != std::string::npos; c = text.find("<!--", c)) {
     const size_t e = text.find("-->", c);
     text.erase(c, e == std::string::npos ? std::string::npos : e + 3 - c);

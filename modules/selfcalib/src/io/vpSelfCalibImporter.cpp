@@ -264,6 +264,12 @@ struct Import {
   {
     vpImage<unsigned char> I;
     try {
+      vpSelfCalib::checkImageFile(file.string(), "cannot read the image");
+    } catch (const vpSelfCalibException &e) {
+      reason = e.getStringMessage();
+      return false;
+    }
+    try {
       vpImageIo::read(I, file.string());
     } catch (const vpException &e) {
       reason = "cannot read the image: " + e.getStringMessage();

@@ -12,6 +12,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "../core/vpSelfCalibFiles.h" // readTextFileBounded
+
 namespace
 {
 using RF = vpSelfCalibResultsFile;
@@ -650,10 +652,5 @@ vpSelfCalibResultsFile::Contents vpSelfCalibResultsFile::fromYaml(const std::str
 
 vpSelfCalibResultsFile::Contents vpSelfCalibResultsFile::read(const std::string &filename)
 {
-  std::ifstream f(filename, std::ios::binary);
-  if (!f)
-    throw vpSelfCalibException(vpSelfCalibException::ioError, "cannot open the results file '" + filename + "'");
-  std::ostringstream text;
-  text << f.rdbuf();
-  return fromYaml(text.str(), filename);
+  return fromYaml(vpSelfCalib::readTextFileBounded(filename, "results file", size_t(256) << 20), filename);
 }

@@ -210,32 +210,12 @@ private:
   std::string m_what, m_source;
 };
 
-//! The whole content of a file; throws vpSelfCalibException (ioError) naming `what` (the kind of
-//! file) and the file when it cannot be read.
+//! The whole content of a file, at most kMaxFileBytes counted while reading (readTextFileBounded);
+//! throws vpSelfCalibException (ioError) naming `what` (the kind of file) and the file when it
+//! cannot be read.
 inline std::string readTextFile(const std::string &filename, const std::string &what)
 {
-  std::error_code ec;
-  if (std::filesystem::is_directory(filename, ec))
-    throw vpSelfCalibException(vpSelfCalibException::ioError, what + " '" + filename + "': cannot read: " +
-                                                                  errnoText(EISDIR));
-  errno = 0;
-  std::ifstream in(filename, std::ios::binary);
-  if (!in)
-    throw vpSelfCalibException(vpSelfCalibException::ioError,
-                               what + " '" + filename + "': cannot read" + (errno ? ": " + errnoText(errno) : ""));
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  if (size > static_cast<std::streamoff>(kMaxFileBytes))
-    throw vpSelfCalibException(vpSelfCalibException::ioError, what + " '" + filename + "': " + std::to_string(size) +
-                                                                  " bytes, more than the " +
-                                                                  std::to_string(kMaxFileBytes >> 20) + " MiB read");
-  in.seekg(0, std::ios::beg);
-  std::ostringstream os;
-  os << in.rdbuf();
-  if (in.bad())
-    throw vpSelfCalibException(vpSelfCalibException::ioError,
-                               what + " '" + filename + "': read error" + (errno ? ": " + errnoText(errno) : ""));
-  return os.str();
+  return readTextFileBounded(filename, what, kMaxFileBytes);
 }
 
 //! A yaml-cpp error as the module's exception, with the line and column when yaml-cpp knows them.
