@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <random>
 #include <sstream>
 
 #include <visp3/selfcalib/vpKinematicChain.h>
@@ -22,6 +23,99 @@ namespace
 {
 //! simulate --poses: more would take hours (each pose is searched for by inverse kinematics).
 constexpr unsigned long long kMaxSimulatedPoses = 10000;
+//! 8 hex digits, new in every run (the name of a run's image directory).
+std::string runName()
+{
+  std::random_device rd;
+  std::ostringstream os;
+  os << std::hex << std::setw(8) << std::setfill('0') << (rd() & 0xffffffffu);
+  return os.str();
+}
+
+//! Whether `name` is STEM-images-XXXXXXXX (8 lower-case hex digits): a run's image directory.
+bool isRunImageDirectory(const std::string &name, const std::string &stem)
+{
+  const std::string prefix = stem + "-images-";
+  if (name.size() != prefix.size() + 8 || name.compare(0, prefix.size(), prefix) != 0)
+    return false;
+  return std::all_of(name.begin() + static_cast<long>(prefix.size()), name.end(),
+                     [](char c) { return std::isdigit(static_cast<unsigned char>(c)) || (c >= 'a' && c <= 'f'); });
+}
+
+/*
+  The image directory of the dataset at `out` that an earlier simulate --images wrote (one of
+  ours, beside it, every image in it), to be removed once the new dataset is in place; "" when
+  there is none. Also removes what killed runs left (their hidden staging directories): each is
+  opened as an output set, which removes the leftovers of its name unless a live run holds it.
+*/
+std::string earlierImageDirectory(const std::string &out)
+{
+  const fs::path parent = fs::absolute(out).lexically_normal().parent_path();
+  const std::string stem = fs::path(out).stem().string();
+  std::error_code ec;
+  for (const fs::directory_entry &e : fs::directory_iterator(parent, ec)) {
+    const std::string n = e.path().filename().string();
+    const size_t tmp = n.find(".tmp-");
+    if (n.size() > 1 && n[0] == '.' && tmp != std::string::npos && isRunImageDirectory(n.substr(1, tmp - 1), stem))
+      try {
+        const vpSelfCalibOutputDirectory leftovers((parent / n.substr(1, tmp - 1)).string());
+      } catch (const vpException &) {
+        // a live run's, or not ours to remove
+      }
+  }
+  if (canonical(out).empty())
+    return "";
+  std::string dir;
+  try {
+    for (const vpSelfCalibDataset::View &v : vpSelfCalibDataset::loadYaml(out).views) {
+      const fs::path d = fs::absolute(v.image).lexically_normal().parent_path();
+      if (v.image.empty() || d.parent_path() != parent || !isRunImageDirectory(d.filename().string(), stem) ||
+          (!dir.empty() && dir != d.string()))
+        return "";
+      dir = d.string();
+    }
+  } catch (const vpException &) {
+    return ""; // not a dataset: its images, if any, are not ours to remove
+  }
+  return dir;
+}
+
+/*
+  Renders the images into a directory of this run's own beside the dataset (STEM-images-XXXXXXXX),
+  written as a set (vpSelfCalibOutputDirectory: staged, then renamed into place) before the dataset
+  that points at them: a run killed at any moment leaves the earlier dataset with its own images.
+*/
+void renderImages(const vpSelfCalibSimulator &sim, const SimulateArgs &a, const std::vector<vpColVector> &qs,
+                  const std::string &out, vpSelfCalibDataset &ds)
+{
+  const fs::path parent = fs::path(out).parent_path(); // as given: the dataset then holds relative paths
+  const fs::path img_dir = (parent.empty() ? fs::path(".") : parent) / (fs::path(out).stem().string() + "-images-" + runName());
+  vpSelfCalibOutputDirectory set(img_dir.string());
+  vpSelfCalibRenderer::Options ro;
+  ro.seed = a.so.seed;
+  ro.scene = a.target == "dots" ? vpSelfCalibRenderer::DOTS : vpSelfCalibRenderer::TEXTURED;
+  const vpSelfCalibRenderer renderer(sim, ro);
+  for (size_t k = 0; k < ds.views.size(); ++k) {
+    std::ostringstream name;
+    name << std::setw(4) << std::setfill('0') << k + 1 << ".png";
+    // Encoded in memory and written atomically, every write checked (a full disk is an error
+    // naming the file and the reason, and the dataset that would point at it is not written).
+    try {
+      vpSelfCalibFileWriter::writeImage((fs::path(set.staging()) / name.str()).string(),
+                                        renderer.render(qs[k], static_cast<unsigned int>(k)));
+    } catch (...) {
+      std::cerr << "\n"; // after the progress line
+      throw;
+    }
+    ds.views[k].image = (img_dir / name.str()).string();
+    ds.views[k].points.clear();
+    std::cerr << "rendered " << k + 1 << "/" << ds.views.size() << "\r" << std::flush;
+  }
+  std::cerr << "\n";
+  set.commit();
+  ds.yardstick.length = renderer.getYardstickLength();
+  ds.yardstick.id_a = ds.yardstick.id_b = -1;
+}
 } // namespace
 
 void addSimulate(CLI::App &app, SimulateArgs &a)
@@ -46,8 +140,11 @@ void addSimulate(CLI::App &app, SimulateArgs &a)
   c->add_flag("--controller-poses", a.controller,
               "the true end-effector poses fMe instead of joints (hand-eye datasets)");
   c->add_flag("--images", a.images,
-              "render the images (OUT's directory/images/) and write no points: calibrate\n"
-              "then runs the image front end");
+              "render the images and write no points (calibrate then runs the image front\n"
+              "end): they go to a directory of the run's own beside OUT.yaml, OUT-images-XXXXXXXX/,\n"
+              "written before the dataset that points at them (a run stopped at any moment leaves\n"
+              "the earlier dataset and its images as they were); the earlier run's images are\n"
+              "removed once the new dataset is in place");
   c->add_option("--target", a.target,
                 "textured (default: photographs on two planes, natural features) or dots (the\n"
                 "paper's experiment: dot grids 4x5 and 4x9 on the two planes; needs --images;\n"
@@ -109,43 +206,23 @@ int simulate(const SimulateArgs &a)
     ds.focal_known = false;
     ds.cam.initPersProjWithoutDistortion(0.93 * so.px, 0.93 * so.py, so.u0, so.v0);
   }
+  std::string earlier_images;
   if (a.images) {
     // Rendered acquisition: images beside the dataset, no points (the front end finds them), the
     // yardstick's length only (its dots are found in the images).
-    const fs::path parent = fs::path(out).parent_path();
-    const fs::path img_dir = (parent.empty() ? fs::path(".") : parent) / "images";
-    if (!makeDirectory(img_dir)) {
-      std::cerr << "error: cannot create '" << img_dir.string() << "'\n";
-      return 1;
-    }
-    vpSelfCalibRenderer::Options ro;
-    ro.seed = so.seed;
-    ro.scene = a.target == "dots" ? vpSelfCalibRenderer::DOTS : vpSelfCalibRenderer::TEXTURED;
-    const vpSelfCalibRenderer renderer(sim, ro);
-    for (size_t k = 0; k < ds.views.size(); ++k) {
-      std::ostringstream name;
-      name << std::setw(4) << std::setfill('0') << k + 1 << ".png";
-      const std::string file = (img_dir / name.str()).string();
-      // Encoded in memory and written atomically, every write checked (a full disk is an error
-      // naming the file and the reason, and the dataset that would point at it is not written).
-      try {
-        vpSelfCalibFileWriter::writeImage(file, renderer.render(qs[k], static_cast<unsigned int>(k)));
-      } catch (...) {
-        std::cerr << "\n"; // after the progress line
-        throw;
-      }
-      ds.views[k].image = file;
-      ds.views[k].points.clear();
-      std::cerr << "rendered " << k + 1 << "/" << ds.views.size() << "\r" << std::flush;
-    }
-    std::cerr << "\n";
-    ds.yardstick.length = renderer.getYardstickLength();
-    ds.yardstick.id_a = ds.yardstick.id_b = -1;
+    earlier_images = earlierImageDirectory(out);
+    renderImages(sim, a, qs, out, ds);
   }
+  // The one step from the earlier run to this one: the dataset renamed into place (its images,
+  // in a directory of their own, are already there). Then the earlier run's images go.
   ds.saveYaml(out);
+  if (!earlier_images.empty()) {
+    std::error_code ec;
+    fs::remove_all(earlier_images, ec);
+  }
   if (a.images)
-    std::cout << "wrote " << out << ": " << poses << " poses of " << a.robot << ", rendered images in the images/ "
-              << "directory beside it\n";
+    std::cout << "wrote " << out << ": " << poses << " poses of " << a.robot << ", rendered images in "
+              << fs::path(ds.views[0].image).parent_path().filename().string() << "/ beside it\n";
   else
     std::cout << "wrote " << out << ": " << poses << " poses of " << a.robot << ", " << sim.getScenePoints().size()
               << " scene points, noise " << so.pixel_noise_sd << " px\n";

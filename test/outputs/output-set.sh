@@ -5,6 +5,9 @@
 #               (the first is paused while it holds the lock, the second runs meanwhile)
 #   kill        kill -9 at 17 moments of a run with --force (dense in its second half, where it
 #               writes): the earlier set or the new one, never a mix; no temporaries after the next run
+#   simulate-kill  simulate --images --force killed while it renders (caught holding the lock of its
+#               new image directory, seen in /proc/locks): the earlier dataset and its images intact;
+#               the next run leaves no temporaries and removes the earlier run's images
 #   full-disk   a full file system (tmpfs in a private mount namespace; skipped, exit 77, without
 #               the rights): simulate --images and calibrate fail with "No space left on device",
 #               exit 1, the earlier set intact, no dataset pointing at missing images
@@ -103,6 +106,42 @@ kill)
   ls -a | grep -q '\.tmp-\|\.lock' && fail "temporaries left: $(ls -a)"
   echo "kill-ok"
   ;;
+simulate-kill)
+  [ -r /proc/locks ] || { echo "SKIPPED: no /proc/locks"; exit 77; }
+  mkdir sim && cd sim || fail "mkdir"
+  "$APP" simulate ds.yaml --poses 4 --seed 5 --images > /dev/null 2>&1 || fail "the earlier run"
+  cp ds.yaml ../earlier.yaml && old_dir=$(ls -d ds-images-*) && cp -r "$old_dir" ../earlier-images
+  rendering() { # rendering PID: PID holds the lock of a new image directory (no lock taken to find out)
+    for l in .ds-images-*.lock; do
+      ino=$(stat -c %i "$l" 2> /dev/null) || continue
+      grep -q "^[0-9]*: FLOCK  *ADVISORY  *WRITE $1 [0-9a-f]*:[0-9a-f]*:$ino " /proc/locks && return 0
+    done
+    return 1
+  }
+  running() { st=$(sed 's/^.*) //' /proc/$1/stat 2> /dev/null | cut -c1) && [ -n "$st" ] && [ "$st" != Z ]; }
+  caught=no
+  for attempt in 1 2 3 4 5 6 7 8 9 10; do
+    "$APP" simulate ds.yaml --poses 6 --seed 6 --images --force > /dev/null 2>&1 &
+    pid=$!
+    while running $pid; do # (polled every 10 ms; the order comes from the lock seen held)
+      if rendering $pid; then kill -9 $pid; caught=yes; break; fi
+      sleep 0.01
+    done
+    wait $pid 2> /dev/null
+    [ $caught = yes ] && break
+    # the run ended before it was caught: it replaced the set; start again from the earlier one
+    rm -rf ds-images-* && cp ../earlier.yaml ds.yaml && cp -r ../earlier-images "$old_dir"
+  done
+  [ $caught = yes ] || fail "simulate was never caught rendering (10 runs)"
+  cmp -s ds.yaml ../earlier.yaml || fail "the earlier dataset changed"
+  diff -r "$old_dir" ../earlier-images > /dev/null || fail "the earlier images changed"
+  "$APP" simulate ds.yaml --poses 3 --seed 7 --images --force > /dev/null 2>&1 || fail "the run after the kill"
+  [ -e "$old_dir" ] && fail "the earlier run's images were not removed"
+  ls -a | grep -q '\.tmp-\|\.lock' && fail "temporaries left: $(ls -a)"
+  [ "$(ls -d ds-images-* | wc -l)" -eq 1 ] || fail "image directories: $(ls -d ds-images-*)"
+  for f in $(sed -n 's/^ *image: //p' ds.yaml); do [ -s "$f" ] || fail "the dataset points at a missing image $f"; done
+  echo "simulate-kill-ok"
+  ;;
 full-disk)
   command -v unshare > /dev/null || { echo "SKIPPED: no unshare"; exit 77; }
   unshare -m sh -c 'mkdir -p disk && mount -t tmpfs -o size=64k tmpfs disk' 2> /dev/null || {
@@ -132,7 +171,7 @@ full-disk)
     grep -q "No space left on device" log.txt || fail "no errno text"
     grep -q "^wrote" log.txt && fail "simulate said wrote"
     [ -e disk/sim/ds.yaml ] && fail "a dataset was written"
-    ls -a disk/sim/images | grep -q "\.tmp-" && fail "temporary image left"
+    [ -z "$(ls -A disk/sim)" ] || fail "left in disk/sim: $(ls -A disk/sim)"
     echo "full-disk-ok"
   ' sh "$APP" "$files"
   ;;
