@@ -475,7 +475,11 @@ OutputDirectory::OutputDirectory(const std::string &target)
   struct stat st;
   if (::stat(parent.c_str(), &st) != 0)
     fail(what, target, "its parent '" + parent.string() + "' is not there", errno);
-  refuseSpecialOutput(t.string(), what);
+  if (!specialFileKind(t.string()).empty())
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               what + " '" + target + "': is " + specialFileKind(t.string()) +
+                                   ", not a directory: outputs are written only as regular files and directories; "
+                                   "choose another path");
   if (::lstat(t.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
     throw vpSelfCalibException(vpSelfCalibException::ioError,
                                what + " '" + target + "': exists and is not a directory");
