@@ -464,6 +464,8 @@ void writeFileAtomically(const std::string &filename, const std::string &content
 
 OutputDirectory::OutputDirectory(const std::string &target)
 {
+  if (target.empty())
+    throw vpSelfCalibException(vpSelfCalibException::ioError, "output directory '': an empty path: give a directory");
   fs::path t = fs::absolute(target).lexically_normal();
   if (!t.has_filename())
     t = t.parent_path(); // "out/" or "."
@@ -480,6 +482,14 @@ OutputDirectory::OutputDirectory(const std::string &target)
                                what + " '" + target + "': is " + specialFileKind(t.string()) +
                                    ", not a directory: outputs are written only as regular files and directories; "
                                    "choose another path");
+  if (::lstat(t.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
+    std::error_code ec;
+    const fs::path to = fs::read_symlink(t, ec);
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               what + " '" + target + "': is a symbolic link" +
+                                   (ec ? std::string() : " to '" + to.string() + "'") +
+                                   ": the set replaces what is at the path, so give the directory itself");
+  }
   if (::lstat(t.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
     throw vpSelfCalibException(vpSelfCalibException::ioError,
                                what + " '" + target + "': exists and is not a directory");

@@ -139,8 +139,8 @@ void parseCamera(const Reader &r, const YAML::Node &root, const std::string &bas
     const double px = r.number(c["px"], "camera.px"), py = r.number(c["py"], "camera.py");
     if (!(px > 0 && py > 0))
       r.fail("camera", "px and py must be positive");
-    r.bounded(c["px"], "camera.px", 0, kMaxPixels, "px");
-    r.bounded(c["py"], "camera.py", 0, kMaxPixels, "px");
+    r.bounded(c["px"], "camera.px", 1, kMaxPixels, "px"); // below 1 px: a mistake (and beyond ViSP's range)
+    r.bounded(c["py"], "camera.py", 1, kMaxPixels, "px");
     ds.cam.initPersProjWithoutDistortion(px, py, u0, v0);
     ds.focal_known = true;
   } else {
@@ -148,7 +148,7 @@ void parseCamera(const Reader &r, const YAML::Node &root, const std::string &bas
     if (!(f > 0))
       r.fail("camera.f_guess", "must be positive");
     if (c["f_guess"])
-      r.bounded(c["f_guess"], "camera.f_guess", 0, kMaxPixels, "px");
+      r.bounded(c["f_guess"], "camera.f_guess", 1, kMaxPixels, "px");
     ds.cam.initPersProjWithoutDistortion(f, f, u0, v0);
     ds.focal_known = false;
   }
@@ -230,7 +230,9 @@ void parseRobotPose(const Reader &r, const YAML::Node &p, const std::string &key
                 "the controller's poses)");
   if (p["joints"]) {
     const YAML::Node j = p["joints"];
-    if (!j.IsSequence() || j.size() == 0)
+    if (j.IsSequence() && j.size() == 0)
+      r.fail(key + ".joints", "an empty list: expected the robot's joint values (rad)");
+    if (!j.IsSequence())
       r.fail(key + ".joints", "expected a list of joint values (rad), got " + Reader::show(j));
     r.atMost(j, kMaxJoints, key + ".joints", "joint values");
     if (num_joints >= 0 && static_cast<int>(j.size()) != num_joints)
@@ -276,7 +278,8 @@ void parseYardstick(const Reader &r, const YAML::Node &y, vpSelfCalibDataset &ds
   if (!y.IsMap())
     r.fail("yardstick", "expected a map {length, ends: [id_a, id_b]}, got " + Reader::show(y));
   r.onlyKeys(y, {"length", "ends"}, "yardstick");
-  ds.yardstick.length = r.bounded(y["length"], "yardstick.length", 0, kMaxLength, "m");
+  // Below a micrometre a yardstick is a mistake (and every scale from it underflows).
+  ds.yardstick.length = r.bounded(y["length"], "yardstick.length", 1e-6, kMaxLength, "m");
   if (!(ds.yardstick.length > 0))
     r.fail("yardstick.length", "must be positive (m)");
   // Without ends: the front end finds the yardstick's dots in the images.
