@@ -4,6 +4,7 @@
 #include "acquireCommand.h"
 #include "commands.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -46,6 +47,8 @@ std::vector<vpColVector> readPlan(const std::string &file, unsigned int n)
     throw vpSelfCalibException(vpSelfCalibException::badValue, "plan '" + file + "' has no configuration");
   return out;
 }
+//! acquire --settle: beyond ten minutes a move's wait is a mistake (1e9 s would wait for decades).
+constexpr double kMaxSettleSeconds = 600;
 } // namespace
 
 void addAcquire(CLI::App &app, AcquireArgs &a)
@@ -63,15 +66,16 @@ void addAcquire(CLI::App &app, AcquireArgs &a)
       ->type_name("N")
       ->check(selfcalibCli::wholeNumber());
   c->add_option("--calibration", a.calibration,
-                "the plan's first N poses are calibration poses, visited before the others (default 15)")
+                "the plan's first N poses are calibration poses, visited before the others, 1 to the\n"
+                "plan's size (default 15, or the whole plan when it is shorter)")
       ->type_name("N")
-      ->check(selfcalibCli::wholeNumber());
+      ->check(selfcalibCli::wholeNumber(1, 100000));
   c->add_option("--focal", a.focal, "known (default: px, py in the dataset) or shared (f to be self-calibrated)")
       ->type_name("MODE")
       ->check(CLI::IsMember({"known", "shared"}));
-  c->add_option("--settle", a.settle, "seconds to wait after each move (default 0)")
+  c->add_option("--settle", a.settle, "seconds to wait after each move, at most 600 (default 0)")
       ->type_name("S")
-      ->check(selfcalibCli::number(0));
+      ->check(selfcalibCli::number(0, false, kMaxSettleSeconds));
   c->add_option("--fail-at", a.fail_at, "make the simulated controller fail at move N (tests the error path)")
       ->type_name("N")
       ->check(selfcalibCli::wholeNumber(1));
@@ -95,6 +99,13 @@ int acquire(const AcquireArgs &a)
   vpSelfCalibSimulatedGrabber grabber(robot, renderer);
 
   const std::vector<vpColVector> plan = readPlan(a.plan, nominal.getNumJoints());
+  const unsigned int calibration =
+      a.calibration ? a.calibration : std::min(15u, static_cast<unsigned int>(plan.size()));
+  if (calibration > plan.size()) {
+    std::cerr << "error: --calibration " << a.calibration << ": the plan '" << a.plan << "' has " << plan.size()
+              << " poses; give at most " << plan.size() << "\n";
+    return 1;
+  }
   const fs::path parent = fs::path(a.out).parent_path();
   const fs::path dir = parent.empty() ? fs::path(".") : parent;
   std::error_code ec;
@@ -112,7 +123,7 @@ int acquire(const AcquireArgs &a)
     o.header.focal_known = false;
     o.header.cam.initPersProjWithoutDistortion(0.93 * so.px, 0.93 * so.py, so.u0, so.v0);
   }
-  o.calibration_poses = a.calibration;
+  o.calibration_poses = calibration;
   o.settle_time = a.settle;
   vpSelfCalibAcquisition acquisition(robot, nominal, grabber, o);
   const vpSelfCalibAcquisition::Result r =

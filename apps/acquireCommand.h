@@ -13,7 +13,7 @@
 struct AcquireArgs {
   std::string out, plan, focal = "known";
   unsigned long long seed = 1;
-  unsigned int calibration = 15, fail_at = 0;
+  unsigned int calibration = 0, fail_at = 0; // calibration 0: not given (15, or the whole plan when shorter)
   double settle = 0;
 };
 

@@ -32,6 +32,13 @@ std::vector<std::string> calibrationInputs(const std::string &dataset, const vpS
 */
 int checkOutputDirectory(const vpSelfCalibOutputDirectory &outdir, const std::string &out,
                          const std::vector<std::string> &inputs, bool force);
+/*!
+  Refuses a --heldout dataset that is the calibration dataset or shares views with it (the same
+  image, joints or controller pose): the check would not be independent. 0, or 1 after the message.
+*/
+int checkHeldout(const std::string &dataset, const vpSelfCalibDataset &ds, const std::string &heldout);
+//! Refuses a method that needs joints (bundle, paper) on views that give controller poses: 0, or 1 after the message.
+int checkMethodData(vpRobotSelfCalibration::Method method, const vpSelfCalibDataset &ds);
 //! The protocol's figures on stdout, one line each.
 void printProtocol(const vpSelfCalibProtocol::Result &p);
 //! calibrate's summary on stdout: what was estimated, eMc with its sd, the residuals, the intrinsics.

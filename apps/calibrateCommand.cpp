@@ -158,9 +158,13 @@ int calibrate(const CalibrateArgs &a)
   vpSelfCalibOutputDirectory outdir(out);
   if (const int refused = checkOutputDirectory(outdir, out, calibrationInputs(dataset, ds), a.force))
     return refused;
+  if (const int refused = checkHeldout(dataset, ds, a.heldout))
+    return refused;
   const vpSelfCalibImageCorrespondences::Result cr = runFrontEnd(ds, co);
   cv::setNumThreads(1);
   po.method = cr.method;
+  if (const int refused = checkMethodData(po.method, ds))
+    return refused;
   if (pose_auto && po.method != vpRobotSelfCalibration::HAND_EYE)
     std::cerr << "warning: --pose-sd auto measures the controller poses' error (hand-eye); the method is "
               << vpRobotSelfCalibration::methodName(po.method) << ", so it is not used\n";

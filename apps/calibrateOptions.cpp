@@ -84,9 +84,9 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
   c->add_option("--pixel-sd", a.pixel_sd,
                 "image noise sd (px): auto (default) measures it from the residuals (a second run\n"
                 "with the measured value when it differs from 0.2 px by more than 25 %); a number is\n"
-                "used as stated, and the sd are scaled when the residuals contradict it")
+                "used as stated (0.001 to 1000), and the sd are scaled when the residuals contradict it")
       ->type_name("auto|PX")
-      ->check(selfcalibCli::wordOrNumber("auto", 0, true, 1000));
+      ->check(selfcalibCli::wordOrNumber("auto", 0.001, false, 1000)); // below 0.001 px: a mistake
   c->add_option("--tolerance", a.tolerance,
                 "the nominal model's tolerance: largest error of a joint placement (m, rad), then\n"
                 "optionally of eMc (m, rad); a correction or an sd beyond it makes the run doubtful\n"

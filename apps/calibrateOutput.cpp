@@ -4,6 +4,8 @@
 #include "calibrate.h"
 
 #include <algorithm>
+#include <cmath>
+#include <sstream>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -122,4 +124,77 @@ void printSummary(const vpRobotSelfCalibration::Result &r, unsigned int num_cali
                 << " +- " << std::setprecision(2) << r.bundle.intrinsics_sd[i];
     std::cout << std::defaultfloat;
   }
+}
+
+namespace
+{
+//! The same view: the same image file, or the same joints (or controller pose) to 1e-12.
+bool sameView(const vpSelfCalibDataset::View &a, const vpSelfCalibDataset::View &b)
+{
+  if (!a.image.empty() && !b.image.empty() && !canonical(a.image).empty() && canonical(a.image) == canonical(b.image))
+    return true;
+  if (a.q.size() != 0 && a.q.size() == b.q.size()) {
+    for (unsigned int j = 0; j < a.q.size(); ++j)
+      if (std::abs(a.q[j] - b.q[j]) > 1e-12)
+        return false;
+    return true;
+  }
+  if (a.has_fMe && b.has_fMe) {
+    for (unsigned int r = 0; r < 3; ++r)
+      for (unsigned int c = 0; c < 4; ++c)
+        if (std::abs(a.fMe[r][c] - b.fMe[r][c]) > 1e-12)
+          return false;
+    return true;
+  }
+  return false;
+}
+} // namespace
+
+int checkHeldout(const std::string &dataset, const vpSelfCalibDataset &ds, const std::string &heldout)
+{
+  if (heldout.empty())
+    return 0;
+  if (!canonical(heldout).empty() && canonical(heldout) == canonical(dataset)) {
+    std::cerr << "error: --heldout " << heldout << " is the calibration dataset itself: a check on the views "
+              << "calibrated on is not independent; give a dataset of other poses\n";
+    return 1;
+  }
+  const vpSelfCalibDataset h = vpSelfCalibDataset::loadYaml(heldout);
+  std::vector<size_t> shared;
+  for (size_t k = 0; k < h.views.size(); ++k)
+    for (const vpSelfCalibDataset::View &v : ds.views)
+      if (sameView(h.views[k], v)) {
+        shared.push_back(k);
+        break;
+      }
+  if (shared.empty())
+    return 0;
+  std::ostringstream list;
+  for (size_t i = 0; i < shared.size() && i < 10; ++i)
+    list << (i ? ", " : "") << shared[i];
+  if (shared.size() > 10)
+    list << "...";
+  std::cerr << "error: --heldout " << heldout << ": " << shared.size() << " of its " << h.views.size()
+            << " views (" << list.str() << ") are views of the calibration dataset too (the same joints or "
+            << "image): a check on them is not independent; give views not used to calibrate\n";
+  return 1;
+}
+
+int checkMethodData(vpRobotSelfCalibration::Method method, const vpSelfCalibDataset &ds)
+{
+  if (method == vpRobotSelfCalibration::HAND_EYE)
+    return 0;
+  size_t without = 0, first = ds.views.size();
+  for (size_t k = 0; k < ds.views.size(); ++k)
+    if (ds.views[k].q.size() == 0) {
+      ++without;
+      first = std::min(first, k);
+    }
+  if (without == 0)
+    return 0;
+  std::cerr << "error: --method " << vpRobotSelfCalibration::methodName(method) << " calibrates the kinematic "
+            << "model from joint readings, and " << without << " of the " << ds.views.size()
+            << " views (view " << first << " the first) give a controller pose (fMe) instead: use --method "
+            << "hand-eye (eMc and the camera from controller poses), or record the joints\n";
+  return 1;
 }

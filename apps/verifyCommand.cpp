@@ -8,6 +8,7 @@
 
 #include <visp3/selfcalib/vpCalibrationVerifier.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpSelfCalibDataCheck.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
 
 void addVerify(CLI::App &app, ModelArgs &a)
@@ -27,6 +28,10 @@ int verify(const ModelArgs &a)
     std::cerr << "error: dataset '" << dataset << "' has no yardstick to verify against\n";
     return 1;
   }
+  // The same check of the inputs as calibrate's: joints of another robot, or outside the model's
+  // limits, are refused (its findings on the data's geometry are calibrate's business).
+  vpSelfCalibDataCheck::check(model, ds, static_cast<unsigned int>(ds.views.size()), true,
+                              vpSelfCalibDataCheck::Options());
   const vpCalibrationVerifier::Result v = vpCalibrationVerifier::verify(model, ds.cam, ds.views, ds.yardstick);
   if (!v.has_yardstick) {
     std::cerr << "error: the yardstick's ends are not seen in two views of '" << dataset << "'\n";
