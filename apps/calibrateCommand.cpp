@@ -107,7 +107,10 @@ std::string writeResults(const fs::path &stage, const std::string &dataset, cons
   vpSelfCalibReport::Record run(nominal, ds, p);
   run.front_end = cr.front_end_ran ? &cr.front_end : nullptr;
   run.errors_vs_poses = &study;
-  return vpSelfCalibReport::write((stage / "report").string(), run, vpSelfCalibReport::Options()).message;
+  const vpSelfCalibReport::Result report = vpSelfCalibReport::write((stage / "report").string(), run, {});
+  for (const std::string &w : report.warnings)
+    std::cerr << "warning: " << w << "\n";
+  return report.message;
 }
 /*
   --pose-sd T,R and --joint-sd into the noise model of po's method: the controller poses' error

@@ -277,6 +277,7 @@ void heldOutSection(std::ostream &md, const vpSelfCalibCrossValidation::HeldOut 
 struct ReportData {
   std::string files[8]; //!< one per figure of kFigures, in its order
   std::vector<double> ver_rms; //!< reprojection RMS of each held-out view (px)
+  std::vector<double> view_rms; //!< reprojection RMS of each calibration view (px), calibrated model
   double sum2 = 0;             //!< sum of the squared residuals on the calibration views (px^2)
   size_t count = 0;            //!< their number
 };
@@ -286,6 +287,42 @@ struct Views {
   unsigned int N = 0;
   std::vector<vpSelfCalibDataset::View> cal, ver;
 };
+
+/*
+  The calibration views the calibrated model does not explain while it explains the others: a
+  reprojection RMS above 3 px and above 5 times the views' median. Such a view's joints most likely
+  do not belong to its image (two poses swapped, a reading of another moment): the bundle
+  adjustment drops its observations as outliers and goes on, so the report names it. Empty when
+  there is none, or when half the views or more are such (then it is the model, not the views).
+*/
+std::string unexplainedViews(const std::vector<double> &view_rms)
+{
+  if (view_rms.size() < 3)
+    return "";
+  std::vector<double> sorted = view_rms;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2), sorted.end());
+  const double median = sorted[sorted.size() / 2], limit = std::max(3.0, 5 * median);
+  std::vector<size_t> bad;
+  for (size_t k = 0; k < view_rms.size(); ++k)
+    if (view_rms[k] > limit)
+      bad.push_back(k);
+  if (bad.empty() || 2 * bad.size() >= view_rms.size())
+    return "";
+  std::ostringstream os, rms;
+  os << std::fixed << std::setprecision(2) << (bad.size() == 1 ? "view " : "views ");
+  for (size_t i = 0; i < bad.size(); ++i) {
+    const std::string sep = i == 0 ? "" : (i + 1 == bad.size() ? " and " : ", ");
+    os << sep << bad[i];
+    rms << sep << std::fixed << std::setprecision(2) << view_rms[bad[i]];
+  }
+  os << (bad.size() == 1 ? " is" : " are") << " not explained by the calibrated model (reprojection RMS "
+     << rms.str() << " px; the views' median " << median
+     << " px): the joints of " << (bad.size() == 1 ? "this view" : "these views")
+     << " most likely do not belong to " << (bad.size() == 1 ? "its image" : "their images")
+     << " (poses swapped, or read at another moment), and their observations were dropped as outliers; check "
+        "them, or leave them out of the dataset";
+  return os.str();
+}
 
 //! The front end's data files: the match matrix, symmetric (the front end fills the upper triangle), and track lengths.
 void frontEndData(const vpFeatureFrontEnd::Result &fe, std::ostringstream &match_matrix, std::ostringstream &lengths)
@@ -362,8 +399,10 @@ ReportData reportData(const vpSelfCalibReport::Record &run, const Views &views, 
   std::ostringstream view_resid, match_matrix, lengths;
   view_resid << std::setprecision(6) << "# calibration view, reprojection RMS (px): calibrated model, nominal model\n";
   if (out.count > 0)
-    for (size_t k = 0; k < rc.size(); ++k)
+    for (size_t k = 0; k < rc.size(); ++k) {
       view_resid << k + 1 << " " << rms(rc[k]) << " " << (k < rn.size() ? rms(rn[k]) : 0.0) << "\n";
+      out.view_rms.push_back(rms(rc[k]));
+    }
   if (run.front_end)
     frontEndData(*run.front_end, match_matrix, lengths);
   const std::string data[] = {traj.str(),  norms.str(),      resid.str(),        verif.str(),
@@ -609,8 +648,14 @@ vpSelfCalibReport::Result vpSelfCalibReport::write(const std::string &dir, const
   writeFigures(dir, data, run.front_end != nullptr, ro, res, empty);
   const FigureLink figure{dir, res, empty};
 
+  const std::string unexplained = unexplainedViews(data.view_rms);
+  if (!unexplained.empty())
+    res.warnings.push_back(unexplained);
+
   std::ostringstream md;
   runSection(md, run, views);
+  if (!unexplained.empty())
+    md << "\n**Warning:** " << unexplained << ".\n";
   if (run.front_end)
     frontEndSection(md, *run.front_end, figure);
   parametersSection(md, run, data, figure);

@@ -62,6 +62,9 @@ public:
     bool figures = false; //!< the PNG files were drawn
     std::string message;
     std::vector<std::string> files; //!< everything written
+    //! What the report finds in the data that the caller should show (calibration views the
+    //! calibrated model does not explain, named), also in report.md.
+    std::vector<std::string> warnings;
   };
   /*!
     The record of a run that a report presents: the nominal model, the dataset, the options and the
