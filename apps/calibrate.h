@@ -39,6 +39,11 @@ int checkOutputDirectory(const vpSelfCalibOutputDirectory &outdir, const std::st
 int checkHeldout(const std::string &dataset, const vpSelfCalibDataset &ds, const std::string &heldout);
 //! Refuses a method that needs joints (bundle, paper) on views that give controller poses: 0, or 1 after the message.
 int checkMethodData(vpRobotSelfCalibration::Method method, const vpSelfCalibDataset &ds);
+/*!
+  calibrate's last line on stdout: "status: ok", "status: doubtful: WHY (and N more checks
+  failed); ... what to do" or "status: refused: STATUS: WHY" (the message says what to do).
+*/
+void printStatus(const vpRobotSelfCalibration::Result &r, bool calibrated);
 //! The protocol's figures on stdout, one line each.
 void printProtocol(const vpSelfCalibProtocol::Result &p);
 //! calibrate's summary on stdout: what was estimated, eMc with its sd, the residuals, the intrinsics.

@@ -182,8 +182,11 @@ int calibrate(const CalibrateArgs &a)
   const vpSelfCalibProtocol::Result p =
       vpSelfCalibProtocol::run(nominal, ds, po, plan, protocol_options, printEvent);
   if (!p.calibrated()) {
-    std::cerr << "calibration failed: " << vpRobotSelfCalibration::statusName(p.run.status) << ": " << p.run.message
+    std::cerr << (p.run.status == vpRobotSelfCalibration::DEGENERATE_DATA ? "calibration refused: "
+                                                                          : "calibration failed: ")
+              << vpRobotSelfCalibration::statusName(p.run.status) << ": " << p.run.message
               << "\n";
+    printStatus(p.run, false);
     return 3;
   }
   const vpRobotSelfCalibration::Result &r = p.calibration;
@@ -199,6 +202,7 @@ int calibrate(const CalibrateArgs &a)
   printProtocol(p);
   std::cout << "wrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
   std::cout << "report: " << (fs::path(out) / "report").string() << "/report.md (" << report << ")\n";
+  printStatus(r, true);
   if (r.status == vpRobotSelfCalibration::DOUBTFUL) {
     std::cerr << "calibration doubtful: the model is written (marked so) but failed the checks above; "
                  "see results.yaml's findings of severity doubt\n";

@@ -205,7 +205,9 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
             "into the same DIR is refused). DIR must not hold an input or files that are not results; an\n"
             "earlier run's results are replaced only with --force. The data check's findings are printed\n"
             "as warnings.\n"
-            "Exit codes: 0 calibrated, 1 bad input, 2 bad usage, 3 failed or degenerate data (message on stderr).");
+            "Exit codes: 0 calibrated, 1 bad input, 2 bad usage, 3 no trustworthy calibration: refused (data\n"
+            "that cannot determine it), failed, or doubtful (model written, marked); the last line on stdout\n"
+            "('status: ...') says which and what to do.");
 }
 
 vpSelfCalibImageCorrespondences::Options frontEndOptions(const CalibrateArgs &a)

@@ -198,3 +198,38 @@ int checkMethodData(vpRobotSelfCalibration::Method method, const vpSelfCalibData
             << "hand-eye (eMc and the camera from controller poses), or record the joints\n";
   return 1;
 }
+
+namespace
+{
+//! The first sentence of a message (to its first ". "), at most about 300 characters.
+std::string firstSentence(const std::string &m)
+{
+  std::string s = m.substr(0, m.find(". "));
+  if (s.size() > 300)
+    s = s.substr(0, 297) + "...";
+  return s;
+}
+} // namespace
+
+void printStatus(const vpRobotSelfCalibration::Result &r, bool calibrated)
+{
+  if (!calibrated) {
+    std::cout << "status: " << (r.status == vpRobotSelfCalibration::DEGENERATE_DATA ? "refused: " : "failed: ")
+              << vpRobotSelfCalibration::statusName(r.status) << ": " << r.message << "\n";
+    return;
+  }
+  std::vector<const vpSelfCalibDataCheck::Finding *> doubts;
+  for (const auto &f : r.findings)
+    if (f.severity == vpSelfCalibDataCheck::DOUBT)
+      doubts.push_back(&f);
+  if (r.status != vpRobotSelfCalibration::DOUBTFUL || doubts.empty()) {
+    std::cout << (r.status == vpRobotSelfCalibration::DOUBTFUL ? "status: doubtful: see results.yaml's findings\n"
+                                                                : "status: ok\n");
+    return;
+  }
+  std::cout << "status: doubtful: " << firstSentence(doubts[0]->message);
+  if (doubts.size() > 1)
+    std::cout << " (and " << doubts.size() - 1 << " more check" << (doubts.size() > 2 ? "s" : "") << " failed)";
+  std::cout << "; the model is written, marked doubtful: the 'doubt' lines above and results.yaml's findings say "
+               "what to do\n";
+}

@@ -16,7 +16,15 @@
 namespace fs = std::filesystem;
 
 const char *const kProgram = "visp-selfcalib";
-const char *const kModelHelp = "a preset (puma560, viper850, panda, ur5), a robot-model YAML or a URDF file";
+std::string presetList()
+{
+  std::string list;
+  for (const std::string &p : vpKinematicChain::presetNames())
+    list += (list.empty() ? "" : ", ") + p;
+  return list;
+}
+
+std::string modelHelp() { return "a preset (" + presetList() + "), a robot-model YAML or a URDF file"; }
 
 namespace
 {

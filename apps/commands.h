@@ -27,7 +27,10 @@
 // Shared by the commands (commandCommon.cpp)
 
 extern const char *const kProgram;  //!< the program's name, in messages
-extern const char *const kModelHelp; //!< the help of a MODEL argument
+//! The presets' names, from the code ("puma560, viper850, ..."), for the help.
+std::string presetList();
+//! The help of a MODEL argument (the presets from the code).
+std::string modelHelp();
 
 /*!
   Joint vectors of `n` values, one per line (rad, spaces or commas, '#' comments), from `file` (""

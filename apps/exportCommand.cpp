@@ -14,7 +14,7 @@ void addExport(CLI::App &app, ExportArgs &a)
   CLI::App *c = app.add_subcommand("export", "URDF joint origins, or a corrected (modified) DH table");
   c->footer("Writes the model as URDF joint origins (exact), or as a DH / modified-DH robot-model file without\n"
             "corrections when one reproduces it (exit 3 when none does; a warning when it is ill-conditioned).");
-  c->add_option("MODEL", a.model, kModelHelp)->type_name("NAME|FILE")->required();
+  c->add_option("MODEL", a.model, modelHelp())->type_name("NAME|FILE")->required();
   CLI::Option_group *g = c->add_option_group("output", "the file to write");
   g->add_option("--urdf", a.urdf, "URDF joint origins")->type_name("OUT.urdf");
   g->add_option("--dh", a.dh, "a DH robot-model file")->type_name("OUT.yaml");

@@ -13,7 +13,7 @@ void addInfo(CLI::App &app, ModelArgs &a)
   CLI::App *c = app.add_subcommand("info", "robot model summary and error-model parameters");
   c->footer("Prints the robot model: convention, joints, number of error-model parameters, the corrections\n"
             "that are not zero.");
-  c->add_option("MODEL", a.model, kModelHelp)->type_name("NAME|FILE")->required();
+  c->add_option("MODEL", a.model, modelHelp())->type_name("NAME|FILE")->required();
 }
 
 int info(const ModelArgs &a)

@@ -3,6 +3,8 @@
  */
 #include "commands.h"
 
+#include <unistd.h>
+
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -44,22 +46,30 @@ int plan(const PlanArgs &a)
     return 1;
   const vpSelfCalibSimulator sim(vpKinematicChain::fromPresetOrFile(robot), so);
   const unsigned int pool = method == "observability" ? 60 : 0;
-  std::cerr << "... random feasible configurations\n";
-  const std::vector<vpColVector> q = sim.generateConfigurations(poses + held_out + pool);
+  // Progress on a terminal only, on one line rewritten in place; nothing in a pipe or a log.
+  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  const auto progress = [tty](const std::string &stage, unsigned int d, unsigned int n) {
+    if (tty)
+      std::cerr << "\r\033[K... " << stage << " " << d << "/" << n << std::flush;
+  };
+  const std::vector<vpColVector> q = sim.generateConfigurations(
+      poses + held_out + pool, [&progress](unsigned int d, unsigned int n) { progress("random feasible configurations", d, n); });
   const std::vector<vpColVector> initial(q.begin(), q.begin() + poses);
   const vpMeasurementPlanner planner(sim.getNominalChain(), sim.getPlannerScene());
   vpMeasurementPlanner::Result pr;
   if (method == "paper") {
     vpMeasurementPlanner::TrajectoryOptions to;
     to.seed = so.seed;
-    pr = planner.planTrajectory(initial, to, [](const std::string &stage, unsigned int d, unsigned int n) {
-      std::cerr << "... " << stage << " " << d + 1 << "/" << n << "\n";
+    pr = planner.planTrajectory(initial, to, [&progress](const std::string &stage, unsigned int d, unsigned int n) {
+      progress(stage, d + 1, n);
     });
   } else {
     std::vector<vpColVector> candidates = initial;
     candidates.insert(candidates.end(), q.begin() + poses + held_out, q.end());
     pr = planner.selectObservable(candidates, poses);
   }
+  if (tty)
+    std::cerr << "\r\033[K" << std::flush;
   if (pr.status != vpMeasurementPlanner::OK) {
     std::cerr << "planning failed: " << vpMeasurementPlanner::statusName(pr.status) << ": " << pr.message << "\n";
     return 3;
@@ -75,8 +85,9 @@ int plan(const PlanArgs &a)
   }
   vpSelfCalibFileWriter::write(out, os.str(), "plan");
   std::cout << "wrote " << out << ": " << poses << " planned + " << held_out << " held-out configurations; "
-            << std::setprecision(3) << "cond(J) " << pr.before.condition << " -> " << pr.after.condition << ", O1 "
-            << pr.observability_before.O1 << " -> " << pr.observability_after.O1 << ", " << std::setprecision(2)
+            << std::setprecision(3) << "cond(J) " << pr.before.condition << " -> " << pr.after.condition
+            << " (lower is better), O1 " << pr.observability_before.O1 << " -> " << pr.observability_after.O1
+            << " (higher is better), " << std::setprecision(2)
             << pr.seconds << " s\n";
   return 0;
 }

@@ -32,7 +32,7 @@ void addPredict(CLI::App &app, ModelArgs &a)
   c->footer("Reads one joint vector per line (rad, separated by spaces or commas; '#' starts a comment) from\n"
             "JOINTS_FILE or standard input and prints the camera pose fMc as 'tx ty tz tux tuy tuz' (m, rad)\n"
             "per line.");
-  c->add_option("MODEL", a.model, kModelHelp)->type_name("NAME|FILE")->required();
+  c->add_option("MODEL", a.model, modelHelp())->type_name("NAME|FILE")->required();
   c->add_option("JOINTS_FILE", a.second, "joint vectors (default: standard input)")->type_name("FILE");
 }
 

@@ -10,12 +10,15 @@
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpSelfCalibDataCheck.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
+#include <visp3/selfcalib/vpSelfCalibImageCorrespondences.h>
 
 void addVerify(CLI::App &app, ModelArgs &a)
 {
   CLI::App *c = app.add_subcommand("verify", "the paper's 3-D yardstick error of a model");
-  c->footer("Prints the paper's 3-D yardstick error of MODEL on the dataset's views.");
-  c->add_option("MODEL", a.model, kModelHelp)->type_name("NAME|FILE")->required();
+  c->footer("Prints the paper's 3-D yardstick error of MODEL on the dataset's views. A dataset of images\n"
+            "without points goes through the image front end first, as in calibrate (the yardstick's ends\n"
+            "are found in the images).");
+  c->add_option("MODEL", a.model, modelHelp())->type_name("NAME|FILE")->required();
   c->add_option("DATASET", a.second, "a dataset YAML file")->type_name("FILE")->required();
 }
 
@@ -23,7 +26,19 @@ int verify(const ModelArgs &a)
 {
   const std::string &dataset = a.second;
   const vpKinematicChain model = vpKinematicChain::fromPresetOrFile(a.model);
-  const vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
+  vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
+  if (vpSelfCalibImageCorrespondences::needsFrontEnd(ds)) {
+    // Images without points (simulate --images, an acquisition): the front end finds the points
+    // and the yardstick's ends as calibrate's does, guided by the model verified.
+    std::cerr << "... image front end (" << ds.views.size() << " images)\n";
+    vpSelfCalibImageCorrespondences::Options co;
+    co.prior = model;
+    const vpSelfCalibImageCorrespondences::Result cr = vpSelfCalibImageCorrespondences::fromDatasetImages(ds, co);
+    for (const std::string &w : cr.warnings)
+      std::cerr << "warning: " << w << "\n";
+    for (const auto &d : cr.dropped)
+      std::cerr << "warning: view " << d.index << " (" << d.image << "): no correspondence found; left out\n";
+  }
   if (!ds.yardstick.isSet()) {
     std::cerr << "error: dataset '" << dataset << "' has no yardstick to verify against\n";
     return 1;

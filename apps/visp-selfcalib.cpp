@@ -18,7 +18,7 @@
  * MODEL is a preset name (puma560, viper850) or a robot-model YAML file. The command lines are
  * CLI11's: 'visp-selfcalib COMMAND --help' lists a command's options.
  * Exit codes: 0 success, 1 bad input (message on stderr), 2 bad usage (unknown option, missing or
- * wrong value), 3 the calibration failed (its status and message on stderr). Outputs are written
+ * wrong value), 3 no trustworthy calibration (refused, failed or doubtful: calibrate's last line on stdout). Outputs are written
  * atomically and never over an input.
  *
  * This file declares the commands and dispatches to them; each command is in its own file
@@ -104,9 +104,11 @@ int run(int argc, char **argv)
                "import a dataset, calibrate, verify, predict camera poses and export the calibrated model.",
                kProgram);
   app.require_subcommand(1);
-  app.footer("MODEL: a preset (puma560, viper850) or a robot-model YAML file. DATASET: a dataset YAML file (README).\n"
+  app.footer("MODEL: " + modelHelp() + ". DATASET: a dataset YAML file (README).\n"
              "'visp-selfcalib COMMAND --help' describes a command and its options.\n"
-             "Exit codes: 0 success, 1 bad input (message on stderr), 2 bad usage, 3 the calibration failed.");
+             "Exit codes: 0 success, 1 bad input (message on stderr), 2 bad usage, 3 no trustworthy\n"
+             "calibration: refused (data that cannot determine it) or doubtful (the model, written and marked,\n"
+             "fails its checks); calibrate's last line says which and what to do.");
   Args args;
   addCommands(app, args);
   if (argc == 2 && std::string(argv[1]) == "help") {
