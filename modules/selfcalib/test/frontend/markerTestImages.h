@@ -18,7 +18,7 @@
 namespace markertest
 {
 //! The printed side of a CHARUCO or APRILTAG board (single tags: the first of tag_ids, or the
-//! bundle's tags, laid out by the in-plane part of their poses): grey 0 or 1 at (x, y) m in the
+//! bundle's tags, laid out by their poses' x, y and turn about z: bundles in one plane): grey 0 or 1 at (x, y) m in the
 //! board's frame, and the region it covers with a white margin.
 struct Print {
   std::function<double(double, double)> at;
@@ -46,21 +46,29 @@ inline Print print(const vpBoardDetector::Options &o)
     t.size = o.marker_size;
     tags.push_back(t);
   }
-  std::vector<std::pair<vpHomogeneousMatrix, std::shared_ptr<vpSelfCalib::vpTagPrint>>> placed;
+  // Each tag's in-plane placement: (x, y) in the board -> (c (x - tx) + s (y - ty), -s (x - tx) + c (y - ty)).
+  struct Placed {
+    double tx, ty, c, s, reach;
+    std::shared_ptr<vpSelfCalib::vpTagPrint> print;
+  };
+  std::vector<Placed> placed;
   p.x0 = p.y0 = HUGE_VAL;
   p.x1 = p.y1 = -HUGE_VAL;
   for (const auto &t : tags) {
-    const vpHomogeneousMatrix bMt(t.bMt);
-    placed.emplace_back(bMt.inverse(), std::make_shared<vpSelfCalib::vpTagPrint>(dict, t.id, t.size));
+    const double angle = t.bMt[5];
+    placed.push_back({t.bMt[0], t.bMt[1], std::cos(angle), std::sin(angle), t.size,
+                      std::make_shared<vpSelfCalib::vpTagPrint>(dict, t.id, t.size)});
     p.x0 = std::min(p.x0, t.bMt[0] - t.size);
     p.y0 = std::min(p.y0, t.bMt[1] - t.size);
     p.x1 = std::max(p.x1, t.bMt[0] + t.size);
     p.y1 = std::max(p.y1, t.bMt[1] + t.size);
   }
   p.at = [placed](double x, double y) {
-    for (const auto &t : placed) {
-      const vpColVector X = t.first * vpColVector({x, y, 0, 1});
-      const double g = t.second->at(X[0], X[1]);
+    for (const Placed &t : placed) {
+      const double dx = x - t.tx, dy = y - t.ty;
+      if (std::fabs(dx) > t.reach || std::fabs(dy) > t.reach)
+        continue;
+      const double g = t.print->at(t.c * dx + t.s * dy, -t.s * dx + t.c * dy);
       if (g < 1)
         return g;
     }

@@ -50,12 +50,14 @@ std::vector<View> tenViews(double distance)
 }
 
 struct Measure {
-  double worst = 0;
+  double worst = 0, sum2 = 0;
   size_t points = 0, expected = 0;
 };
 
-// Detects the board in each view; every point found must be a point of the layout, in view and not
-// hidden, within `tolerance` px of its true projection (a wrong id is a square or a corner away).
+// Detects the board in each view; every point found must be a point of the layout within
+// `tolerance` px of its true projection (a wrong id is a square or a tag's side away). A corner
+// under the occluder may be found when the lines through it are seen well enough: it is held to
+// the same tolerance.
 void measure(const vpBoardDetector::Options &o, double texel, double distance, double tolerance, const std::string &what,
              Measure &m)
 {
@@ -93,10 +95,10 @@ void measure(const vpBoardDetector::Options &o, double texel, double distance, d
       if (i > 0)
         ASSERT_LT(r.corners[i - 1].id, ob.id) << what << ", view " << k << ": ids not increasing";
       const vpImagePoint t = boardtest::project(cMo, layout.at(ob.id));
-      EXPECT_FALSE(v.occluder.isInside(t)) << what << ", view " << k << ": id " << ob.id << " found where it is hidden";
       const double e = vpImagePoint::distance(t, ob.ip);
       EXPECT_LT(e, tolerance) << what << ", view " << k << ", id " << ob.id;
       m.worst = std::max(m.worst, e);
+      m.sum2 += e * e;
     }
     std::cout << "[ markers  ] " << what << ", view " << k << ": " << r.corners.size() << " of " << visible
               << " visible points found\n";
@@ -105,7 +107,8 @@ void measure(const vpBoardDetector::Options &o, double texel, double distance, d
     ++k;
   }
   std::cout << "[ markers  ] " << what << ": " << m.points << " of " << m.expected
-            << " visible points found over 10 views, largest error " << m.worst << " px\n";
+            << " visible points found over 10 views, error RMS " << std::sqrt(m.sum2 / std::max<size_t>(1, m.points))
+            << " px, largest " << m.worst << " px\n";
 }
 
 void expectParseError(const std::string &spec, const std::string &message)
@@ -138,7 +141,8 @@ TEST(MarkerBoards, CharucoCornersAtTenPosesPartlyOutOfViewAndHidden)
 {
   const vpBoardDetector::Options o = vpBoardDetector::parse("charuco:5x7:0.034:0.028:DICT_6X6_250");
   Measure m;
-  measure(o, o.spacing / 48, 0.6, 0.1, "charuco 5x7", m);
+  measure(o, o.spacing / 48, 0.6, 0.08, "charuco 5x7", m);
+  EXPECT_LT(std::sqrt(m.sum2 / m.points), 0.03);
   EXPECT_GT(m.points, 0.9 * m.expected);
 }
 
@@ -146,7 +150,7 @@ TEST(MarkerBoards, SingleAprilTagCornersAtTenPoses)
 {
   const vpBoardDetector::Options o = vpBoardDetector::parse("apriltag:36h11:0.048:10");
   Measure m;
-  measure(o, o.marker_size / 96, 0.35, 0.1, "apriltag 36h11 id 10", m);
+  measure(o, o.marker_size / 96, 0.35, 0.05, "apriltag 36h11 id 10", m);
   EXPECT_GE(m.points, 4u * 6); // the six views where it is whole
 }
 
@@ -157,7 +161,8 @@ TEST(MarkerBoards, AprilTagBundleCornersAtTenPoses)
   fs::remove(file);
   ASSERT_EQ(o.bundle.size(), 4u);
   Measure m;
-  measure(o, 0.04 / 96, 0.45, 0.1, "apriltag bundle of 4", m);
+  measure(o, 0.04 / 96, 0.45, 0.08, "apriltag bundle of 4", m);
+  EXPECT_LT(std::sqrt(m.sum2 / m.points), 0.03);
   EXPECT_GT(m.points, 0.8 * m.expected);
 }
 
@@ -209,4 +214,122 @@ TEST(MarkerBoards, RealFrankaAprilTag)
   }
   std::cout << "[ markers  ] Franka eye-to-hand: AprilTag 36h11 id 10 in 8 of 8 images, square-fit RMS at most "
             << worst << " px\n";
+}
+
+TEST(MarkerBoards, DescriptionsReadBackAndLayouts)
+{
+  vpBoardDetector::Options o = vpBoardDetector::parse("charuco:5x7:0.034:0.028:DICT_6X6_250");
+  EXPECT_EQ(o.type, vpBoardDetector::CHARUCO);
+  EXPECT_EQ(o.cols, 5u);
+  EXPECT_EQ(o.rows, 7u);
+  EXPECT_EQ(o.numIds(), 24);
+  EXPECT_EQ(vpBoardDetector::toString(o), "charuco:5x7:0.034:0.028:DICT_6X6_250");
+  const vpBoardDetector charuco(o);
+  const std::map<int, vpColVector> layout = charuco.getLayout();
+  ASSERT_EQ(layout.size(), 24u);
+  // Corner (r, c) at ((c + 1), (r + 1)) squares, id r * (cols - 1) + c.
+  EXPECT_NEAR(layout.at(o.id_offset)[0], 0.034, 1e-12);
+  EXPECT_NEAR(layout.at(o.id_offset)[1], 0.034, 1e-12);
+  EXPECT_NEAR(layout.at(o.id_offset + 5)[0], 0.068, 1e-12);
+  EXPECT_NEAR(layout.at(o.id_offset + 5)[1], 0.068, 1e-12);
+  EXPECT_NEAR(layout.at(o.id_offset + 23)[0], 0.136, 1e-12);
+  EXPECT_NEAR(layout.at(o.id_offset + 23)[1], 0.204, 1e-12);
+  const vpSelfCalibDataset::Yardstick y = charuco.getYardstick();
+  EXPECT_EQ(y.id_a, o.id_offset);
+  EXPECT_EQ(y.id_b, o.id_offset + 3);
+  EXPECT_NEAR(y.length, 0.102, 1e-12);
+  EXPECT_FALSE(o.isAmbiguous());
+
+  o = vpBoardDetector::parse("apriltag:tag36h11:0.048:10");
+  EXPECT_EQ(o.type, vpBoardDetector::APRILTAG);
+  EXPECT_EQ(o.dictionary, "36h11");
+  EXPECT_EQ(o.numIds(), 4 * 587);
+  EXPECT_EQ(vpBoardDetector::toString(o), "apriltag:36h11:0.048:10");
+  const std::map<int, vpColVector> tag = vpBoardDetector(o).getLayout();
+  ASSERT_EQ(tag.size(), 4u);
+  EXPECT_NEAR(tag.at(o.id_offset + 40)[0], -0.024, 1e-12); // top-left
+  EXPECT_NEAR(tag.at(o.id_offset + 40)[1], -0.024, 1e-12);
+  EXPECT_NEAR(tag.at(o.id_offset + 42)[0], 0.024, 1e-12); // bottom-right
+  EXPECT_NEAR(tag.at(o.id_offset + 42)[1], 0.024, 1e-12);
+  EXPECT_NEAR(vpBoardDetector(o).getYardstick().length, 0.048, 1e-12);
+  EXPECT_EQ(vpBoardDetector::toString(vpBoardDetector::parse("apriltag:25h9:0.02")), "apriltag:25h9:0.02");
+  EXPECT_EQ(vpBoardDetector::toString(vpBoardDetector::parse("apriltag:16h5:0.02:1,2,3")), "apriltag:16h5:0.02:1,2,3");
+  // Several single tags share no frame: no layout.
+  EXPECT_THROW(vpBoardDetector(vpBoardDetector::parse("apriltag:36h11:0.02:1,2")).getLayout(), vpSelfCalibException);
+  EXPECT_THROW(vpBoardDetector(vpBoardDetector::parse("apriltag:36h11:0.02")).getLayout(), vpSelfCalibException);
+
+  // A bundle: tag 12 turned by 90 degrees about z at (0, 0.06): its corner 0 at (0.015, 0.045).
+  const std::string file = writeBundle("layout.yaml", kBundle);
+  o = vpBoardDetector::parse("apriltag-bundle:" + file);
+  fs::remove(file);
+  EXPECT_EQ(vpBoardDetector::toString(o), "apriltag-bundle:" + file);
+  const std::map<int, vpColVector> bundle = vpBoardDetector(o).getLayout();
+  ASSERT_EQ(bundle.size(), 16u);
+  EXPECT_NEAR(bundle.at(o.id_offset + 48)[0], 0.015, 1e-12);
+  EXPECT_NEAR(bundle.at(o.id_offset + 48)[1], 0.045, 1e-12);
+  EXPECT_NEAR(bundle.at(o.id_offset + 28)[0], 0.04, 1e-12); // tag 7 corner 0
+  EXPECT_NEAR(bundle.at(o.id_offset + 28)[1], -0.02, 1e-12);
+}
+
+TEST(MarkerBoards, BadDescriptionsAreRefusedWithTheReason)
+{
+  expectParseError("charuco:5x7:0.034:0.028", "expected charuco:COLSxROWS:SQUARE:MARKER:DICT");
+  expectParseError("charuco:5x7:0.034:0.028:DICT_6X6_250:x", "expected charuco:COLSxROWS:SQUARE:MARKER:DICT");
+  expectParseError("charuco:5*7:0.034:0.028:DICT_6X6_250", "expected COLSxROWS squares as two whole numbers");
+  expectParseError("charuco:5x7:abc:0.028:DICT_6X6_250", "expected the square's side in m as a positive number (e.g. 0.034), got 'abc'");
+  expectParseError("charuco:5x7:0:0.028:DICT_6X6_250", "got '0'");
+  expectParseError("charuco:5x7:0.034:-0.028:DICT_6X6_250", "expected the marker's side in m as a positive number (e.g. 0.028), got '-0.028'");
+  expectParseError("charuco:5x7:0.034:nan:DICT_6X6_250", "got 'nan'");
+  expectParseError("charuco:5x7:0.034:0.034:DICT_6X6_250", "markers (0.034 m) must be smaller than its squares (0.034 m)");
+  expectParseError("charuco:5x7:0.034:0.028:DICT_6X6_999", "no OpenCV dictionary is called 'DICT_6X6_999': use one of DICT_4X4_50");
+  expectParseError("charuco:2x7:0.034:0.028:DICT_6X6_250", "too small: 3 or more squares each way");
+  expectParseError("charuco:20x20:0.034:0.028:DICT_4X4_50", "needs 200 markers, DICT_4X4_50 has 50");
+  expectParseError("apriltag:36h11", "expected apriltag:FAMILY:SIZE[:ID,ID...]");
+  expectParseError("apriltag:36h12:0.04", "no AprilTag family '36h12' (OpenCV's aruco has 36h11, 36h10, 25h9, 16h5)");
+  expectParseError("apriltag:standard41h12:0.04", "no AprilTag family 'standard41h12'");
+  expectParseError("apriltag:36h11:0:10", "expected the tags' side in m as a positive number (e.g. 0.048), got '0'");
+  expectParseError("apriltag:36h11:big:10", "got 'big'");
+  expectParseError("apriltag:36h11:0.04:1,,2", "expected the tag ids as whole numbers separated by commas");
+  expectParseError("apriltag:36h11:0.04:1,2,", "expected the tag ids as whole numbers separated by commas");
+  expectParseError("apriltag:36h11:0.04:-1", "expected the tag ids as whole numbers");
+  expectParseError("apriltag:16h5:0.04:30", "tag id 30 is not in family 16h5 (ids 0 to 29)");
+  expectParseError("apriltag-bundle:", "expected apriltag-bundle:FILE.yaml");
+  expectParseError("apriltag-bundle:/nonexistent/b.yaml", "cannot read the bundle file '/nonexistent/b.yaml'");
+  const std::string no_tags = writeBundle("no-tags.yaml", "family: 36h11\n");
+  expectParseError("apriltag-bundle:" + no_tags, "expected 'family' and a list 'tags' of {id, size, pose}");
+  fs::remove(no_tags);
+  const std::string short_pose = writeBundle("short-pose.yaml", "family: 36h11\ntags:\n  - {id: 1, size: 0.04, pose: [0, 0, 0]}\n");
+  expectParseError("apriltag-bundle:" + short_pose, "tag 1: expected {id: N, size: M, pose: [tx, ty, tz, tux, tuy, tuz]}");
+  fs::remove(short_pose);
+  const std::string twice = writeBundle("twice.yaml", "family: 36h11\ntags:\n  - {id: 1, size: 0.04, pose: [0, 0, 0, 0, 0, 0]}\n"
+                                                      "  - {id: 1, size: 0.04, pose: [0.1, 0, 0, 0, 0, 0]}\n");
+  expectParseError("apriltag-bundle:" + twice, "tag 1 is twice in the bundle");
+  fs::remove(twice);
+  const std::string bad_size = writeBundle("bad-size.yaml", "family: 25h9\ntags:\n  - {id: 1, size: -1, pose: [0, 0, 0, 0, 0, 0]}\n");
+  expectParseError("apriltag-bundle:" + bad_size, "tag 1 of the bundle: its size must be a positive number of m, got -1");
+  fs::remove(bad_size);
+  const std::string words = writeBundle("words.yaml", "family: 36h11\ntags:\n  - {id: one, size: 0.04, pose: [0, 0, 0, 0, 0, 0]}\n");
+  expectParseError("apriltag-bundle:" + words, words + ": ");
+  fs::remove(words);
+}
+
+// Tags of another family than the one described: not found, and the message names what is there.
+// A ChArUco board looked for in an image of a tag: not found, with the counts.
+TEST(MarkerBoards, WrongFamilyIsNamed)
+{
+  const vpBoardDetector::Options drawn = vpBoardDetector::parse("apriltag:25h9:0.048:3");
+  const vpBoardDetector det(drawn);
+  const vpImage<unsigned char> I = markertest::render(drawn, boardtest::pose(det, 10, 10, 10, 0.35), 1, 0.048 / 70);
+  ASSERT_TRUE(det.detect(I).found);
+  vpBoardDetector::Result r = vpBoardDetector(vpBoardDetector::parse("apriltag:36h11:0.048")).detect(I);
+  EXPECT_FALSE(r.found);
+  EXPECT_TRUE(r.corners.empty());
+  EXPECT_EQ(r.message, "no AprilTag 36h11 found (tags of family 25h9 (ids 3))");
+  r = vpBoardDetector(vpBoardDetector::parse("apriltag:25h9:0.048:4")).detect(I);
+  EXPECT_FALSE(r.found);
+  EXPECT_EQ(r.message, "no AprilTag 25h9 with id 4 found (tags 3 of that family are in the image)");
+  r = vpBoardDetector(vpBoardDetector::parse("charuco:5x7:0.034:0.028:DICT_6X6_250")).detect(I);
+  EXPECT_FALSE(r.found);
+  EXPECT_EQ(r.message, "no ChArUco board 5 x 7 of DICT_6X6_250 found: 0 markers of the dictionary and 0 of its inner "
+                       "corners seen, 4 or more corners are needed");
 }
