@@ -22,6 +22,24 @@ namespace
 {
 //! simulate --poses: more would take hours (each pose is searched for by inverse kinematics).
 constexpr unsigned long long kMaxSimulatedPoses = 10000;
+
+//! simulate --target apriltags: the bundle's description (vpBoardDetector's apriltag-bundle file) beside the dataset.
+bool writeTagBundle(const fs::path &dir, const vpSelfCalibRenderer::Options &ro)
+{
+  std::ostringstream yaml;
+  yaml << "family: " << ro.tag_family << "\ntags:\n";
+  for (const auto &t : vpSelfCalibRenderer::getTagBundle(ro))
+    yaml << "  - {id: " << t.first << ", size: " << ro.tag_size << ", pose: [" << t.second[0] << ", " << t.second[1]
+         << ", 0, 0, 0, 0]}\n";
+  const std::string file = ((dir.empty() ? fs::path(".") : dir) / "tags.yaml").string();
+  try {
+    vpSelfCalibFileWriter::write(file, yaml.str(), "tag bundle");
+  } catch (const vpException &e) {
+    std::cerr << "error: " << e.getStringMessage() << "\n";
+    return false;
+  }
+  return true;
+}
 } // namespace
 
 void addSimulate(CLI::App &app, SimulateArgs &a)
@@ -49,15 +67,19 @@ void addSimulate(CLI::App &app, SimulateArgs &a)
               "render the images (OUT's directory/images/) and write no points: calibrate\n"
               "then runs the image front end");
   c->add_option("--target", a.target,
-                "textured (default: photographs on two planes, natural features) or dots (the\n"
-                "paper's experiment: dot grids 4x5 and 4x9 on the two planes; needs --images;\n"
-                "calibrate with --dot-grids 4x5,4x9 --no-features)")
+                "textured (default: photographs on two planes, natural features), dots (the\n"
+                "paper's experiment: dot grids 4x5 and 4x9 on the two planes; calibrate with\n"
+                "--dot-grids 4x5,4x9 --no-features), charuco (a ChArUco board of 7 x 5 squares\n"
+                "of 2 cm, markers 1.5 cm, DICT_6X6_250, facing the home view; calibrate with\n"
+                "--board charuco:7x5:0.02:0.015:DICT_6X6_250) or apriltags (tags 0-3 of 36h11,\n"
+                "4 cm, 6 cm apart; OUT's directory/tags.yaml describes them: calibrate with\n"
+                "--board apriltag-bundle:DIR/tags.yaml). All but textured need --images")
       ->type_name("T")
-      ->check(CLI::IsMember({"textured", "dots"}));
+      ->check(CLI::IsMember({"textured", "dots", "charuco", "apriltags"}));
   c->add_flag("--force", a.force, "replace an existing OUT.yaml");
   c->final_callback([&a] {
-    if (a.target == "dots" && !a.images)
-      throw CLI::ValidationError("--target", "dots renders images: add --images");
+    if (a.target != "textured" && !a.images)
+      throw CLI::ValidationError("--target", a.target + " renders images: add --images");
   });
 }
 
@@ -128,8 +150,13 @@ int simulate(const SimulateArgs &a)
     }
     vpSelfCalibRenderer::Options ro;
     ro.seed = so.seed;
-    ro.scene = a.target == "dots" ? vpSelfCalibRenderer::DOTS : vpSelfCalibRenderer::TEXTURED;
+    ro.scene = a.target == "dots"        ? vpSelfCalibRenderer::DOTS
+               : a.target == "charuco"   ? vpSelfCalibRenderer::CHARUCO
+               : a.target == "apriltags" ? vpSelfCalibRenderer::APRILTAGS
+                                         : vpSelfCalibRenderer::TEXTURED;
     const vpSelfCalibRenderer renderer(sim, ro);
+    if (ro.scene == vpSelfCalibRenderer::APRILTAGS && !writeTagBundle(parent, ro))
+      return 1;
     for (size_t k = 0; k < ds.views.size(); ++k) {
       std::ostringstream name;
       name << std::setw(4) << std::setfill('0') << k + 1 << ".png";
@@ -147,7 +174,7 @@ int simulate(const SimulateArgs &a)
       std::cerr << "rendered " << k + 1 << "/" << ds.views.size() << "\r" << std::flush;
     }
     std::cerr << "\n";
-    ds.yardstick.length = renderer.getYardstickLength();
+    ds.yardstick.length = renderer.getYardstickLength(); // 0 for the boards: their first row is the yardstick
     ds.yardstick.id_a = ds.yardstick.id_b = -1;
   }
   ds.saveYaml(out);

@@ -121,4 +121,22 @@ vpTagPrint::vpTagPrint(int dictionary, int id, double size)
 }
 
 double vpTagPrint::at(double x, double y) const { return cellAt(m_bits, -0.5 * m_size, -0.5 * m_size, m_size, x, y); }
+
+vpImage<unsigned char> markerTexture(const std::function<double(double, double)> &at, double x0, double y0, double x1,
+                                     double y1, double texel)
+{
+  const int sub = 4;
+  const unsigned int W = static_cast<unsigned int>((x1 - x0) / texel) + 1;
+  const unsigned int H = static_cast<unsigned int>((y1 - y0) / texel) + 1;
+  vpImage<unsigned char> texture(H, W);
+  for (unsigned int i = 0; i < H; ++i)
+    for (unsigned int j = 0; j < W; ++j) {
+      double sum = 0;
+      for (int a = 0; a < sub; ++a)
+        for (int b = 0; b < sub; ++b)
+          sum += at(x0 + (j + (b + 0.5) / sub - 0.5) * texel, y0 + (i + (a + 0.5) / sub - 0.5) * texel);
+      texture[i][j] = static_cast<unsigned char>(std::lround(30 + 190 * sum / (sub * sub)));
+    }
+  return texture;
+}
 } // namespace vpSelfCalib

@@ -8,10 +8,13 @@
 #ifndef VP_SELFCALIB_MARKERS_H
 #define VP_SELFCALIB_MARKERS_H
 
+#include <functional>
 #include <string>
 #include <vector>
 
 #include <opencv2/aruco/charuco.hpp>
+
+#include <visp3/core/vpImage.h>
 
 namespace vpSelfCalib
 {
@@ -54,6 +57,14 @@ private:
   double m_size;
   cv::Mat m_bits;
 };
+/*!
+  A texture of the printed side `at` (grey 0 to 1 at (x, y) m) over [x0, x1] x [y0, y1]: texel (i, j)
+  centred at (x0 + j texel, y0 + i texel), the mean of 4 x 4 samples over its area, grey 30 (black) to
+  220 (white): vpImageSimulator puts texel centres from corner to corner of its quad, so the quad's
+  corners are (x0, y0) and (x0 + (W - 1) texel, y0 + (H - 1) texel).
+*/
+vpImage<unsigned char> markerTexture(const std::function<double(double, double)> &at, double x0, double y0, double x1,
+                                     double y1, double texel);
 } // namespace vpSelfCalib
 
 #endif

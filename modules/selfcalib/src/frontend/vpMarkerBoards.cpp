@@ -368,6 +368,7 @@ std::string otherFamilies(const cv::Mat &img, const std::string &family)
     cv::aruco::detectMarkers(img, cv::aruco::getPredefinedDictionary(vpSelfCalib::arucoDictionary(
                                       std::string("DICT_APRILTAG_") + f)),
                              quads, ids);
+    std::sort(ids.begin(), ids.end());
     if (!ids.empty())
       s += (s.empty() ? "" : "; ") + std::string("tags of family ") + f + " (ids " + idList(ids) + ")";
   }

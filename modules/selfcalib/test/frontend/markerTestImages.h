@@ -86,18 +86,8 @@ inline vpImage<unsigned char> render(const vpBoardDetector::Options &o, const vp
                                      double texel, const vpRect &occluder = vpRect())
 {
   const Print p = print(o);
-  const int sub = 4;
-  const unsigned int W = static_cast<unsigned int>((p.x1 - p.x0) / texel) + 1;
-  const unsigned int H = static_cast<unsigned int>((p.y1 - p.y0) / texel) + 1;
-  vpImage<unsigned char> texture(H, W);
-  for (unsigned int i = 0; i < H; ++i)
-    for (unsigned int j = 0; j < W; ++j) {
-      double sum = 0;
-      for (int a = 0; a < sub; ++a)
-        for (int b = 0; b < sub; ++b)
-          sum += p.at(p.x0 + (j + (b + 0.5) / sub - 0.5) * texel, p.y0 + (i + (a + 0.5) / sub - 0.5) * texel);
-      texture[i][j] = static_cast<unsigned char>(std::lround(30 + 190 * sum / (sub * sub)));
-    }
+  const vpImage<unsigned char> texture = vpSelfCalib::markerTexture(p.at, p.x0, p.y0, p.x1, p.y1, texel);
+  const unsigned int W = texture.getWidth(), H = texture.getHeight();
   const double xe = p.x0 + (W - 1.0) * texel, ye = p.y0 + (H - 1.0) * texel;
   vpColVector X[4] = {vpColVector({p.x0, p.y0, 0}), vpColVector({xe, p.y0, 0}), vpColVector({xe, ye, 0}),
                       vpColVector({p.x0, ye, 0})};
