@@ -3,14 +3,16 @@
  * rendered, corners detected, the bundle adjustment on them), against the Cramér-Rao bound, with the
  * board's layout unknown (its corners are scene points) and known (calibrate --board-geometry).
  *
- *   bench-boards [--seeds N] [--draws K] [--poses P] [--held-out H] [--focal known|shared] [--csv FILE]
+ *   bench-boards [--seeds N] [--draws K] [--poses P] [--held-out H] [--noise PX] [--focal known|shared]
+ *                [--csv FILE]
  *
  * Per seed: the reference scenario's Viper850 (seeded robot errors), P random poses that see the
  * scene, the first P - H calibrating, the last H held out; the scene is simulate --target charuco's
  * board (7 x 5 squares of 2 cm, DICT_6X6_250) rendered by vpSelfCalibRenderer (blur 0.7 px, noise 2
  * grey levels), K noise draws of the same geometry (renderer seeds). The corners are vpBoardDetector's
- * (ChArUco); their error against the renderer's truth is measured per draw and stated as the pixel
- * sd of the run and of its bound. Figures: held-out relative pose errors c_0 M c_i (first held-out
+ * (ChArUco); their error against the renderer's truth is measured per draw. Gaussian noise of --noise
+ * px (seeded) is added to them, a camera noisier than the renderer's 0.01 px: the pixel sd of the
+ * run and of its bound is sqrt(measured^2 + noise^2). Figures: held-out relative pose errors c_0 M c_i (first held-out
  * view to the others), RMS over all runs, against the RMS of the Cramér-Rao bound of the same data
  * (vpKinematicBundleAdjustment::information at the truth, the layout prior included when known,
  * propagated to the same pairs).
@@ -20,6 +22,7 @@
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -94,6 +97,7 @@ int main(int argc, char **argv)
   try {
     unsigned int seeds = 5, draws = 2, poses = 20, held_out = 6;
     std::string focal = "known", csv_path;
+    double noise = 0.2;
     CLI::App app("bench-boards: eye-in-hand self-calibration on a rendered ChArUco board against the Cramer-Rao\n"
                  "bound, its layout unknown and known (--board-geometry).",
                  "bench-boards");
@@ -107,6 +111,10 @@ int main(int argc, char **argv)
     app.add_option("--held-out", held_out, "of them held out, 3 to P - 5 (default 6)")
         ->type_name("H")
         ->check(selfcalibCli::wholeNumber(3, 95));
+    app.add_option("--noise", noise, "Gaussian noise added to the detected corners, px (default 0.2; 0: the rendered\n"
+                                     "images' own error only)")
+        ->type_name("PX")
+        ->check(selfcalibCli::number(0, false, 10));
     app.add_option("--focal", focal, "known (default) or shared")
         ->type_name("MODE")
         ->check(CLI::IsMember({"known", "shared"}));
@@ -121,10 +129,10 @@ int main(int argc, char **argv)
     const vpRobotSelfCalibration::FocalMode mode = vpRobotSelfCalibration::focalModeFromName(focal);
     const vpBoardDetector det(vpBoardDetector::parse(kBoard));
     const std::map<int, vpColVector> layout = det.getLayout();
-    bench::Csv csv(csv_path, "seed,draw,layout,status,detector_rms_px,heldout_rms_m,bound_rms_m");
+    bench::Csv csv(csv_path, "seed,draw,layout,status,detector_rms_px,pixel_sd_px,heldout_rms_m,bound_rms_m");
     std::cout << "bench-boards: " << kBoard << " rendered, viper850, " << seeds << " seeds x " << draws
               << " noise draws, " << poses - held_out << " calibration + " << held_out << " held-out poses, focal "
-              << focal << "\n";
+              << focal << ", " << noise << " px added to the corners\n";
     const auto t_start = std::chrono::steady_clock::now();
     Row rows[2]; // layout unknown, known
     bench::Stats detector;
@@ -151,10 +159,17 @@ int main(int argc, char **argv)
         if (!ds.focal_known)
           ds.cam.initPersProjWithoutDistortion(0.93 * ds.cam.get_px(), 0.93 * ds.cam.get_py(), ds.cam.get_u0(),
                                                ds.cam.get_v0());
-        double sd = NAN;
-        ds.views = detectViews(sim, renderer, det, cal, truth, sd);
+        double measured = NAN;
+        ds.views = detectViews(sim, renderer, det, cal, truth, measured);
         ds.yardstick = det.getYardstick();
-        detector.add(sd);
+        detector.add(measured);
+        std::mt19937_64 rng(7919ULL * seed + d);
+        std::normal_distribution<double> gauss(0, noise > 0 ? noise : 1);
+        if (noise > 0)
+          for (vpSelfCalibDataset::View &v : ds.views)
+            for (vpSelfCalibDataset::Observation &o : v.points)
+              o.ip = vpImagePoint(o.ip.get_i() + gauss(rng), o.ip.get_j() + gauss(rng));
+        const double sd = std::sqrt(measured * measured + noise * noise);
         for (int known = 0; known < 2; ++known) {
           vpRobotSelfCalibration::Options po;
           po.focal_mode = mode;
@@ -195,7 +210,7 @@ int main(int argc, char **argv)
           row.pairs += static_cast<unsigned int>(e.size());
           if (csv.enabled())
             csv.row() << seed << "," << d << "," << (known ? "known" : "unknown") << ","
-                      << vpRobotSelfCalibration::statusName(r.status) << "," << sd << ","
+                      << vpRobotSelfCalibration::statusName(r.status) << "," << measured << "," << sd << ","
                       << std::sqrt(run_e2 / e.size()) << "," << std::sqrt(run_pred / e.size()) << "\n";
         }
       }
@@ -203,7 +218,8 @@ int main(int argc, char **argv)
     std::cerr << "\n";
     std::cout << "\nHeld-out relative pose position error (RMS over every pair of every run, um) against the "
                  "Cramer-Rao bound (RMS), corners from the rendered images (detector error "
-              << bench::meanSd(detector, 1, 4) << " px per coordinate, mean / sd over the draws)\n\n"
+              << bench::meanSd(detector, 1, 4) << " px per coordinate, mean / sd over the draws; " << noise
+              << " px added)\n\n"
               << "| board | layout | focal | runs | failed | doubtful | held-out RMS (um) | Cramer-Rao RMS (um) | "
                  "ratio |\n|---|---|---|---|---|---|---|---|---|\n";
     const char *names[2] = {"unknown", "known (--board-geometry)"};

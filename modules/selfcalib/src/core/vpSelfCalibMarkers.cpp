@@ -126,8 +126,9 @@ vpImage<unsigned char> markerTexture(const std::function<double(double, double)>
                                      double y1, double texel)
 {
   const int sub = 4;
-  const unsigned int W = static_cast<unsigned int>((x1 - x0) / texel) + 1;
-  const unsigned int H = static_cast<unsigned int>((y1 - y0) / texel) + 1;
+  // (1e-9: a whole number of texels stays whole through the division)
+  const unsigned int W = static_cast<unsigned int>((x1 - x0) / texel + 1e-9) + 1;
+  const unsigned int H = static_cast<unsigned int>((y1 - y0) / texel + 1e-9) + 1;
   vpImage<unsigned char> texture(H, W);
   for (unsigned int i = 0; i < H; ++i)
     for (unsigned int j = 0; j < W; ++j) {
@@ -138,5 +139,25 @@ vpImage<unsigned char> markerTexture(const std::function<double(double, double)>
       texture[i][j] = static_cast<unsigned char>(std::lround(30 + 190 * sum / (sub * sub)));
     }
   return texture;
+}
+
+vpImage<unsigned char> renderQuad(vpImageSimulator &quad, const vpCameraParameters &cam, unsigned int height,
+                                  unsigned int width)
+{
+  const unsigned int n = 4;
+  const vpCameraParameters fine(n * cam.get_px(), n * cam.get_py(), n * cam.get_u0() + 0.5 * (n - 1),
+                                n * cam.get_v0() + 0.5 * (n - 1));
+  vpImage<unsigned char> F(n * height, n * width, 128);
+  quad.getImage(F, fine);
+  vpImage<unsigned char> I(height, width);
+  for (unsigned int i = 0; i < height; ++i)
+    for (unsigned int j = 0; j < width; ++j) {
+      unsigned int sum = 0;
+      for (unsigned int a = 0; a < n; ++a)
+        for (unsigned int b = 0; b < n; ++b)
+          sum += F[n * i + a][n * j + b];
+      I[i][j] = static_cast<unsigned char>((sum + n * n / 2) / (n * n));
+    }
+  return I;
 }
 } // namespace vpSelfCalib

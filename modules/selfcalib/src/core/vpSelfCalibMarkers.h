@@ -14,7 +14,9 @@
 
 #include <opencv2/aruco/charuco.hpp>
 
+#include <visp3/core/vpCameraParameters.h>
 #include <visp3/core/vpImage.h>
+#include <visp3/robot/vpImageSimulator.h>
 
 namespace vpSelfCalib
 {
@@ -65,6 +67,15 @@ private:
 */
 vpImage<unsigned char> markerTexture(const std::function<double(double, double)> &at, double x0, double y0, double x1,
                                      double y1, double texel);
+
+/*!
+  One textured quad (initialised, its camera pose set) drawn alone on a mid-grey (128) image of
+  height x width, each pixel the mean of 4 x 4 samples over its area: a camera 4 times finer whose
+  sample (4 u + a, 4 v + b) is at (u + (a - 1.5) / 4, v + (b - 1.5) / 4). The edges of the texture
+  are then where the geometry says to a few hundredths of a pixel.
+*/
+vpImage<unsigned char> renderQuad(vpImageSimulator &quad, const vpCameraParameters &cam, unsigned int height,
+                                  unsigned int width);
 } // namespace vpSelfCalib
 
 #endif

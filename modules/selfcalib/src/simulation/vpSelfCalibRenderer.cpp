@@ -272,32 +272,6 @@ vpSelfCalibRenderer::vpSelfCalibRenderer(const vpSelfCalibSimulator &sim, const 
 
 double vpSelfCalibRenderer::getYardstickLength() const { return (m_end_a - m_end_b).frobeniusNorm(); }
 
-/*
-  The board scenes: their one quad drawn alone (vpImageSimulator's drawing of a list of quads paints
-  the rest of their bounding box white), each pixel the mean of 4 x 4 samples over its area (a
-  camera 4 times finer whose sample (4 u + a, 4 v + b) is at (u + (a - 1.5) / 4, v + (b - 1.5) / 4)):
-  the board's edges are where the truth says to a few hundredths of a pixel.
-*/
-static vpImage<unsigned char> renderBoardQuad(vpImageSimulator &s, const vpCameraParameters &cam, unsigned int height,
-                                              unsigned int width)
-{
-  const unsigned int n = 4;
-  const vpCameraParameters fine(n * cam.get_px(), n * cam.get_py(), n * cam.get_u0() + 0.5 * (n - 1),
-                                n * cam.get_v0() + 0.5 * (n - 1));
-  vpImage<unsigned char> F(n * height, n * width, 128);
-  s.getImage(F, fine);
-  vpImage<unsigned char> I(height, width);
-  for (unsigned int i = 0; i < height; ++i)
-    for (unsigned int j = 0; j < width; ++j) {
-      unsigned int sum = 0;
-      for (unsigned int a = 0; a < n; ++a)
-        for (unsigned int b = 0; b < n; ++b)
-          sum += F[n * i + a][n * j + b];
-      I[i][j] = static_cast<unsigned char>((sum + n * n / 2) / (n * n));
-    }
-  return I;
-}
-
 vpImage<unsigned char> vpSelfCalibRenderer::render(const vpColVector &q, unsigned int view_index) const
 {
   const vpHomogeneousMatrix cMf = m_sim.getTrueChain().get_fMc(q).inverse();
@@ -323,7 +297,9 @@ vpImage<unsigned char> vpSelfCalibRenderer::render(const vpColVector &q, unsigne
   const vpSelfCalibSimulator::Options &so = m_sim.getOptions();
   vpImage<unsigned char> I(so.height, so.width, 128);
   if (m_opt.scene == CHARUCO || m_opt.scene == APRILTAGS)
-    I = renderBoardQuad(list.front(), m_sim.getCamera(), so.height, so.width);
+    // The board alone (vpImageSimulator's drawing of a list paints the rest of a quad's bounding
+    // box white), 4 x 4 samples per pixel: its edges where the truth says.
+    I = renderQuad(list.front(), m_sim.getCamera(), so.height, so.width);
   else
     vpImageSimulator::getImage(I, list, m_sim.getCamera());
   blurAndNoise(I, m_opt.blur_sd, m_opt.noise_sd, m_opt.seed, 1000 + view_index);

@@ -95,23 +95,11 @@ inline vpImage<unsigned char> render(const vpBoardDetector::Options &o, const vp
   sim.setInterpolationType(vpImageSimulator::BILINEAR_INTERPOLATION);
   sim.init(texture, X);
   sim.setCameraPosition(cMo);
-  const unsigned int n = 4;
-  const vpCameraParameters &cam = boardtest::kCamera;
-  const vpCameraParameters fine(n * cam.get_px(), n * cam.get_py(), n * cam.get_u0() + 0.5 * (n - 1),
-                                n * cam.get_v0() + 0.5 * (n - 1));
-  vpImage<unsigned char> F(n * boardtest::kHeight, n * boardtest::kWidth, 128);
-  sim.getImage(F, fine);
-  vpImage<unsigned char> I(boardtest::kHeight, boardtest::kWidth);
+  vpImage<unsigned char> I = vpSelfCalib::renderQuad(sim, boardtest::kCamera, boardtest::kHeight, boardtest::kWidth);
   for (unsigned int i = 0; i < boardtest::kHeight; ++i)
-    for (unsigned int j = 0; j < boardtest::kWidth; ++j) {
-      unsigned int sum = 0;
-      for (unsigned int a = 0; a < n; ++a)
-        for (unsigned int b = 0; b < n; ++b)
-          sum += F[n * i + a][n * j + b];
-      I[i][j] = static_cast<unsigned char>((sum + n * n / 2) / (n * n));
+    for (unsigned int j = 0; j < boardtest::kWidth; ++j)
       if (occluder.isInside(vpImagePoint(i, j)))
         I[i][j] = 128;
-    }
   vpSelfCalibRenderer::blurAndNoise(I, 0.7, 2.0, 1, stream);
   return I;
 }
