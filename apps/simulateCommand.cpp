@@ -80,6 +80,18 @@ std::string earlierImageDirectory(const std::string &out)
   return dir;
 }
 
+//! simulate --target apriltags: the bundle's description (vpBoardDetector's apriltag-bundle file) beside the dataset.
+void writeTagBundle(const fs::path &dir, const vpSelfCalibRenderer::Options &ro)
+{
+  std::ostringstream yaml;
+  yaml << "family: " << ro.tag_family << "\ntags:\n";
+  for (const auto &t : vpSelfCalibRenderer::getTagBundle(ro))
+    yaml << "  - {id: " << t.first << ", size: " << ro.tag_size << ", pose: [" << t.second[0] << ", " << t.second[1]
+         << ", 0, 0, 0, 0]}\n";
+  const std::string file = ((dir.empty() ? fs::path(".") : dir) / "tags.yaml").string();
+  vpSelfCalibFileWriter::write(file, yaml.str(), "tag bundle");
+}
+
 /*
   Renders the images into a directory of this run's own beside the dataset (STEM-images-XXXXXXXX),
   written as a set (vpSelfCalibOutputDirectory: staged, then renamed into place) before the dataset
@@ -93,8 +105,13 @@ void renderImages(const vpSelfCalibSimulator &sim, const SimulateArgs &a, const 
   vpSelfCalibOutputDirectory set(img_dir.string());
   vpSelfCalibRenderer::Options ro;
   ro.seed = a.so.seed;
-  ro.scene = a.target == "dots" ? vpSelfCalibRenderer::DOTS : vpSelfCalibRenderer::TEXTURED;
+  ro.scene = a.target == "dots"        ? vpSelfCalibRenderer::DOTS
+             : a.target == "charuco"   ? vpSelfCalibRenderer::CHARUCO
+             : a.target == "apriltags" ? vpSelfCalibRenderer::APRILTAGS
+                                       : vpSelfCalibRenderer::TEXTURED;
   const vpSelfCalibRenderer renderer(sim, ro);
+  if (ro.scene == vpSelfCalibRenderer::APRILTAGS)
+    writeTagBundle(parent, ro);
   for (size_t k = 0; k < ds.views.size(); ++k) {
     std::ostringstream name;
     name << std::setw(4) << std::setfill('0') << k + 1 << ".png";
@@ -113,7 +130,7 @@ void renderImages(const vpSelfCalibSimulator &sim, const SimulateArgs &a, const 
   }
   std::cerr << "\n";
   set.commit();
-  ds.yardstick.length = renderer.getYardstickLength();
+  ds.yardstick.length = renderer.getYardstickLength(); // 0 for the boards: their first row is the yardstick
   ds.yardstick.id_a = ds.yardstick.id_b = -1;
 }
 } // namespace
@@ -146,15 +163,19 @@ void addSimulate(CLI::App &app, SimulateArgs &a)
               "the earlier dataset and its images as they were); the earlier run's images are\n"
               "removed once the new dataset is in place");
   c->add_option("--target", a.target,
-                "textured (default: photographs on two planes, natural features) or dots (the\n"
-                "paper's experiment: dot grids 4x5 and 4x9 on the two planes; needs --images;\n"
-                "calibrate with --dot-grids 4x5,4x9 --no-features)")
+                "textured (default: photographs on two planes, natural features), dots (the\n"
+                "paper's experiment: dot grids 4x5 and 4x9 on the two planes; calibrate with\n"
+                "--dot-grids 4x5,4x9 --no-features), charuco (a ChArUco board of 7 x 5 squares\n"
+                "of 2 cm, markers 1.5 cm, DICT_6X6_250, facing the home view; calibrate with\n"
+                "--board charuco:7x5:0.02:0.015:DICT_6X6_250) or apriltags (tags 0-3 of 36h11,\n"
+                "4 cm, 6 cm apart; OUT's directory/tags.yaml describes them: calibrate with\n"
+                "--board apriltag-bundle:DIR/tags.yaml). All but textured need --images")
       ->type_name("T")
-      ->check(CLI::IsMember({"textured", "dots"}));
+      ->check(CLI::IsMember({"textured", "dots", "charuco", "apriltags"}));
   c->add_flag("--force", a.force, "replace an existing OUT.yaml");
   c->final_callback([&a] {
-    if (a.target == "dots" && !a.images)
-      throw CLI::ValidationError("--target", "dots renders images: add --images");
+    if (a.target != "textured" && !a.images)
+      throw CLI::ValidationError("--target", a.target + " renders images: add --images");
   });
 }
 

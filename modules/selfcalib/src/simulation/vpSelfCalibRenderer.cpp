@@ -10,11 +10,13 @@
 #include <fstream>
 #include <limits>
 #include <list>
+#include <memory>
 
 #include <visp3/core/vpImageFilter.h>
 #include <visp3/io/vpImageIo.h>
 #include <visp3/robot/vpImageSimulator.h>
 
+#include "../core/vpSelfCalibMarkers.h"
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibRandom.h"
 
@@ -78,6 +80,84 @@ void vpSelfCalibRenderer::Options::check() const
 {
   if (!(blur_sd >= 0) || !(noise_sd >= 0) || !std::isfinite(blur_sd) || !std::isfinite(noise_sd))
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpSelfCalibRenderer: blur_sd and noise_sd must be >= 0");
+  if (scene == CHARUCO &&
+      (charuco_cols < 2 || charuco_rows < 2 || !(charuco_marker > 0) || !(charuco_marker < charuco_square) ||
+       arucoDictionary(charuco_dictionary) < 0 ||
+       static_cast<int>(charuco_cols * charuco_rows / 2) > arucoDictionarySize(arucoDictionary(charuco_dictionary))))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpSelfCalibRenderer: the ChArUco board needs 2 or more squares each way, markers "
+                               "smaller than the squares and an OpenCV dictionary with enough markers");
+  if (scene == APRILTAGS && (aprilTagFamily(tag_family).empty() || !(tag_size > 0) || !(tag_spacing > tag_size)))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpSelfCalibRenderer: the tags need a family OpenCV has (" + aprilTagFamilyNames() +
+                                   "), a positive size and a spacing above it");
+}
+
+std::map<int, vpPoseVector> vpSelfCalibRenderer::getTagBundle(const Options &o)
+{
+  std::map<int, vpPoseVector> tags;
+  for (int k = 0; k < 4; ++k)
+    tags[k] = vpPoseVector((k % 2 - 0.5) * o.tag_spacing, (k / 2 - 0.5) * o.tag_spacing, 0, 0, 0, 0);
+  return tags;
+}
+
+// The board scenes: one quad, its texture the board's printed side (vpSelfCalibMarkers), its frame
+// fMb: centred on the scene centre, z (into the board) away from the home camera, x along the home
+// camera's x.
+void vpSelfCalibRenderer::addBoard(const vpHomogeneousMatrix &fMc_home, const vpColVector &centre)
+{
+  const Options &o = m_opt;
+  std::function<double(double, double)> at;
+  double x0, y0, x1, y1, texel;
+  if (o.scene == CHARUCO) {
+    auto board = std::make_shared<vpCharucoPrint>(static_cast<int>(o.charuco_cols), static_cast<int>(o.charuco_rows),
+                                                  o.charuco_square, o.charuco_marker,
+                                                  arucoDictionary(o.charuco_dictionary));
+    at = [board](double x, double y) { return board->at(x, y); };
+    x0 = y0 = -0.5 * o.charuco_square;
+    x1 = (o.charuco_cols + 0.5) * o.charuco_square;
+    y1 = (o.charuco_rows + 0.5) * o.charuco_square;
+    texel = o.charuco_square / 48;
+  } else {
+    const int dict = arucoDictionary("DICT_APRILTAG_" + aprilTagFamily(o.tag_family));
+    std::vector<std::pair<vpPoseVector, std::shared_ptr<vpTagPrint>>> tags;
+    for (const auto &t : getTagBundle(o))
+      tags.emplace_back(t.second, std::make_shared<vpTagPrint>(dict, t.first, o.tag_size));
+    at = [tags](double x, double y) {
+      for (const auto &t : tags) {
+        const double g = t.second->at(x - t.first[0], y - t.first[1]);
+        if (g < 1)
+          return g;
+      }
+      return 1.0;
+    };
+    x0 = y0 = -0.5 * o.tag_spacing - o.tag_size;
+    x1 = y1 = 0.5 * o.tag_spacing + o.tag_size;
+    texel = o.tag_size / 96;
+  }
+  Quad q;
+  q.texture = markerTexture(at, x0, y0, x1, y1, texel);
+  const double xe = x0 + (q.texture.getWidth() - 1.0) * texel, ye = y0 + (q.texture.getHeight() - 1.0) * texel;
+  // The board's frame: its centre (the print's) on the scene centre.
+  const Eigen::Vector3d c = vec3(centre), cam = rigidFromVisp(fMc_home).t;
+  const Eigen::Vector3d z = (c - cam).normalized();
+  Eigen::Vector3d x = rigidFromVisp(fMc_home).R.col(0);
+  x = (x - x.dot(z) * z).normalized();
+  const Eigen::Vector3d y = z.cross(x);
+  const double mx = o.scene == CHARUCO ? 0.5 * o.charuco_cols * o.charuco_square : 0.0;
+  const double my = o.scene == CHARUCO ? 0.5 * o.charuco_rows * o.charuco_square : 0.0;
+  const Eigen::Vector3d origin = c - mx * x - my * y;
+  for (unsigned int i = 0; i < 3; ++i) {
+    m_fMb[i][0] = x(i);
+    m_fMb[i][1] = y(i);
+    m_fMb[i][2] = z(i);
+    m_fMb[i][3] = origin(i);
+  }
+  const double corners[4][2] = {{x0, y0}, {xe, y0}, {xe, ye}, {x0, ye}};
+  for (int k = 0; k < 4; ++k)
+    q.corners[k] = toCol(origin + corners[k][0] * x + corners[k][1] * y);
+  m_quads.push_back(q);
+  m_end_a = m_end_b = vpColVector(3, 0.0);
 }
 
 vpSelfCalibRenderer::vpSelfCalibRenderer(const vpSelfCalibSimulator &sim, const Options &opt) : m_sim(sim), m_opt(opt)
@@ -89,6 +169,10 @@ vpSelfCalibRenderer::vpSelfCalibRenderer(const vpSelfCalibSimulator &sim, const 
   const vpColVector home = sim.getOptions().home.size() ? sim.getOptions().home
                                                         : vpSelfCalibSimulator::homeConfiguration(sim.getNominalChain());
   const Rigid H = rigidFromVisp(sim.getNominalChain().get_fMc(home));
+  if (opt.scene == CHARUCO || opt.scene == APRILTAGS) {
+    addBoard(sim.getNominalChain().get_fMc(home), sim.getSceneCentre());
+    return;
+  }
   const Eigen::Vector3d c = vec3(sim.getSceneCentre());
   const Eigen::Vector3d d = (H.t - c).normalized();
   Eigen::Vector3d e1 = H.R.col(0) - H.R.col(0).dot(d) * d;
@@ -212,7 +296,12 @@ vpImage<unsigned char> vpSelfCalibRenderer::render(const vpColVector &q, unsigne
   }
   const vpSelfCalibSimulator::Options &so = m_sim.getOptions();
   vpImage<unsigned char> I(so.height, so.width, 128);
-  vpImageSimulator::getImage(I, list, m_sim.getCamera());
+  if (m_opt.scene == CHARUCO || m_opt.scene == APRILTAGS)
+    // The board alone (vpImageSimulator's drawing of a list paints the rest of a quad's bounding
+    // box white), 4 x 4 samples per pixel: its edges where the truth says.
+    I = renderQuad(list.front(), m_sim.getCamera(), so.height, so.width);
+  else
+    vpImageSimulator::getImage(I, list, m_sim.getCamera());
   blurAndNoise(I, m_opt.blur_sd, m_opt.noise_sd, m_opt.seed, 1000 + view_index);
   return I;
 }

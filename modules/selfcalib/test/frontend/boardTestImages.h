@@ -19,6 +19,8 @@
 #include <visp3/selfcalib/vpBoardDetector.h>
 #include <visp3/selfcalib/vpSelfCalibRenderer.h>
 
+#include "core/vpSelfCalibMarkers.h"
+
 namespace boardtest
 {
 constexpr unsigned int kWidth = 640, kHeight = 480;
@@ -90,18 +92,11 @@ inline vpImage<unsigned char> render(const vpBoardDetector::Options &o, const vp
   const bool chess = o.type == vpBoardDetector::CHESSBOARD;
   const double x_last = o.type == vpBoardDetector::ASYMMETRIC_CIRCLES ? 2.0 * o.cols - 1 : o.cols - 1.0;
   const double x0 = chess ? -2 : -1, y0 = x0, x1 = x_last + (chess ? 2 : 1), y1 = o.rows - 1.0 + (chess ? 2 : 1);
-  const int per_unit = 48, sub = 4;
-  const unsigned int W = static_cast<unsigned int>((x1 - x0) * per_unit) + 1;
-  const unsigned int H = static_cast<unsigned int>((y1 - y0) * per_unit) + 1;
-  vpImage<unsigned char> texture(H, W);
-  for (unsigned int i = 0; i < H; ++i)
-    for (unsigned int j = 0; j < W; ++j) {
-      double sum = 0;
-      for (int a = 0; a < sub; ++a)
-        for (int b = 0; b < sub; ++b)
-          sum += printed(o, x0 + (j + (b + 0.5) / sub - 0.5) / per_unit, y0 + (i + (a + 0.5) / sub - 0.5) / per_unit);
-      texture[i][j] = static_cast<unsigned char>(std::lround(sum / (sub * sub)));
-    }
+  const int per_unit = 48;
+  // printed() is 30 or 220: the texture's grey is 30 + 190 times the white fraction.
+  const vpImage<unsigned char> texture = vpSelfCalib::markerTexture(
+      [&o](double x, double y) { return (printed(o, x, y) - 30) / 190; }, x0, y0, x1, y1, 1.0 / per_unit);
+  const unsigned int W = texture.getWidth(), H = texture.getHeight();
   const double s = o.spacing, xe = x0 + (W - 1.0) / per_unit, ye = y0 + (H - 1.0) / per_unit;
   vpColVector X[4] = {vpColVector({x0 * s, y0 * s, 0}), vpColVector({xe * s, y0 * s, 0}),
                       vpColVector({xe * s, ye * s, 0}), vpColVector({x0 * s, ye * s, 0})};
@@ -109,22 +104,8 @@ inline vpImage<unsigned char> render(const vpBoardDetector::Options &o, const vp
   sim.setInterpolationType(vpImageSimulator::BILINEAR_INTERPOLATION);
   sim.init(texture, X);
   sim.setCameraPosition(cMo);
-  // Each pixel integrates its area: the scene is drawn at 4 x 4 samples per pixel (a camera 4 times
-  // finer whose sample (4 u + a, 4 v + b) is at (u + (a - 1.5) / 4, v + (b - 1.5) / 4)), averaged.
-  const unsigned int n = 4;
-  const vpCameraParameters fine(n * kCamera.get_px(), n * kCamera.get_py(), n * kCamera.get_u0() + 0.5 * (n - 1),
-                                n * kCamera.get_v0() + 0.5 * (n - 1));
-  vpImage<unsigned char> F(n * kHeight, n * kWidth, 128);
-  sim.getImage(F, fine);
-  vpImage<unsigned char> I(kHeight, kWidth);
-  for (unsigned int i = 0; i < kHeight; ++i)
-    for (unsigned int j = 0; j < kWidth; ++j) {
-      unsigned int sum = 0;
-      for (unsigned int a = 0; a < n; ++a)
-        for (unsigned int b = 0; b < n; ++b)
-          sum += F[n * i + a][n * j + b];
-      I[i][j] = static_cast<unsigned char>((sum + n * n / 2) / (n * n));
-    }
+  // Each pixel integrates its area (4 x 4 samples, vpSelfCalib::renderQuad).
+  vpImage<unsigned char> I = vpSelfCalib::renderQuad(sim, kCamera, kHeight, kWidth);
   vpSelfCalibRenderer::blurAndNoise(I, blur_sd, noise_sd, 1, stream);
   return I;
 }

@@ -33,7 +33,8 @@
 
   A calibration board (Options::board, vpBoardDetector) can be the observations instead of, or
   besides, the natural features: every image is searched for it, its points get the board's ids
-  (id_offset + row * cols + col), and an image where it is not found gets a warning (with the
+  (id_offset + row * cols + col for the grids; a ChArUco board's corners and AprilTags' corners as
+  vpBoardDetector numbers them, those in view only), and an image where it is not found gets a warning (with the
   reason) and, when nothing else was found in it, is left out. The feature front end runs besides
   it only when Options::front_end asks for natural features or dot grids; the board's ids must not
   collide with the front end's (the default offset, 2000000, is above them: vpBoardDetector).
@@ -41,7 +42,8 @@
   Yardstick rule: when the dataset's yardstick is not set after the front end (no length declared,
   or its dots not found) and the board was found in two or more images, the board is the
   yardstick: the two ends of its first row (ids id_offset and id_offset + cols - 1), their distance
-  on the board apart (vpBoardDetector::getYardstick()). A declared length whose dots were not found
+  on the board apart (vpBoardDetector::getYardstick(): for a ChArUco board its first row of inner
+  corners, for AprilTags the first tag's top edge). A declared length whose dots were not found
   is replaced, with a warning.
 
   visp-selfcalib calibrate and the tutorial both go through here, so that a dataset on disk and

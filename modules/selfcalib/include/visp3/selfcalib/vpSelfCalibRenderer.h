@@ -22,6 +22,8 @@
 #include <vector>
 
 #include <visp3/core/vpColVector.h>
+#include <visp3/core/vpHomogeneousMatrix.h>
+#include <visp3/core/vpPoseVector.h>
 #include <visp3/core/vpImage.h>
 #include <visp3/core/vpImagePoint.h>
 #include <visp3/selfcalib/vpDotGrid.h>
@@ -44,13 +46,23 @@
   dots of radius 2.2 mm on the first plane (between the yardstick's patches), 4 x 9 of radius 3.2 mm
   on the second, 1 cm steps. getDotGrids() describes them as the image front end looks for them
   (vpFeatureFrontEnd::Options::dot_grids) and getDotCentres() gives their centres in f.
+
+  Scenes CHARUCO and APRILTAGS (boards with coded markers, for vpBoardDetector): one flat board
+  through the scene centre, facing the home viewpoint, its x axis along the home camera's x, drawn
+  from OpenCV's own layout and marker bits (CharucoBoard, drawMarker) with a white margin, and
+  nothing else (no photographs, no yardstick: the board's first row is the yardstick). CHARUCO:
+  Options::charuco_*; APRILTAGS: tags 0, 1, 2, 3 of Options::tag_family, tag_size m each, on a 2 x
+  2 grid of tag_spacing (getTagBundle()). getBoardPose() places the board's frame (vpBoardDetector's:
+  x right and y down as printed, z into the board) in f: the truth of its points.
 */
 class VISP_SELFCALIB_EXPORT vpSelfCalibRenderer
 {
 public:
   enum Scene {
     TEXTURED, //!< photographs on the two planes (natural features)
-    DOTS      //!< asymmetric dot grids on the two planes (dot targets)
+    DOTS,     //!< asymmetric dot grids on the two planes (dot targets)
+    CHARUCO,  //!< a ChArUco board facing the home viewpoint
+    APRILTAGS //!< a bundle of four AprilTags facing the home viewpoint
   };
 
   struct Options {
@@ -59,6 +71,14 @@ public:
     double blur_sd = 0.7;    //!< px, Gaussian blur of the rendered image (0: none)
     double noise_sd = 2.0;   //!< grey levels, Gaussian noise added after the blur
     uint64_t seed = 1;
+    //! Scene CHARUCO: squares (OpenCV's count: cols along x), sides (m), OpenCV dictionary.
+    unsigned int charuco_cols = 7, charuco_rows = 5;
+    double charuco_square = 0.02, charuco_marker = 0.015;
+    std::string charuco_dictionary = "DICT_6X6_250";
+    //! Scene APRILTAGS: the family (36h11, 36h10, 25h9, 16h5), the tags' side and their centres' spacing (m).
+    std::string tag_family = "36h11";
+    double tag_size = 0.04, tag_spacing = 0.06;
+    //! Throws vpSelfCalibException for a negative blur or noise, or a board OpenCV cannot draw.
     void check() const;
   };
 
@@ -90,7 +110,12 @@ public:
   static void blurAndNoise(vpImage<unsigned char> &I, double blur_sd, double noise_sd, uint64_t seed,
                            uint64_t stream);
 
-  //! The yardstick's ends in f (3-vectors) and its length.
+  //! Scenes CHARUCO and APRILTAGS: the board's frame in f (fMb; see the class).
+  const vpHomogeneousMatrix &getBoardPose() const { return m_fMb; }
+  //! Scene APRILTAGS: tag id -> its pose in the board's frame (bMt: its centre, no turn).
+  static std::map<int, vpPoseVector> getTagBundle(const Options &options);
+
+  //! The yardstick's ends in f (3-vectors) and its length (0 for the board scenes).
   const vpColVector &getYardstickEndA() const { return m_end_a; }
   const vpColVector &getYardstickEndB() const { return m_end_b; }
   double getYardstickLength() const;
@@ -116,6 +141,8 @@ private:
   vpColVector m_end_a, m_end_b;
   std::vector<vpDotGrid> m_grids;
   std::map<int, vpColVector> m_dot_centres;
+  vpHomogeneousMatrix m_fMb;
+  void addBoard(const vpHomogeneousMatrix &fMc_home, const vpColVector &centre);
 };
 
 #endif
