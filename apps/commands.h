@@ -67,6 +67,14 @@ int predict(const ModelArgs &a);
 void addVerify(CLI::App &app, ModelArgs &a);
 int verify(const ModelArgs &a);
 
+//! compare RESULT_DIR TRUTH.yaml: a result against the truth of a simulation.
+struct CompareArgs {
+  std::string result, truth;
+  unsigned int pairs = 1000;
+};
+void addCompare(CLI::App &app, CompareArgs &a);
+int compare(const CompareArgs &a);
+
 // ---------------------------------------------------------------------------------------------
 // plan, simulate
 

@@ -17,6 +17,8 @@
 
 #include "selfcalibCli.h"
 
+#include <yaml-cpp/yaml.h>
+
 namespace fs = std::filesystem;
 
 namespace
@@ -133,6 +135,32 @@ void renderImages(const vpSelfCalibSimulator &sim, const SimulateArgs &a, const 
   ds.yardstick.length = renderer.getYardstickLength(); // 0 for the boards: their first row is the yardstick
   ds.yardstick.id_a = ds.yardstick.id_b = -1;
 }
+/*
+  The truth the dataset was simulated from, beside it (STEM-truth.yaml): the true and the nominal
+  robot models (robot-model YAML, as text), the true camera and the scene points (id, x, y, z in
+  f, m). Read by `compare`. Returns the file's name.
+*/
+std::string writeTruth(const vpSelfCalibSimulator &sim, const std::string &out, const vpSelfCalibDataset &ds)
+{
+  const fs::path file = fs::path(out).parent_path() / (fs::path(out).stem().string() + "-truth.yaml");
+  const vpCameraParameters cam = sim.getCamera();
+  YAML::Emitter y;
+  y << YAML::Comment("The truth " + std::string(kProgram) + " simulate used for " + fs::path(out).filename().string() +
+                     " (read by " + kProgram + " compare)");
+  y << YAML::BeginMap << YAML::Key << "truth_of" << YAML::Value << fs::path(out).filename().string();
+  y << YAML::Key << "camera" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "width" << YAML::Value
+    << ds.width << YAML::Key << "height" << YAML::Value << ds.height << YAML::Key << "px" << YAML::Value
+    << cam.get_px() << YAML::Key << "py" << YAML::Value << cam.get_py() << YAML::Key << "u0" << YAML::Value
+    << cam.get_u0() << YAML::Key << "v0" << YAML::Value << cam.get_v0() << YAML::EndMap;
+  y << YAML::Key << "true_model" << YAML::Value << YAML::Literal << sim.getTrueChain().toYamlString();
+  y << YAML::Key << "nominal_model" << YAML::Value << YAML::Literal << sim.getNominalChain().toYamlString();
+  y << YAML::Key << "points" << YAML::Value << YAML::BeginSeq;
+  for (const auto &pt : sim.getScenePointsById())
+    y << YAML::Flow << YAML::BeginSeq << pt.first << pt.second[0] << pt.second[1] << pt.second[2] << YAML::EndSeq;
+  y << YAML::EndSeq << YAML::EndMap;
+  vpSelfCalibFileWriter::write(file.string(), std::string(y.c_str()) + "\n", "truth");
+  return file.string();
+}
 } // namespace
 
 void addSimulate(CLI::App &app, SimulateArgs &a)
@@ -241,11 +269,14 @@ int simulate(const SimulateArgs &a)
     std::error_code ec;
     fs::remove_all(earlier_images, ec);
   }
+  const std::string truth = writeTruth(sim, out, ds);
   if (a.images)
     std::cout << "wrote " << out << ": " << poses << " poses of " << a.robot << ", rendered images in "
               << fs::path(ds.views[0].image).parent_path().filename().string() << "/ beside it\n";
   else
     std::cout << "wrote " << out << ": " << poses << " poses of " << a.robot << ", " << sim.getScenePoints().size()
               << " scene points, noise " << so.pixel_noise_sd << " px\n";
+  std::cout << "wrote " << truth << ": the truth simulated (true model, camera, scene points); " << kProgram
+            << " compare RESULT_DIR " << truth << " measures a result against it\n";
   return 0;
 }

@@ -45,6 +45,7 @@ struct Args {
   ImportArgs import;
   CalibrateArgs calibrate;
   ExportArgs exportArgs;
+  CompareArgs compare;
 };
 
 //! The commands, in the order the help lists them.
@@ -58,6 +59,7 @@ void addCommands(CLI::App &app, Args &a)
   addImport(app, a.import);
   addCalibrate(app, a.calibrate);
   addVerify(app, a.verify);
+  addCompare(app, a.compare);
   addExport(app, a.exportArgs);
 }
 
@@ -93,6 +95,8 @@ int dispatch(const CLI::App &app, const Args &a)
     return plan(a.plan);
   if (app.got_subcommand("verify"))
     return verify(a.verify);
+  if (app.got_subcommand("compare"))
+    return compare(a.compare);
   if (app.got_subcommand("info"))
     return info(a.info);
   return predict(a.predict);

@@ -44,6 +44,29 @@ std::string relativeTo(const std::string &base_dir, const std::string &p)
   return rel.string();
 }
 
+/*
+  An image file's path as the dataset holds it: relative to the dataset's directory, ".." included
+  (a dataset imported beside its data reads "../data/image.png", and moves with it); absolute only
+  when the two share nothing but the root.
+*/
+std::string imagePathFor(const std::string &base_dir, const std::string &p)
+{
+  namespace fs = std::filesystem;
+  if (base_dir.empty() || p.empty())
+    return p;
+  std::error_code ec;
+  const fs::path a = fs::absolute(p, ec).lexically_normal(), b = fs::absolute(base_dir, ec).lexically_normal();
+  const fs::path rel = a.lexically_relative(b);
+  if (ec || rel.empty())
+    return p;
+  size_t up = 0, depth = 0;
+  for (const fs::path &c : rel)
+    up += c == "..";
+  for (const fs::path &c : b.relative_path())
+    depth += !c.empty();
+  return up >= depth ? p : rel.string();
+}
+
 std::string directoryOf(const std::string &file)
 {
   const std::filesystem::path dir = std::filesystem::path(file).parent_path();
@@ -441,7 +464,7 @@ std::string vpSelfCalibDataset::toYamlString(const std::string &base_dir) const
       out << YAML::EndSeq;
     }
     if (!v.image.empty())
-      out << YAML::Key << "image" << YAML::Value << relativeTo(base_dir, v.image);
+      out << YAML::Key << "image" << YAML::Value << imagePathFor(base_dir, v.image);
     out << YAML::Key << "points" << YAML::Value << YAML::BeginSeq;
     for (const Observation &o : v.points)
       out << YAML::Flow << YAML::BeginSeq << o.id << o.ip.get_u() << o.ip.get_v() << YAML::EndSeq;

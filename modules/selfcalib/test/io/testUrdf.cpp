@@ -347,6 +347,15 @@ TEST(Urdf, BadFilesAreRefusedWithAClearMessage)
     ADD_FAILURE() << "no exception";
   } catch (const vpSelfCalibException &e) {
     EXPECT_EQ(e.getCode(), vpSelfCalibException::ioError);
-    EXPECT_NE(e.getStringMessage().find("'/nonexistent/robot.urdf': cannot open"), std::string::npos);
+    EXPECT_NE(e.getStringMessage().find("'/nonexistent/robot.urdf': cannot read: No such file or directory"),
+              std::string::npos);
+  }
+  // A file without end (a device) is refused at once, not read until memory runs out.
+  try {
+    vpKinematicChainUrdf::load("/dev/zero");
+    ADD_FAILURE() << "no exception";
+  } catch (const vpSelfCalibException &e) {
+    EXPECT_NE(e.getStringMessage().find("'/dev/zero': a NUL byte at offset 0: not a text file"), std::string::npos)
+        << e.getStringMessage();
   }
 }

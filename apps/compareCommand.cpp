@@ -1,0 +1,136 @@
+/*
+ * visp-selfcalib compare: a calibration result measured against the truth a simulation wrote.
+ */
+#include "commands.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <random>
+
+#include <visp3/core/vpThetaUVector.h>
+#include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibResultsFile.h>
+#include <yaml-cpp/yaml.h>
+
+#include "selfcalibCli.h"
+
+namespace fs = std::filesystem;
+
+namespace
+{
+//! The truth file's models and camera (what compare uses of it).
+struct Truth {
+  vpKinematicChain true_model, nominal;
+  double px = 0, py = 0, u0 = 0, v0 = 0;
+};
+
+Truth readTruth(const std::string &file)
+{
+  const auto fail = [&file](const std::string &why) -> void {
+    throw vpSelfCalibException(vpSelfCalibException::parseError,
+                               "truth '" + file + "': " + why + " (a file " + kProgram + " simulate writes, STEM-truth.yaml)");
+  };
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(file);
+  } catch (const YAML::BadFile &) {
+    throw vpSelfCalibException(vpSelfCalibException::ioError, "truth '" + file + "': cannot read it");
+  } catch (const YAML::Exception &e) {
+    fail("not YAML: " + e.msg);
+  }
+  if (!root.IsMap() || !root["true_model"] || !root["nominal_model"] || !root["camera"] || !root["camera"].IsMap())
+    fail("expected the keys true_model, nominal_model and camera");
+  Truth t{vpKinematicChain::fromYamlString(root["true_model"].as<std::string>(), file + ": true_model"),
+          vpKinematicChain::fromYamlString(root["nominal_model"].as<std::string>(), file + ": nominal_model")};
+  try {
+    const YAML::Node c = root["camera"];
+    t.px = c["px"].as<double>();
+    t.py = c["py"].as<double>();
+    t.u0 = c["u0"].as<double>();
+    t.v0 = c["v0"].as<double>();
+  } catch (const YAML::Exception &) {
+    fail("camera: expected px, py, u0 and v0");
+  }
+  return t;
+}
+
+//! RMS and largest translation (m) and rotation (rad) errors of a model's relative camera motions.
+struct MotionError {
+  double rms_t = 0, rms_r = 0, max_t = 0, max_r = 0;
+};
+
+/*
+  The error of `model`'s relative camera motions c_iMc_j against the true model's, over `pairs`
+  pairs of configurations drawn uniformly within the true model's joint limits (seeded): free of
+  the base frame, which self-calibration does not determine.
+*/
+MotionError motionError(const vpKinematicChain &model, const vpKinematicChain &truth, unsigned int pairs)
+{
+  std::mt19937_64 rng(1);
+  const auto draw = [&]() {
+    vpColVector q(truth.getNumJoints());
+    for (unsigned int j = 0; j < q.size(); ++j)
+      q[j] = std::uniform_real_distribution<double>(truth.getJoints()[j].min, truth.getJoints()[j].max)(rng);
+    return q;
+  };
+  MotionError e;
+  for (unsigned int k = 0; k < pairs; ++k) {
+    const vpColVector qi = draw(), qj = draw();
+    const vpHomogeneousMatrix m = model.get_fMc(qi).inverse() * model.get_fMc(qj),
+                              t = truth.get_fMc(qi).inverse() * truth.get_fMc(qj), d = t.inverse() * m;
+    const double et = d.getTranslationVector().frobeniusNorm(), er = vpThetaUVector(d.getRotationMatrix()).getTheta();
+    e.rms_t += et * et;
+    e.rms_r += er * er;
+    e.max_t = std::max(e.max_t, et);
+    e.max_r = std::max(e.max_r, er);
+  }
+  e.rms_t = std::sqrt(e.rms_t / pairs);
+  e.rms_r = std::sqrt(e.rms_r / pairs);
+  return e;
+}
+
+std::ostream &operator<<(std::ostream &os, const MotionError &e)
+{
+  return os << std::fixed << std::setprecision(3) << 1e3 * e.rms_t << " mm / " << 1e3 * e.rms_r << " mrad (largest "
+            << 1e3 * e.max_t << " mm / " << 1e3 * e.max_r << " mrad)";
+}
+} // namespace
+
+void addCompare(CLI::App &app, CompareArgs &a)
+{
+  CLI::App *c = app.add_subcommand("compare", "a calibration result against the truth of a simulation");
+  c->footer("Measures RESULT_DIR (calibrate's --out: model.yaml, results.yaml) against TRUTH.yaml (written by\n"
+            "simulate beside its dataset, STEM-truth.yaml): the error of the relative camera motions between\n"
+            "pairs of random configurations within the joint limits (free of the base frame, which\n"
+            "self-calibration does not determine), for the calibrated and the nominal model, and the error of\n"
+            "the intrinsics.");
+  c->add_option("RESULT_DIR", a.result, "a directory calibrate wrote")->type_name("DIR")->required();
+  c->add_option("TRUTH", a.truth, "the truth file simulate wrote")->type_name("FILE")->required();
+  c->add_option("--pairs", a.pairs, "pairs of configurations drawn (default 1000)")
+      ->type_name("N")
+      ->check(selfcalibCli::wholeNumber(1, 1000000));
+}
+
+int compare(const CompareArgs &a)
+{
+  const Truth t = readTruth(a.truth);
+  const fs::path dir(a.result);
+  const vpKinematicChain model = vpKinematicChain::loadYaml((dir / "model.yaml").string());
+  const vpSelfCalibResultsFile::Contents res = vpSelfCalibResultsFile::read((dir / "results.yaml").string());
+  if (model.getNumJoints() != t.true_model.getNumJoints()) {
+    std::cerr << "error: " << (dir / "model.yaml").string() << " has " << model.getNumJoints() << " joints, the truth "
+              << t.true_model.getNumJoints() << ": not a result of this simulation's robot\n";
+    return 1;
+  }
+  std::cout << "relative camera motions, " << a.pairs << " pairs of random configurations: calibrated "
+            << motionError(model, t.true_model, a.pairs) << "; nominal " << motionError(t.nominal, t.true_model, a.pairs)
+            << "\n";
+  std::cout << std::fixed << std::setprecision(3) << "intrinsics: px " << res.camera.px - t.px << ", py "
+            << res.camera.py - t.py << ", u0 " << res.camera.u0 - t.u0 << ", v0 " << res.camera.v0 - t.v0
+            << " px off the truth (px " << t.px << ", py " << t.py << ", u0 " << t.u0 << ", v0 " << t.v0 << ")\n";
+  return 0;
+}
