@@ -94,7 +94,7 @@ def keep(text):
                     out += ["", label.rstrip(":") + ":", ""]
                 elif out:
                     out.append("")
-            out.append(l.replace("NOT met", "not met"))
+            out.append(re.sub(r"\bNOT (met)\b", r"not \1", l))
     return "\n".join(out).strip() + "\n"
 
 

@@ -53,6 +53,7 @@ public:
     DOTS      //!< asymmetric dot grids on the two planes (dot targets)
   };
 
+  //! Settings of vpSelfCalibRenderer (the defaults are the member initialisers).
   struct Options {
     Scene scene = TEXTURED;
     std::string texture_dir; //!< empty: visp-images-data's ViSP-images directory
