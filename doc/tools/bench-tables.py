@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes doc/benchmarks.md from the benchmark programs' own output.
 
-    python3 doc/tools/bench-tables.py [--build build] [--only NAME,...] [--raw DIR] [--data DIR]
+    python3 doc/tools/bench-tables.py [--build build] [--only NAME,...] [--raw DIR] [--from-raw DIR] [--data DIR]
 
 Runs each benchmark of BENCHES with its command (from the repository root, so that the real data
 sets are found at ../shared/data), keeps the tables it prints (and the lines that label them), and
@@ -43,19 +43,20 @@ BENCHES = [
      "The default pipeline (multi-view reconstruction + kinematic bundle adjustment) against the paper's "
      "pipeline and the Cramer-Rao bound of the bundle adjustment at the truth, and its scale "
      "(observations and time)."),
-    ("bench-robots", ["--seeds", "5", "--draws", "2"],
+    ("bench-robots", ["--seeds", "3", "--draws", "1"],
      "The default pipeline on a 7-axis arm (Panda, modified DH) and the UR5, f known and "
      "self-calibrated, against the Cramer-Rao bound (ratio of the RMS held-out position error to the "
      "bound's)."),
-    ("bench-trust", ["--seeds", "1", "--draws", "10", "--auto"],
+    ("bench-trust", ["--seeds", "1", "--draws", "6", "--sd-factors", "1", "--auto"],
      "Can a result be trusted and compared: the estimated set over noise draws (target: one set), the "
      "reported sd over the spread of the draws (f and eMc translation), and ok runs that are worse than "
      "the nominal model or than their own predicted error (target: none), UR5 and a modified-DH PUMA, "
-     "with the pixel sd given right and 2.5x and 0.4x off (`--auto`: measured, calibrate's default)."),
-    ("bench-paper", ["--seeds", "3", "--trajectories", "random"],
+     "the pixel sd measured from a given start (`--auto`, calibrate's default; `--sd-factors 1,2.5,0.4` "
+     "also starts it 2.5x and 0.4x off)."),
+    ("bench-paper", ["--seeds", "2", "--trajectories", "random"],
      "The paper's simulation study (Section 4.2, Table 2, Figure 6) on the reference scene: pose "
      "measurement and identification errors of the paper's method, PUMA 560 and Viper850."),
-    ("bench-planner", ["--seeds", "3"],
+    ("bench-planner", ["--seeds", "2"],
      "The paper's optimal trajectory (Section 3.3) against the random feasible start it is planned "
      "from: eq. 21 ratio error, pose-measurement error, held-out error, conditioning, planning time."),
 ]
@@ -83,19 +84,34 @@ def commit():
 
 
 def keep(text):
-    """The tables of an output and the line that labels each; no target or history line."""
+    """The tables of an output, the line that labels each (the nearest line above it) and the summary
+    lines right below it (bounds, notes); no target line, no history."""
     lines = [l.rstrip() for l in text.splitlines()]
-    out = []
-    for i, l in enumerate(lines):
-        if l.startswith("|"):
-            if not out or not out[-1].startswith("|"):
-                label = lines[i - 1].strip() if i > 0 else ""
-                if label and not label.startswith("|") and not re.match(r"(targets|done in)", label):
-                    out += ["", label.rstrip(":") + ":", ""]
-                elif out:
-                    out.append("")
-            out.append(re.sub(r"\bNOT (met)\b", r"not \1", l))
-    return "\n".join(out).strip() + "\n"
+    skip = re.compile(r"^\s*(targets|done in|running|\.\.\.)|[Ii]ssue [0-9]")
+    out, i = [], 0
+    while i < len(lines):
+        if not lines[i].startswith("|"):
+            i += 1
+            continue
+        j = i - 1
+        while j >= 0 and not lines[j].strip() and i - j <= 2:
+            j -= 1
+        label = lines[j].strip() if j >= 0 and i - j <= 2 else ""
+        out.append("")
+        if label and not label.startswith("|") and not skip.search(label):
+            out += [label.rstrip(":") + ":", ""]
+        while i < len(lines) and lines[i].startswith("|"):
+            out.append(lines[i])
+            i += 1
+        notes = []
+        while i < len(lines) and lines[i].strip() and not lines[i].startswith("|"):
+            if not skip.search(lines[i]):
+                notes.append(lines[i].strip())
+            i += 1
+        if notes:
+            out += [""] + ["- " + n for n in notes]
+    text = "\n".join(out).strip() + "\n"
+    return re.sub(r"\bNOT (met)\b", r"not \1", text)
 
 
 def run(build, name, args, raw, data=""):
@@ -111,6 +127,7 @@ def run(build, name, args, raw, data=""):
     if raw:
         os.makedirs(raw, exist_ok=True)
         with open(os.path.join(raw, name + ".txt"), "w", encoding="utf-8") as f:
+            f.write(f"# command: {shown}\n# seconds: {took:.1f}\n# machine: {machine()}, commit {commit()}\n")
             f.write(res.stdout + "\n--- stderr ---\n" + res.stderr)
     if name == "bench-real" and "|" in res.stdout:
         update_readme(res.stdout)
@@ -167,6 +184,23 @@ def update_readme(raw):
     open(README, "w", encoding="utf-8").write(a + begin + "\n" + summary(raw) + end + b)
 
 
+def from_raw(raw, name):
+    """A section's parts from a saved output: (shown, took, body, where), or None."""
+    path = os.path.join(raw, name + ".txt")
+    if not raw or not os.path.exists(path):
+        return None
+    text = open(path, encoding="utf-8").read()
+    head = dict(re.findall(r"(?m)^# (command|seconds|machine): (.*)$", text))
+    out = text.split("\n--- stderr ---\n")[0]
+    out = re.sub(r"(?m)^# (command|seconds|machine): .*\n", "", out)
+    if "|" not in out:
+        return None
+    if name == "bench-real":
+        update_readme(out)
+    took = float(head["seconds"]) if "seconds" in head else None
+    return head.get("command"), took, keep(out), head.get("machine")
+
+
 def section(name, about, shown, took, body, where):
     t = "" if took is None else f", {took:.0f} s"
     return (f"## {name}\n\n{about}\n\n```sh\n{shown}\n```\n\n"
@@ -186,19 +220,31 @@ def main():
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
     ap.add_argument("--only", default="")
     ap.add_argument("--raw", default="")
+    ap.add_argument("--from-raw", default="", help="take the benchmarks not in --only from the outputs saved in this "
+                    "folder by an earlier --raw run (their command, time and machine with them)")
     ap.add_argument("--data", default="", help="the shared data folder for bench-real (default ../shared/data)")
     a = ap.parse_args()
     only = set(filter(None, a.only.split(",")))
     old = current_sections()
     where = machine() + f", commit {commit()}"
-    sections = []
+    sections = {n: old[n] for n, _, _ in BENCHES if n in old}
     for name, args, about in BENCHES:
-        if only and name not in only and name in old:
-            sections.append(old[name])
+        if only and name not in only:
+            saved = from_raw(a.from_raw, name)
+            if saved:
+                shown, took, body, there = saved
+                shown = shown or "build/bin/" + name + ("" if not args else " " + " ".join(args))
+                sections[name] = section(name, about, shown, took, body, there or where)
             continue
         print(f"running {name} ...", file=sys.stderr, flush=True)
         shown, took, body = run(a.build, name, args, a.raw, a.data)
-        sections.append(section(name, about, shown, took, body, where))
+        sections[name] = section(name, about, shown, took, body, where)
+        write(sections)
+    write(sections)
+    print(f"wrote {PAGE}", file=sys.stderr)
+
+
+def write(sections):
     head = ("# Benchmarks\n\n"
             "One current table per benchmark program (`test/bench/`), written by "
             "`python3 doc/tools/bench-tables.py` from the programs' own output: the command, the machine and "
@@ -206,10 +252,10 @@ def main():
             "(seeded). Each program also runs tiny as a smoke test (`ctest -L bench`); its `--help` lists the "
             "options for longer runs (more seeds, draws, robots). The measurements of earlier versions are in "
             "[CHANGELOG.md](../CHANGELOG.md).\n\n")
-    toc = "".join(f"- [{n}](#{n})\n" for n, _, _ in BENCHES)
+    names = [n for n, _, _ in BENCHES if n in sections]
+    toc = "".join(f"- [{n}](#{n})\n" for n in names)
     with open(PAGE, "w", encoding="utf-8") as f:
-        f.write(head + toc + "\n" + "\n".join(sections))
-    print(f"wrote {PAGE}", file=sys.stderr)
+        f.write(head + toc + "\n" + "\n".join(sections[n] for n in names))
 
 
 if __name__ == "__main__":
