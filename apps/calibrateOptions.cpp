@@ -208,7 +208,7 @@ void addFrontEndOptions(CLI::App *c, CalibrateArgs &a)
 void addCalibrate(CLI::App &app, CalibrateArgs &a)
 {
   CLI::App *c = app.add_subcommand("calibrate", "calibrated model, camera and results in DIR");
-  c->add_option("DATASET", a.dataset, "the dataset file (README: Data formats)")->type_name("FILE")->required();
+  c->add_option("DATASET", a.dataset, "the dataset file (doc/formats.md)")->type_name("FILE")->required();
   c->add_option("--out", a.out, "the output directory (created when missing)")->type_name("DIR")->required();
   addProtocolOptions(c, a);
   addModelOptions(c, a);

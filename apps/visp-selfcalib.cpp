@@ -108,7 +108,7 @@ int run(int argc, char **argv)
                "import a dataset, calibrate, verify, predict camera poses and export the calibrated model.",
                kProgram);
   app.require_subcommand(1);
-  app.footer("MODEL: " + modelHelp() + ". DATASET: a dataset YAML file (README).\n"
+  app.footer("MODEL: " + modelHelp() + ". DATASET: a dataset YAML file (doc/formats.md).\n"
              "'visp-selfcalib COMMAND --help' describes a command and its options.\n"
              "Exit codes: 0 success, 1 bad input (message on stderr), 2 bad usage, 3 no trustworthy\n"
              "calibration: refused (data that cannot determine it) or doubtful (the model, written and marked,\n"

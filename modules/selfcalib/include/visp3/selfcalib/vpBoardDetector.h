@@ -121,6 +121,7 @@ public:
   //! and the natural features' tracks (0, 1, ...).
   static constexpr int kDefaultIdOffset = 2000000;
 
+  //! Settings of vpBoardDetector (the defaults are the member initialisers).
   struct Options {
     Type type = CHESSBOARD;
     unsigned int rows = 6, cols = 9; //!< inner corners (CHESSBOARD) or dots

@@ -39,6 +39,7 @@
 class VISP_SELFCALIB_EXPORT vpCalibrationVerifier
 {
 public:
+  //! The result of vpCalibrationVerifier: what it computed, and what the caller needs to judge it.
   struct Result {
     std::map<int, vpColVector> points;  //!< triangulated points (f frame, 3-vectors), by id
     bool has_yardstick = false;

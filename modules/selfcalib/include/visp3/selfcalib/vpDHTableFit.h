@@ -35,6 +35,7 @@
 class VISP_SELFCALIB_EXPORT vpDHTableFit
 {
 public:
+  //! Settings of vpDHTableFit (the defaults are the member initialisers).
   struct Options {
     unsigned int samples = 100;        //!< joint vectors drawn uniformly within the limits
     uint64_t seed = 1;
@@ -44,6 +45,7 @@ public:
     //! Throws vpSelfCalibException unless samples >= 3, max_iterations >= 1 and the tolerances are positive.
     void check() const;
   };
+  //! The result of vpDHTableFit: what it computed, and what the caller needs to judge it.
   struct Result {
     bool representable = false;
     std::string message;

@@ -36,6 +36,7 @@
 class VISP_SELFCALIB_EXPORT vpFactorMethod
 {
 public:
+  //! The result of vpFactorMethod: what it computed, and what the caller needs to judge it.
   struct Result {
     vpHomogeneousMatrix c2Mc1;   //!< R, t with |t| = 1
     unsigned int num_in_front = 0; //!< correspondences in front of both cameras for the chosen candidate

@@ -127,6 +127,7 @@ public:
     bool empty() const { return fMc.empty(); }
   };
 
+  //! Settings of vpFeatureFrontEnd (the defaults are the member initialisers).
   struct Options {
     bool features = true;            //!< natural features (steps 1-3)
     std::vector<DotGrid> dot_grids;  //!< dot targets to find (step 4)
@@ -166,6 +167,7 @@ public:
     void check() const;
   };
 
+  //! The result of vpFeatureFrontEnd: what it computed, and what the caller needs to judge it.
   struct Result {
     //! Per image, the observations with their scene point ids (tracks, then the yardstick's ends).
     std::vector<std::vector<vpSelfCalibDataset::Observation>> observations;

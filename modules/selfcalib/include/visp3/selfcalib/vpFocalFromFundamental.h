@@ -41,6 +41,7 @@ class VISP_SELFCALIB_EXPORT vpFocalFromFundamental
 {
 public:
   enum Status { OK, NEGATIVE, UNOBSERVABLE };
+  //! The result of vpFocalFromFundamental: what it computed, and what the caller needs to judge it.
   struct Result {
     Status status = UNOBSERVABLE;
     std::string message;

@@ -58,6 +58,7 @@ public:
     USAC_MSAC
   };
 
+  //! Settings of vpFundamentalMatrix (the defaults are the member initialisers).
   struct Options {
     Method method = RANSAC_8POINT;
     double inlier_threshold = 1.0;  //!< px, Sampson distance
@@ -69,6 +70,7 @@ public:
 
   enum Status { OK, TOO_FEW_POINTS, DEGENERATE };
 
+  //! The result of vpFundamentalMatrix: what it computed, and what the caller needs to judge it.
   struct Result {
     Status status = DEGENERATE;
     std::string message;

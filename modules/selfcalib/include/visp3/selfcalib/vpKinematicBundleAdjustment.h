@@ -93,6 +93,7 @@ public:
   //! Lens distortion model of the estimate.
   enum DistortionModel { DISTORTION_VISP, DISTORTION_OPENCV };
 
+  //! Settings of vpKinematicBundleAdjustment (the defaults are the member initialisers).
   struct Options {
     unsigned int intrinsics = FX;      //!< estimated intrinsics; 0: the camera is known
     /*!
@@ -156,6 +157,7 @@ public:
   enum Status { OK, TOO_FEW_OBSERVATIONS, RANK_DEFICIENT, NO_CONVERGENCE };
   static const char *statusName(Status s);
 
+  //! The result of vpKinematicBundleAdjustment: what it computed, and what the caller needs to judge it.
   struct Result {
     Status status = TOO_FEW_OBSERVATIONS;
     std::string message;

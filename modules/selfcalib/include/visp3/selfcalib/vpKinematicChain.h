@@ -84,7 +84,7 @@ public:
                    const vpPoseVector &eMc = vpPoseVector());
 
   /*!
-    A named preset: "puma560" (Corke's standard-DH table, see the README) or "viper850" (nominal
+    A named preset: "puma560" (Corke's standard-DH table, see doc/formats.md) or "viper850" (nominal
     values read at run time from ViSP's vpViper850 with its default PTGrey Flea2 camera tool, so that
     get_fMc() equals vpViper850::get_fMc()). Throws vpSelfCalibException on an unknown name.
   */
@@ -92,7 +92,7 @@ public:
   static std::vector<std::string> presetNames();
 
   /*!
-    Robot-model YAML (see the README): either a file with convention, joints, base, flange, eMc and
+    Robot-model YAML (see doc/formats.md): either a file with convention, joints, base, flange, eMc and
     optional corrections, or a preset name as value of "preset" (corrections may follow).
     Every malformed or inconsistent input throws vpSelfCalibException naming the file, the key and
     what was expected.

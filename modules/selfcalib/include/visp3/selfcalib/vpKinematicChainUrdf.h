@@ -53,6 +53,7 @@ class VISP_SELFCALIB_EXPORT vpKinematicChainUrdf
 public:
   enum Convention { AUTO, DH, MDH };
 
+  //! Settings of vpKinematicChainUrdf (the defaults are the member initialisers).
   struct Options {
     //! Empty: the URDF's root link.
     std::string base_link;

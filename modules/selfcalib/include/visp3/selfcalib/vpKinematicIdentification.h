@@ -59,8 +59,8 @@
     nominally parallel consecutive axes Hayati's (theta, a, alpha, beta).
   - Walk: a parameter is estimated when its column adds a new direction to the span of those
     already estimated: ||(I - P) a|| / ||a|| > Options::rank_tolerance (default 1e-6: exact
-    dependences sit at 1e-13..1e-16, real identifiability at 1e-3 or more; the README gives the
-    figures for the presets). A column below 1e-10 of the largest is "no effect" (relative poses
+    dependences sit at 1e-13..1e-16, real identifiability at 1e-3 or more; see doc/concepts.md,
+    "The estimated set"). A column below 1e-10 of the largest is "no effect" (relative poses
     cancel everything before the first joint rotation: the base and the placement of joint 1); a
     dependent column is reported with the estimated parameters its column is a combination of
     (for example j6.tz with eMc.tz: a slide along the last axis is a hand-eye translation).
@@ -74,6 +74,7 @@
 class VISP_SELFCALIB_EXPORT vpKinematicIdentification
 {
 public:
+  //! One pose measurement: the configuration(s) and the measured camera pose with its expected error.
   struct Measurement {
     vpColVector q;            //!< joints of this pose
     vpColVector q_ref;        //!< joints of the reference pose; empty for an absolute measurement
@@ -83,6 +84,7 @@ public:
     bool isRelative() const { return q_ref.size() > 0; }
   };
 
+  //! Settings of vpKinematicIdentification (the defaults are the member initialisers).
   struct Options {
     double rank_tolerance = 1e-6;     //!< relative new-direction norm below which a column is dependent (see the class)
     double correlation_threshold = 0.95; //!< |correlation| listed above this
@@ -92,12 +94,14 @@ public:
     void check() const;
   };
 
+  //! A parameter not estimated, with the reason (no effect, or the estimated parameters it acts as).
   struct Unidentifiable {
     unsigned int index = 0;
     std::string name;
     std::string reason;
   };
 
+  //! Which parameters the configurations identify (the estimated set), and why the others are not.
   struct Identifiability {
     std::vector<unsigned int> identified;        //!< parameter indices, in chain order
     std::vector<Unidentifiable> unidentifiable;  //!< the others, with their reason, in chain order
@@ -111,6 +115,7 @@ public:
     std::vector<double> new_direction;
   };
 
+  //! A pair of identified parameters whose correlation exceeds the reporting threshold.
   struct Correlation {
     std::string a, b;
     double value = 0;
@@ -119,6 +124,7 @@ public:
   enum Status { OK, TOO_FEW_MEASUREMENTS, RANK_DEFICIENT, NO_CONVERGENCE };
   static const char *statusName(Status s);
 
+  //! The result of vpKinematicIdentification: what it computed, and what the caller needs to judge it.
   struct Result {
     Status status = TOO_FEW_MEASUREMENTS;
     std::string message;

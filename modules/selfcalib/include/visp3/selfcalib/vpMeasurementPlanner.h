@@ -91,13 +91,14 @@ public:
   };
   static Algorithm algorithmFromName(const std::string &name); //!< "mma", "slsqp", "lbfgs", "bobyqa"
 
+  //! Settings of planTrajectory(): the paper's cost, the nominal model's tolerance, the optimizer.
   struct TrajectoryOptions {
     //! CONSECUTIVE (default) or SPREAD. Without noise, pose i's position error is
     //! |T_i| (g_i - g_w) drho, g_w the yardstick's weighted mean of the g_j, so the spread around the
-    //! mean is the error itself (paper scene, 10 seeds: gain 26.8x PUMA 560, 13.8x Viper850, against
-    //! 12.9x and 5.4x with consecutive differences, which allow a drift along the trajectory). Under
-    //! image noise SPREAD gathers the configurations so tightly that the shared focal length suffers
-    //! (PUMA 560, noise I: 4.4 mm against 1.9 mm), and real data have noise: CONSECUTIVE is the default.
+    //! mean is the error itself, and SPREAD removes more of it than consecutive differences, which
+    //! allow a drift along the trajectory. Under image noise SPREAD gathers the configurations so
+    //! tightly that the shared focal length suffers, and real data have noise: CONSECUTIVE is the
+    //! default. bench-paper --ratio-cost compares them (doc/benchmarks.md).
     RatioCost ratio_cost = RATIO_CONSECUTIVE;
     double lambda = 1e-7;               //!< weight of cond(J) (the paper's best value)
     Algorithm algorithm = ALGO_LBFGS;
@@ -147,6 +148,7 @@ public:
   };
   static const char *statusName(Status s);
 
+  //! The result of vpMeasurementPlanner: what it computed, and what the caller needs to judge it.
   struct Result {
     Status status = FAILED;
     std::string message;
@@ -162,6 +164,7 @@ public:
   enum Index { INDEX_O1, INDEX_O2, INDEX_O3, INDEX_O4, INDEX_O5 };
   static Index indexFromName(const std::string &name); //!< "O1" .. "O5"
 
+  //! Settings of selectObservable(): the index maximised and the search.
   struct SelectionOptions {
     Index index = INDEX_O1;
     unsigned int max_exchange_passes = 20;

@@ -61,6 +61,7 @@
 class VISP_SELFCALIB_EXPORT vpMultiViewReconstruction
 {
 public:
+  //! Settings of vpMultiViewReconstruction (the defaults are the member initialisers).
   struct Options {
     bool focal_known = true;        //!< false: one f for all views, self-calibrated
     vpTwoViewEstimator::Options twoview; //!< fx (known value or first guess), u0, v0, mu: the camera
@@ -77,6 +78,7 @@ public:
   enum Status { OK, TOO_FEW_VIEWS, TWO_VIEW_FAILED, NO_CONVERGENCE };
   static const char *statusName(Status s);
 
+  //! The result of vpMultiViewReconstruction: what it computed, and what the caller needs to judge it.
   struct Result {
     Status status = TOO_FEW_VIEWS;
     std::string message;

@@ -96,6 +96,7 @@ public:
     std::vector<vpImagePoint> p1, p2;
   };
 
+  //! Settings of yardstick(): weighting and the joint fit of the yardstick ends.
   struct YardstickOptions {
     //! true: each view weighted by its expected accuracy (below); false: the paper's plain least
     //! squares on L = scale ratio_j l_j (short-baseline pairs then dominate).
@@ -115,6 +116,7 @@ public:
 
   enum Status { OK, TOO_FEW_VIEWS, DEGENERATE };
 
+  //! The result of vpPoseScale: what it computed, and what the caller needs to judge it.
   struct Result {
     Status status = TOO_FEW_VIEWS;
     std::string message;

@@ -42,6 +42,7 @@ class VISP_SELFCALIB_EXPORT vpRefinedFactorMethod
 public:
   enum FocalMode { PER_PAIR, KNOWN, SHARED };
 
+  //! Settings of vpRefinedFactorMethod (the defaults are the member initialisers).
   struct Options {
     FocalMode focal_mode = PER_PAIR;
     double u0 = 0, v0 = 0, mu = 1;
@@ -57,6 +58,7 @@ public:
     vpHomogeneousMatrix c2Mc1;
   };
 
+  //! The result of vpRefinedFactorMethod: what it computed, and what the caller needs to judge it.
   struct Result {
     bool converged = false;
     std::string message;

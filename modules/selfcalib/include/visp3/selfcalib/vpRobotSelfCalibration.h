@@ -106,6 +106,7 @@ public:
   //! "auto", "per-pair", "shared" or "known"; throws vpSelfCalibException otherwise.
   static FocalMode focalModeFromName(const std::string &name);
 
+  //! Settings of vpRobotSelfCalibration (the defaults are the member initialisers).
   struct Options {
     Method method = BUNDLE_ADJUSTMENT;
     unsigned int num_calibration_poses = 15; //!< the paper's 15 of 25
@@ -128,7 +129,7 @@ public:
       all views, started from the pairs' shared estimate) and measures the pairs again with it known;
       false keeps vpTwoViewEstimator::estimateShared's (one f over the pairs (1, i), each pair with
       its own points): points shared by every view fix the focal length, and the yardstick scale
-      with it, several times better than the pairs' (bench-paper measures both). When the
+      with it, better than the pairs' (bench-paper measures both: doc/benchmarks.md). When the
       reconstruction fails, the pairs' estimate is kept (Result::multiview says why).
     */
     bool paper_focal_all_views = true;
@@ -215,6 +216,7 @@ public:
   };
   static const char *statusName(Status s);
 
+  //! The result of vpRobotSelfCalibration: what it computed, and what the caller needs to judge it.
   struct Result {
     Status status = TWO_VIEW_FAILED;
     std::string message;

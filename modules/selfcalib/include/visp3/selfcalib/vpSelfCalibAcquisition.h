@@ -65,6 +65,7 @@ public:
   //! Progress: poses in the dataset, poses planned, what was done ("pose 3 of 25 recorded"...).
   using Progress = std::function<void(unsigned int, unsigned int, const std::string &)>;
 
+  //! Settings of vpSelfCalibAcquisition (the defaults are the member initialisers).
   struct Options {
     std::string dataset_file;            //!< the dataset YAML written (required)
     std::string image_dir = "images";    //!< relative to the dataset file's directory
@@ -79,6 +80,7 @@ public:
   };
 
   enum Status { OK, ROBOT_ERROR, IMAGE_ERROR };
+  //! The result of vpSelfCalibAcquisition: what it computed, and what the caller needs to judge it.
   struct Result {
     Status status = OK;
     std::string message;

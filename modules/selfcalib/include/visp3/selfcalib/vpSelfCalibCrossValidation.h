@@ -56,6 +56,7 @@
 class VISP_SELFCALIB_EXPORT vpSelfCalibCrossValidation
 {
 public:
+  //! Settings of vpSelfCalibCrossValidation (the defaults are the member initialisers).
   struct Options {
     unsigned int folds = 5; //!< k: at least 2, at most the number of views
     //! Throws vpSelfCalibException when folds < 2.
@@ -90,6 +91,7 @@ public:
     double mean = 0, sd = 0, min = 0, max = 0;
   };
 
+  //! The result of vpSelfCalibCrossValidation: what it computed, and what the caller needs to judge it.
   struct Result {
     unsigned int views = 0, folds = 0;
     std::vector<Fold> fold;

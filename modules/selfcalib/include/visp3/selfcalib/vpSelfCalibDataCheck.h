@@ -50,12 +50,14 @@ public:
   //! "warning", "degenerate" or "doubt".
   static const char *severityName(Severity s);
 
+  //! One finding: its severity, a stable code, and a message that says what is wrong and what to do.
   struct Finding {
     Severity severity = WARNING;
     std::string code;    //!< stable identifier, e.g. "joints-barely-move", "no-parallax"
     std::string message; //!< what is wrong, what it costs, what to do
   };
 
+  //! Settings of vpSelfCalibDataCheck (the defaults are the member initialisers).
   struct Options {
     double joint_limit_tolerance = 1e-3;           //!< rad beyond the model's limits still accepted
     unsigned int min_points = 6;                   //!< fewer points in a view: warning

@@ -31,7 +31,7 @@
   Image points are pixel coordinates (vpImagePoint: i = v = row, j = u = column). The same id in
   two views is the same scene point.
 
-  <b>File</b> (YAML; lengths in m, angles in rad; README, "Dataset file"):
+  <b>File</b> (YAML; lengths in m, angles in rad; doc/formats.md, "Dataset file"):
   \code
   camera: {width: 640, height: 480, u0: 320, v0: 240, px: 1500, py: 1500}
   # f self-calibrated: omit px, py (optionally f_guess: 1400, default the image width)

@@ -53,6 +53,7 @@
 class VISP_SELFCALIB_EXPORT vpSelfCalibImageCorrespondences
 {
 public:
+  //! Settings of vpSelfCalibImageCorrespondences (the defaults are the member initialisers).
   struct Options {
     vpFeatureFrontEnd::Options front_end;
     //! A calibration board to find in every image (see the class); unset: none.
@@ -84,6 +85,7 @@ public:
     std::string image;      //!< its image file (empty for images given in memory)
   };
 
+  //! The result of vpSelfCalibImageCorrespondences: what it computed, and what the caller needs to judge it.
   struct Result {
     //! The feature front end ran (front_end holds its result); false when the dataset's views came
     //! with their points, or when a board alone was looked for.

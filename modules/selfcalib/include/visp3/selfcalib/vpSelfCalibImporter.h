@@ -70,6 +70,7 @@ public:
     INTRINSICS_GUESS    //!< f self-calibrated, starting from px (the dataset's f_guess)
   };
 
+  //! Settings of vpSelfCalibImporter (the defaults are the member initialisers).
   struct Options {
     /*!
       The robot: a preset name or a robot-model file. Empty: the panda preset for a ViSP folder
@@ -92,6 +93,7 @@ public:
   //! The controller pose error an imported dataset states (robot_error.pose_sd): m, rad.
   static constexpr double kDefaultPoseSdTranslation = 0.002, kDefaultPoseSdRotation = 0.002;
 
+  //! What an import found and what it could not use, with the reason.
   struct Report {
     Layout layout = VISP_HAND_EYE;
     std::string source;              //!< the folder or the cal_data.yaml file read
@@ -106,6 +108,7 @@ public:
     std::vector<Unused> unused;
   };
 
+  //! The result of vpSelfCalibImporter: what it computed, and what the caller needs to judge it.
   struct Result {
     /*!
       Views with has_fMe and fMe from the pose files, absolute image paths, no points. robot is the

@@ -42,6 +42,7 @@
 class VISP_SELFCALIB_EXPORT vpSelfCalibPoseStudy
 {
 public:
+  //! Settings of vpSelfCalibPoseStudy (the defaults are the member initialisers).
   struct Options {
     unsigned int min_poses = 6; //!< fewest calibration poses of the curve (the paper's Figure 6 starts at 6)
     //! Every step-th n from N down to min_poses (1: every n; 3 with N = 15: 6, 9, 12, 15).
@@ -66,6 +67,7 @@ public:
     double yardstick_error = 0;  //!< m, calibrated on the first n views, on the held-out views
   };
 
+  //! The result of vpSelfCalibPoseStudy: what it computed, and what the caller needs to judge it.
   struct Result {
     Status status = NO_HELD_OUT_VIEWS;
     std::string message;

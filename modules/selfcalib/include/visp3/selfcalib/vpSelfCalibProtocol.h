@@ -23,7 +23,7 @@
 /*!
   \class vpSelfCalibProtocol
   \ingroup group_selfcalib_protocol
-  \brief The protocol of a calibration run (README "calibrate"): by default every view calibrates
+  \brief The protocol of a calibration run (doc/concepts.md, "The protocol"): by default every view calibrates
   and a k-fold cross-validation (vpSelfCalibCrossValidation) measures the model on views it was not
   calibrated on; Options::calibration or Options::holdout keep the paper's split, the last views
   verifying; Options::heldout verifies the model on a second dataset.
@@ -37,6 +37,7 @@
 class VISP_SELFCALIB_EXPORT vpSelfCalibProtocol
 {
 public:
+  //! Settings of vpSelfCalibProtocol (the defaults are the member initialisers).
   struct Options {
     unsigned int calibration = 0; //!< the first N views calibrate, the others verify (0: see holdout)
     unsigned int holdout = 0;     //!< the last N views verify (0: none, unless calibration is set)

@@ -65,6 +65,7 @@ public:
     APRILTAGS //!< a bundle of four AprilTags facing the home viewpoint
   };
 
+  //! Settings of vpSelfCalibRenderer (the defaults are the member initialisers).
   struct Options {
     Scene scene = TEXTURED;
     std::string texture_dir; //!< empty: visp-images-data's ViSP-images directory

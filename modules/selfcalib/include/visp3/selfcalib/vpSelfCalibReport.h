@@ -55,9 +55,11 @@
 class VISP_SELFCALIB_EXPORT vpSelfCalibReport
 {
 public:
+  //! Settings of vpSelfCalibReport (the defaults are the member initialisers).
   struct Options {
     std::string gnuplot = "gnuplot"; //!< the program (found in PATH); empty: no figures
   };
+  //! The result of vpSelfCalibReport: what it computed, and what the caller needs to judge it.
   struct Result {
     bool figures = false; //!< the PNG files were drawn
     std::string message;

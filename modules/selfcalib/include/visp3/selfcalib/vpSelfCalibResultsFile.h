@@ -73,16 +73,20 @@ public:
     std::string name;
     double value = 0, sd = 0;
   };
+  //! One finding: its severity, a stable code, and a message that says what is wrong and what to do.
   struct Finding {
     std::string code, severity, message;
   };
+  //! The `camera` block of results.yaml.
   struct Camera {
     double px = 0, py = 0, u0 = 0, v0 = 0, px_sd = 0;
     std::vector<double> distortion; //!< OpenCV's k1 k2 p1 p2 k3; empty: not written
   };
+  //! The `eMc` block of results.yaml: the pose vector and its sd.
   struct HandEye {
     std::vector<double> pose, sd; //!< 6 values each
   };
+  //! The `bundle_adjustment` block of results.yaml.
   struct BundleAdjustment {
     unsigned int observations = 0, dropped = 0;
     double rms_px = 0, sigma0 = 0;
@@ -98,23 +102,28 @@ public:
     double reposed_rms_px = 0, repose_f = 0, repose_f_limit = 0;
     bool sd_scaled_by_sigma0 = false;
   };
+  //! The `noise` and `fit` blocks of results.yaml.
   struct NoiseAndFit {
     double image_noise_px = 0, image_noise_measured_px = 0; //!< the noise model's pixel_sd used, and measured
     double fit_nominal = 0, fit_calibrated = 0;
   };
+  //! The `estimated_set` block of results.yaml.
   struct EstimatedSet {
     std::string rule;
     unsigned int count = 0;
     std::vector<std::string> order;
     std::vector<std::pair<std::string, double>> new_direction; //!< written with 3 significant digits
   };
+  //! The `verification` block of results.yaml.
   struct Verification {
     double yardstick_error_nominal = 0, yardstick_error_calibrated = 0;
     double reprojection_rms_nominal = 0, reprojection_rms_calibrated = 0;
   };
+  //! Mean, sd, min and max of a figure over the folds.
   struct Spread {
     double mean = 0, sd = 0, min = 0, max = 0;
   };
+  //! One entry of `cross_validation.per_fold` in results.yaml.
   struct Fold {
     std::vector<unsigned int> held_out;
     std::string status;
@@ -126,11 +135,13 @@ public:
     bool verified = false; //!< the yardstick errors are written
     double yardstick_error_calibrated = 0, yardstick_error_nominal = 0;
   };
+  //! The `cross_validation` block of results.yaml.
   struct CrossValidation {
     unsigned int folds = 0, views = 0, measured = 0, failed = 0;
     Spread rms_calibrated, rms_nominal, median_calibrated, median_nominal;
     std::vector<Fold> per_fold;
   };
+  //! The `heldout_dataset` block of results.yaml.
   struct HeldOutDataset {
     std::string file;
     unsigned int views = 0;

@@ -4,7 +4,7 @@
  */
 /*!
   \file vpSelfCalibSimulator.h
-  \brief The reference simulation scenario (README, "Reference scenario"): a "true" robot (nominal plus
+  \brief The reference simulation scenario (doc/formats.md, "Reference scenario"): a "true" robot (nominal plus
   seeded 6-D errors on every joint placement, the base and eMc), a pinhole camera, a cloud of
   scene points in a box in front of the robot, a yardstick (two extra scene points at a known
   distance), pixel noise, and a generator of joint configurations from which every scene point is
@@ -31,7 +31,7 @@
 /*!
   \class vpSelfCalibSimulator
   \ingroup group_selfcalib_simulation
-  \brief The reference simulation scenario (README, "Reference scenario"): a "true" robot (nominal
+  \brief The reference simulation scenario (doc/formats.md, "Reference scenario"): a "true" robot (nominal
   plus seeded 6-D errors on every joint placement, the base and eMc), a pinhole camera, a cloud of
   scene points in a box in front of the robot, a yardstick (two extra scene points at a known
   distance), pixel noise, and a generator of joint configurations from which every scene point is
@@ -46,6 +46,7 @@
 class VISP_SELFCALIB_EXPORT vpSelfCalibSimulator
 {
 public:
+  //! Settings of vpSelfCalibSimulator (the defaults are the member initialisers).
   struct Options {
     uint64_t seed = 1;
     // True robot: sd of the seeded errors (m, rad). Joint rotations include the joint offsets.
@@ -85,7 +86,7 @@ public:
   };
 
   /*!
-    Named scenes: "reference" (the default Options: README, "Reference scenario") and "paper" (a
+    Named scenes: "reference" (the default Options: doc/formats.md, "Reference scenario") and "paper" (a
     paper-like scene: wide lens f = 300 px, 250 points in a large deep box 0.8 x 0.9 x 0.5 m seen
     from 0.6-0.8 m within a 60 degree cone, a 0.4 m yardstick, partial views with at least 40 points
     and both yardstick ends). The seed and the noise keep their defaults. Throws

@@ -49,6 +49,7 @@ public:
   enum Status { OK, TOO_FEW_POINTS, PURE_ROTATION, PLANAR, FOCAL_UNOBSERVABLE, NO_CONVERGENCE };
   static const char *statusName(Status s);
 
+  //! Settings of vpTwoViewEstimator (the defaults are the member initialisers).
   struct Options {
     vpRefinedFactorMethod::FocalMode focal_mode = vpRefinedFactorMethod::PER_PAIR; //!< PER_PAIR or KNOWN here
     double fx = 1000;   //!< known value (KNOWN) or initial guess (px)
@@ -68,6 +69,7 @@ public:
     void check() const;
   };
 
+  //! The result of vpTwoViewEstimator: what it computed, and what the caller needs to judge it.
   struct Result {
     Status status = TOO_FEW_POINTS;
     std::string message;
@@ -88,6 +90,7 @@ public:
   static Result estimate(const std::vector<vpImagePoint> &p1, const std::vector<vpImagePoint> &p2,
                          const Options &options);
 
+  //! What estimateShared() returns: the shared focal length and each pair's pose.
   struct SharedResult {
     bool converged = false;
     std::string message;

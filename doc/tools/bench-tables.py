@@ -1,0 +1,262 @@
+#!/usr/bin/env python3
+"""Writes doc/benchmarks.md from the benchmark programs' own output.
+
+    python3 doc/tools/bench-tables.py [--build build] [--only NAME,...] [--raw DIR] [--from-raw DIR] [--data DIR]
+
+Runs each benchmark of BENCHES with its command (from the repository root, so that the real data
+sets are found at ../shared/data), keeps the tables it prints (and the lines that label them), and
+writes one section per benchmark with the command, the machine and the time it took. A benchmark
+that fails or is skipped says so in its section. --only reruns some benchmarks and keeps the other
+sections of the current page as they are. --raw DIR also saves each program's whole output there
+(outside doc/: the outputs carry the benchmarks' target lines, which the page leaves out).
+The programs are not changed by this script; it only reads what they print.
+"""
+import argparse
+import os
+import platform
+import re
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+PAGE = os.path.join(ROOT, "doc", "benchmarks.md")
+
+# name, arguments, what it measures (one paragraph, no figures: the figures are the tables).
+BENCHES = [
+    ("bench-real", [],
+     "Hand-eye calibration on the real data sets of `../shared/data` (ViSP's Franka eye-in-hand set, "
+     "8 views of a 9 x 6 chessboard; industrial_calibration's set, 15 views of a 10 x 10 modified circle "
+     "grid): the library's import, board front end and calibration against OpenCV's board-based hand-eye "
+     "on the same corners, and the differences to the data sets' reference eMc "
+     "(`../shared/data/README.md`). The second table is the default cross-validation's held-out "
+     "reprojection error fold by fold, with ViSP's published eMc as the floor the data allow."),
+    ("bench-twoview", ["--seeds", "10"],
+     "The paper's Section 3.1 (two-view pose and focal length) on the reference scenario (Viper850, 80 "
+     "points + yardstick, f = 1500 px): the pairs (pose 1, pose i) of 25 poses, against OpenCV's "
+     "five-point and the two-view Cramer-Rao bound."),
+    ("bench-frontend", ["--images", "25,100", "--threads", "2"],
+     "The image front end on rendered images of the simulated Viper850: time, the share of track "
+     "observations within 1 px of their true projection, track lengths; guided by the nominal "
+     "kinematics, unguided, and with a wrong prior (eMc 10 degrees off) that must be detected."),
+    ("bench-pipelines", ["--seeds", "3"],
+     "The default pipeline (multi-view reconstruction + kinematic bundle adjustment) against the paper's "
+     "pipeline and the Cramer-Rao bound of the bundle adjustment at the truth, and its scale "
+     "(observations and time)."),
+    ("bench-robots", ["--seeds", "3", "--draws", "1"],
+     "The default pipeline on a 7-axis arm (Panda, modified DH) and the UR5, f known and "
+     "self-calibrated, against the Cramer-Rao bound (ratio of the RMS held-out position error to the "
+     "bound's)."),
+    ("bench-trust", ["--seeds", "1", "--draws", "6", "--sd-factors", "1", "--auto"],
+     "Can a result be trusted and compared: the estimated set over noise draws (target: one set), the "
+     "reported sd over the spread of the draws (f and eMc translation), and ok runs that are worse than "
+     "the nominal model or than their own predicted error (target: none), UR5 and a modified-DH PUMA, "
+     "the pixel sd measured from a given start (`--auto`, calibrate's default; `--sd-factors 1,2.5,0.4` "
+     "also starts it 2.5x and 0.4x off)."),
+    ("bench-paper", ["--seeds", "2", "--trajectories", "random"],
+     "The paper's simulation study (Section 4.2, Table 2, Figure 6) on the reference scene: pose "
+     "measurement and identification errors of the paper's method, PUMA 560 and Viper850."),
+    ("bench-planner", ["--seeds", "2"],
+     "The paper's optimal trajectory (Section 3.3) against the random feasible start it is planned "
+     "from: eq. 21 ratio error, pose-measurement error, held-out error, conditioning, planning time."),
+]
+
+
+def machine():
+    cpu = platform.processor() or "unknown CPU"
+    try:
+        for line in open("/proc/cpuinfo", encoding="utf-8"):
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    return f"{os.cpu_count()} cores ({cpu}), {platform.system()} {platform.release()}, load average {load:.1f} at the start"
+
+
+def commit():
+    try:
+        out = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True)
+        return out.stdout.strip() or "unknown"
+    except OSError:
+        return "unknown"
+
+
+def keep(text):
+    """The tables of an output, the line that labels each (the nearest line above it) and the summary
+    lines right below it (bounds, notes); no target line, no history."""
+    lines = [l.rstrip() for l in text.splitlines()]
+    skip = re.compile(r"^\s*(targets|done in|running|\.\.\.)|[Ii]ssue [0-9]")
+    out, i = [], 0
+    while i < len(lines):
+        if not lines[i].startswith("|"):
+            i += 1
+            continue
+        j = i - 1
+        while j >= 0 and not lines[j].strip() and i - j <= 2:
+            j -= 1
+        label = lines[j].strip() if j >= 0 and i - j <= 2 else ""
+        out.append("")
+        if label and not label.startswith("|") and not skip.search(label):
+            out += [label.rstrip(":") + ":", ""]
+        while i < len(lines) and lines[i].startswith("|"):
+            out.append(lines[i])
+            i += 1
+        notes = []
+        while i < len(lines) and lines[i].strip() and not lines[i].startswith("|"):
+            if not skip.search(lines[i]):
+                notes.append(lines[i].strip())
+            i += 1
+        if notes:
+            out += [""] + ["- " + n for n in notes]
+    text = "\n".join(out).strip() + "\n"
+    return re.sub(r"\bNOT (met)\b", r"not \1", text)
+
+
+def run(build, name, args, raw, data=""):
+    exe = os.path.join(build, "bin", name)
+    cmd = [exe] + args + (["--data", data] if data and name == "bench-real" else [])
+    shown = "build/bin/" + name + ("" if not args else " " + " ".join(args))
+    start = time.time()
+    try:
+        res = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+    except OSError as e:
+        return shown, None, f"could not run: {e}"
+    took = time.time() - start
+    if raw:
+        os.makedirs(raw, exist_ok=True)
+        with open(os.path.join(raw, name + ".txt"), "w", encoding="utf-8") as f:
+            f.write(f"# command: {shown}\n# seconds: {took:.1f}\n# machine: {machine()}, commit {commit()}\n")
+            f.write(res.stdout + "\n--- stderr ---\n" + res.stderr)
+    if name == "bench-real" and "|" in res.stdout:
+        update_readme(res.stdout)
+    if res.returncode != 0 and "|" not in res.stdout:
+        return shown, took, f"exit {res.returncode}: {res.stderr.strip().splitlines()[-1:] or ''}"
+    return shown, took, keep(res.stdout)
+
+
+README = os.path.join(ROOT, "README.md")
+# The README's table of what works on real robots: rows of bench-real picked by their label.
+SUMMARY_ROWS = [("1.", "Franka"), ("2.", "Franka"), ("6.", "Franka"), ("4.", "Franka"), ("5b.", "Franka"),
+                ("I2.", "industrial"), ("I4.", "industrial")]
+
+
+def cells(line):
+    return [c.strip() for c in re.split(r"(?<!\\)\|", line.strip().strip("|"))]
+
+
+def summary(raw):
+    """The README's small table from bench-real's output: set, method, status, eMc off the
+    reference, the largest difference over its sd, f."""
+    tables, cur = [], None
+    for l in raw.splitlines():
+        if l.startswith("|"):
+            if cur is None:
+                cur = []
+                tables.append(cur)
+            cur.append(cells(l))
+        else:
+            cur = None
+    out = ["| data set | method | status | eMc off the reference (mm / mrad) | largest difference / its sd | f (px) |",
+           "|---|---|---|---|---|---|"]
+    for prefix, dataset in SUMMARY_ROWS:
+        for t in tables:
+            head = t[0]
+            for row in t[2:]:
+                if row[0].startswith(prefix + " ") and len(row) == len(head):
+                    get = dict(zip(head, row))
+                    f = get.get("f (px)", get.get("fx (px)", ""))
+                    out.append(f"| {dataset} | {row[0][len(prefix):].strip()} | {get['status']} | "
+                               f"{get['|dt| (mm)'.replace('|', chr(92) + '|')]} / "
+                               f"{get['|dtheta-u| (mrad)'.replace('|', chr(92) + '|')]} | "
+                               f"{get['max |diff|/sd'.replace('|', chr(92) + '|')]} | {f} |")
+    return "\n".join(out) + "\n"
+
+
+def update_readme(raw):
+    text = open(README, encoding="utf-8").read()
+    begin, end = "<!-- BEGIN bench-real summary -->", "<!-- END bench-real summary -->"
+    if begin not in text or end not in text:
+        return
+    a, rest = text.split(begin, 1)
+    _, b = rest.split(end, 1)
+    open(README, "w", encoding="utf-8").write(a + begin + "\n" + summary(raw) + end + b)
+
+
+def from_raw(raw, name):
+    """A section's parts from a saved output: (shown, took, body, where), or None."""
+    path = os.path.join(raw, name + ".txt")
+    if not raw or not os.path.exists(path):
+        return None
+    text = open(path, encoding="utf-8").read()
+    head = dict(re.findall(r"(?m)^# (command|seconds|machine): (.*)$", text))
+    out = text.split("\n--- stderr ---\n")[0]
+    out = re.sub(r"(?m)^# (command|seconds|machine): .*\n", "", out)
+    if "|" not in out:
+        return None
+    if name == "bench-real":
+        update_readme(out)
+    took = float(head["seconds"]) if "seconds" in head else None
+    return head.get("command"), took, keep(out), head.get("machine")
+
+
+def section(name, about, shown, took, body, where):
+    t = "" if took is None else f", {took:.0f} s"
+    return (f"## {name}\n\n{about}\n\n```sh\n{shown}\n```\n\n"
+            f"Machine: {where}{t}.\n\n{body.strip()}\n")
+
+
+def current_sections():
+    if not os.path.exists(PAGE):
+        return {}
+    text = open(PAGE, encoding="utf-8").read()
+    parts = re.split(r"(?m)^## ", text)[1:]
+    return {p.split("\n", 1)[0].strip(): "## " + p.rstrip() + "\n" for p in parts}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--only", default="")
+    ap.add_argument("--raw", default="")
+    ap.add_argument("--from-raw", default="", help="take the benchmarks not in --only from the outputs saved in this "
+                    "folder by an earlier --raw run (their command, time and machine with them)")
+    ap.add_argument("--data", default="", help="the shared data folder for bench-real (default ../shared/data)")
+    a = ap.parse_args()
+    only = set(filter(None, a.only.split(",")))
+    old = current_sections()
+    where = machine() + f", commit {commit()}"
+    sections = {n: old[n] for n, _, _ in BENCHES if n in old}
+    for name, args, about in BENCHES:
+        if only and name not in only:
+            saved = from_raw(a.from_raw, name)
+            if saved:
+                shown, took, body, there = saved
+                shown = shown or "build/bin/" + name + ("" if not args else " " + " ".join(args))
+                sections[name] = section(name, about, shown, took, body, there or where)
+            continue
+        print(f"running {name} ...", file=sys.stderr, flush=True)
+        shown, took, body = run(a.build, name, args, a.raw, a.data)
+        sections[name] = section(name, about, shown, took, body, where)
+        write(sections)
+    write(sections)
+    print(f"wrote {PAGE}", file=sys.stderr)
+
+
+def write(sections):
+    head = ("# Benchmarks\n\n"
+            "One current table per benchmark program (`test/bench/`), written by "
+            "`python3 doc/tools/bench-tables.py` from the programs' own output: the command, the machine and "
+            "the tables it printed. Times depend on the machine and its load; the accuracy figures do not "
+            "(seeded). Each program also runs tiny as a smoke test (`ctest -L bench`); its `--help` lists the "
+            "options for longer runs (more seeds, draws, robots). The measurements of earlier versions are in "
+            "[CHANGELOG.md](../CHANGELOG.md).\n\n")
+    names = [n for n, _, _ in BENCHES if n in sections]
+    toc = "".join(f"- [{n}](#{n})\n" for n in names)
+    with open(PAGE, "w", encoding="utf-8") as f:
+        f.write(head + toc + "\n" + "\n".join(sections[n] for n in names))
+
+
+if __name__ == "__main__":
+    main()
