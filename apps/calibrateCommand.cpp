@@ -160,6 +160,12 @@ int calibrate(const CalibrateArgs &a)
     return refused;
   const vpSelfCalibImageCorrespondences::Result cr = runFrontEnd(ds, co);
   cv::setNumThreads(1);
+  if (cr.board_ran && !co.mask_board && cr.board_images == 0 && !cr.board.empty()) {
+    // The board asked for is in no image: named, with what the detector saw in the first one.
+    std::cerr << "error: no view shows the board " << vpBoardDetector::toString(*co.board) << " (view 0: "
+              << cr.board.front().message << "); check the board's description (type, size, dictionary or tag family)\n";
+    return 3;
+  }
   po.method = cr.method;
   if (pose_auto && po.method != vpRobotSelfCalibration::HAND_EYE)
     std::cerr << "warning: --pose-sd auto measures the controller poses' error (hand-eye); the method is "

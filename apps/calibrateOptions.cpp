@@ -150,8 +150,23 @@ void addFrontEndOptions(CLI::App *c, CalibrateArgs &a)
                     "2000000 + row * cols + col): chessboard:ROWSxCOLS:SPACING (inner corners),\n"
                     "circles:, acircles: or modified-circles:ROWSxCOLS:SPACING (dots), spacing in m,\n"
                     "e.g. chessboard:9x6:0.0236, modified-circles:10x10:0.0254; ':upright' accepts a\n"
-                    "board that looks the same turned. Without a yardstick in the dataset, the ends\n"
-                    "of the board's first row are the yardstick")
+                    "board that looks the same turned.\n"
+                    "charuco:COLSxROWS:SQUARE:MARKER:DICT: a ChArUco board of COLS x ROWS squares\n"
+                    "(OpenCV's count), SQUARE and MARKER sides in m, an OpenCV dictionary, e.g.\n"
+                    "charuco:5x7:0.034:0.028:DICT_6X6_250; inner corner (r, c) has the id\n"
+                    "2000000 + r * (COLS - 1) + c (OpenCV's ChArUco corner id) and lies at\n"
+                    "((c + 1), (r + 1)) * SQUARE from the board's top-left outer corner (x right,\n"
+                    "y down, z into the board); a board partly out of view or hidden still gives\n"
+                    "the corners it shows.\n"
+                    "apriltag:FAMILY:SIZE[:ID,...]: AprilTags (36h11, 36h10, 25h9, 16h5) of side\n"
+                    "SIZE m, only those ids when given, e.g. apriltag:36h11:0.048:10; corner k\n"
+                    "(0..3: top-left, top-right, bottom-right, bottom-left as printed) of tag t has\n"
+                    "the id 2000000 + 4 * t + k; tag frame: centre, x right, y down.\n"
+                    "apriltag-bundle:FILE.yaml: tags of known placement as one board (family: 36h11,\n"
+                    "tags: [{id: 0, size: 0.04, pose: [tx, ty, tz, tux, tuy, tuz]}, ...], the pose\n"
+                    "of each tag in the bundle's frame).\n"
+                    "Without a yardstick in the dataset, the ends of the board's first row (a\n"
+                    "ChArUco board's first row of corners, the first tag's top edge) are the yardstick")
           ->type_name("SPEC")
           ->check(CLI::Validator(
               [](std::string &spec) -> std::string {
@@ -177,7 +192,8 @@ void addFrontEndOptions(CLI::App *c, CalibrateArgs &a)
   CLI::Option *board_geometry =
       c->add_flag("--board-geometry", a.board_geometry,
                   "with --board: its layout is known (a prior of --board-sd on each point, the\n"
-                  "board's pose estimated); without it the board's points are unknown scene points")
+                  "board's pose estimated); without it the board's points are unknown scene points.\n"
+                  "AprilTags: one tag (apriltag:FAMILY:SIZE:ID) or a bundle")
           ->needs(board)
           ->excludes(mask_board);
   c->add_option("--board-sd", a.board_sd,
@@ -258,7 +274,11 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
     po.tolerance_hand_eye_rotation = a.tolerance[3];
   }
   if (a.board_geometry) {
-    po.bundle.known_points = vpBoardDetector(*co.board).getLayout();
+    try {
+      po.bundle.known_points = vpBoardDetector(*co.board).getLayout();
+    } catch (const vpSelfCalibException &e) { // several single tags: no layout (a usage error)
+      throw CLI::ValidationError("--board-geometry", e.getStringMessage());
+    }
     po.bundle.known_points_sd = a.board_sd;
   }
   for (const std::string &e : a.estimate) {

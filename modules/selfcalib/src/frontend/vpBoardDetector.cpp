@@ -15,6 +15,8 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "vpMarkerBoards.h"
+
 namespace
 {
 // The points of a grid, row by row: p[r * cols + c].
@@ -309,6 +311,8 @@ std::string boardName(const vpBoardDetector::Options &o)
   case vpBoardDetector::MODIFIED_CIRCLES:
     s << "modified circle grid";
     break;
+  default:
+    return vpBoardDetector::toString(o);
   }
   return s.str();
 }
@@ -384,6 +388,10 @@ const char *vpBoardDetector::typeName(Type type)
     return "acircles";
   case MODIFIED_CIRCLES:
     return "modified-circles";
+  case CHARUCO:
+    return "charuco";
+  case APRILTAG:
+    return "apriltag";
   case CHESSBOARD:
     break;
   }
@@ -392,11 +400,13 @@ const char *vpBoardDetector::typeName(Type type)
 
 vpBoardDetector::Type vpBoardDetector::typeFromName(const std::string &name)
 {
-  for (Type t : {CHESSBOARD, CIRCLES, ASYMMETRIC_CIRCLES, MODIFIED_CIRCLES})
+  for (Type t : {CHESSBOARD, CIRCLES, ASYMMETRIC_CIRCLES, MODIFIED_CIRCLES, CHARUCO, APRILTAG})
     if (name == typeName(t))
       return t;
   throw vpSelfCalibException(vpSelfCalibException::parseError,
-                             "board type '" + name + "': use chessboard, circles, acircles or modified-circles");
+                             "board type '" + name +
+                                 "': use chessboard, circles, acircles, modified-circles, charuco, apriltag or "
+                                 "apriltag-bundle");
 }
 
 bool vpBoardDetector::Options::isAmbiguous() const
@@ -409,13 +419,26 @@ bool vpBoardDetector::Options::isAmbiguous() const
   case ASYMMETRIC_CIRCLES: // the outline is symmetric under a half turn with an even number of rows
     return rows % 2 == 0;
   case MODIFIED_CIRCLES:
+  case CHARUCO: // the markers tell every turn apart
+  case APRILTAG:
     break;
   }
   return false;
 }
 
+int vpBoardDetector::Options::numIds() const
+{
+  if (type == CHARUCO || type == APRILTAG)
+    return vpMarkerBoards::numIds(*this);
+  return static_cast<int>(rows * cols);
+}
+
 void vpBoardDetector::Options::check() const
 {
+  if (type == CHARUCO || type == APRILTAG) {
+    vpMarkerBoards::check(*this);
+    return;
+  }
   const unsigned int min_size = type == CHESSBOARD ? 2 : 3;
   if (rows < min_size || cols < min_size)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
@@ -425,7 +448,7 @@ void vpBoardDetector::Options::check() const
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpBoardDetector: the spacing must be a positive number of m, got " +
                                    std::to_string(spacing));
-  if (id_offset < 0 || static_cast<long long>(id_offset) + static_cast<long long>(rows) * cols > INT_MAX)
+  if (id_offset < 0 || static_cast<long long>(id_offset) + numIds() > INT_MAX)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpBoardDetector: the id offset must be >= 0 and leave room for the board's " +
                                    std::to_string(rows * cols) + " ids below " + std::to_string(INT_MAX));
@@ -462,9 +485,20 @@ vpBoardDetector::Options vpBoardDetector::parse(const std::string &spec)
     parts.push_back(part);
   if (!spec.empty() && spec.back() == ':')
     parts.push_back("");
+  if (!parts.empty() && (parts[0] == "charuco" || parts[0] == "apriltag" || parts[0] == "apriltag-bundle")) {
+    const Options o = vpMarkerBoards::parse(parts, where);
+    try {
+      o.check();
+    } catch (const vpSelfCalibException &e) {
+      throw vpSelfCalibException(vpSelfCalibException::badValue, where + e.getStringMessage());
+    }
+    return o;
+  }
   if (parts.size() < 3 || parts.size() > 4)
     throw vpSelfCalibException(vpSelfCalibException::parseError,
-                               where + "expected TYPE:ROWSxCOLS:SPACING[:upright], e.g. chessboard:9x6:0.0236");
+                               where + "expected TYPE:ROWSxCOLS:SPACING[:upright], e.g. chessboard:9x6:0.0236 (or "
+                                       "charuco:COLSxROWS:SQUARE:MARKER:DICT, apriltag:FAMILY:SIZE[:ID,...], "
+                                       "apriltag-bundle:FILE.yaml)");
   Options o;
   try {
     o.type = typeFromName(parts[0]);
@@ -501,6 +535,8 @@ vpBoardDetector::Options vpBoardDetector::parse(const std::string &spec)
 
 std::string vpBoardDetector::toString(const Options &o)
 {
+  if (o.type == CHARUCO || o.type == APRILTAG)
+    return vpMarkerBoards::toString(o);
   // The shortest spacing that reads back as the same double.
   std::string spacing;
   for (int digits = 6; digits <= 17; ++digits) {
@@ -525,6 +561,8 @@ vpBoardDetector::Result vpBoardDetector::detect(const vpImage<unsigned char> &I)
   // OpenCV reads the ViSP bitmap in place (row-major 8-bit grey, the same layout).
   const cv::Mat img(static_cast<int>(I.getHeight()), static_cast<int>(I.getWidth()), CV_8UC1,
                     const_cast<unsigned char *>(I.bitmap));
+  if (o.type == CHARUCO || o.type == APRILTAG)
+    return vpMarkerBoards::detect(img, o);
   Result res;
   Grid found;
   if (o.type == CHESSBOARD) {
@@ -608,6 +646,8 @@ vpBoardDetector::Result vpBoardDetector::detect(const vpImage<unsigned char> &I)
 
 std::map<int, vpColVector> vpBoardDetector::getLayout() const
 {
+  if (m_options.type == CHARUCO || m_options.type == APRILTAG)
+    return vpMarkerBoards::layout(m_options);
   std::map<int, vpColVector> layout;
   for (unsigned int r = 0; r < m_options.rows; ++r)
     for (unsigned int c = 0; c < m_options.cols; ++c) {
@@ -622,6 +662,8 @@ std::map<int, vpColVector> vpBoardDetector::getLayout() const
 
 vpSelfCalibDataset::Yardstick vpBoardDetector::getYardstick() const
 {
+  if (m_options.type == CHARUCO || m_options.type == APRILTAG)
+    return vpMarkerBoards::yardstick(m_options);
   vpSelfCalibDataset::Yardstick y;
   y.id_a = m_options.id_offset;
   y.id_b = m_options.id_offset + static_cast<int>(m_options.cols) - 1;

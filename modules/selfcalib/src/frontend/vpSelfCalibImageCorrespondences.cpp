@@ -187,7 +187,7 @@ void vpSelfCalibImageCorrespondences::addBoard(vpSelfCalibDataset &dataset,
 {
   const vpBoardDetector detector(*options.board);
   const int first = options.board->id_offset,
-            last = first + static_cast<int>(options.board->rows * options.board->cols) - 1;
+            last = first + options.board->numIds() - 1;
   auto collision = [&](const std::string &what) {
     return vpSelfCalibException(vpSelfCalibException::badValue,
                                 "vpSelfCalibImageCorrespondences: the board's ids (" + std::to_string(first) + " to " +

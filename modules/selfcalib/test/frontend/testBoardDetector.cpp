@@ -229,7 +229,8 @@ TEST(BoardDetector, ParseDescriptions)
   expectParseError("chessboard", "expected TYPE:ROWSxCOLS:SPACING[:upright]");
   expectParseError("chessboard:9x6", "expected TYPE:ROWSxCOLS:SPACING[:upright]");
   expectParseError("chessboard:9x6:0.02:upright:x", "expected TYPE:ROWSxCOLS:SPACING[:upright]");
-  expectParseError("chess:9x6:0.02", "board type 'chess': use chessboard, circles, acircles or modified-circles");
+  expectParseError("chess:9x6:0.02", "board type 'chess': use chessboard, circles, acircles, modified-circles, "
+                                     "charuco, apriltag or apriltag-bundle");
   expectParseError("Chessboard:9x6:0.02", "board type 'Chessboard'");
   expectParseError("chessboard:9*6:0.02", "expected ROWSxCOLS as two whole numbers (e.g. 9x6), got '9*6'");
   expectParseError("chessboard:x6:0.02", "got 'x6'");
