@@ -96,7 +96,11 @@ std::string writeResults(const fs::path &stage, const std::string &dataset, cons
   vpKinematicChain model = r.calibrated;
   model.setName(nominal.getName() + (doubtful ? "-calibrated-DOUBTFUL" : "-calibrated"));
   model.saveYaml((stage / "model.yaml").string());
-  vpModelExport::saveURDF(model, (stage / "model.urdf").string());
+  if (r.has_bMc) { // eye-to-hand: the camera a link of the world, the target on the flange
+    const vpHomogeneousMatrix bMc(r.bMc), eMo(r.eMo);
+    vpModelExport::saveURDF(model, (stage / "model.urdf").string(), &bMc, r.has_eMo ? &eMo : nullptr);
+  } else
+    vpModelExport::saveURDF(model, (stage / "model.urdf").string());
   vpSelfCalibFileWriter::writeCameraXml((stage / "camera.xml").string(), r.camera, "Camera", ds.width, ds.height,
                                         "self-calibrated by visp-selfcalib");
   vpSelfCalibResultsFile::write((stage / "results.yaml").string(),

@@ -87,6 +87,7 @@ int importData(const ImportArgs &a)
   std::cout << "wrote " << a.out;
   if (res.has_robot_model)
     std::cout << " and " << vpSelfCalibImporter::robotModelFileFor(a.out);
-  std::cout << ": " << r.num_views << " views\nnext: " << kProgram << " calibrate " << a.out << " --out DIR\n";
+  std::cout << ": " << r.num_views << " views\nnext: " << kProgram << " calibrate " << a.out << " --out DIR"
+            << (r.board_option.empty() ? "" : " --method hand-eye --board " + r.board_option) << "\n";
   return 0;
 }

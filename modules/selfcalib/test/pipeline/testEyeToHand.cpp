@@ -133,3 +133,20 @@ TEST(EyeToHand, InvertedPoseCorrectionJacobian)
     EXPECT_LT((R * v.Cd.col(i) - dphi).norm(), 1e-6) << "column " << i;
   }
 }
+
+// A target that stays still in the images while the end-effector moves is not on the tool: the
+// data check refuses it (DEGENERATE_DATA, target-does-not-move).
+TEST(EyeToHand, TargetThatDoesNotMoveIsRefused)
+{
+  vpSelfCalibSimulator::EyeToHandOptions so;
+  vpSelfCalibSimulator::EyeToHandTruth truth;
+  vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(so, truth);
+  for (size_t k = 1; k < ds.views.size(); ++k)
+    ds.views[k].points = ds.views[0].points;
+  const RSC::Result r = calibrate(ds, truth.layout, 0.2);
+  EXPECT_EQ(r.status, RSC::DEGENERATE_DATA) << r.message;
+  bool found = false;
+  for (const auto &f : r.findings)
+    found = found || f.code == "target-does-not-move";
+  EXPECT_TRUE(found);
+}
