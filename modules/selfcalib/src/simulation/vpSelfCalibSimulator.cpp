@@ -480,7 +480,8 @@ vpSelfCalibDataset vpSelfCalibSimulator::simulateEyeToHand(const EyeToHandOption
   ds.cam.initPersProjWithoutDistortion(o.px, o.py, o.u0, o.v0);
   ds.pose_sd_translation = o.pose_sd_translation;
   ds.pose_sd_rotation = o.pose_sd_rotation;
-  Random pose_rng(o.seed, 12), noise_rng(o.seed, 13), error_rng(o.seed, 14);
+  const uint64_t noise = o.noise_seed ? (static_cast<uint64_t>(o.noise_seed) << 32) ^ o.seed : o.seed;
+  Random pose_rng(o.seed, 12), noise_rng(noise, 13), error_rng(noise, 14);
   Rigid facing;
   facing.R = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix(); // the target's z towards the camera
   for (unsigned int attempt = 0; ds.views.size() < o.num_views && attempt < 100 * o.num_views; ++attempt) {

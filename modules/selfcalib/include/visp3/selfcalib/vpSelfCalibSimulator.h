@@ -156,7 +156,8 @@ public:
 
   //! An eye-to-hand set-up: a camera fixed in the robot's world and a target carried by the tool.
   struct EyeToHandOptions {
-    unsigned int seed = 1;
+    unsigned int seed = 1;       //!< the geometry (target, poses) and, unless noise_seed, the noise
+    unsigned int noise_seed = 0; //!< the image noise and the pose error (0: from seed): draws on one geometry
     unsigned int num_views = 12;
     //! Camera: bMc looks from `camera_position` (base frame, m) at `look_at`; pinhole intrinsics.
     vpColVector camera_position = vpColVector({1.2, 0.1, 0.6});
