@@ -155,6 +155,11 @@ int calibrate(const CalibrateArgs &a)
   // order. The result files must be bit-reproducible.
   cv::setNumThreads(a.threads);
   vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
+  const bool world = ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD;
+  if (world && !a.method.empty() && co.method != vpRobotSelfCalibration::HAND_EYE)
+    throw CLI::ValidationError("--method", "camera_mount: world is calibrated with --method hand-eye; the " + a.method +
+                                               " method models a camera on the end-effector only (the dataset " +
+                                               dataset + " says the camera is fixed in the world)");
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
   co.prior = nominal; // the front end's matching is guided by the nominal kinematics
   // Outputs: a set written in a private directory beside --out, moved into place at once, under
@@ -170,7 +175,7 @@ int calibrate(const CalibrateArgs &a)
               << cr.board.front().message << "); check the board's description (type, size, dictionary or tag family)\n";
     return 3;
   }
-  po.method = cr.method;
+  po.method = world ? vpRobotSelfCalibration::HAND_EYE : cr.method; // a camera in the world: hand-eye only
   if (pose_auto && po.method != vpRobotSelfCalibration::HAND_EYE)
     std::cerr << "warning: --pose-sd auto measures the controller poses' error (hand-eye); the method is "
               << vpRobotSelfCalibration::methodName(po.method) << ", so it is not used\n";

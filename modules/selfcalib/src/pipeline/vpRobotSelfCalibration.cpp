@@ -311,6 +311,12 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
     o.bundle.controller_poses_inverted = true;
     Result res = runMounted(model, inverted, o, progress);
     vpSelfCalibPipeline::eyeToHandResult(res);
+    std::ostringstream start;
+    start << "eye-to-hand, bMc started "
+          << (median_px > 0 ? "from the target's poses (PnP and closed forms, median " : "at the identity (no target of known points)");
+    if (median_px > 0)
+      start << std::setprecision(3) << median_px << " px)";
+    res.message = start.str() + "; " + res.message;
     res.seconds = seconds(t0);
     return res;
   }

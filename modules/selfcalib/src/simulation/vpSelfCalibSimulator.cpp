@@ -437,7 +437,7 @@ vpSelfCalib::Rigid lookAt(const Eigen::Vector3d &from, const Eigen::Vector3d &to
   return M;
 }
 
-//! The target's points in o: a grid on z = 0 centred on o, or natural features in a box about o.
+//! The target's points in o: a grid on z = 0 from o (vpBoardDetector's chessboard layout), or natural features in a box about o.
 std::map<int, vpColVector> eyeToHandLayout(const vpSelfCalibSimulator::EyeToHandOptions &o)
 {
   std::map<int, vpColVector> layout;
@@ -445,8 +445,7 @@ std::map<int, vpColVector> eyeToHandLayout(const vpSelfCalibSimulator::EyeToHand
   if (o.board) {
     for (unsigned int r = 0; r < o.board_rows; ++r)
       for (unsigned int c = 0; c < o.board_cols; ++c)
-        layout[static_cast<int>(r * o.board_cols + c)] =
-            vpColVector({(c - 0.5 * (o.board_cols - 1)) * o.board_spacing, (r - 0.5 * (o.board_rows - 1)) * o.board_spacing, 0.0});
+        layout[o.board_id_offset + static_cast<int>(r * o.board_cols + c)] = vpColVector({c * o.board_spacing, r * o.board_spacing, 0.0});
   } else
     for (unsigned int i = 0; i < o.num_points; ++i)
       layout[static_cast<int>(i)] = vpColVector({rng.uniform(-0.5, 0.5) * o.box_size, rng.uniform(-0.5, 0.5) * o.box_size,

@@ -166,12 +166,14 @@ public:
     double px = 600, py = 600, u0 = 320, v0 = 240;
     /*!
       The target: board true: a planar grid of board_cols x board_rows points board_spacing apart
-      (ids 0..), the layout known (getLayout-like, in the target frame o); false: num_points
+      (id board_id_offset + r * board_cols + c at (c, r) board_spacing, z = 0: vpBoardDetector's chessboard layout
+      for cols x rows inner corners), in the target frame o; false: num_points
       natural features in a box of box_size (m) about o. eMo: the target in the effector frame.
     */
     bool board = true;
     unsigned int board_cols = 6, board_rows = 5;
     double board_spacing = 0.02;
+    int board_id_offset = 2000000; //!< the first board point's id (vpBoardDetector's default)
     unsigned int num_points = 40;
     double box_size = 0.08;
     vpPoseVector eMo = vpPoseVector(0.02, -0.01, 0.06, 0.1, -0.15, 0.3);
