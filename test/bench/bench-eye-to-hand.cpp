@@ -121,6 +121,19 @@ void errors(const RSC::Result &r, const vpSelfCalibSimulator::EyeToHandTruth &tr
   e_eMo = coordinates(vpHomogeneousMatrix(r.eMo)) - coordinates(truth.eMo);
 }
 
+//! The set-up of a seed (geometry) and a noise seed (0: the seed's own draw).
+vpSelfCalibDataset simulate(unsigned int seed, unsigned int noise_seed, double pixel_sd, const std::vector<double> &pose_sd,
+                            vpSelfCalibSimulator::EyeToHandTruth &truth)
+{
+  vpSelfCalibSimulator::EyeToHandOptions so;
+  so.seed = seed;
+  so.noise_seed = noise_seed;
+  so.pixel_noise_sd = pixel_sd;
+  so.pose_sd_translation = pose_sd[0];
+  so.pose_sd_rotation = pose_sd[1];
+  return vpSelfCalibSimulator::simulateEyeToHand(so, truth);
+}
+
 double nees(const Eigen::Matrix<double, 6, 1> &e, const Eigen::MatrixXd &C)
 {
   return e.dot(C.ldlt().solve(e)) / 6.0;
@@ -163,13 +176,8 @@ int main(int argc, char **argv)
       double e2[4] = {0, 0, 0, 0}, b2[4] = {0, 0, 0, 0};
       unsigned int runs = 0, failed = 0;
       for (unsigned int seed = 1; seed <= seeds; ++seed) {
-        vpSelfCalibSimulator::EyeToHandOptions so;
-        so.seed = seed;
-        so.pixel_noise_sd = noise;
-        so.pose_sd_translation = pose_sd[0];
-        so.pose_sd_rotation = pose_sd[1];
         vpSelfCalibSimulator::EyeToHandTruth truth;
-        const vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(so, truth);
+        const vpSelfCalibDataset ds = simulate(seed, 0, noise, pose_sd, truth);
         Eigen::MatrixXd Cb, Co;
         if (!bound(ds, truth, noise, Cb, Co))
           throw std::runtime_error("no bound for seed " + std::to_string(seed));
@@ -196,14 +204,8 @@ int main(int argc, char **argv)
       // NEES over draws on seed 1's geometry.
       bench::Stats nb, no, mt, mr;
       for (unsigned int d = 1; d <= draws; ++d) {
-        vpSelfCalibSimulator::EyeToHandOptions so;
-        so.seed = 1;
-        so.noise_seed = d;
-        so.pixel_noise_sd = noise;
-        so.pose_sd_translation = pose_sd[0];
-        so.pose_sd_rotation = pose_sd[1];
         vpSelfCalibSimulator::EyeToHandTruth truth;
-        const vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(so, truth);
+        const vpSelfCalibDataset ds = simulate(1, d, noise, pose_sd, truth);
         const RSC::Result r = RSC::run(vpKinematicChain::preset("viper850"), ds, options(truth.layout, noise));
         if (!(r.status == RSC::OK || r.status == RSC::DOUBTFUL) || !r.has_eMo || !r.bundle.has_covariance)
           continue;
