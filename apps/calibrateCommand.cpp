@@ -96,7 +96,11 @@ std::string writeResults(const fs::path &stage, const std::string &dataset, cons
   vpKinematicChain model = r.calibrated;
   model.setName(nominal.getName() + (doubtful ? "-calibrated-DOUBTFUL" : "-calibrated"));
   model.saveYaml((stage / "model.yaml").string());
-  vpModelExport::saveURDF(model, (stage / "model.urdf").string());
+  if (r.has_bMc) { // eye-to-hand: the camera a link of the world, the target on the flange
+    const vpHomogeneousMatrix bMc(r.bMc), eMo(r.eMo);
+    vpModelExport::saveURDF(model, (stage / "model.urdf").string(), &bMc, r.has_eMo ? &eMo : nullptr);
+  } else
+    vpModelExport::saveURDF(model, (stage / "model.urdf").string());
   vpSelfCalibFileWriter::writeCameraXml((stage / "camera.xml").string(), r.camera, "Camera", ds.width, ds.height,
                                         "self-calibrated by visp-selfcalib");
   vpSelfCalibResultsFile::write((stage / "results.yaml").string(),
@@ -154,6 +158,11 @@ int calibrate(const CalibrateArgs &a)
   // order. The result files must be bit-reproducible.
   cv::setNumThreads(a.threads);
   vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
+  const bool world = ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD;
+  if (world && !a.method.empty() && co.method != vpRobotSelfCalibration::HAND_EYE)
+    throw CLI::ValidationError("--method", "camera_mount: world is calibrated with --method hand-eye; the " + a.method +
+                                               " method models a camera on the end-effector only (the dataset " +
+                                               dataset + " says the camera is fixed in the world)");
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
   co.prior = nominal; // the front end's matching is guided by the nominal kinematics
   // Outputs: a set written in a private directory beside --out, moved into place at once, under
@@ -171,7 +180,7 @@ int calibrate(const CalibrateArgs &a)
               << cr.board.front().message << "); check the board's description (type, size, dictionary or tag family)\n";
     return 3;
   }
-  po.method = cr.method;
+  po.method = world ? vpRobotSelfCalibration::HAND_EYE : cr.method; // a camera in the world: hand-eye only
   if (const int refused = checkMethodData(po.method, ds))
     return refused;
   if (pose_auto && po.method != vpRobotSelfCalibration::HAND_EYE)

@@ -88,8 +88,9 @@ void addPlan(CLI::App &app, PlanArgs &a);
 int plan(const PlanArgs &a);
 
 struct SimulateArgs {
-  std::string out, robot = "viper850", focal = "known", target = "textured", joints_file;
+  std::string out, robot = "viper850", focal = "known", target = "textured", joints_file, camera_mount = "effector";
   vpSelfCalibSimulator::Options so;
+  double pose_sd = 0; //!< eye-to-hand: the controller poses' error (m and rad)
   unsigned int poses = 25;
   bool force = false, controller = false, images = false;
 };

@@ -85,6 +85,10 @@ int importData(const ImportArgs &a)
   std::cout << "wrote " << a.out;
   if (res.has_robot_model)
     std::cout << " and " << vpSelfCalibImporter::robotModelFileFor(a.out);
-  std::cout << ": " << r.num_views << " views\nnext: " << kProgram << " calibrate " << a.out << " --out DIR\n";
+  std::cout << ": " << r.num_views << " views\nnext: " << kProgram << " calibrate " << a.out << " --out DIR"
+            << (r.board_option.empty() ? "" : " --method hand-eye --board " + r.board_option) << "\n";
+  if (!r.board_option.empty())
+    std::cout << "  (the tag's pose eMo too: give its id and its geometry, --board " << r.board_option
+              << ":ID --board-geometry)\n";
   return 0;
 }

@@ -200,6 +200,15 @@ void addSimulate(CLI::App &app, SimulateArgs &a)
                 "--board apriltag-bundle:DIR/tags.yaml). All but textured need --images")
       ->type_name("T")
       ->check(CLI::IsMember({"textured", "dots", "charuco", "apriltags"}));
+  c->add_option("--camera-mount", a.camera_mount,
+                 "effector (default: the reference scenario) or world: a camera fixed in the world and a\n"
+                 "6 x 5 board (2 cm, the layout of --board chessboard:5x6:0.02, rows x cols) on the tool, points data\n"
+                 "(calibrate --method hand-eye --board chessboard:5x6:0.02 --board-geometry)")
+      ->type_name("MOUNT")
+      ->check(CLI::IsMember({"effector", "world"}));
+  c->add_option("--pose-sd", a.pose_sd, "with --camera-mount world: the controller poses' error sd (m and rad, default 0)")
+      ->type_name("SD")
+      ->check(CLI::Range(0.0, 0.1));
   c->add_flag("--force", a.force, "replace an existing OUT.yaml");
   c->final_callback([&a] {
     if (a.target != "textured" && !a.images)
@@ -214,6 +223,22 @@ int simulate(const SimulateArgs &a)
   unsigned int poses = a.poses;
   if (outputRefused(out, a.force))
     return 1;
+  if (a.camera_mount == "world") {
+    if (a.images || !a.joints_file.empty() || a.controller)
+      throw CLI::ValidationError("--camera-mount", "world simulates points data of its own poses: no --images, "
+                                                   "--joints or --controller-poses");
+    vpSelfCalibSimulator::EyeToHandOptions eo;
+    eo.seed = so.seed;
+    eo.num_views = poses;
+    eo.pixel_noise_sd = so.pixel_noise_sd;
+    eo.pose_sd_translation = eo.pose_sd_rotation = a.pose_sd;
+    vpSelfCalibSimulator::EyeToHandTruth truth;
+    vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(eo, truth);
+    ds.saveYaml(out);
+    std::cerr << "true bMc " << vpPoseVector(truth.bMc).t() << "\ntrue eMo " << vpPoseVector(truth.eMo).t() << "\n";
+    std::cout << "wrote " << out << ": " << ds.views.size() << " views (camera in the world)\n";
+    return 0;
+  }
   const vpSelfCalibSimulator sim(vpKinematicChain::fromPresetOrFile(a.robot), so);
   std::vector<vpColVector> configurations;
   if (!a.joints_file.empty()) {

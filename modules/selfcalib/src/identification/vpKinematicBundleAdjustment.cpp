@@ -217,6 +217,11 @@ void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::
           std::max(res.robot_rms_ratio, std::sqrt(std::max(part[1], part[2]) / (3 * views)));
     res.sigma0 = dof > 0 ? std::sqrt(chi2 / dof) : 0;
   }
+  if (a.has_object) {
+    res.has_object = true;
+    for (unsigned int i = 0; i < 6; ++i)
+      res.object_pose[i] = a.object[i];
+  }
   for (int idp : kept) {
     vpColVector v(3);
     for (unsigned int c = 0; c < 3; ++c)
@@ -395,6 +400,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   Adjustment a(X0, start, res.identifiability.identified, q, fMe, opt.hand_eye_only && noise.hasPoseError(), joint_sd,
                n_joint, camera_delta);
   a.noise = noise;
+  a.state.inverted = opt.hand_eye_only && opt.controller_poses_inverted;
   a.P = static_cast<int>(res.identifiability.identified.size());
   fillAdjustment(a, views, camera, opt);
   const bool distortion = (opt.intrinsics & KBA::DISTORTION) || a.in[4] != 0;

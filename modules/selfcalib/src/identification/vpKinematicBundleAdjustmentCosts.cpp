@@ -157,6 +157,32 @@ void computePoseNoiseView(const vpKinematicChain &chain, const std::vector<unsig
 }
 
 /*
+  Eye-to-hand (the views' fMe = G are inverted controller poses bMe^-1, whose error is E(delta) on
+  bMe's right): the view's pose is E^-1 G eMc, E = [R_E | t]. With q = G t_c (the camera origin
+  before E^-1) the camera origin is p = R_E^T (q - t) and its orientation R_E^T R_G R_c:
+  dp/dt = -R_E^T, dp/dr = R_E^T [q - t]x J_l(r), dphi/dr = -R_E^T J_l(r), dphi/dt = 0 (left
+  perturbations in f).
+*/
+void computeInvertedPoseNoiseView(const vpKinematicChain &chain, const std::vector<unsigned int> &id,
+                                  const Rigid &fMe, const double *delta, bool with_jacobian, ViewState &v)
+{
+  const Rigid E = rigidFromVector(delta);
+  computeHandEyeView(chain, id, E.inverse() * fMe, with_jacobian, v);
+  if (!with_jacobian)
+    return;
+  const Rigid C = rigidFromVisp(chain.get_eMc_corrected());
+  const Eigen::Vector3d q = fMe.R * C.t + fMe.t;
+  const Eigen::Matrix3d Jl = leftJacobianSO3(Eigen::Vector3d(delta[3], delta[4], delta[5]));
+  Eigen::Matrix<double, 3, 6> dp, dphi;
+  dp.leftCols<3>() = -E.R.transpose();
+  dp.rightCols<3>() = E.R.transpose() * skew(q - E.t) * Jl;
+  dphi.leftCols<3>().setZero();
+  dphi.rightCols<3>() = -E.R.transpose() * Jl;
+  v.Ad = v.RT * dp;
+  v.Cd = v.RT * dphi;
+}
+
+/*
   Projection of X (f) through a view and the core camera model (ViSP's k_ud or OpenCV's distortion;
   zero coefficients are the pinhole): (u, v), and on request its derivatives with respect to the
   corrections (2 x P), the intrinsics block (2 x kIntrinsics) and X (2 x 3), row-major.

@@ -55,6 +55,9 @@ void computeHandEyeView(const vpKinematicChain &chain, const std::vector<unsigne
 //! Hand-eye-only mode with robot pose error: the view of fMe with its pose correction delta.
 void computePoseNoiseView(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const Rigid &fMe,
                           const double *delta, bool with_jacobian, ViewState &v);
+//! The same, eye-to-hand (Options::controller_poses_inverted): the view of E(delta)^-1 fMe.
+void computeInvertedPoseNoiseView(const vpKinematicChain &chain, const std::vector<unsigned int> &id,
+                                  const Rigid &fMe, const double *delta, bool with_jacobian, ViewState &v);
 /*!
   Projection of X (f) through a view and the core camera model: (u, v), and on request its
   derivatives (row-major) with respect to the corrections (2 x P), the intrinsics block
@@ -99,6 +102,8 @@ public:
         computeView(chain, id, q[k], with_jacobians, views[k]);
       else if (delta.empty())
         computeHandEyeView(chain, id, fMe[k], with_jacobians, views[k]);
+      else if (inverted)
+        computeInvertedPoseNoiseView(chain, id, fMe[k], delta[k].data(), with_jacobians, views[k]);
       else
         computePoseNoiseView(chain, id, fMe[k], delta[k].data(), with_jacobians, views[k]);
     has_jacobians_ = with_jacobians;
@@ -118,6 +123,7 @@ public:
   std::vector<std::vector<double>> dq;
   int n_joint = 0;           //!< joint corrections per view
   bool camera_delta = false; //!< a camera pose correction per view (the model's own residual)
+  bool inverted = false;     //!< the fMe are inverted controller poses (Options::controller_poses_inverted)
   Distortion model = Distortion::VISP; //!< the lens model of the intrinsics block
   //! The size of a view's own correction block (6, the number of joints, or 0).
   int correctionSize() const { return !delta.empty() ? 6 : (!dq.empty() ? static_cast<int>(dq[0].size()) : 0); }

@@ -94,6 +94,17 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
   for (int r = 0; r < N; ++r)
     for (int c = 0; c < N; ++c)
       res.covariance[r][c] = factor * full(r, c);
+  if (a.has_object && problem.HasParameterBlock(a.object.data())) {
+    // The object's block is the last one kept.
+    const int o = static_cast<int>(full.rows()) - 6;
+    res.object_covariance.resize(6, 6);
+    res.object_sd.resize(6);
+    for (int r = 0; r < 6; ++r) {
+      for (int c = 0; c < 6; ++c)
+        res.object_covariance[r][c] = factor * full(o + r, o + c);
+      res.object_sd[r] = std::sqrt(std::max(0.0, res.object_covariance[r][r]));
+    }
+  }
   for (int r = 0; r < P; ++r)
     res.sd[id[r]] = std::sqrt(std::max(0.0, res.covariance[r][r]));
   for (size_t r = 0; r < a.free_in.size(); ++r) {

@@ -31,6 +31,12 @@ std::string rpyXyz(const vpHomogeneousMatrix &M)
 
 std::string vpModelExport::toURDF(const vpKinematicChain &model, const std::string &robot_name)
 {
+  return toURDF(model, robot_name, nullptr, nullptr);
+}
+
+std::string vpModelExport::toURDF(const vpKinematicChain &model, const std::string &robot_name,
+                                  const vpHomogeneousMatrix *bMc, const vpHomogeneousMatrix *eMo)
+{
   const std::vector<vpHomogeneousMatrix> M = model.getPlacements();
   const unsigned int n = model.getNumJoints();
   std::ostringstream os;
@@ -40,6 +46,8 @@ std::string vpModelExport::toURDF(const vpKinematicChain &model, const std::stri
   for (unsigned int i = 1; i <= n; ++i)
     os << "  <link name=\"link" << i << "\"/>\n";
   os << "  <link name=\"flange\"/>\n  <link name=\"camera_optical_frame\"/>\n";
+  if (eMo)
+    os << "  <link name=\"target\"/>\n";
   for (unsigned int i = 0; i < n; ++i) {
     const vpKinematicChain::Joint &j = model.getJoints()[i];
     os << "  <joint name=\"joint" << i + 1 << "\" type=\"revolute\">\n    <parent link=\""
@@ -49,13 +57,23 @@ std::string vpModelExport::toURDF(const vpKinematicChain &model, const std::stri
   }
   os << "  <joint name=\"flange_joint\" type=\"fixed\">\n    <parent link=\"link" << n
      << "\"/>\n    <child link=\"flange\"/>\n    <origin " << rpyXyz(M[n]) << "/>\n  </joint>\n"
-     << "  <joint name=\"camera_joint\" type=\"fixed\">\n    <parent link=\"flange\"/>\n"
-     << "    <child link=\"camera_optical_frame\"/>\n    <origin " << rpyXyz(model.get_eMc_corrected())
-     << "/>\n  </joint>\n</robot>\n";
+     << "  <joint name=\"camera_joint\" type=\"fixed\">\n    <parent link=\"" << (bMc ? "base_link" : "flange")
+     << "\"/>\n    <child link=\"camera_optical_frame\"/>\n    <origin "
+     << rpyXyz(bMc ? *bMc : model.get_eMc_corrected()) << "/>\n  </joint>\n";
+  if (eMo)
+    os << "  <joint name=\"target_joint\" type=\"fixed\">\n    <parent link=\"flange\"/>\n"
+       << "    <child link=\"target\"/>\n    <origin " << rpyXyz(*eMo) << "/>\n  </joint>\n";
+  os << "</robot>\n";
   return os.str();
 }
 
 void vpModelExport::saveURDF(const vpKinematicChain &model, const std::string &filename)
 {
   writeFileAtomically(filename, toURDF(model), "URDF");
+}
+
+void vpModelExport::saveURDF(const vpKinematicChain &model, const std::string &filename, const vpHomogeneousMatrix *bMc,
+                             const vpHomogeneousMatrix *eMo)
+{
+  writeFileAtomically(filename, toURDF(model, "", bMc, eMo), "URDF");
 }

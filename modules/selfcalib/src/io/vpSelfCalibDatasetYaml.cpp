@@ -325,8 +325,16 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
   if (!root.IsMap())
     throw vpSelfCalibException(vpSelfCalibException::parseError,
                                std::string(kWhat) + " " + source + ": expected a YAML map at the top level");
-  r.onlyKeys(root, {"camera", "camera_xml", "robot", "robot_error", "poses", "yardstick"}, "");
+  r.onlyKeys(root, {"camera", "camera_xml", "robot", "camera_mount", "robot_error", "poses", "yardstick"}, "");
   vpSelfCalibDataset ds;
+  if (root["camera_mount"]) {
+    const std::string mount = r.text(root["camera_mount"], "camera_mount");
+    if (mount == "world")
+      ds.camera_mount = vpSelfCalibDataset::CAMERA_IN_WORLD;
+    else if (mount != "effector")
+      r.fail("camera_mount", "expected effector (the camera on the end-effector, eye-in-hand) or world (the camera "
+                             "fixed in the robot's world, eye-to-hand), got '" + mount + "'");
+  }
   vpCameraParameters distorted;
   bool has_distortion = false;
   parseRobotError(r, root, ds);
@@ -434,6 +442,8 @@ std::string vpSelfCalibDataset::toYamlString(const std::string &base_dir) const
   }
   out << YAML::EndMap;
   out << YAML::Key << "robot" << YAML::Value << relativeTo(base_dir, robot);
+  if (camera_mount != CAMERA_ON_EFFECTOR)
+    out << YAML::Key << "camera_mount" << YAML::Value << cameraMountName(camera_mount);
   if (pose_sd_translation > 0 || !joint_sd.empty()) {
     out << YAML::Key << "robot_error" << YAML::Value << YAML::Flow << YAML::BeginMap;
     if (pose_sd_translation > 0)
@@ -481,6 +491,11 @@ std::string vpSelfCalibDataset::toYamlString(const std::string &base_dir) const
   }
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
+}
+
+const char *vpSelfCalibDataset::cameraMountName(CameraMount m)
+{
+  return m == CAMERA_IN_WORLD ? "world" : "effector";
 }
 
 void vpSelfCalibDataset::saveYaml(const std::string &filename) const

@@ -451,6 +451,25 @@ void readVispCamera(Import &im, const fs::path &xml, vpSelfCalibImporter::Intrin
   im.takeIntrinsics(intrinsics != vpSelfCalibImporter::INTRINSICS_GUESS, xml.filename().string());
 }
 
+/*
+  ViSP's eye-to-hand folder: apriltag-data.txt ("36h11", "size: 0.048 m") describes a tag on the
+  tool, the camera fixed in the world (the dataset's camera_mount: world), and the --board for it.
+*/
+void readTagDescription(Import &im, const fs::path &f)
+{
+  im.input(f);
+  const std::string text = readTextFile(f.string(), "tag description");
+  std::smatch family, size;
+  im.res.dataset.camera_mount = vpSelfCalibDataset::CAMERA_IN_WORLD;
+  vpSelfCalibImporter::Report &rep = im.res.report;
+  if (std::regex_search(text, family, std::regex("([0-9]+h[0-9]+)")) &&
+      std::regex_search(text, size, std::regex("size:[ \t]*([0-9.eE+-]+)[ \t]*m"))) {
+    rep.board = "AprilTag " + family[1].str() + ", " + size[1].str() + " m side, on the end-effector (apriltag-data.txt)";
+    rep.board_option = "apriltag:" + family[1].str() + ":" + size[1].str();
+  } else
+    im.unused(f.filename().string(), "not understood (expected a family such as '36h11' and 'size: S m')");
+}
+
 vpSelfCalibImporter::Result importVisp(const fs::path &dir, const vpSelfCalibImporter::Options &opt)
 {
   Import im;
@@ -514,7 +533,9 @@ vpSelfCalibImporter::Result importVisp(const fs::path &dir, const vpSelfCalibImp
       rep.board = chessboardText(readTextFile(f.string(), "board description"));
       if (rep.board.empty())
         im.unused(name, "not understood (expected 'C x R' and 'square size: S m')");
-    } else if (std::regex_match(name, m, board_pose_re))
+    } else if (name == "apriltag-data.txt")
+      readTagDescription(im, f);
+    else if (std::regex_match(name, m, board_pose_re))
       im.unused(name, "a board pose (ViSP's chessboard pose step): the front end finds its own correspondences");
     else
       im.unused(name, std::regex_match(name, m, image_re) ? "an image of another prefix than " + prefix

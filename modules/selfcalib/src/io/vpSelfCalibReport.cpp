@@ -559,13 +559,38 @@ void frontEndSection(std::ostream &md, const vpFeatureFrontEnd::Result &fe, cons
      << figure("matches", "matches per image pair", "fewer than 2 images") << "\n";
 }
 
+//! Eye-to-hand: the camera in the base frame bMc and the target in the effector frame eMo, with their sd.
+void eyeToHandSection(std::ostream &md, const vpRobotSelfCalibration::Result &r)
+{
+  md << "\n## Camera in the world, target on the tool\n\nThe camera is fixed in the robot's world (camera_mount: "
+        "world): bMc is the camera in the robot's base frame, eMo the target in the end-effector frame (pose vectors "
+        "tx ty tz in mm, theta-u in mrad; sd from the covariance with the controller poses' error modelled).\n\n"
+        "| transform | tx | ty | tz | tux | tuy | tuz |\n|---|---|---|---|---|---|---|\n";
+  const auto row = [&md](const std::string &name, const vpPoseVector &p, const vpColVector &sd) {
+    md << "| " << name << " |";
+    for (unsigned int k = 0; k < 6; ++k)
+      md << " " << mm(p[k]) << " &plusmn; " << mm(sd.size() == 6 ? sd[k] : 0.0) << " |";
+    md << "\n";
+  };
+  row("bMc", r.bMc, r.bMc_sd);
+  if (r.has_eMo)
+    row("eMo", r.eMo, r.eMo_sd);
+  else
+    md << "\neMo: no board, the target's points in the effector frame are the natural features' (no frame of their "
+          "own).\n";
+}
+
 //! The estimated parameters, those not estimated, and the residuals on the calibration views.
 void parametersSection(std::ostream &md, const vpSelfCalibReport::Record &run, const ReportData &data,
                        const FigureLink &figure)
 {
   const vpRobotSelfCalibration::Result &r = run.result;
   const std::vector<std::string> names = run.nominal.getParameterNames();
-  md << "\n## Estimated parameters\n\n| parameter | estimate (mm or mrad) | sd (mm or mrad) |\n|---|---|---|\n";
+  if (r.has_bMc)
+    eyeToHandSection(md, r);
+  md << "\n## Estimated parameters\n\n"
+     << (r.has_bMc ? "Eye-to-hand: the eMc.* rows are the corrections of bMc from its closed-form start.\n\n" : "")
+     << "| parameter | estimate (mm or mrad) | sd (mm or mrad) |\n|---|---|---|\n";
   for (unsigned int k : r.identifiability.identified)
     md << "| " << names[k] << " | " << mm(r.calibrated.getParameters()[k]) << " | "
        << mm(k < r.parameter_sd.size() ? r.parameter_sd[k] : 0.0) << " |\n";

@@ -189,13 +189,20 @@ void emitHead(YAML::Emitter &out, const RF::Contents &c)
     emitEstimates(out, c.intrinsics_estimated);
     out << YAML::EndMap;
   }
-  if (c.eMc) {
-    out << YAML::Key << "eMc" << YAML::Comment("calibrated hand-eye pose vector (tx ty tz tux tuy tuz; m, rad) and sd")
-        << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "pose" << YAML::Value << YAML::BeginSeq;
-    for (double v : c.eMc->pose)
+  const std::pair<const char *, const std::optional<RF::HandEye> *> poses[] = {{"eMc", &c.eMc}, {"bMc", &c.bMc}, {"eMo", &c.eMo}};
+  const char *comments[] = {"calibrated hand-eye pose vector (tx ty tz tux tuy tuz; m, rad) and sd",
+                            "the camera in the robot's base frame (tx ty tz tux tuy tuz; m, rad) and sd",
+                            "the target in the end-effector frame (tx ty tz tux tuy tuz; m, rad) and sd"};
+  for (int i = 0; i < 3; ++i) {
+    const std::optional<RF::HandEye> &e = *poses[i].second;
+    if (!e)
+      continue;
+    out << YAML::Key << poses[i].first << YAML::Comment(comments[i]) << YAML::Value << YAML::Flow << YAML::BeginMap
+        << YAML::Key << "pose" << YAML::Value << YAML::BeginSeq;
+    for (double v : e->pose)
       out << v;
     out << YAML::EndSeq << YAML::Key << "sd" << YAML::Value << YAML::BeginSeq;
-    for (double v : c.eMc->sd)
+    for (double v : e->sd)
       out << v;
     out << YAML::EndSeq << YAML::EndMap;
   }
@@ -414,10 +421,12 @@ void readHead(const In &in, const YAML::Node &root, RF::Contents &c)
     c.camera.distortion = in.list<double>(cam, "distortion");
   if (root["intrinsics_estimated"])
     c.intrinsics_estimated = in.estimates(root, "intrinsics_estimated");
-  if (root["eMc"]) {
-    const YAML::Node e = root["eMc"];
-    c.eMc = RF::HandEye{in.list<double>(e, "pose"), in.list<double>(e, "sd")};
-  }
+  for (const char *key : {"eMc", "bMc", "eMo"})
+    if (root[key]) {
+      const YAML::Node e = root[key];
+      const RF::HandEye h{in.list<double>(e, "pose"), in.list<double>(e, "sd")};
+      (std::string(key) == "eMc" ? c.eMc : std::string(key) == "bMc" ? c.bMc : c.eMo) = h;
+    }
 }
 
 RF::BundleAdjustment readBundle(const In &in, const YAML::Node &n)
@@ -573,14 +582,20 @@ vpSelfCalibResultsFile::Contents vpSelfCalibResultsFile::fromRun(const vpRobotSe
       r.bundle.has_covariance)
     for (unsigned int i = 0; i < r.bundle.intrinsics.size(); ++i)
       c.intrinsics_estimated.push_back({r.bundle.intrinsic_names[i], r.bundle.intrinsics[i], r.bundle.intrinsics_sd[i]});
-  if (r.has_eMc) {
+  const auto block = [](const vpPoseVector &pose, const vpColVector &sd) {
     HandEye e;
     for (unsigned int k = 0; k < 6; ++k) {
-      e.pose.push_back(r.eMc[k]);
-      e.sd.push_back(r.eMc_sd[k]);
+      e.pose.push_back(pose[k]);
+      e.sd.push_back(sd.size() == 6 ? sd[k] : 0.0);
     }
-    c.eMc = e;
-  }
+    return e;
+  };
+  if (r.has_eMc)
+    c.eMc = block(r.eMc, r.eMc_sd);
+  if (r.has_bMc)
+    c.bMc = block(r.bMc, r.bMc_sd);
+  if (r.has_eMo)
+    c.eMo = block(r.eMo, r.eMo_sd);
   if (r.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT || r.method == vpRobotSelfCalibration::HAND_EYE)
     c.bundle_adjustment = bundleOf(r);
   if (r.method != vpRobotSelfCalibration::PAPER)

@@ -250,6 +250,12 @@ unsigned int checkInputs(const vpKinematicChain &nominal, const vpSelfCalibDatas
                          const vpRobotSelfCalibration::Options &opt)
 {
   opt.check();
+  if (ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD && opt.method != vpRobotSelfCalibration::HAND_EYE)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpRobotSelfCalibration: camera_mount: world is calibrated with --method hand-eye; the " +
+                                   std::string(vpRobotSelfCalibration::methodName(opt.method)) +
+                                   " method models a camera on the end-effector only (its kinematics are calibrated "
+                                   "from a scene fixed in the base frame)");
   // A camera or a model built in code is held to the files' plausibility bounds (beyond them the
   // solvers overflow and Ceres aborts on a CHECK instead of returning).
   vpSelfCalib::checkCamera(ds.cam, "vpRobotSelfCalibration: the dataset's camera");
@@ -279,9 +285,47 @@ unsigned int checkInputs(const vpKinematicChain &nominal, const vpSelfCalibDatas
 }
 } // namespace
 
-vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChain &nominal,
-                                                           const vpSelfCalibDataset &ds, const Options &opt,
+vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChain &input_model,
+                                                           const vpSelfCalibDataset &input, const Options &opt,
                                                            const Progress &progress)
+{
+  using vpSelfCalibPipeline::seconds;
+  const auto t0 = std::chrono::steady_clock::now();
+  const unsigned int N = checkInputs(input_model, input, opt);
+  if (input.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD) {
+    // Eye-to-hand: the eye-in-hand problem of the inverted controller poses, its eMc (bMc here)
+    // started where the target's known points say (else at the identity), the result renamed.
+    const vpSelfCalibDataset inverted = vpSelfCalibPipeline::eyeToHandAsEyeInHand(input_model, input);
+    vpKinematicChain model = input_model;
+    vpHomogeneousMatrix bMc, eMo;
+    double median_px = 0;
+    if (!(opt.bundle.known_points.size() >= 4 &&
+          vpSelfCalibPipeline::eyeToHandStart(inverted, N, opt.bundle.known_points, bMc, eMo, median_px)))
+      bMc.eye();
+    model.set_eMc(vpPoseVector(bMc));
+    vpColVector p = model.getParameters();
+    for (unsigned int i = p.size() - vpKinematicChain::kBlockSize; i < p.size(); ++i)
+      p[i] = 0;
+    model.setParameters(p);
+    Options o = opt;
+    o.bundle.controller_poses_inverted = true;
+    Result res = runMounted(model, inverted, o, progress);
+    vpSelfCalibPipeline::eyeToHandResult(res);
+    std::ostringstream start;
+    start << "eye-to-hand, bMc started "
+          << (median_px > 0 ? "from the target's poses (PnP and closed forms, median " : "at the identity (no target of known points)");
+    if (median_px > 0)
+      start << std::setprecision(3) << median_px << " px)";
+    res.message = start.str() + "; " + res.message;
+    res.seconds = seconds(t0);
+    return res;
+  }
+  return runMounted(input_model, input, opt, progress);
+}
+
+vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinematicChain &nominal,
+                                                                  const vpSelfCalibDataset &ds, const Options &opt,
+                                                                  const Progress &progress)
 {
   using vpSelfCalibPipeline::seconds;
   const auto t0 = std::chrono::steady_clock::now();

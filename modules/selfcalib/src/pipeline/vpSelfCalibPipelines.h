@@ -188,6 +188,21 @@ bool robotCorrectionsStandIn(const vpKinematicBundleAdjustment::Result &bundle);
   Findings of severity DOUBT make the status DOUBTFUL; a noise mismatch is a warning.
 */
 void assess(const Context &context, Result &result);
+/*!
+  Eye-to-hand (vpSelfCalibEyeToHand.cpp): the dataset with every view's controller pose bMe (or the
+  nominal model's at its joints) replaced by its inverse, so that the hand-eye method's eye-in-hand
+  problem is the eye-to-hand one (eMc -> bMc, scene points -> the target in the effector frame).
+*/
+vpSelfCalibDataset eyeToHandAsEyeInHand(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds);
+/*!
+  A start bMc and eMo from the target's known points (layout, its frame o) in the first num_views
+  views of an inverted dataset: per-view PnP and OpenCV's hand-eye closed forms, the pair with the
+  lowest median reprojection error (median_px) kept. False with fewer than 3 views posed.
+*/
+bool eyeToHandStart(const vpSelfCalibDataset &inverted, unsigned int num_views, const std::map<int, vpColVector> &layout,
+                    vpHomogeneousMatrix &bMc, vpHomogeneousMatrix &eMo, double &median_px);
+//! The result in eye-to-hand terms: eMc -> bMc, the known object's pose -> eMo (has_eMc false).
+void eyeToHandResult(Result &result);
 } // namespace vpSelfCalibPipeline
 
 #endif

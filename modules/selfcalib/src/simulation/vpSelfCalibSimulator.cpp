@@ -421,3 +421,97 @@ vpPlannerScene vpSelfCalibSimulator::getPlannerScene() const
     scene.required = {m_opt.num_points, m_opt.num_points + 1};
   return scene;
 }
+
+namespace
+{
+//! The camera at `from` looking at `to`, its image rows downwards (against the base's z).
+vpSelfCalib::Rigid lookAt(const Eigen::Vector3d &from, const Eigen::Vector3d &to)
+{
+  vpSelfCalib::Rigid M;
+  const Eigen::Vector3d z = (to - from).normalized();
+  const Eigen::Vector3d x = Eigen::Vector3d(0, 0, -1).cross(z).normalized();
+  M.R.col(0) = x;
+  M.R.col(1) = z.cross(x);
+  M.R.col(2) = z;
+  M.t = from;
+  return M;
+}
+
+//! The target's points in o: a grid on z = 0 from o (vpBoardDetector's chessboard layout), or natural features in a box about o.
+std::map<int, vpColVector> eyeToHandLayout(const vpSelfCalibSimulator::EyeToHandOptions &o)
+{
+  std::map<int, vpColVector> layout;
+  vpSelfCalib::Random rng(o.seed, 11);
+  if (o.board) {
+    for (unsigned int r = 0; r < o.board_rows; ++r)
+      for (unsigned int c = 0; c < o.board_cols; ++c)
+        layout[o.board_id_offset + static_cast<int>(r * o.board_cols + c)] = vpColVector({c * o.board_spacing, r * o.board_spacing, 0.0});
+  } else
+    for (unsigned int i = 0; i < o.num_points; ++i)
+      layout[static_cast<int>(i)] = vpColVector({rng.uniform(-0.5, 0.5) * o.box_size, rng.uniform(-0.5, 0.5) * o.box_size,
+                                                 rng.uniform(-0.5, 0.5) * o.box_size});
+  return layout;
+}
+} // namespace
+
+vpSelfCalibDataset vpSelfCalibSimulator::simulateEyeToHand(const EyeToHandOptions &o, EyeToHandTruth &truth)
+{
+  using namespace vpSelfCalib;
+  if (o.num_views < 3 || o.camera_position.size() != 3 || o.look_at.size() != 3 || !(o.px > 0) || !(o.py > 0) ||
+      !(o.distance_min > 0) || o.distance_max < o.distance_min || o.pixel_noise_sd < 0 || o.pose_sd_translation < 0 ||
+      o.pose_sd_rotation < 0 || (o.board && o.board_cols * o.board_rows < 4) || (!o.board && o.num_points < 6))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpSelfCalibSimulator::simulateEyeToHand: expected 3 views or more, 3-vectors for the "
+                               "camera position and look-at point, positive focal lengths and distances, non-negative "
+                               "noise, and 4 board points or 6 features or more");
+  const Rigid bMc = lookAt(Eigen::Vector3d(o.camera_position[0], o.camera_position[1], o.camera_position[2]),
+                           Eigen::Vector3d(o.look_at[0], o.look_at[1], o.look_at[2]));
+  const Rigid eMo = rigidFromVisp(vpHomogeneousMatrix(o.eMo));
+  truth = EyeToHandTruth();
+  truth.bMc = toVisp(bMc);
+  truth.eMo = toVisp(eMo);
+  truth.layout = eyeToHandLayout(o);
+  vpSelfCalibDataset ds;
+  ds.camera_mount = vpSelfCalibDataset::CAMERA_IN_WORLD;
+  ds.robot = "viper850";
+  ds.width = o.width;
+  ds.height = o.height;
+  ds.cam.initPersProjWithoutDistortion(o.px, o.py, o.u0, o.v0);
+  ds.pose_sd_translation = o.pose_sd_translation;
+  ds.pose_sd_rotation = o.pose_sd_rotation;
+  const uint64_t noise = o.noise_seed ? (static_cast<uint64_t>(o.noise_seed) << 32) ^ o.seed : o.seed;
+  Random pose_rng(o.seed, 12), noise_rng(noise, 13), error_rng(noise, 14);
+  Rigid facing;
+  facing.R = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix(); // the target's z towards the camera
+  for (unsigned int attempt = 0; ds.views.size() < o.num_views && attempt < 100 * o.num_views; ++attempt) {
+    const Eigen::Vector3d axis =
+        Eigen::Vector3d(pose_rng.normal(), pose_rng.normal(), pose_rng.normal()).normalized();
+    Rigid cMo;
+    cMo.R = Eigen::AngleAxisd(pose_rng.uniform(0, o.tilt), axis).toRotationMatrix() * facing.R;
+    cMo.t = Eigen::Vector3d(pose_rng.uniform(-o.lateral, o.lateral), pose_rng.uniform(-o.lateral, o.lateral),
+                            pose_rng.uniform(o.distance_min, o.distance_max));
+    vpSelfCalibDataset::View v;
+    for (const auto &p : truth.layout) {
+      const Eigen::Vector3d X = cMo.R * Eigen::Vector3d(p.second[0], p.second[1], p.second[2]) + cMo.t;
+      const double u = o.u0 + o.px * X(0) / X(2) + noise_rng.normal(o.pixel_noise_sd);
+      const double w = o.v0 + o.py * X(1) / X(2) + noise_rng.normal(o.pixel_noise_sd);
+      if (X(2) > 0 && u >= 0 && w >= 0 && u < o.width && w < o.height)
+        v.points.push_back({p.first, vpImagePoint(w, u)});
+    }
+    if (o.board ? v.points.size() != truth.layout.size() : v.points.size() < 6)
+      continue;
+    const Rigid bMe = bMc * cMo * eMo.inverse();
+    const double d[6] = {error_rng.normal(o.pose_sd_translation), error_rng.normal(o.pose_sd_translation),
+                         error_rng.normal(o.pose_sd_translation), error_rng.normal(o.pose_sd_rotation),
+                         error_rng.normal(o.pose_sd_rotation),    error_rng.normal(o.pose_sd_rotation)};
+    v.has_fMe = true;
+    v.fMe = toVisp(bMe * rigidFromVector(d).inverse());
+    truth.bMe.push_back(toVisp(bMe));
+    ds.views.push_back(v);
+  }
+  if (ds.views.size() < o.num_views)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpSelfCalibSimulator::simulateEyeToHand: the target leaves the image in most poses; "
+                               "bring it nearer the camera's axis (lateral, tilt) or further away");
+  return ds;
+}

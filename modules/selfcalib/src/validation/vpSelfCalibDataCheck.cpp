@@ -422,6 +422,44 @@ void vpSelfCalibDataCheck::Options::check() const
                                "homography_inliers in (0, 1]");
 }
 
+/*
+  Eye-to-hand (camera_mount world; the views' fMe are then the inverted controller poses): the target
+  must move with the robot. When the end-effector moves by 1 cm or more but the target's points stay
+  within max(2, 3 pixel_sd) px of where the first view saw them (median over the shared points of
+  each view), the target is not on the tool: a fixed camera and a fixed target determine nothing.
+*/
+void checkTargetMoves(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, const std::vector<View> &cal,
+                      double pixel_sd, std::vector<Finding> &out)
+{
+  if (ds.camera_mount != vpSelfCalibDataset::CAMERA_IN_WORLD || cal.size() < 2)
+    return;
+  std::map<int, vpImagePoint> first;
+  for (const auto &o : cal[0].points)
+    first[o.id] = o.ip;
+  const Eigen::Vector3d e0 = endEffector(nominal, cal[0]).inverse().t;
+  double motion = 0, displacement = 0;
+  for (size_t k = 1; k < cal.size(); ++k) {
+    std::vector<double> d;
+    for (const auto &o : cal[k].points) {
+      const auto it = first.find(o.id);
+      if (it != first.end())
+        d.push_back(vpImagePoint::distance(it->second, o.ip));
+    }
+    if (d.empty())
+      return; // other points: they moved
+    std::nth_element(d.begin(), d.begin() + static_cast<long>(d.size() / 2), d.end());
+    displacement = std::max(displacement, d[d.size() / 2]);
+    motion = std::max(motion, (endEffector(nominal, cal[k]).inverse().t - e0).norm());
+  }
+  if (motion >= 0.01 && displacement < std::max(2.0, 3 * pixel_sd))
+    add(out, vpSelfCalibDataCheck::DEGENERATE, "target-does-not-move",
+        "camera_mount: world, but the target's points stay within " + fmt(displacement, 1) +
+            " px of the first view while the end-effector moves by up to " + fmt(motion * 1e3, 0) +
+            " mm: the target is not carried by the tool, and a fixed camera looking at a fixed target determines "
+            "nothing; fix the target on the end-effector (or, with the camera on the end-effector, set "
+            "camera_mount: effector)");
+}
+
 bool vpSelfCalibDataCheck::degenerate(const std::vector<Finding> &findings)
 {
   return std::any_of(findings.begin(), findings.end(), [](const Finding &f) { return f.severity == DEGENERATE; });
@@ -440,6 +478,9 @@ std::vector<vpSelfCalibDataCheck::Finding> vpSelfCalibDataCheck::check(const vpK
   std::vector<Finding> out;
   const std::vector<vpSelfCalibDataset::View> cal(ds.views.begin(), ds.views.begin() + N);
   checkPoints(ds, cal, opt, out);
+  checkTargetMoves(nominal, ds, cal, noise.pixel_sd, out);
+  if (degenerate(out))
+    return out;
   checkCollinear(cal, out);
   if (!checkRepeatedPoses(nominal, cal, opt, out))
     return out;

@@ -41,6 +41,7 @@ void expectSame(const vpSelfCalibDataset &a, const vpSelfCalibDataset &b)
   EXPECT_EQ(a.cam.get_u0(), b.cam.get_u0());
   EXPECT_EQ(a.cam.get_v0(), b.cam.get_v0());
   EXPECT_EQ(a.robot, b.robot);
+  EXPECT_EQ(a.camera_mount, b.camera_mount);
   ASSERT_EQ(a.views.size(), b.views.size());
   for (size_t k = 0; k < a.views.size(); ++k) {
     ASSERT_EQ(a.views[k].q.size(), b.views[k].q.size());
@@ -230,4 +231,27 @@ TEST(DatasetYaml, BadInputNamesTheKey)
     EXPECT_NE(msg.find(c.second), std::string::npos) << "input:\n" << c.first << "\nmessage: " << msg;
   }
   EXPECT_THROW(vpSelfCalibDataset::loadYaml("/nonexistent/dataset.yaml"), vpSelfCalibException);
+}
+
+// The camera's mount: effector by default, world read and written back, anything else refused naming
+// the key and the accepted values.
+TEST(DatasetYaml, CameraMount)
+{
+  const std::string pose = "poses:\n  - fMe: [0.3, 0, 0.4, 0, 0, 0]\n    points: [[1, 10, 20]]\n";
+  EXPECT_EQ(vpSelfCalibDataset::fromYamlString(kHead + pose).camera_mount, vpSelfCalibDataset::CAMERA_ON_EFFECTOR);
+  EXPECT_EQ(vpSelfCalibDataset::fromYamlString(kHead + "camera_mount: effector\n" + pose).camera_mount,
+            vpSelfCalibDataset::CAMERA_ON_EFFECTOR);
+  const vpSelfCalibDataset world = vpSelfCalibDataset::fromYamlString(kHead + "camera_mount: world\n" + pose);
+  EXPECT_EQ(world.camera_mount, vpSelfCalibDataset::CAMERA_IN_WORLD);
+  const std::string text = world.toYamlString();
+  EXPECT_NE(text.find("camera_mount: world"), std::string::npos);
+  expectSame(world, vpSelfCalibDataset::fromYamlString(text));
+  // The default is not written (files of eye-in-hand set-ups stay as they were).
+  EXPECT_EQ(vpSelfCalibDataset::fromYamlString(kHead + pose).toYamlString().find("camera_mount"), std::string::npos);
+  const std::string msg = parseError(kHead + "camera_mount: ceiling\n" + pose);
+  EXPECT_NE(msg.find("camera_mount"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("effector"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("world"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("ceiling"), std::string::npos) << msg;
+  EXPECT_NE(parseError(kHead + "camera_mount: [world]\n" + pose).find("camera_mount"), std::string::npos);
 }

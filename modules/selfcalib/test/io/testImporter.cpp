@@ -539,3 +539,28 @@ TEST(Importer, BadInput)
               std::string::npos);
   }
 }
+
+// ViSP's eye-to-hand folder: apriltag-data.txt makes the dataset camera_mount world and gives the
+// --board to use; a description that is not understood is listed as unused, the mount still world.
+TEST(Importer, VispEyeToHandFolder)
+{
+  TempDir d;
+  writeVispFolder(d);
+  std::filesystem::remove(d / "chessboard-data.txt"); // ViSP's eye-to-hand folder has the tag's only
+  write(d / "apriltag-data.txt", "36h11 Ariltag\nsize: 0.048 m\n");
+  const vpSelfCalibImporter::Result res = vpSelfCalibImporter::import(d.path().string());
+  EXPECT_EQ(res.dataset.camera_mount, vpSelfCalibDataset::CAMERA_IN_WORLD);
+  EXPECT_EQ(res.report.board_option, "apriltag:36h11:0.048");
+  EXPECT_NE(res.report.board.find("AprilTag 36h11, 0.048 m"), std::string::npos) << res.report.board;
+  EXPECT_NE(res.dataset.toYamlString().find("camera_mount: world"), std::string::npos);
+  TempDir e;
+  writeVispFolder(e);
+  write(e / "apriltag-data.txt", "a tag\n");
+  const vpSelfCalibImporter::Result bad = vpSelfCalibImporter::import(e.path().string());
+  EXPECT_EQ(bad.dataset.camera_mount, vpSelfCalibDataset::CAMERA_IN_WORLD);
+  EXPECT_TRUE(bad.report.board_option.empty());
+  bool listed = false;
+  for (const auto &u : bad.report.unused)
+    listed = listed || u.what == "apriltag-data.txt";
+  EXPECT_TRUE(listed);
+}

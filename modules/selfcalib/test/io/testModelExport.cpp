@@ -133,3 +133,28 @@ TEST(ModelExport, DhFitReportsHonestly)
   EXPECT_THROW(vpDHTableFit::fit(vpKinematicChain::preset("puma560"), vpKinematicChain::DH, bad),
                vpSelfCalibException);
 }
+
+// Eye-to-hand: the camera joint hangs from base_link with bMc, the target from the flange with eMo.
+TEST(ModelExport, EyeToHandCameraIsALinkOfTheWorld)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 82);
+  const vpKinematicChain &model = sim.getTrueChain();
+  const vpHomogeneousMatrix bMc(vpPoseVector(0.95, -0.05, 0.47, -1.1, -1.1, 1.3));
+  const vpHomogeneousMatrix eMo(vpPoseVector(0.02, -0.005, -0.056, 0.1, 0.2, 0.3));
+  const std::string urdf = vpModelExport::toURDF(model, "test", &bMc, &eMo);
+  const std::vector<vpHomogeneousMatrix> O = origins(urdf);
+  ASSERT_EQ(O.size(), model.getNumJoints() + 3);
+  EXPECT_NE(urdf.find("<joint name=\"camera_joint\" type=\"fixed\">\n    <parent link=\"base_link\"/>"), std::string::npos)
+      << urdf;
+  EXPECT_NE(urdf.find("<joint name=\"target_joint\" type=\"fixed\">\n    <parent link=\"flange\"/>"), std::string::npos);
+  EXPECT_LT(translationDistance(O[model.getNumJoints() + 1], bMc), 1e-12);
+  EXPECT_LT(rotationDistance(O[model.getNumJoints() + 1], bMc), 1e-12);
+  // The target through the chain: fMe(q) eMo.
+  const vpColVector q = vpSelfCalibSimulator::homeConfiguration(model);
+  vpHomogeneousMatrix T;
+  for (unsigned int i = 0; i < q.size(); ++i)
+    T = T * O[i] * vpHomogeneousMatrix(0, 0, 0, 0, 0, q[i]);
+  T = T * O[q.size()] * O[q.size() + 2];
+  EXPECT_LT(translationDistance(T, model.get_fMe(q) * eMo), 1e-12);
+  EXPECT_LT(rotationDistance(T, model.get_fMe(q) * eMo), 1e-12);
+}

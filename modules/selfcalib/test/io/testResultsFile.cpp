@@ -194,3 +194,27 @@ TEST(ResultsFile, RecordOfARunRoundTrips)
   const std::string text = RF::toYaml(c);
   EXPECT_EQ(RF::toYaml(RF::fromYaml(text)), text);
 }
+
+// Eye-to-hand: the bMc and eMo blocks in the form of eMc, read back as written; eMc absent.
+TEST(ResultsFile, EyeToHandBlocks)
+{
+  RF::Contents c;
+  c.dataset = "e2h.yaml";
+  c.method = "hand-eye";
+  c.status = "ok";
+  c.bMc = RF::HandEye{{0.95, -0.05, 0.47, -1.1, -1.1, 1.3}, {1e-3, 2e-3, 3e-3, 1e-3, 2e-3, 3e-3}};
+  c.eMo = RF::HandEye{{0.023, -0.005, -0.056, 0.01, 0.02, 0.03}, {4e-4, 5e-4, 6e-4, 4e-3, 5e-3, 6e-3}};
+  const std::string text = RF::toYaml(c);
+  EXPECT_NE(text.find("bMc:  # the camera in the robot's base frame"), std::string::npos) << text;
+  EXPECT_NE(text.find("{pose: [0.94999999999999996, -0.050000000000000003"), std::string::npos) << text;
+  EXPECT_NE(text.find("eMo:  # the target in the end-effector frame"), std::string::npos) << text;
+  EXPECT_EQ(text.find("eMc:"), std::string::npos) << text;
+  const RF::Contents back = RF::fromYaml(text);
+  ASSERT_TRUE(back.bMc && back.eMo);
+  EXPECT_FALSE(back.eMc);
+  EXPECT_EQ(back.bMc->pose, c.bMc->pose);
+  EXPECT_EQ(back.bMc->sd, c.bMc->sd);
+  EXPECT_EQ(back.eMo->pose, c.eMo->pose);
+  EXPECT_EQ(back.eMo->sd, c.eMo->sd);
+  EXPECT_EQ(RF::toYaml(back), text);
+}

@@ -118,6 +118,13 @@ public:
     */
     bool hand_eye_only = false;
     /*!
+      Hand-eye-only mode, eye-to-hand: each view's fMe is the inverse of a controller pose bMe (the
+      effector frame plays f, the camera's base pose bMc plays eMc, the target's points are in the
+      effector frame). The controller pose's error stays modelled where it is made, on bMe's right:
+      the view's pose is (bMe E(delta))^-1 = E(delta)^-1 fMe, delta's prior the noise model's pose_sd.
+    */
+    bool controller_poses_inverted = false;
+    /*!
       Scale the covariance by sigma0^2 when sigma0 > 1: the residuals say the stated noise (pixel
       and robot) is too small, and the standard deviations are widened accordingly (the a
       posteriori variance factor). Off by default.
@@ -168,6 +175,15 @@ public:
     vpKinematicIdentification::Identifiability identifiability; //!< estimated and left-out parameters
     ScaleSource scale_source = SCALE_NOMINAL;
     std::map<int, vpColVector> points;       //!< scene points in f (3-vectors), by id
+    /*!
+      With known points (Options::known_points): the object's pose fMo (t, theta u), and with the
+      covariance its 6 x 6 covariance (t in m, theta u in rad; the points marginalized, scaled as
+      the rest) and its sd.
+    */
+    bool has_object = false;
+    vpPoseVector object_pose;
+    vpMatrix object_covariance;
+    vpColVector object_sd;
     vpColVector sd;                          //!< per chain parameter (0 for those not estimated)
     //! Estimated intrinsics: "fx", "mu", "u0", "v0", then "kud" or OpenCV's "k1", "k2", "p1", "p2", "k3".
     std::vector<std::string> intrinsic_names;

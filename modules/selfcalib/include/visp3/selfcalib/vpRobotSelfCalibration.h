@@ -241,6 +241,16 @@ public:
     bool has_eMc = false;
     vpPoseVector eMc;
     vpColVector eMc_sd;
+    /*!
+      Eye-to-hand (dataset camera_mount world, HAND_EYE): the camera in the robot's base frame bMc
+      and the target in the end-effector frame eMo (a board's pose; has_eMo false for natural
+      features, whose points in the effector frame are bundle.points), each a pose vector with its
+      sd from the covariance (the controller poses' error modelled). has_eMc is then false.
+    */
+    vpSelfCalibDataset::CameraMount camera_mount = vpSelfCalibDataset::CAMERA_ON_EFFECTOR;
+    bool has_bMc = false, has_eMo = false;
+    vpPoseVector bMc, eMo;
+    vpColVector bMc_sd, eMo_sd;
     vpKinematicChain calibrated;           //!< the nominal model with the identified corrections
     vpCameraParameters camera;             //!< with the focal length used
     /*!
@@ -357,6 +367,11 @@ public:
 
   //! The data check options a run uses: options.data_check (its noise: noiseModel()).
   static vpSelfCalibDataCheck::Options dataCheckOptions(const Options &options);
+
+private:
+  //! run() once the camera's mount is resolved: the eye-in-hand problem (eye-to-hand: inverted poses).
+  static Result runMounted(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset, const Options &options,
+                           const Progress &progress);
 };
 
 #endif

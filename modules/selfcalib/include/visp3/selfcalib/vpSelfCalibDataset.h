@@ -40,6 +40,10 @@
   # or camera_xml: {file: camera.xml, name: Camera}   (vpXmlParserCamera; a distortion model in it is
   #    applied: every observation is undistorted and the dataset's camera has none)
   robot: viper850                 # preset name or robot-model file (relative to this file)
+  camera_mount: effector          # optional: effector (default, eye-in-hand: the camera on the flange,
+                                  # the scene fixed in the base frame) or world (eye-to-hand: the camera
+                                  # fixed in the robot's world, the target carried by the end-effector;
+                                  # the unknowns are then bMc and the target in the effector frame eMo)
   robot_error: {pose_sd: [0.002, 0.002], joint_sd: [1e-4]}   # optional: the expected error of the
                                   # controller poses (m, rad) and of the joint readings (rad; one for
                                   # every joint or one per joint); absent: exact
@@ -73,7 +77,16 @@ struct VISP_SELFCALIB_EXPORT vpSelfCalibDataset {
     bool isSet() const { return length > 0 && id_a >= 0 && id_b >= 0 && id_a != id_b; }
   };
 
+  //! Where the camera is: on the end-effector (eye-in-hand) or fixed in the robot's world (eye-to-hand).
+  enum CameraMount {
+    CAMERA_ON_EFFECTOR, //!< eye-in-hand: unknown eMc, the scene fixed in the base frame (default)
+    CAMERA_IN_WORLD     //!< eye-to-hand: unknown bMc, the target fixed on the end-effector (unknown eMo)
+  };
+  //! The file's name of a mount ("effector" or "world").
+  static const char *cameraMountName(CameraMount m);
+
   vpCameraParameters cam;      //!< intrinsics; px, py are a first guess when !focal_known
+  CameraMount camera_mount = CAMERA_ON_EFFECTOR; //!< key camera_mount: effector (default) or world
   unsigned int width = 0, height = 0;
   bool focal_known = true;     //!< false: the focal length is to be self-calibrated
   /*!

@@ -33,7 +33,9 @@
     .jpg, .pgm, .ppm, .bmp, .tif), and a camera XML (vpXmlParserCamera): `<prefix>_camera.xml`, else
     the only .xml file of the folder; its only camera, or the one named "Camera". Poses and images
     are paired by N, in numerical order. `chessboard-data.txt` ("9 x 6", "square size: 0.0236 m"),
-    when present, describes the board.
+    when present, describes the board. `apriltag-data.txt` ("36h11", "size: 0.048 m") marks ViSP's
+    eye-to-hand folder: a tag on the tool, the camera fixed in the world (the dataset's
+    camera_mount: world; the pose files are then base -> end-effector).
   - industrial_calibration's `cal_data.yaml` (the file or its folder): `data: [{pose, image}, ...]`
     (paths relative to the file), in the listed order; `intrinsics: {fx, fy, cx, cy}`;
     `target_finder` (type, rows, cols, spacing) describes the board;
@@ -104,6 +106,7 @@ public:
     std::string camera;              //!< where the intrinsics come from, their values and how they are taken
     std::string robot;               //!< the robot model used and where its eMc guess comes from
     std::string board;               //!< the calibration board described by the data, "" when none
+    std::string board_option;        //!< calibrate's --board for it when the importer knows one (an AprilTag)
     std::string robot_error;         //!< the robot pose error the dataset states, and why
     std::vector<Unused> unused;
   };

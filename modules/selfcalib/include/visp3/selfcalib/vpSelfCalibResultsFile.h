@@ -37,6 +37,8 @@
   - `camera`: `{px, py, u0, v0, px_sd, distortion}`: `distortion` (opt.) OpenCV's k1 k2 p1 p2 k3.
   - `intrinsics_estimated` (opt., bundle adjustment with a covariance): per intrinsic, `[value, sd]`.
   - `eMc` (opt.): `{pose: [tx, ty, tz, tux, tuy, tuz], sd: [6 values]}`.
+  - `bMc`, `eMo` (opt., camera_mount world): the camera in the robot's base frame and the target in
+    the end-effector frame, in the form of `eMc`.
   - `bundle_adjustment` (opt., methods bundle and hand-eye): `{observations, dropped, rms_px,
     sigma0, scale_from}`, then with robot pose corrections `robot_pose_rms_m`, `robot_pose_rms_rad`,
     `robot_pose_sd: [T, R]` and, when measured, `robot_pose_sd_measured: [T, R]`; with joint
@@ -158,6 +160,7 @@ public:
     Camera camera;
     std::vector<Estimate> intrinsics_estimated; //!< empty: not written
     std::optional<HandEye> eMc;
+    std::optional<HandEye> bMc, eMo; //!< eye-to-hand: the camera in the base frame, the target in the effector frame
     std::optional<BundleAdjustment> bundle_adjustment;
     std::optional<NoiseAndFit> noise;
     std::vector<Estimate> estimated;

@@ -155,6 +155,49 @@ public:
   vpSelfCalibDataset acquire(vpRobot &robot, const std::vector<vpColVector> &configurations,
                              const Progress &progress = Progress()) const;
 
+  //! An eye-to-hand set-up: a camera fixed in the robot's world and a target carried by the tool.
+  struct EyeToHandOptions {
+    unsigned int seed = 1;       //!< the geometry (target, poses) and, unless noise_seed, the noise
+    unsigned int noise_seed = 0; //!< the image noise and the pose error (0: from seed): draws on one geometry
+    unsigned int num_views = 12;
+    //! Camera: bMc looks from `camera_position` (base frame, m) at `look_at`; pinhole intrinsics.
+    vpColVector camera_position = vpColVector({1.2, 0.1, 0.6});
+    vpColVector look_at = vpColVector({0.5, 0.0, 0.3});
+    unsigned int width = 640, height = 480;
+    double px = 600, py = 600, u0 = 320, v0 = 240;
+    /*!
+      The target: board true: a planar grid of board_cols x board_rows points board_spacing apart
+      (id board_id_offset + r * board_cols + c at (c, r) board_spacing, z = 0: vpBoardDetector's chessboard layout
+      for cols x rows inner corners), in the target frame o; false: num_points
+      natural features in a box of box_size (m) about o. eMo: the target in the effector frame.
+    */
+    bool board = true;
+    unsigned int board_cols = 6, board_rows = 5;
+    double board_spacing = 0.02;
+    int board_id_offset = 2000000; //!< the first board point's id (vpBoardDetector's default)
+    unsigned int num_points = 40;
+    double box_size = 0.08;
+    vpPoseVector eMo = vpPoseVector(0.02, -0.01, 0.06, 0.1, -0.15, 0.3);
+    //! Target poses: distance from the camera (m), lateral range (m), tilt range (rad) about the facing pose.
+    double distance_min = 0.35, distance_max = 0.6, lateral = 0.08, tilt = 30 * M_PI / 180.0;
+    double pixel_noise_sd = 0.2;                 //!< px, Gaussian, on u and v
+    double pose_sd_translation = 0, pose_sd_rotation = 0; //!< the controller poses' error (m, rad)
+  };
+  //! What the eye-to-hand simulation draws: the truth the calibration should recover.
+  struct EyeToHandTruth {
+    vpHomogeneousMatrix bMc, eMo;
+    std::vector<vpHomogeneousMatrix> bMe;   //!< the true end-effector poses (the dataset's are measured)
+    std::map<int, vpColVector> layout;      //!< the target's points in o, by id
+  };
+  /*!
+    Points data of an eye-to-hand set-up (dataset camera_mount world, robot `viper850`, every view a
+    controller pose fMe = bMe): the target at random poses facing the camera, its points projected
+    through the true pose bMe_true, the controller pose written as bMe_true E(delta)^-1 (so that the
+    true pose is the measured one times E(delta), delta ~ N(0, pose_sd) per component), image noise
+    added. Seeded: the same options give the same data.
+  */
+  static vpSelfCalibDataset simulateEyeToHand(const EyeToHandOptions &options, EyeToHandTruth &truth);
+
 private:
   bool inverseKinematics(const vpHomogeneousMatrix &fMc, const vpColVector &q0, vpColVector &q) const;
 
