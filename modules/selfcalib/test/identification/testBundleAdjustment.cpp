@@ -537,6 +537,7 @@ HandEyeRun handEyeWithPoseError(uint64_t seed, double sd_t, double sd_r, double 
   o.num_calibration_poses = 12;
   o.noise.pose_sd_translation = model_t;
   o.noise.pose_sd_rotation = model_r;
+  o.trust_robot = !(model_t > 0); // 0: the poses trusted (not the default's measured error)
   if (measure_pose_sd)
     o.noise.pose_sd_origin = vpSelfCalibNoiseModel::MEASURED;
   const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
