@@ -24,7 +24,6 @@
 #include <sys/stat.h>
 
 #include "../testCommon.h"
-#include "core/vpSelfCalibMath.h"
 
 using namespace selfcalib_test;
 
@@ -502,23 +501,6 @@ TEST(Report, WithoutGnuplotTheDataAndTheTextAreStillWritten)
   EXPECT_THROW(vpSelfCalibReport::write("/nonexistent/dir/report", run, ro), vpSelfCalibException);
 }
 
-namespace
-{
-//! Hand-eye data of the simulated Viper850: 12 controller poses fMe, each off by a pose error of sd (t m, r rad).
-vpSelfCalibDataset controllerPoses(const vpSelfCalibSimulator &sim, uint64_t seed, double sd_t, double sd_r)
-{
-  vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
-  vpSelfCalib::Random rng(seed, 98);
-  for (auto &v : ds.views) {
-    const double d[6] = {rng.normal(sd_t), rng.normal(sd_t), rng.normal(sd_t),
-                         rng.normal(sd_r), rng.normal(sd_r), rng.normal(sd_r)};
-    v.has_fMe = true;
-    v.fMe = sim.getTrueChain().get_fMe(v.q) * vpSelfCalib::toVisp(vpSelfCalib::rigidFromVector(d));
-    v.q = vpColVector();
-  }
-  return ds;
-}
-} // namespace
 
 /*
   Hand-eye models the controller poses' error by default and measures it: poses without error
@@ -534,7 +516,8 @@ TEST(RobotSelfCalibration, HandEyeMeasuresTheRobotErrorByDefault)
     RSC::Options o;
     o.method = RSC::HAND_EYE;
     o.num_calibration_poses = 12;
-    vpSelfCalibDataset ds = controllerPoses(sim, seed, 0, 0);
+    vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
+    toControllerPoses(sim, ds, 0, 0, seed, 98);
     const vpSelfCalibNoiseModel start = RSC::noiseModel(o, ds);
     EXPECT_EQ(start.pose_sd_translation, 1e-3);
     EXPECT_EQ(start.pose_sd_rotation, 1e-3);
@@ -554,7 +537,8 @@ TEST(RobotSelfCalibration, HandEyeMeasuresTheRobotErrorByDefault)
       EXPECT_NEAR(r.calibrated.getParameters()[i], t.calibrated.getParameters()[i], 1e-9) << seed << " " << i;
 
     // 2 mm / 2 mrad of pose error: measured, and eMc within 3 of its sd of the truth.
-    ds = controllerPoses(sim, seed, 2e-3, 2e-3);
+    ds = sim.makeDataset(sim.generateConfigurations(12));
+    toControllerPoses(sim, ds, 2e-3, 2e-3, seed, 98);
     const RSC::Result e = RSC::run(sim.getNominalChain(), ds, o);
     ASSERT_EQ(e.status, RSC::OK) << seed << ": " << e.message;
     EXPECT_GT(e.noise.pose_sd_translation, 1.2e-3) << seed;
