@@ -125,11 +125,11 @@ std::string writeResults(const fs::path &stage, const std::string &dataset, cons
 void stateRobotError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po)
 {
   // A stated robot error: the sd are widened by sigma0 when the residuals say the noise is larger.
-  if (!a.joint_sd.empty() || a.pose_sd.size() == 2) // two numbers (auto comes alone)
+  if (!a.joint_sd.empty() || (a.pose_sd.size() == 2 && !po.trust_robot)) // two numbers (auto and 0 come alone)
     po.bundle.scale_covariance = true;
   if (!a.joint_sd.empty() && po.method != vpRobotSelfCalibration::PAPER)
     po.noise.joint_sd = a.joint_sd;
-  if (a.pose_sd.size() != 2)
+  if (a.pose_sd.size() != 2 || po.trust_robot)
     return;
   // The controller poses' error (hand-eye), or the kinematic model's residual (bundle); the
   // paper's method models neither.
@@ -186,10 +186,6 @@ int calibrate(const CalibrateArgs &a)
   if (pose_auto && po.method != vpRobotSelfCalibration::HAND_EYE)
     std::cerr << "warning: --pose-sd auto measures the controller poses' error (hand-eye); the method is "
               << vpRobotSelfCalibration::methodName(po.method) << ", so it is not used\n";
-  else if (pose_auto && !(ds.pose_sd_translation > 0)) { // no robot_error to start from: a serial arm's accuracy
-    po.noise.pose_sd_translation = po.noise.pose_sd_rotation = 2e-3;
-    po.bundle.scale_covariance = true;
-  }
   stateRobotError(a, po);
   const vpSelfCalibProtocol::Options protocol_options = protocolOptions(a, co);
   const vpSelfCalibProtocol::Plan plan =

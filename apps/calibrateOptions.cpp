@@ -98,16 +98,15 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
   c->add_option("--pose-sd", a.pose_sd,
                 "hand-eye: the controller poses' error, translation (m) and rotation (rad) sd,\n"
                 "e.g. 0.002,0.002: each pose gets a correction with that prior, and the sd are\n"
-                "widened by sigma0 when the residuals say the noise is larger (default: the dataset's\n"
-                "robot_error, else exact poses); bundle-adjustment: the kinematic model's own residual\n"
-                "(each camera pose corrected in its own frame with that prior; default: none);\n"
-                "auto: measured from the corrections (variance components), from the dataset's\n"
-                "robot_error or 2 mm / 2 mrad, runs again until it settles within 10 % (the default\n"
-                "when the dataset states a robot_error)")
-      ->type_name("T,R|auto")
+                "widened by sigma0 when the residuals say the noise is larger; bundle-adjustment: the\n"
+                "kinematic model's own residual (each camera pose corrected in its own frame with that\n"
+                "prior; default: none); auto (hand-eye's default): measured from the corrections\n"
+                "(variance components), from the dataset's robot_error or 1 mm / 1 mrad, runs again\n"
+                "until it settles within 10 %; 0: the controller poses are exact (no error modelled)")
+      ->type_name("T,R|auto|0")
       ->delimiter(',')
       ->expected(1, 2)
-      ->check(selfcalibCli::wordOrNumber("auto", 0, true, 10));
+      ->check(selfcalibCli::wordOrNumber("auto", 0, false, 10));
   c->add_option("--joint-sd", a.joint_sd,
                 "bundle-adjustment: the joint readings' error (rad), one value for every joint or one\n"
                 "per joint, e.g. 1e-4: each view gets joint corrections with that prior, and the sd are\n"
@@ -300,8 +299,12 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
   if (pose_auto && !a.method.empty() && co.method != vpRobotSelfCalibration::HAND_EYE)
     throw CLI::ValidationError("--pose-sd", "auto measures the controller poses' error: it needs --method hand-eye "
                                             "(the joint readings' error is stated with --joint-sd)");
-  if (!pose_auto && a.pose_sd.size() == 1)
-    throw CLI::ValidationError("--pose-sd", "give two values, T,R (m, rad), or auto");
+  const bool trusted = std::all_of(a.pose_sd.begin(), a.pose_sd.end(), [](const std::string &v) { return v != "auto" && std::stod(v) == 0; });
+  if (!pose_auto && a.pose_sd.size() == 1 && !trusted)
+    throw CLI::ValidationError("--pose-sd", "give two values, T,R (m, rad), or auto, or 0 (exact poses)");
+  if (a.pose_sd.size() == 2 && !trusted && (std::stod(a.pose_sd[0]) == 0 || std::stod(a.pose_sd[1]) == 0))
+    throw CLI::ValidationError("--pose-sd", "T and R are both positive (the error modelled) or both 0 (exact poses)");
+  po.trust_robot = trusted && !a.pose_sd.empty();
   // Measured by default from the dataset's robot_error when it states one (below, once it is read).
   if (pose_auto || a.pose_sd.empty())
     po.noise.pose_sd_origin = vpSelfCalibNoiseModel::MEASURED;

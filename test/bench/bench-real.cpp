@@ -14,7 +14,7 @@
  *   3. the same as 2 with f self-calibrated (FOCAL_SHARED, from the XML's px);
  *   4. OpenCV on the same corners with the board's layout known: solvePnP per image with the XML
  *      intrinsics, then calibrateHandEye (Tsai, Park, Daniilidis);
- *   6. as 2 with the pose error measured from 2 mm / 2 mrad (calibrate's default, --pose-sd auto).
+ *   6. as 2 with nothing stated: the pose error measured from 1 mm / 1 mrad (the default).
  * Each is compared with the reference of shared/data/README.md (ViSP's published eMc; the three
  * OpenCV methods agree with it within 0.6 mm and 0.9 mrad): translation difference per axis (mm),
  * rotation difference as the theta-u of R_ref^T R_est (mrad), and, for our rows, the largest
@@ -555,7 +555,9 @@ int main(int argc, char **argv)
     po.num_calibration_poses = m;
     po.noise.pixel_sd = 0.2;
     po.focal_mode = vpRobotSelfCalibration::FOCAL_KNOWN;
+    po.trust_robot = true; // as calibrate --pose-sd 0
     rows.push_back(ours("1. ours, f known, poses trusted", nominal, ds, po));
+    po.trust_robot = false;
     po.noise.pose_sd_translation = 0.003; // as calibrate --pose-sd 0.003,0.003
     po.noise.pose_sd_rotation = 0.003;
     po.bundle.scale_covariance = true;
@@ -619,13 +621,14 @@ int main(int argc, char **argv)
       }
     }
 
-    // calibrate's default on this dataset: the pose error measured from the imported 2 mm / 2 mrad
-    // (--pose-sd auto), after the OpenCV rows so that the targets' row numbers stay.
+    // The default with no robot error stated (neither the options nor the dataset): the pose error
+    // measured from robotErrorPrior(), 1 mm / 1 mrad, after the OpenCV rows so that the targets'
+    // row numbers stay.
     po.bundle.known_points.clear();
-    po.noise.pose_sd_translation = po.noise.pose_sd_rotation = 0.002;
-    po.noise.pose_sd_origin = vpSelfCalibNoiseModel::MEASURED;
-    rows.push_back(
-        ours("6. ours, f known, pose sd measured from 2 mm / 2 mrad (calibrate's default)", nominal, ds, po));
+    po.noise.pose_sd_translation = po.noise.pose_sd_rotation = 0;
+    po.bundle.scale_covariance = false;
+    rows.push_back(ours("6. ours, f known, pose sd measured from 1 mm / 1 mrad (the default, no robot_error)", nominal,
+                        ds, po));
 
     for (Row &row : rows)
       compare(row, ref);

@@ -9,6 +9,7 @@
 
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
+#include "core/vpSelfCalibMath.h"
 #include "core/vpSelfCalibRandom.h"
 
 namespace selfcalib_test
@@ -31,6 +32,23 @@ inline void corrupt(vpSelfCalibDataset &ds, double fraction, uint64_t seed, uint
     for (auto &o : v.points)
       if (rng.uniform(0, 1) < fraction)
         o.ip = vpImagePoint(rng.uniform(0, ds.height), rng.uniform(0, ds.width));
+}
+
+/*!
+  Hand-eye data: the views of ds given as controller poses fMe (the true flange pose of sim's robot,
+  each off by a pose error of sd (t m, r rad), random stream `stream` of the seed) and no joints.
+*/
+inline void toControllerPoses(const vpSelfCalibSimulator &sim, vpSelfCalibDataset &ds, double sd_t, double sd_r,
+                              uint64_t seed, uint64_t stream)
+{
+  vpSelfCalib::Random rng(seed, stream);
+  for (auto &v : ds.views) {
+    const double d[6] = {rng.normal(sd_t), rng.normal(sd_t), rng.normal(sd_t),
+                         rng.normal(sd_r), rng.normal(sd_r), rng.normal(sd_r)};
+    v.has_fMe = true;
+    v.fMe = sim.getTrueChain().get_fMe(v.q) * vpSelfCalib::toVisp(vpSelfCalib::rigidFromVector(d));
+    v.q = vpColVector();
+  }
 }
 } // namespace selfcalib_test
 

@@ -3,6 +3,8 @@
  */
 #include "vpSelfCalibCamera.h"
 
+#include <limits>
+
 #include <cmath>
 
 #include <Eigen/LU>
@@ -58,6 +60,42 @@ Eigen::Vector2d CameraModel::project(const Eigen::Vector3d &Xc) const
   Eigen::Vector2d uv;
   projectPoint(m_distortion, m_in.data(), Xc.data(), uv.data());
   return uv;
+}
+
+double CameraModel::validRadius2() const
+{
+  const double *k = m_in.data() + 4;
+  // d(r g(r^2))/dr as a polynomial of s = r^2.
+  const auto slope = [&](double s) {
+    if (m_distortion == Distortion::VISP)
+      return 1 + 3 * k[0] * s;
+    return 1 + s * (3 * k[0] + s * (5 * k[1] + s * 7 * k[4]));
+  };
+  constexpr double kLargest = 1e4; // r = 100
+  if (m_distortion == Distortion::NONE)
+    return std::numeric_limits<double>::infinity();
+  // The first sign change on a geometric scan of s, then bisection (the slope is 1 at s = 0).
+  double lo = 0;
+  for (double s = 1e-4; s <= kLargest; s *= 1.25) {
+    if (slope(s) <= 0) {
+      double hi = s;
+      for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (slope(mid) > 0 ? lo : hi) = mid;
+      }
+      return lo;
+    }
+    lo = s;
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+bool CameraModel::sees(const Eigen::Vector3d &Xc) const
+{
+  if (!inFront(Xc))
+    return false;
+  const double x = Xc(0) / Xc(2), y = Xc(1) / Xc(2);
+  return x * x + y * y < validRadius2();
 }
 
 Eigen::Matrix2d CameraModel::distortionJacobian(Distortion model, const double *k, double x, double y, double *J_k)

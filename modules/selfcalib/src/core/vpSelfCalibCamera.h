@@ -111,6 +111,21 @@ public:
   //! Pixel of Xc (camera frame); no cheirality test.
   Eigen::Vector2d project(const Eigen::Vector3d &Xc) const;
   /*!
+    The largest r^2 = x^2 + y^2 (normalized undistorted coordinates) where the model's radial
+    distortion is valid: where the distorted radius r g(r^2) still grows with r (d/dr > 0: 1 + 3 k1 r^2
+    + 5 k2 r^4 + 7 k3 r^6 > 0 for OPENCV, 1 + 3 k_ud r^2 > 0 for VISP). Beyond it the polynomial
+    folds back and then diverges (a point at r = 10 through k1 = -0.3 lands 4e5 px away): a lens
+    model fitted on the image says nothing there. Infinity without distortion, or when the radius
+    grows up to r = 100 (a field of view beyond any lens).
+  */
+  double validRadius2() const;
+  /*!
+    Whether the camera sees Xc through its model: in front (inFront()) and inside validRadius2().
+    A point outside is not seen: a figure over projected points leaves it out, never counts the
+    polynomial's value there.
+  */
+  bool sees(const Eigen::Vector3d &Xc) const;
+  /*!
     Pixel of Xc and, on request, d uv / d Xc (2 x 3) and d uv / d in (2 x size(), row-major array).
     False (and nothing written) when Xc is not in front of the camera.
   */

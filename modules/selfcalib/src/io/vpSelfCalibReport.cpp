@@ -46,9 +46,10 @@ std::vector<std::vector<double>> residuals(const vpKinematicChain &model, const 
       for (unsigned int a = 0; a < 3; ++a)
         P[a] = it->second[a];
       const vpColVector c = cMf * P;
-      if (!(c[2] > 0))
-        continue;
-      const Eigen::Vector2d uv = camera.project(Eigen::Vector3d(c[0], c[1], c[2]));
+      const Eigen::Vector3d Xc(c[0], c[1], c[2]);
+      if (!camera.sees(Xc))
+        continue; // behind the camera, or outside its lens model's valid region
+      const Eigen::Vector2d uv = camera.project(Xc);
       out[k].push_back(std::hypot(uv(0) - o.ip.get_u(), uv(1) - o.ip.get_v()));
     }
   }

@@ -59,6 +59,9 @@ vpSelfCalibNoiseModel withDatasetRobotError(const vpRobotSelfCalibration::Option
   }
   if (opt.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT && noise.joint_sd.empty() && !ds.joint_sd.empty())
     noise.joint_sd = ds.joint_sd;
+  // Nothing states the controller poses' error: a real arm has one, so it is modelled and measured.
+  if (opt.method == vpRobotSelfCalibration::HAND_EYE && !noise.hasPoseError() && !opt.trust_robot)
+    noise = vpRobotSelfCalibration::robotErrorPrior(noise);
   return noise;
 }
 } // namespace
@@ -210,6 +213,11 @@ vpKinematicBundleAdjustment::Options vpRobotSelfCalibration::bundleOptions(const
       bo.opencv_distortion = ds.opencv_distortion;
   }
   return bo;
+}
+
+vpSelfCalibNoiseModel vpRobotSelfCalibration::robotErrorPrior(const vpSelfCalibNoiseModel &noise)
+{
+  return noise.withPoseError(1e-3, 1e-3, vpSelfCalibNoiseModel::MEASURED);
 }
 
 vpSelfCalibDataCheck::Options vpRobotSelfCalibration::dataCheckOptions(const Options &opt) { return opt.data_check; }

@@ -102,6 +102,7 @@ vpSelfCalibCrossValidation::reprojection(const vpKinematicChain &model, const vp
   Reprojection r;
   r.points = static_cast<unsigned int>(X.size());
   std::vector<double> errors;
+  const double valid_r2 = camera.validRadius2();
   for (size_t k = 0; k < test_views.size(); ++k)
     for (const auto &o : test_views[k].points) {
       const auto it = X.find(o.id);
@@ -110,6 +111,11 @@ vpSelfCalibCrossValidation::reprojection(const vpKinematicChain &model, const vp
       const Eigen::Vector3d Xc = cMf[k] * it->second;
       if (!inFront(Xc)) {
         ++r.behind;
+        continue;
+      }
+      // Outside the lens model's valid region the polynomial's pixel is no prediction: not seen.
+      if (Xc.head<2>().squaredNorm() / (Xc(2) * Xc(2)) >= valid_r2) {
+        ++r.outside;
         continue;
       }
       errors.push_back((camera.project(Xc) - Eigen::Vector2d(o.ip.get_u(), o.ip.get_v())).norm());

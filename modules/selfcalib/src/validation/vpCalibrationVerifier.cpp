@@ -46,8 +46,10 @@ std::vector<double> errorsOf(const CameraModel &camera, const Seen &s, const Eig
   std::vector<double> e;
   for (size_t k = 0; k < s.uv.size(); ++k) {
     Eigen::Vector2d uv;
-    e.push_back(camera.project(s.cMf[k] * X, uv, nullptr, nullptr) ? (uv - s.uv[k]).cwiseAbs().maxCoeff()
-                                                                     : std::numeric_limits<double>::infinity());
+    // A point outside the lens model's valid region is not seen (as one behind the camera).
+    const Eigen::Vector3d Xc = s.cMf[k] * X;
+    e.push_back(camera.sees(Xc) && camera.project(Xc, uv, nullptr, nullptr) ? (uv - s.uv[k]).cwiseAbs().maxCoeff()
+                                                                            : std::numeric_limits<double>::infinity());
   }
   return e;
 }
@@ -161,8 +163,8 @@ vpCalibrationVerifier::Result vpCalibrationVerifier::verify(const vpKinematicCha
         continue;
       const Eigen::Vector3d Xc = cMf * Eigen::Vector3d(X->second[0], X->second[1], X->second[2]);
       Eigen::Vector2d uv;
-      if (!camera.project(Xc, uv, nullptr, nullptr))
-        continue;
+      if (!camera.sees(Xc) || !camera.project(Xc, uv, nullptr, nullptr))
+        continue; // behind the camera, or outside its lens model's valid region: not seen
       sum += (uv - Eigen::Vector2d(o.ip.get_u(), o.ip.get_v())).squaredNorm();
       ++res.num_observations;
     }

@@ -524,19 +524,13 @@ HandEyeRun handEyeWithPoseError(uint64_t seed, double sd_t, double sd_r, double 
 {
   vpSelfCalibSimulator sim = makeSim("viper850", seed, 0.2);
   vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
-  vpSelfCalib::Random rng(seed, 99);
-  for (auto &v : ds.views) {
-    const double d[6] = {rng.normal(sd_t), rng.normal(sd_t), rng.normal(sd_t),
-                         rng.normal(sd_r), rng.normal(sd_r), rng.normal(sd_r)};
-    v.has_fMe = true;
-    v.fMe = sim.getTrueChain().get_fMe(v.q) * toVisp(rigidFromVector(d));
-    v.q = vpColVector();
-  }
+  toControllerPoses(sim, ds, sd_t, sd_r, seed, 99);
   vpRobotSelfCalibration::Options o;
   o.method = vpRobotSelfCalibration::HAND_EYE;
   o.num_calibration_poses = 12;
   o.noise.pose_sd_translation = model_t;
   o.noise.pose_sd_rotation = model_r;
+  o.trust_robot = !(model_t > 0); // 0: the poses trusted (not the default's measured error)
   if (measure_pose_sd)
     o.noise.pose_sd_origin = vpSelfCalibNoiseModel::MEASURED;
   const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);

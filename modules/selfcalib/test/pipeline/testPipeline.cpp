@@ -500,3 +500,63 @@ TEST(Report, WithoutGnuplotTheDataAndTheTextAreStillWritten)
   run.front_end = nullptr;
   EXPECT_THROW(vpSelfCalibReport::write("/nonexistent/dir/report", run, ro), vpSelfCalibException);
 }
+
+
+/*
+  Hand-eye models the controller poses' error by default and measures it: poses without error
+  measure it below a serial arm's repeatability and the run ends at exact poses (the trusted run's
+  estimate); poses off by 2 mm / 2 mrad measure about that, the sd of eMc covering its error. A
+  stated error (the options', the dataset's) is used as stated; trust_robot keeps exact poses.
+*/
+TEST(RobotSelfCalibration, HandEyeMeasuresTheRobotErrorByDefault)
+{
+  using RSC = vpRobotSelfCalibration;
+  for (uint64_t seed : {31, 32}) {
+    const vpSelfCalibSimulator sim = makeSim("viper850", seed, 0.2);
+    RSC::Options o;
+    o.method = RSC::HAND_EYE;
+    o.num_calibration_poses = 12;
+    vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
+    toControllerPoses(sim, ds, 0, 0, seed, 98);
+    const vpSelfCalibNoiseModel start = RSC::noiseModel(o, ds);
+    EXPECT_EQ(start.pose_sd_translation, 1e-3);
+    EXPECT_EQ(start.pose_sd_rotation, 1e-3);
+    EXPECT_EQ(start.pose_sd_origin, vpSelfCalibNoiseModel::MEASURED);
+    const RSC::Result r = RSC::run(sim.getNominalChain(), ds, o);
+    ASSERT_EQ(r.status, RSC::OK) << seed << ": " << r.message;
+    EXPECT_FALSE(r.noise.hasPoseError()) << seed << ": " << r.noise.pose_sd_translation;
+    EXPECT_EQ(r.noise.pose_sd_origin, vpSelfCalibNoiseModel::MEASURED);
+    for (const auto &f : r.findings)
+      EXPECT_NE(f.code, "robot-error-not-settled") << seed << ": " << f.message;
+    RSC::Options trusted = o;
+    trusted.trust_robot = true;
+    EXPECT_FALSE(RSC::noiseModel(trusted, ds).hasPoseError());
+    const RSC::Result t = RSC::run(sim.getNominalChain(), ds, trusted);
+    ASSERT_EQ(t.status, RSC::OK) << seed << ": " << t.message;
+    for (unsigned int i = 0; i < t.calibrated.getNumParameters(); ++i)
+      EXPECT_NEAR(r.calibrated.getParameters()[i], t.calibrated.getParameters()[i], 1e-9) << seed << " " << i;
+
+    // 2 mm / 2 mrad of pose error: measured, and eMc within 3 of its sd of the truth.
+    ds = sim.makeDataset(sim.generateConfigurations(12));
+    toControllerPoses(sim, ds, 2e-3, 2e-3, seed, 98);
+    const RSC::Result e = RSC::run(sim.getNominalChain(), ds, o);
+    ASSERT_EQ(e.status, RSC::OK) << seed << ": " << e.message;
+    EXPECT_GT(e.noise.pose_sd_translation, 1.2e-3) << seed;
+    EXPECT_LT(e.noise.pose_sd_translation, 3e-3) << seed;
+    EXPECT_GT(e.noise.pose_sd_rotation, 1.2e-3) << seed;
+    EXPECT_LT(e.noise.pose_sd_rotation, 3e-3) << seed;
+    const unsigned int first = sim.getTrueChain().getNumParameters() - vpKinematicChain::kBlockSize;
+    for (unsigned int i = first; i < first + 6; ++i)
+      EXPECT_LT(std::fabs(e.calibrated.getParameters()[i] - sim.getTrueChain().getParameters()[i]),
+                3 * e.parameter_sd[i])
+          << seed << " " << i;
+
+    // Stated errors are used as stated.
+    ds.pose_sd_translation = 5e-3;
+    ds.pose_sd_rotation = 4e-3;
+    EXPECT_EQ(RSC::noiseModel(o, ds).pose_sd_translation, 5e-3);
+    EXPECT_EQ(RSC::noiseModel(trusted, ds).pose_sd_rotation, 4e-3);
+    o.noise.pose_sd_translation = o.noise.pose_sd_rotation = 3e-3;
+    EXPECT_EQ(RSC::noiseModel(o, ds).pose_sd_translation, 3e-3);
+  }
+}

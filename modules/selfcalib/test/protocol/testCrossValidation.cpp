@@ -21,6 +21,9 @@
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
 #include "../testCommon.h"
+#include "core/vpSelfCalibCamera.h"
+#include "core/vpSelfCalibMath.h"
+#include "core/vpSelfCalibRandom.h"
 
 using namespace selfcalib_test;
 using CV = vpSelfCalibCrossValidation;
@@ -293,4 +296,61 @@ TEST(CrossValidation, ReportHasTheFoldsAndNoEmptyFigure)
   row << "| 2 | 2 5 8 | ok | " << std::fixed << std::setprecision(3) << cv.fold[1].fx << " | "
       << cv.fold[1].calibrated.rms << " | " << cv.fold[1].nominal.rms << " |";
   EXPECT_NE(text.find(row.str()), std::string::npos) << row.str() << "\n" << text;
+}
+
+/*
+  A real lens (k1 = -0.3: its distortion polynomial folds back beyond r^2 = 1 / 0.9) and scene points
+  the predicted camera has far outside its image (a wrong match, or a wrong nominal model's
+  triangulation): they are not seen (counted in `outside`), and the held-out figure stays the one of
+  the points in the image instead of the polynomial's value there (4e5 px at r = 5.6).
+*/
+TEST(CrossValidation, PointsOutsideTheLensModelAreNotSeen)
+{
+  const vpKinematicChain model = vpKinematicChain::fromPresetOrFile("viper850");
+  const vpHomogeneousMatrix eMc = model.get_eMc_corrected();
+  const std::vector<double> lens = {-0.3, 0, 0, 0, 0};
+  const vpCameraParameters cam(800, 800, 640, 360); // 1280 x 720
+  const double in[9] = {800, 1, 640, 360, -0.3, 0, 0, 0, 0};
+  const vpSelfCalib::CameraModel camera(vpSelfCalib::Distortion::OPENCV, in);
+  EXPECT_NEAR(camera.validRadius2(), 1 / 0.9, 1e-9);
+  EXPECT_TRUE(std::isinf(vpSelfCalib::CameraModel::pinhole(800, 800, 640, 360).validRadius2()));
+  const double positive[9] = {800, 1, 640, 360, 0.1, 0.05, 0, 0, 0};
+  EXPECT_TRUE(std::isinf(vpSelfCalib::CameraModel(vpSelfCalib::Distortion::OPENCV, positive).validRadius2()));
+
+  vpSelfCalib::Random rng(7, 1);
+  // A view whose camera is at fMc, seeing the grid on the plane z = 2 through the lens (0.2 px noise).
+  std::vector<Eigen::Vector3d> scene;
+  for (int i = -4; i <= 4; ++i)
+    for (int j = -3; j <= 3; ++j)
+      scene.emplace_back(0.1 * i, 0.1 * j, 2.0);
+  const auto view = [&](const vpHomogeneousMatrix &fMc) {
+    vpSelfCalibDataset::View v;
+    v.has_fMe = true;
+    v.fMe = fMc * eMc.inverse();
+    const vpSelfCalib::Rigid cMf = vpSelfCalib::rigidFromVisp(fMc).inverse();
+    for (size_t p = 0; p < scene.size(); ++p) {
+      const Eigen::Vector2d uv = camera.project(cMf * scene[p]);
+      v.points.push_back({static_cast<int>(p), vpImagePoint(uv(1) + rng.normal(0.2), uv(0) + rng.normal(0.2))});
+    }
+    return v;
+  };
+  const std::vector<vpSelfCalibDataset::View> train = {view(vpHomogeneousMatrix(-0.2, 0, 0, 0, 0, 0)),
+                                                       view(vpHomogeneousMatrix(0.2, 0, 0, 0, 0, 0)),
+                                                       view(vpHomogeneousMatrix(0, 0.2, 0, 0, 0, 0))};
+  const vpSelfCalibDataset::View inside = view(vpHomogeneousMatrix(0.05, 0.03, 0, 0, 0, 0));
+  const CV::Reprojection seen = CV::reprojection(model, cam, lens, true, train, {inside});
+  ASSERT_EQ(seen.observations, scene.size());
+  EXPECT_EQ(seen.outside, 0u);
+  EXPECT_LT(seen.rms, 0.5);
+  // A camera turned 80 degrees: the grid in front of it at r up to 6, observed (wrongly) in its image.
+  vpSelfCalibDataset::View turned = inside;
+  turned.fMe = vpHomogeneousMatrix(0, 0, 0, 0, 80 * M_PI / 180, 0) * eMc.inverse();
+  for (auto &o : turned.points)
+    o.ip = vpImagePoint(rng.uniform(0, 720), rng.uniform(0, 1280));
+  const CV::Reprojection both = CV::reprojection(model, cam, lens, true, train, {inside, turned});
+  EXPECT_GT(both.outside, scene.size() / 2);
+  EXPECT_EQ(both.observations + both.outside + both.behind, 2 * scene.size());
+  ASSERT_TRUE(std::isfinite(both.rms));
+  EXPECT_LT(both.rms, 2 * seen.rms);
+  EXPECT_LT(both.median, 2 * seen.median);
 }

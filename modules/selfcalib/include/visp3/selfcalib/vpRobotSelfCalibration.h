@@ -160,11 +160,20 @@ public:
         measured values (and the measured image noise when pixel_sd is measured too), up to 5
         times; a run that is not ok ends the rounds and the last ok one stands, with the warning
         "robot-error-not-settled" (also when the level does not settle in 5 rounds or cannot be
-        measured). The start: pose_sd_*, else the dataset's robot_error; with neither the poses are
-        exact and nothing is measured. Other methods: no effect.
+        measured). The start: pose_sd_*, else the dataset's robot_error, else (trust_robot false,
+        the default) the prior robotErrorPrior() measured from there. Other methods: no effect.
       Result::noise says which levels were used.
     */
     vpSelfCalibNoiseModel noise;
+    /*!
+      HAND_EYE: whether the controller poses are exact when neither noise nor the dataset states
+      their error. false (default): every real arm's poses are off by millimetres, so the error is
+      modelled from robotErrorPrior() and measured (variance components, then the method runs again
+      at the measured level; data without pose error measure it near 0 and end as if exact). true:
+      the poses are trusted, no error modelled (calibrate --pose-sd 0). A stated error (noise or the
+      dataset's robot_error) is used whatever this says. Other methods: not read.
+    */
+    bool trust_robot = false;
     //! The checks run before calibrating (its noise: the noise above).
     vpSelfCalibDataCheck::Options data_check;
     //! After a run: a warning when more than this fraction of the calibration observations was not
@@ -332,10 +341,19 @@ public:
   /*!
     The noise model a run starts from: options.noise with, where it leaves the robot's error at 0,
     the dataset's robot_error in the method's form (HAND_EYE: the controller poses' pose_sd_*;
-    BUNDLE_ADJUSTMENT: joint_sd). Throws vpSelfCalibException on a robot error the method does not
+    BUNDLE_ADJUSTMENT: joint_sd), else for HAND_EYE robotErrorPrior() unless options.trust_robot. Throws vpSelfCalibException on a robot error the method does not
     use (pose_sd_* with BUNDLE_ADJUSTMENT, model_sd_* or joint_sd with HAND_EYE, any with PAPER).
   */
   static vpSelfCalibNoiseModel noiseModel(const Options &options, const vpSelfCalibDataset &dataset);
+
+  /*!
+    The controller poses' error a HAND_EYE run starts from when nothing states it (Options::trust_robot
+    false): 1 mm and 1 mrad, MEASURED. Between a serial arm's repeatability (0.02 to 0.1 mm) and its
+    absolute accuracy (1 to 5 mm, a few mrad): loose enough that the images, not the prior, decide
+    where the poses are wrong, tight enough that the first run is not an unconstrained per-view
+    fit. It is a start, not a claim: the run measures the level and runs again at it.
+  */
+  static vpSelfCalibNoiseModel robotErrorPrior(const vpSelfCalibNoiseModel &noise);
 
   /*!
     The multi-view reconstruction options a run uses (BUNDLE_ADJUSTMENT, HAND_EYE): options.multiview

@@ -68,6 +68,9 @@ public:
     unsigned int points = 0;       //!< scene points triangulated (seen in 2 or more scene views)
     unsigned int observations = 0; //!< test-view observations compared (their point triangulated and in front)
     unsigned int behind = 0;       //!< test-view observations whose point the predicted camera sees behind it (left out)
+    //! Test-view observations whose point the predicted camera has outside its lens model's valid
+    //! region (beyond where the distortion polynomial stays monotonic in radius): not seen, left out.
+    unsigned int outside = 0;
     double rms = 0;                //!< px, sqrt of the mean squared 2-D error (0 when no observation)
     double median = 0;             //!< px, median 2-D error
   };
