@@ -153,7 +153,7 @@ void checkParameterLists(const vpKinematicChain &nominal, const vpSelfCalibDatas
     try {
       names = vpKinematicIdentification::matchParameters(nominal, l.second, l.first);
     } catch (const vpException &e) {
-      throw CLI::ValidationError(l.first, e.getStringMessage());
+      throw CLI::ValidationError(e.getStringMessage()); // the message names the option
     }
     std::vector<std::string> &into = std::string(l.first).find("fix") != std::string::npos ? fixed : freed;
     into.insert(into.end(), names.begin(), names.end());

@@ -68,15 +68,16 @@ void runBundle(const Context &c, Result &res)
   bo.estimated_set = vpKinematicBundleAdjustment::estimatedSet(
       c.nominal, startCamera(c, res.multiview.fx), cal, c.dataset.yardstick,
       pointsInF(res, c.nominal.get_fMc(cal[0].q), s), c.bundle, c.noise);
-  // With the bundle adjustment's fixed parameters and those it leaves out, so that its set contains this one.
+  // The start identification estimates exactly that set (fixing the others instead would let the
+  // rule take a redundant twin of each in its place, which the bundle adjustment would then keep at
+  // the start's value); when the posed views do not determine it, the start is the nominal model.
   vpKinematicIdentification::Options io = c.options.identification;
   for (const std::string &f : vpKinematicIdentification::matchParameters(c.nominal, c.bundle.fixed, "fixed"))
     if (std::find(io.fixed.begin(), io.fixed.end(), f) == io.fixed.end())
       io.fixed.push_back(f);
-  for (const auto &u : bo.estimated_set.unidentifiable)
-    if (u.cause == vpKinematicIdentification::CAUSE_DATA && std::find(io.fixed.begin(), io.fixed.end(), u.name) == io.fixed.end())
-      io.fixed.push_back(u.name);
-  res.identification = vpKinematicIdentification::identify(c.nominal, res.measurements, io);
+  res.identification = bo.estimated_set.identified.empty()
+                           ? vpKinematicIdentification::identify(c.nominal, res.measurements, io)
+                           : vpKinematicIdentification::identify(c.nominal, res.measurements, io, bo.estimated_set);
   const vpKinematicChain start =
       res.identification.status == vpKinematicIdentification::OK ? res.identification.chain : c.nominal;
   res.stage_seconds.push_back({"identification", seconds(ts)});

@@ -243,7 +243,7 @@ TEST(DatasetYaml, FixAndFreeListsRoundTrip)
   EXPECT_EQ(back.free, ds.free);
   EXPECT_TRUE(simulated(true).toYamlString().find("fix:") == std::string::npos);
   const std::string poses = "poses:\n  - {joints: [0, 0, 0, 0, 0, 0]}\n";
-  EXPECT_NE(parseError(kHead + "fix: j3.tx\n" + poses).find("fix: expected a list of parameter names"), std::string::npos)
+  EXPECT_NE(parseError(kHead + "fix: j3.tx\n" + poses).find("key 'fix': expected a list of parameter names"), std::string::npos)
       << parseError(kHead + "fix: j3.tx\n" + poses);
   EXPECT_NE(parseError(kHead + "free: ['']\n" + poses).find("free[0]"), std::string::npos);
 }
