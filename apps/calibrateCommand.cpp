@@ -13,6 +13,7 @@
 
 #include <visp3/selfcalib/vpBoardDetector.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpKinematicIdentification.h>
 #include <visp3/selfcalib/vpModelExport.h>
 #include <visp3/selfcalib/vpSelfCalibPoseStudy.h>
 #include <visp3/selfcalib/vpSelfCalibReport.h>
@@ -143,6 +144,32 @@ void stateRobotError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po
   }
 }
 
+/*
+  --fix / --free and the dataset's fix: / free: against the model's parameter names: a pattern that
+  matches nothing is a usage error (exit 2) naming it and listing the valid names; so is a parameter
+  both fixed and freed.
+*/
+void checkParameterLists(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds,
+                         const vpRobotSelfCalibration::Options &po)
+{
+  const std::pair<const char *, std::vector<std::string>> lists[4] = {
+      {"--fix", po.bundle.fixed}, {"--free", po.bundle.free}, {"the dataset's fix", ds.fix}, {"the dataset's free", ds.free}};
+  std::vector<std::string> fixed, freed;
+  for (const auto &l : lists) {
+    std::vector<std::string> names;
+    try {
+      names = vpKinematicIdentification::matchParameters(nominal, l.second, l.first);
+    } catch (const vpException &e) {
+      throw CLI::ValidationError(e.getStringMessage()); // the message names the option
+    }
+    std::vector<std::string> &into = std::string(l.first).find("fix") != std::string::npos ? fixed : freed;
+    into.insert(into.end(), names.begin(), names.end());
+  }
+  for (const std::string &f : freed)
+    if (std::find(fixed.begin(), fixed.end(), f) != fixed.end())
+      throw CLI::ValidationError("--free", "'" + f + "' is both fixed and freed: choose one");
+}
+
 } // namespace
 
 int calibrate(const CalibrateArgs &a)
@@ -165,6 +192,7 @@ int calibrate(const CalibrateArgs &a)
                                                dataset + " says the camera is fixed in the world)");
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
   co.prior = nominal; // the front end's matching is guided by the nominal kinematics
+  checkParameterLists(nominal, ds, po);
   // Outputs: a set written in a private directory beside --out, moved into place at once, under
   // a lock on --out; never over an input, never over files that are not an earlier run's results.
   vpSelfCalibOutputDirectory outdir(out);

@@ -115,6 +115,18 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
       ->type_name("RAD[,RAD...]")
       ->delimiter(',')
       ->check(selfcalibCli::number(0, true, 1));
+  c->add_option("--fix", a.fix,
+                "bundle-adjustment: kinematic parameters kept at their nominal value, names or glob\n"
+                "patterns as the model names them (j2.tx, eMc.ry, 'j3.*,base.*'); added to the\n"
+                "dataset's fix: list")
+      ->type_name("NAMES")
+      ->delimiter(',');
+  c->add_option("--free", a.free,
+                "bundle-adjustment: kinematic parameters estimated even when their predicted sd exceeds\n"
+                "the tolerance (--tolerance), walked first; refused (exit 3) when the data cannot\n"
+                "separate one from the others; added to the dataset's free: list")
+      ->type_name("NAMES")
+      ->delimiter(',');
   c->add_option("--estimate", a.estimate,
                 "intrinsics estimated with the calibration besides f (--focal): aspect (p_y / p_x),\n"
                 "pp (principal point), distortion (OpenCV's k1, k2, p1, p2), k3 (and OpenCV's k3),\n"
@@ -274,6 +286,8 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
     po.tolerance_hand_eye_translation = a.tolerance[2];
     po.tolerance_hand_eye_rotation = a.tolerance[3];
   }
+  po.bundle.fixed = a.fix;
+  po.bundle.free = a.free;
   if (a.board_geometry) {
     try {
       po.bundle.known_points = vpBoardDetector(*co.board).getLayout();

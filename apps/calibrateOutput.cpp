@@ -117,6 +117,21 @@ void printSummary(const vpRobotSelfCalibration::Result &r, unsigned int num_cali
   if (!r.bundle.joint_corrections.empty())
     std::cout << "\njoint corrections rms " << std::setprecision(3) << 1e3 * r.bundle.joint_rms << " mrad, sigma0 "
               << std::setprecision(2) << r.bundle.sigma0 << std::defaultfloat;
+  // The estimated set: what the user fixed, and what the data leave at nominal (results.yaml and the report say why).
+  std::string fixed, by_data, needs;
+  for (const auto &u : r.identifiability.unidentifiable)
+    if (u.cause == vpKinematicIdentification::CAUSE_FIXED)
+      fixed += (fixed.empty() ? "" : ", ") + u.name;
+    else if (u.cause == vpKinematicIdentification::CAUSE_DATA) {
+      by_data += (by_data.empty() ? "" : ", ") + u.name;
+      if (needs.empty())
+        needs = u.needs;
+    }
+  if (!fixed.empty())
+    std::cout << "\nfixed by the user: " << fixed;
+  if (!by_data.empty())
+    std::cout << "\nleft at nominal (the data do not determine them): " << by_data << " (" << needs
+              << "; results.yaml estimated_set.left_by_data)";
   if (r.bundle.has_covariance && r.bundle.intrinsic_names.size() > 1) {
     std::cout << "\nintrinsics:";
     for (unsigned int i = 0; i < r.bundle.intrinsics.size(); ++i)

@@ -129,6 +129,7 @@ struct CalibrateArgs {
   std::vector<std::string> pose_sd; //!< robot pose error (m, rad) of controller poses, or "auto"; empty: exact
   std::vector<double> joint_sd; //!< joint-reading noise (rad), one or one per joint; empty: exact
   std::vector<std::string> estimate; //!< intrinsics estimated beside f: aspect, pp, distortion
+  std::vector<std::string> fix, free; //!< kinematic parameters (names or glob patterns) kept nominal / freed
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::vector<std::string> dot_grids;
   bool no_features = false;

@@ -282,9 +282,9 @@ bool fitPoseRansac(const std::vector<Eigen::Vector3d> &X, const std::vector<Eige
   return cMw.R.allFinite() && cMw.t.allFinite();
 }
 
-bool marginalCovariance(ceres::Problem &problem, const std::vector<double *> &kept,
-                        const std::vector<double *> &eliminated, Eigen::MatrixXd &cov, Eigen::MatrixXd *undetermined,
-                        int *points_left_out)
+bool marginalInformation(ceres::Problem &problem, const std::vector<double *> &kept,
+                         const std::vector<double *> &eliminated, Eigen::MatrixXd &H, Eigen::VectorXd &own,
+                         int *points_left_out)
 {
   if (points_left_out)
     *points_left_out = 0;
@@ -334,7 +334,7 @@ bool marginalCovariance(ceres::Problem &problem, const std::vector<double *> &ke
       ++*points_left_out;
   }
   // Normal equations [H B; B^T C] over the rows kept: H over the kept blocks, B per eliminated point.
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(nA, nA);
+  H = Eigen::MatrixXd::Zero(nA, nA);
   std::vector<Eigen::Matrix<double, Eigen::Dynamic, 3>> B(eliminated.size(),
                                                           Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(nA, 3));
   std::vector<std::pair<int, double>> a;
@@ -361,10 +361,21 @@ bool marginalCovariance(ceres::Problem &problem, const std::vector<double *> &ke
   // The kept parameters' own information, before the points are marginalized: the scale of the test
   // below. Scaling by the complement's diagonal instead would blow a direction the points take all
   // the information from (its diagonal is then pure cancellation) up to order 1.
-  const Eigen::VectorXd d = H.diagonal();
+  own = H.diagonal();
   for (size_t i = 0; i < C.size(); ++i)
     if (determined[i])
       H.noalias() -= B[i] * C_inv[i] * B[i].transpose();
+  return true;
+}
+
+bool marginalCovariance(ceres::Problem &problem, const std::vector<double *> &kept,
+                        const std::vector<double *> &eliminated, Eigen::MatrixXd &cov, Eigen::MatrixXd *undetermined,
+                        int *points_left_out)
+{
+  Eigen::MatrixXd H;
+  Eigen::VectorXd d;
+  if (!marginalInformation(problem, kept, eliminated, H, d, points_left_out))
+    return false;
   if (!(d.minCoeff() > 0)) {
     if (undetermined) {
       Eigen::Index i = 0;

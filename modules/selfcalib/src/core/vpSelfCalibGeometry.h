@@ -128,6 +128,17 @@ bool fitPoseRansac(const std::vector<Eigen::Vector3d> &X, const std::vector<Eige
                    Rigid &cMw, std::vector<int> &inliers);
 
 /*!
+  The information (Schur complement of J^T J) of the `kept` blocks (in order, tangent coordinates)
+  with the 3-D `eliminated` blocks marginalized, as marginalCovariance() computes it before inverting
+  it; own: the kept parameters' own information (the diagonal of J^T J before the points are
+  marginalized). False when the Jacobian cannot be evaluated or a residual involves two eliminated
+  blocks.
+*/
+bool marginalInformation(ceres::Problem &problem, const std::vector<double *> &kept,
+                         const std::vector<double *> &eliminated, Eigen::MatrixXd &H, Eigen::VectorXd &own,
+                         int *points_left_out = nullptr);
+
+/*!
   Covariance of the `kept` blocks (in order, tangent coordinates) with the 3-D `eliminated` blocks
   marginalized: the inverse of the Schur complement of J^T J, J from Problem::Evaluate on one
   thread. Computed here rather than by ceres::Covariance (SPARSE_QR): SuiteSparseQR runs on TBB's

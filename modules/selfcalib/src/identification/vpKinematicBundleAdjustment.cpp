@@ -340,6 +340,65 @@ void prepareStart(Adjustment &a, const vpSelfCalibDataset::Yardstick &yardstick,
 }
 
 /*
+  Stage 2, the estimated set: the rule's (estimatedSet), in full mode cut to what the data determine
+  (decideSet, at the start values) unless the caller decided it (Options::estimated_set) or asks for
+  the rule's whole set. refused: the freed parameters left out, with their reason.
+*/
+vpKinematicIdentification::Identifiability setOf(const vpKinematicChain &start, const vpCameraParameters &camera,
+                                                 const std::vector<vpSelfCalibDataset::View> &views,
+                                                 const vpSelfCalibDataset::Yardstick &yardstick,
+                                                 const std::map<int, Eigen::Vector3d> &X0, const std::vector<vpColVector> &q,
+                                                 const std::vector<Rigid> &fMe, const KBA::Options &opt,
+                                                 const vpSelfCalibNoiseModel &noise, std::string &refused)
+{
+  const std::vector<std::string> freed =
+      vpKinematicIdentification::matchParameters(start, opt.free, "vpKinematicBundleAdjustment: the freed parameters");
+  const std::vector<std::string> fixed =
+      vpKinematicIdentification::matchParameters(start, opt.fixed, "vpKinematicBundleAdjustment: the fixed parameters");
+  if (opt.hand_eye_only && !freed.empty())
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment: free is for the full kinematic mode; hand-eye-only mode "
+                               "estimates eMc (minus fixed) whatever the data");
+  for (const std::string &f : freed)
+    if (std::find(fixed.begin(), fixed.end(), f) != fixed.end())
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpKinematicBundleAdjustment: '" + f + "' is both fixed and freed: choose one");
+  vpKinematicIdentification::Identifiability set = estimatedSet(start, q, opt);
+  if (!opt.hand_eye_only && !opt.estimated_set.identified.empty()) {
+    for (unsigned int i : opt.estimated_set.identified)
+      if (i >= start.getNumParameters())
+        throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                                   "vpKinematicBundleAdjustment: estimated_set is of another model (index out of range)");
+    set = opt.estimated_set;
+  } else if (!opt.hand_eye_only && opt.set_from_information) {
+    int n_joint = 0;
+    bool camera_delta = false;
+    const std::vector<double> joint_sd = fullModeSd(start, opt, noise, n_joint, camera_delta);
+    Adjustment a(X0, start, set.identified, q, fMe, false, joint_sd, n_joint, camera_delta);
+    a.noise = noise;
+    a.P = static_cast<int>(set.identified.size());
+    fillAdjustment(a, views, camera, opt);
+    if (a.P > 0 && 2 * a.obs.size() > a.P + a.free_in.size() + 3 * a.X.size()) {
+      prepareStart(a, yardstick, opt);
+      set = decideSet(a, start, set, q, yardstick, opt);
+    }
+  }
+  refused.clear();
+  const std::vector<std::string> names = start.getParameterNames();
+  for (const std::string &f : freed) {
+    const unsigned int i = start.getParameterIndex(f);
+    if (std::binary_search(set.identified.begin(), set.identified.end(), i))
+      continue;
+    for (const auto &u : set.unidentifiable)
+      if (u.index == i)
+        refused += (refused.empty() ? "" : "; ") + f + ": " + u.reason + (u.needs.empty() ? "" : " (" + u.needs + ")");
+  }
+  if (!refused.empty())
+    refused = "freed parameters the data do not determine, refused: " + refused;
+  return set;
+}
+
+/*
   The message of a singular information matrix: every cause that makes it singular named, the
   observations kept first (after many rejected matches the few left are the likelier cause than the
   poses' geometry), then the parameters not determined.
@@ -392,8 +451,14 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   res.chain = start;
   res.camera = camera;
   res.sd.resize(start.getNumParameters());
-  res.identifiability = estimatedSet(start, q, opt);
   checkRobotError(start, opt, noise);
+  std::string refused;
+  res.identifiability = setOf(start, camera, views, yardstick, X0, q, fMe, opt, noise, refused);
+  if (!refused.empty()) {
+    res.status = KBA::RANK_DEFICIENT;
+    res.message = refused;
+    return res;
+  }
   int n_joint = 0;
   bool camera_delta = false;
   const std::vector<double> joint_sd = fullModeSd(start, opt, noise, n_joint, camera_delta);
@@ -498,6 +563,10 @@ void vpKinematicBundleAdjustment::Options::check() const
   if (!(yardstick_sd > 0) || !(rank_tolerance > 0 && rank_tolerance < 1))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: yardstick_sd must be positive, rank_tolerance in (0, 1)");
+  if (!(tolerance_translation > 0) || !(tolerance_rotation > 0) || !(tolerance_hand_eye_translation > 0) ||
+      !(tolerance_hand_eye_rotation > 0) || !(separation_tolerance > 0 && separation_tolerance < 1))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment: the tolerances must be positive, separation_tolerance in (0, 1)");
   if (!(known_points_sd > 0) || !std::isfinite(known_points_sd))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: known_points_sd must be positive and finite");
@@ -515,6 +584,27 @@ vpKinematicBundleAdjustment::Result vpKinematicBundleAdjustment::adjust(const vp
                                                                        const vpSelfCalibNoiseModel &noise)
 {
   return run(start, camera, views, yardstick, points, options, noise, true);
+}
+
+vpKinematicIdentification::Identifiability vpKinematicBundleAdjustment::estimatedSet(
+    const vpKinematicChain &start, const vpCameraParameters &camera, const std::vector<vpSelfCalibDataset::View> &views,
+    const vpSelfCalibDataset::Yardstick &yardstick, const std::map<int, vpColVector> &points, const Options &options,
+    const vpSelfCalibNoiseModel &noise)
+{
+  options.check();
+  noise.check("vpKinematicBundleAdjustment");
+  vpSelfCalib::checkCamera(camera, "vpKinematicBundleAdjustment: the camera");
+  vpSelfCalib::checkChain(start, "vpKinematicBundleAdjustment: the model '" + start.getName() + "'");
+  const QuietCeres quiet;
+  checkViewsAndCamera(camera, static_cast<unsigned int>(views.size()), options);
+  std::vector<vpColVector> q;
+  std::vector<Rigid> fMe;
+  std::map<int, unsigned int> seen;
+  collectViews(start, views, options, q, fMe, seen);
+  const std::map<int, Eigen::Vector3d> X0 = startPoints(points, seen);
+  checkRobotError(start, options, noise);
+  std::string refused;
+  return setOf(start, camera, views, yardstick, X0, q, fMe, options, noise, refused);
 }
 
 vpKinematicBundleAdjustment::Result vpKinematicBundleAdjustment::information(

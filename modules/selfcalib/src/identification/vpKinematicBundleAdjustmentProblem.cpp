@@ -19,16 +19,22 @@ namespace vpKinematicBundle
   Scale direction: the corrections s (and a centre c) with J_t s + c = t_k, J_phi s = 0 for every
   view: to first order they scale every camera position about c and leave orientations unchanged.
 */
-Eigen::VectorXd scaleDirection(const KinematicState &st)
+Eigen::VectorXd scaleDirection(const KinematicState &st, const std::vector<int> &columns)
 {
-  const int P = static_cast<int>(st.id.size());
+  std::vector<int> cols = columns;
+  if (cols.empty())
+    for (int i = 0; i < static_cast<int>(st.id.size()); ++i)
+      cols.push_back(i);
+  const int P = static_cast<int>(cols.size());
   const int m = static_cast<int>(st.q.size());
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(6 * m, P + 3);
   Eigen::VectorXd b = Eigen::VectorXd::Zero(6 * m);
   for (int k = 0; k < m; ++k) {
     const Eigen::Matrix3d R = st.views[k].RT.transpose();
-    A.block(6 * k, 0, 3, P) = R * st.views[k].A;
-    A.block(6 * k + 3, 0, 3, P) = R * st.views[k].C;
+    for (int c = 0; c < P; ++c) {
+      A.block(6 * k, c, 3, 1) = R * st.views[k].A.col(cols[c]);
+      A.block(6 * k + 3, c, 3, 1) = R * st.views[k].C.col(cols[c]);
+    }
     A.block(6 * k, P, 3, 3).setIdentity();
     b.segment<3>(6 * k) = st.views[k].tf;
   }
@@ -122,26 +128,27 @@ vpKinematicIdentification::Identifiability estimatedSet(const vpKinematicChain &
                                                         const std::vector<vpColVector> &q, const KBA::Options &opt)
 {
   const std::vector<std::string> names = start.getParameterNames();
+  const std::vector<std::string> fixed_names =
+      vpKinematicIdentification::matchParameters(start, opt.fixed, "vpKinematicBundleAdjustment: the fixed parameters");
   if (!opt.hand_eye_only) {
     vpKinematicIdentification::Options io;
     io.rank_tolerance = opt.rank_tolerance;
-    io.fixed = opt.fixed;
+    io.fixed = fixed_names;
     return vpKinematicIdentification::analyseConfigurations(start, q, io);
   }
   vpKinematicIdentification::Identifiability ident;
   const unsigned int first = start.getNumParameters() - vpKinematicChain::kBlockSize;
   for (unsigned int i = 0; i < start.getNumParameters(); ++i) {
-    const bool fixed = std::find(opt.fixed.begin(), opt.fixed.end(), names[i]) != opt.fixed.end();
+    const bool fixed = std::find(fixed_names.begin(), fixed_names.end(), names[i]) != fixed_names.end();
     if (i >= first && !fixed)
       ident.identified.push_back(i);
     else
-      ident.unidentifiable.push_back(
-          {i, names[i], fixed ? "fixed by the caller" : "hand-eye-only mode: the robot's kinematics are trusted"});
+      ident.unidentifiable.push_back({i, names[i],
+                                      fixed ? "fixed by the caller" : "hand-eye-only mode: the robot's kinematics are trusted",
+                                      fixed ? vpKinematicIdentification::CAUSE_FIXED
+                                            : vpKinematicIdentification::CAUSE_MODEL,
+                                      ""});
   }
-  for (const std::string &f : opt.fixed)
-    if (std::find(names.begin(), names.end(), f) == names.end())
-      throw vpSelfCalibException(vpSelfCalibException::badValue,
-                                 "vpKinematicBundleAdjustment: unknown fixed parameter '" + f + "'");
   ident.rank = static_cast<unsigned int>(ident.identified.size());
   return ident;
 }
@@ -213,7 +220,7 @@ void startObject(const std::map<int, vpColVector> &layout, Adjustment &a)
 std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDataset::Yardstick &yardstick,
                                              const KBA::Options &opt, double loss_scale,
                                              std::shared_ptr<ceres::ParameterBlockOrdering> &order,
-                                             KBA::ScaleSource &scale_source)
+                                             KBA::ScaleSource &scale_source, bool gauge)
 {
   ceres::Problem::Options po;
   po.evaluation_callback = &a.state;
@@ -244,7 +251,7 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
     problem->AddResidualBlock(new ceres::AutoDiffCostFunction<YardstickCost, 1, 3, 3>(
                                   new YardstickCost(yardstick.length, opt.yardstick_sd)),
                               nullptr, a.X[yardstick.id_a].data(), a.X[yardstick.id_b].data());
-  else if (!opt.hand_eye_only)
+  else if (!opt.hand_eye_only && gauge)
     problem->AddResidualBlock(new ScaleCost(a.scale_dir, a.rho0), nullptr, a.state.rho.data());
   // One group per block: within a group Ceres orders blocks by address, and the address order of
   // separately allocated blocks changes from run to run (and so would the last digits).

@@ -35,7 +35,7 @@ using KBA = vpKinematicBundleAdjustment;
   Scale direction: the corrections s (and a centre c) with J_t s + c = t_k, J_phi s = 0 for every
   view: to first order they scale every camera position about c and leave orientations unchanged.
 */
-Eigen::VectorXd scaleDirection(const KinematicState &st);
+Eigen::VectorXd scaleDirection(const KinematicState &st, const std::vector<int> &columns = {});
 //! The intrinsics block of the camera (and, OpenCV model, the given start coefficients).
 void intrinsicsFrom(const vpCameraParameters &cam, const vpKinematicBundleAdjustment::Options &o,
                     double in[kIntrinsics]);
@@ -145,7 +145,16 @@ void startObject(const std::map<int, vpColVector> &layout, Adjustment &a);
 std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDataset::Yardstick &yardstick,
                                              const KBA::Options &opt, double loss_scale,
                                              std::shared_ptr<ceres::ParameterBlockOrdering> &order,
-                                             KBA::ScaleSource &scale_source);
+                                             KBA::ScaleSource &scale_source, bool gauge = true);
+/*!
+  Stage 2, the estimated set from the data (vpKinematicBundleAdjustment, "The estimated set from the
+  data"): the rule's candidates cut to those the information of this adjustment at the start values
+  determines. a is the adjustment of the candidates, filled and prepared; q the views' joints.
+*/
+vpKinematicIdentification::Identifiability
+decideSet(Adjustment &a, const vpKinematicChain &start, const vpKinematicIdentification::Identifiability &candidates,
+          const std::vector<vpColVector> &q, const vpSelfCalibDataset::Yardstick &yardstick, const KBA::Options &opt);
+
 /*!
   Stage 6, the covariance of the corrections and the estimated intrinsics with the points
   marginalized, into res. False when the information is singular (res.undetermined then names the

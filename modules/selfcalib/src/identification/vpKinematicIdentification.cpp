@@ -6,6 +6,7 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <algorithm>
+#include <fnmatch.h>
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -261,6 +262,33 @@ std::vector<vpColVector> vpKinematicIdentification::randomConfigurations(const v
   return q;
 }
 
+std::vector<std::string> vpKinematicIdentification::matchParameters(const vpKinematicChain &chain,
+                                                                   const std::vector<std::string> &patterns,
+                                                                   const std::string &what)
+{
+  const std::vector<std::string> names = chain.getParameterNames();
+  std::vector<bool> hit(names.size(), false);
+  for (const std::string &p : patterns) {
+    bool any = false;
+    for (size_t i = 0; i < names.size(); ++i)
+      if (fnmatch(p.c_str(), names[i].c_str(), 0) == 0)
+        any = hit[i] = true;
+    if (!any) {
+      std::string valid;
+      for (size_t i = 0; i < names.size(); ++i)
+        valid += (i ? ", " : "") + names[i];
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 what + ": '" + p + "' matches no parameter of the model '" + chain.getName() +
+                                     "'; valid names (glob patterns such as 'j3.*' allowed): " + valid);
+    }
+  }
+  std::vector<std::string> out;
+  for (size_t i = 0; i < names.size(); ++i)
+    if (hit[i])
+      out.push_back(names[i]);
+  return out;
+}
+
 std::vector<unsigned int> vpKinematicIdentification::preferenceOrder(const vpKinematicChain &chain)
 {
   // See the class description for why this order. Components inside a block: tx ty tz rx ry rz = 0..5.
@@ -290,7 +318,7 @@ vpKinematicIdentification::Identifiability vpKinematicIdentification::analyse(co
   const std::vector<std::string> names = chain.getParameterNames();
   const unsigned int N = chain.getNumParameters();
   std::vector<bool> fixed(N, false);
-  for (const std::string &f : opt.fixed)
+  for (const std::string &f : matchParameters(chain, opt.fixed, "the fixed parameters"))
     fixed[chain.getParameterIndex(f)] = true;
 
   // The design Jacobian: predictions at the NOMINAL model and the measurements' joints only, rows in
@@ -361,7 +389,7 @@ vpKinematicIdentification::Identifiability vpKinematicIdentification::analyse(co
   std::sort(out.identified.begin(), out.identified.end());
   for (unsigned int c = 0; c < N; ++c)
     if (!reason[c].empty())
-      out.unidentifiable.push_back({c, names[c], reason[c]});
+      out.unidentifiable.push_back({c, names[c], reason[c], fixed[c] ? CAUSE_FIXED : CAUSE_MODEL, ""});
   return out;
 }
 

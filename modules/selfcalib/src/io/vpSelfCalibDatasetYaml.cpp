@@ -211,6 +211,25 @@ void parseRobotError(const Reader &r, const YAML::Node &root, vpSelfCalibDataset
   }
 }
 
+//! The kinematic parameters the user fixes or frees (fix: [names or patterns], free: [...]), when given.
+void parseParameterLists(const Reader &r, const YAML::Node &root, vpSelfCalibDataset &ds)
+{
+  for (const char *key : {"fix", "free"}) {
+    if (!root[key])
+      continue;
+    const YAML::Node l = root[key];
+    if (!l.IsSequence())
+      r.fail(key, "expected a list of parameter names or glob patterns (e.g. [j3.*, eMc.rz]), got " + Reader::show(l));
+    std::vector<std::string> &out = std::string(key) == "fix" ? ds.fix : ds.free;
+    for (size_t i = 0; i < l.size(); ++i) {
+      const std::string v = r.text(l[i], std::string(key) + "[" + std::to_string(i) + "]");
+      if (v.empty())
+        r.fail(std::string(key) + "[" + std::to_string(i) + "]", "a parameter name or glob pattern, not empty");
+      out.push_back(v);
+    }
+  }
+}
+
 //! A pose's points [id, u, v] (pixels through the inverse of the lens distortion when it has one).
 void parsePoints(const Reader &r, const YAML::Node &pts, const std::string &key, bool has_distortion,
                  const vpSelfCalib::CameraModel &camera, vpSelfCalibDataset::View &v)
@@ -325,7 +344,7 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
   if (!root.IsMap())
     throw vpSelfCalibException(vpSelfCalibException::parseError,
                                std::string(kWhat) + " " + source + ": expected a YAML map at the top level");
-  r.onlyKeys(root, {"camera", "camera_xml", "robot", "camera_mount", "robot_error", "poses", "yardstick"}, "");
+  r.onlyKeys(root, {"camera", "camera_xml", "robot", "camera_mount", "robot_error", "poses", "yardstick", "fix", "free"}, "");
   vpSelfCalibDataset ds;
   if (root["camera_mount"]) {
     const std::string mount = r.text(root["camera_mount"], "camera_mount");
@@ -338,6 +357,7 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
   vpCameraParameters distorted;
   bool has_distortion = false;
   parseRobotError(r, root, ds);
+  parseParameterLists(r, root, ds);
   parseCamera(r, root, base_dir, ds, distorted, has_distortion);
   const vpSelfCalib::CameraModel camera = vpSelfCalib::CameraModel::fromVisp(distorted);
 
@@ -457,6 +477,13 @@ std::string vpSelfCalibDataset::toYamlString(const std::string &base_dir) const
     }
     out << YAML::EndMap;
   }
+  for (const auto &list : {std::make_pair("fix", &fix), std::make_pair("free", &free)})
+    if (!list.second->empty()) {
+      out << YAML::Key << list.first << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (const std::string &n : *list.second)
+        out << n;
+      out << YAML::EndSeq;
+    }
   out << YAML::Key << "poses" << YAML::Value << YAML::BeginSeq;
   for (const View &v : views) {
     out << YAML::BeginMap;

@@ -597,10 +597,25 @@ void parametersSection(std::ostream &md, const vpSelfCalibReport::Record &run, c
        << mm(k < r.parameter_sd.size() ? r.parameter_sd[k] : 0.0) << " |\n";
   md << "\n## Not estimated (kept at nominal)\n\nThe estimated set follows a fixed preference order (eMc, base, "
         "then each joint as rz tz tx rx ry ty, base to tip) at the nominal model and the calibration joints only, so "
-        "the same robot and poses give the same set whatever the noise (README, \"The estimated set\").\n\n"
-        "| parameter | why |\n|---|---|\n";
+        "the same robot and poses give the same set whatever the noise (README, \"The estimated set\"); the bundle "
+        "adjustment then keeps those its own information at the start values (the stated noise) determines within "
+        "the nominal model's tolerance.\n\n";
+  using Ident = vpKinematicIdentification;
+  std::string fixed, by_data;
   for (const auto &u : r.identifiability.unidentifiable)
-    md << "| " << u.name << " | " << u.reason << " |\n";
+    if (u.cause == Ident::CAUSE_FIXED)
+      fixed += (fixed.empty() ? "" : ", ") + u.name;
+    else if (u.cause == Ident::CAUSE_DATA)
+      by_data += "| " + u.name + " | " + u.reason + " | " + u.needs + " |\n";
+  md << "Fixed by the user (--fix, the dataset's fix:): " << (fixed.empty() ? "none" : fixed) << ".\n\n";
+  if (!by_data.empty())
+    md << "Left at nominal by the data (they do not determine them):\n\n| parameter | why | what would determine it "
+          "|\n|---|---|---|\n"
+       << by_data << "\n";
+  md << "Left out by the model's structure (redundant for these joint configurations):\n\n| parameter | why |\n|---|---|\n";
+  for (const auto &u : r.identifiability.unidentifiable)
+    if (u.cause == Ident::CAUSE_MODEL)
+      md << "| " << u.name << " | " << u.reason << " |\n";
   md << "\n## Residuals\n\nReprojection RMS on the calibration views (points triangulated with the calibrated model): "
      << std::setprecision(3) << (data.count ? std::sqrt(data.sum2 / data.count) : 0.0) << " px over " << data.count
      << " observations.\n\n" << figure("residuals", "residuals", "no residual") << "\n\n"

@@ -21,6 +21,10 @@ using CV = vpSelfCalibCrossValidation;
 
 const char *const kRule = "walk the order; estimate a parameter when its column of the relative-pose Jacobian (nominal "
                           "model, joints only, 1 m = 1 rad) adds a new direction above the threshold";
+const char *const kDataRule = "walk the order; estimate a parameter when its column of the relative-pose Jacobian (nominal "
+                              "model, joints only, 1 m = 1 rad) adds a new direction above the threshold and the "
+                              "bundle adjustment's information at the start values (stated noise, points, intrinsics "
+                              "and robot error eliminated) separates it and keeps every sd within the tolerance";
 
 // ---------------------------------------------------------------------------------------------
 // From a run
@@ -73,6 +77,13 @@ RF::EstimatedSet estimatedSetOf(const vpKinematicIdentification::Identifiability
 {
   RF::EstimatedSet s;
   s.rule = kRule;
+  for (const auto &u : ident.unidentifiable)
+    if (u.cause == vpKinematicIdentification::CAUSE_FIXED)
+      s.fixed_by_user.push_back(u.name);
+    else if (u.cause == vpKinematicIdentification::CAUSE_DATA) {
+      s.left_by_data.push_back({u.name, u.reason, u.needs});
+      s.rule = kDataRule;
+    }
   s.count = static_cast<unsigned int>(ident.identified.size());
   for (unsigned int k : ident.order)
     s.order.push_back(names[k]);
@@ -272,7 +283,23 @@ void emitEstimated(YAML::Emitter &out, const RF::Contents &c)
       v << std::setprecision(3) << d.second;
       out << YAML::Key << d.first << YAML::Value << v.str();
     }
-    out << YAML::EndMap << YAML::EndMap;
+    out << YAML::EndMap;
+    if (!s.fixed_by_user.empty()) {
+      out << YAML::Key << "fixed_by_user" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (const std::string &n : s.fixed_by_user)
+        out << n;
+      out << YAML::EndSeq;
+    }
+    if (!s.left_by_data.empty()) {
+      out << YAML::Key << "left_by_data" << YAML::Comment("kept at nominal: the data do not determine them") << YAML::Value
+          << YAML::BeginMap;
+      for (const auto &l : s.left_by_data)
+        out << YAML::Key << l.name << YAML::Value << YAML::BeginMap << YAML::Key << "reason" << YAML::Value
+            << YAML::DoubleQuoted << l.reason << YAML::Key << "needs" << YAML::Value << YAML::DoubleQuoted << l.needs
+            << YAML::EndMap;
+      out << YAML::EndMap;
+    }
+    out << YAML::EndMap;
   }
   if (c.verification) {
     const RF::Verification &v = *c.verification;
@@ -490,6 +517,12 @@ void readEstimated(const In &in, const YAML::Node &root, RF::Contents &c)
     e.order = in.list<std::string>(s, "order");
     for (const auto &kv : in.need(s, "new_direction"))
       e.new_direction.emplace_back(kv.first.as<std::string>(), in.get<double>(s["new_direction"], kv.first.Scalar()));
+    if (s["fixed_by_user"])
+      e.fixed_by_user = in.list<std::string>(s, "fixed_by_user");
+    if (s["left_by_data"])
+      for (const auto &kv : s["left_by_data"])
+        e.left_by_data.push_back({kv.first.as<std::string>(), in.get<std::string>(kv.second, "reason"),
+                                  in.get<std::string>(kv.second, "needs")});
     c.estimated_set = e;
   }
   if (root["verification"]) {

@@ -61,12 +61,23 @@ void runBundle(const Context &c, Result &res)
     res.measurements.push_back(poseMeasurement(cal[k].q, cal[0].q, toVisp(M), M.t.norm(), c.options));
   }
   c.report("identification from the multi-view poses", 0, 1);
-  // With the bundle adjustment's fixed parameters too, so that its set contains this one.
+  // The set the bundle adjustment estimates, decided from what its data determine at the nominal
+  // model (the points moved to f through it), so that the start identification estimates within it
+  // and a parameter the data leave out stays nominal instead of taking the start's value.
+  vpKinematicBundleAdjustment::Options bo = c.bundle;
+  bo.estimated_set = vpKinematicBundleAdjustment::estimatedSet(
+      c.nominal, startCamera(c, res.multiview.fx), cal, c.dataset.yardstick,
+      pointsInF(res, c.nominal.get_fMc(cal[0].q), s), c.bundle, c.noise);
+  // The start identification estimates exactly that set (fixing the others instead would let the
+  // rule take a redundant twin of each in its place, which the bundle adjustment would then keep at
+  // the start's value); when the posed views do not determine it, the start is the nominal model.
   vpKinematicIdentification::Options io = c.options.identification;
-  for (const std::string &f : c.bundle.fixed)
+  for (const std::string &f : vpKinematicIdentification::matchParameters(c.nominal, c.bundle.fixed, "fixed"))
     if (std::find(io.fixed.begin(), io.fixed.end(), f) == io.fixed.end())
       io.fixed.push_back(f);
-  res.identification = vpKinematicIdentification::identify(c.nominal, res.measurements, io);
+  res.identification = bo.estimated_set.identified.empty()
+                           ? vpKinematicIdentification::identify(c.nominal, res.measurements, io)
+                           : vpKinematicIdentification::identify(c.nominal, res.measurements, io, bo.estimated_set);
   const vpKinematicChain start =
       res.identification.status == vpKinematicIdentification::OK ? res.identification.chain : c.nominal;
   res.stage_seconds.push_back({"identification", seconds(ts)});
@@ -74,7 +85,7 @@ void runBundle(const Context &c, Result &res)
   // 3. Kinematic bundle adjustment, points moved to f through the start model. It estimates the set
   // selected from every calibration view's joints at the nominal model; the identification above
   // (same rule, its posed views only) estimated a subset of it, the rest being still nominal.
-  if (!bundle(c, start, start.get_fMc(cal[0].q), s, cal, c.bundle, "kinematic bundle adjustment", res))
+  if (!bundle(c, start, start.get_fMc(cal[0].q), s, cal, bo, "kinematic bundle adjustment", res))
     return;
 }
 } // namespace vpSelfCalibPipeline

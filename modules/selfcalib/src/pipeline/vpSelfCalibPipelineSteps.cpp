@@ -80,6 +80,31 @@ void findIdentifiabilityLost(const Context &c, Result &res)
 }
 } // namespace
 
+namespace
+{
+/*
+  The bundle adjustment's estimated-set settings from the run's options and the dataset: the nominal
+  model's tolerance (a parameter whose predicted sd would exceed it stays nominal) and the dataset's
+  fix / free lists added to the caller's.
+*/
+vpKinematicBundleAdjustment::Options withEstimatedSetOptions(vpKinematicBundleAdjustment::Options o,
+                                                             const vpRobotSelfCalibration::Options &options,
+                                                             const vpSelfCalibDataset &dataset)
+{
+  o.tolerance_translation = options.tolerance_translation;
+  o.tolerance_rotation = options.tolerance_rotation;
+  o.tolerance_hand_eye_translation = options.tolerance_hand_eye_translation;
+  o.tolerance_hand_eye_rotation = options.tolerance_hand_eye_rotation;
+  for (const std::string &f : dataset.fix)
+    if (std::find(o.fixed.begin(), o.fixed.end(), f) == o.fixed.end())
+      o.fixed.push_back(f);
+  for (const std::string &f : dataset.free)
+    if (std::find(o.free.begin(), o.free.end(), f) == o.free.end())
+      o.free.push_back(f);
+  return o;
+}
+} // namespace
+
 Context::Context(const vpKinematicChain &nominal_, const vpSelfCalibDataset &dataset_,
                  const vpRobotSelfCalibration::Options &options_, unsigned int num_calibration_,
                  const vpRobotSelfCalibration::Progress &progress_)
@@ -89,7 +114,7 @@ Context::Context(const vpKinematicChain &nominal_, const vpSelfCalibDataset &dat
     verification(dataset_.views.begin() + num_calibration_, dataset_.views.end()),
     twoview(vpRobotSelfCalibration::twoViewOptions(options_, dataset_)),
     multiview(vpRobotSelfCalibration::multiViewOptions(options_, dataset_)),
-    bundle(vpRobotSelfCalibration::bundleOptions(options_, dataset_)),
+    bundle(withEstimatedSetOptions(vpRobotSelfCalibration::bundleOptions(options_, dataset_), options_, dataset_)),
     data_check(vpRobotSelfCalibration::dataCheckOptions(options_)),
     noise(vpRobotSelfCalibration::noiseModel(options_, dataset_))
 {
@@ -288,9 +313,7 @@ bool multiView(const Context &c, Result &res)
   return true;
 }
 
-bool bundle(const Context &c, const vpKinematicChain &start, const vpHomogeneousMatrix &fMc0_, double s,
-            const std::vector<View> &views, const vpKinematicBundleAdjustment::Options &bo, const std::string &label,
-            Result &res)
+std::map<int, vpColVector> pointsInF(const Result &res, const vpHomogeneousMatrix &fMc0_, double s)
 {
   const Rigid fMc0 = rigidFromVisp(fMc0_);
   std::map<int, vpColVector> points;
@@ -301,7 +324,22 @@ bool bundle(const Context &c, const vpKinematicChain &start, const vpHomogeneous
       v[a] = x(a);
     points[e.first] = v;
   }
-  return bundleFrom(c, start, points, res.multiview.fx, views, bo, label, res);
+  return points;
+}
+
+vpCameraParameters startCamera(const Context &c, double fx0)
+{
+  // The dataset's camera (its distortion included) with the multi-view focal length.
+  CameraModel start_camera = CameraModel::fromVisp(c.dataset.cam);
+  start_camera.intrinsics()[0] = fx0;
+  return start_camera.toVisp();
+}
+
+bool bundle(const Context &c, const vpKinematicChain &start, const vpHomogeneousMatrix &fMc0, double s,
+            const std::vector<View> &views, const vpKinematicBundleAdjustment::Options &bo, const std::string &label,
+            Result &res)
+{
+  return bundleFrom(c, start, pointsInF(res, fMc0, s), res.multiview.fx, views, bo, label, res);
 }
 
 bool bundleFrom(const Context &c, const vpKinematicChain &start, const std::map<int, vpColVector> &points, double fx0,
@@ -310,10 +348,7 @@ bool bundleFrom(const Context &c, const vpKinematicChain &start, const std::map<
 {
   c.report(label, 0, 1);
   const vpSelfCalibDataset &ds = c.dataset;
-  // The dataset's camera (its distortion included) with the multi-view focal length.
-  CameraModel start_camera = CameraModel::fromVisp(ds.cam);
-  start_camera.intrinsics()[0] = fx0;
-  const vpCameraParameters cam0 = start_camera.toVisp();
+  const vpCameraParameters cam0 = startCamera(c, fx0);
   res.bundle = vpKinematicBundleAdjustment::adjust(start, cam0, views, ds.yardstick, points, bo, c.noise);
   res.stage_seconds.push_back({label, res.bundle.seconds_solve});
   res.stage_seconds.push_back({"covariance", res.bundle.seconds_covariance});

@@ -93,6 +93,10 @@ bool checkData(const Context &context, Result &result);
 //! The multi-view reconstruction of the calibration views; false (TWO_VIEW_FAILED) when it fails or
 //! places too few views.
 bool multiView(const Context &context, Result &result);
+//! The multi-view points moved to f by fMc0 (a model's pose of view 0) and scaled by s.
+std::map<int, vpColVector> pointsInF(const Result &result, const vpHomogeneousMatrix &fMc0, double s);
+//! The bundle adjustment's start camera: the dataset's (its distortion included) with focal length fx0.
+vpCameraParameters startCamera(const Context &context, double fx0);
 /*!
   The kinematic bundle adjustment from a start model, the multi-view points moved to f by fMc0 (the
   start's pose of view 0) and scaled by s; fills the result. False (IDENTIFICATION_FAILED) when it

@@ -255,3 +255,19 @@ TEST(DatasetYaml, CameraMount)
   EXPECT_NE(msg.find("ceiling"), std::string::npos) << msg;
   EXPECT_NE(parseError(kHead + "camera_mount: [world]\n" + pose).find("camera_mount"), std::string::npos);
 }
+
+// The user's fix: and free: lists (names or glob patterns) are read, written back and checked.
+TEST(DatasetYaml, FixAndFreeListsRoundTrip)
+{
+  vpSelfCalibDataset ds = simulated(true);
+  ds.fix = {"j3.*", "base.tx"};
+  ds.free = {"j2.tz"};
+  const vpSelfCalibDataset back = vpSelfCalibDataset::fromYamlString(ds.toYamlString());
+  EXPECT_EQ(back.fix, ds.fix);
+  EXPECT_EQ(back.free, ds.free);
+  EXPECT_TRUE(simulated(true).toYamlString().find("fix:") == std::string::npos);
+  const std::string poses = "poses:\n  - {joints: [0, 0, 0, 0, 0, 0]}\n";
+  EXPECT_NE(parseError(kHead + "fix: j3.tx\n" + poses).find("key 'fix': expected a list of parameter names"), std::string::npos)
+      << parseError(kHead + "fix: j3.tx\n" + poses);
+  EXPECT_NE(parseError(kHead + "free: ['']\n" + poses).find("free[0]"), std::string::npos);
+}

@@ -53,6 +53,22 @@
     the same set; 24 for a 6-joint arm), minus Options::fixed; the others stay at their start values
     and are listed with the reason. Hand-eye-only mode: eMc's six minus Options::fixed, whatever the
     motion (a degenerate motion is RANK_DEFICIENT, not a smaller set).
+  <b>The estimated set from the data</b> (full kinematic mode, Options::set_from_information): the
+  candidates are the rule's set above; the adjustment's own Jacobian at the start values (the start
+  chain, camera and points, the STATED noise: pixel_sd and the robot's error; never the residuals,
+  so noise draws of the same geometry give the same set) gives the information of the corrections
+  with the scene points, intrinsics, robot-error corrections and the known object's pose eliminated
+  (Schur complement: the marginal information of the corrections). Walked in the preference order
+  (Options::free first), a candidate is estimated when, with it added, (1) its information
+  conditional on those kept before it is at least separation_tolerance of its own (else the data
+  cannot separate it from them), and (2) the predicted sd of it and of every one kept before it stays
+  within the nominal model's tolerance (Options::tolerance_*; the scale direction held when it is,
+  as in the solve). Otherwise it stays at its start value (the nominal one in the pipeline), listed
+  with cause CAUSE_DATA, the reason and what would determine it: the joint between its placement and
+  the next one (the smaller range of the two in the views), the range it moves, and about how far it
+  would have to move (the sd shrinks as the inverse of that range), or more views when that joint
+  already moves widely. A freed parameter skips (2).
+
   - the scale: scaling every length of the robot and the scene leaves the images unchanged. With a
     yardstick (both ends observed) the residual (|X_a - X_b| - L) / yardstick_sd fixes it
     (SCALE_YARDSTICK). Without, the component of rho along the scale direction (the least-squares
@@ -103,7 +119,44 @@ public:
     */
     DistortionModel distortion_model = DISTORTION_VISP;
     std::vector<double> opencv_distortion; //!< (k1, k2, p1, p2, k3); empty: all 0
-    std::vector<std::string> fixed;    //!< kinematic parameters kept at their start value by the caller
+    //! Kinematic parameters kept at their start value by the caller: names or glob patterns
+    //! ("j3.*"; vpKinematicIdentification::matchParameters()).
+    std::vector<std::string> fixed;
+    /*!
+      Full kinematic mode: kinematic parameters (names or glob patterns) estimated whatever their
+      predicted sd, walked before the others of the preference order (see "The estimated set from
+      the data" above). A freed parameter the data cannot separate from those estimated before it,
+      or that the model's rule leaves out (a redundancy), is refused: status RANK_DEFICIENT naming
+      it and the reason. Also fixed: a caller mistake.
+    */
+    std::vector<std::string> free;
+    /*!
+      Full kinematic mode: decide the estimated set from the information of this adjustment (true,
+      default; see "The estimated set from the data" above), or estimate the whole set of the rule
+      on the joints (false: the set of vpKinematicIdentification::analyseConfigurations()).
+    */
+    bool set_from_information = true;
+    /*!
+      The nominal model's tolerance, the largest error expected of a joint placement (m, rad) and of
+      the hand-eye transform eMc, a guess (m, rad): a parameter whose predicted sd would exceed it is
+      left at its nominal value (vpRobotSelfCalibration's tolerance_* give them in the pipeline).
+    */
+    double tolerance_translation = 0.01;
+    double tolerance_rotation = 0.05;
+    double tolerance_hand_eye_translation = 0.1;
+    double tolerance_hand_eye_rotation = 0.5;
+    /*!
+      A parameter whose information conditional on the parameters estimated before it is below this
+      fraction of its own (1 / its variance inflation) is not separable from them (1e-8: an sd 10^4
+      times the one it would have alone).
+    */
+    double separation_tolerance = 1e-8;
+    /*!
+      The estimated set decided by the caller (estimatedSet(), before a start identification that
+      must estimate the same set): when its `identified` list is not empty it is used as it is (its
+      reasons kept), else the set is decided by the adjustment itself.
+    */
+    vpKinematicIdentification::Identifiability estimated_set;
     double yardstick_sd = 1e-5;        //!< m, uncertainty of the yardstick's length
     double rank_tolerance = 1e-6;      //!< estimated-set threshold (vpKinematicIdentification::Options)
     unsigned int max_iterations = 100;
@@ -277,6 +330,19 @@ public:
                        const std::vector<vpSelfCalibDataset::View> &views,
                        const vpSelfCalibDataset::Yardstick &yardstick, const std::map<int, vpColVector> &points,
                        const Options &options, const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
+
+  /*!
+    The estimated set adjust() decides for these data (see "The estimated set from the data"), at the
+    start values given, without solving: to give a start identification the same set
+    (Options::estimated_set). Throws as adjust().
+  */
+  static vpKinematicIdentification::Identifiability estimatedSet(const vpKinematicChain &start,
+                                                                 const vpCameraParameters &camera,
+                                                                 const std::vector<vpSelfCalibDataset::View> &views,
+                                                                 const vpSelfCalibDataset::Yardstick &yardstick,
+                                                                 const std::map<int, vpColVector> &points,
+                                                                 const Options &options,
+                                                                 const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
 
   /*!
     The covariance of the same problem at the given state, without solving and without robust loss

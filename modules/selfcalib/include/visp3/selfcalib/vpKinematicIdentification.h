@@ -90,15 +90,27 @@ public:
     double correlation_threshold = 0.95; //!< |correlation| listed above this
     unsigned int max_iterations = 200;
     bool tight = true;                //!< tolerances 1e-15 (exact recovery on noise-free data)
-    std::vector<std::string> fixed;   //!< parameters kept at their start value by the caller
+    std::vector<std::string> fixed;   //!< parameters kept at their start value by the caller (names or glob patterns, matchParameters())
     void check() const;
   };
 
-  //! A parameter not estimated, with the reason (no effect, or the estimated parameters it acts as).
+  /*!
+    Why a parameter is not estimated: MODEL, the model's structure for these joint configurations
+    (no effect on the measurements, or a combination of parameters estimated before it: a redundancy
+    of the complete error model); FIXED, the caller fixed it (Options::fixed, calibrate --fix); DATA,
+    the data do not determine it (vpKinematicBundleAdjustment: its predicted sd would exceed the
+    nominal model's tolerance, or the data cannot separate it from the parameters estimated before
+    it), left at its nominal value.
+  */
+  enum Cause { CAUSE_MODEL, CAUSE_FIXED, CAUSE_DATA };
+  //! A parameter not estimated, with the reason and its cause.
   struct Unidentifiable {
     unsigned int index = 0;
     std::string name;
     std::string reason;
+    Cause cause = CAUSE_MODEL;
+    //! CAUSE_DATA: what would determine it (which joint must move, and about how far), else empty.
+    std::string needs;
   };
 
   //! Which parameters the configurations identify (the estimated set), and why the others are not.
@@ -147,6 +159,14 @@ public:
     current parameters (6 rows per measurement).
   */
   static vpMatrix jacobian(const vpKinematicChain &chain, const std::vector<Measurement> &measurements);
+
+  /*!
+    The parameter names of the chain that names or shell-style glob patterns (`*`, `?`, `[...]`:
+    "j3.*", "eMc.r?") match, each once, in chain order. A pattern that matches nothing throws
+    vpSelfCalibException naming it, `what` (the option or key it came from) and the valid names.
+  */
+  static std::vector<std::string> matchParameters(const vpKinematicChain &chain, const std::vector<std::string> &patterns,
+                                                  const std::string &what);
 
   /*!
     The fixed preference order of the estimated-set selection (see the class): eMc (tx ty tz rx ry

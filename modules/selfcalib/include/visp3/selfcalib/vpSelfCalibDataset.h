@@ -52,6 +52,8 @@
       image: images/0001.png           # optional, relative to this file
       points: [[id, u, v], ...]        # optional
   yardstick: {length: 0.1, ends: [80, 81]}   # optional; without ends: dots found in the images
+  fix: [j3.*, base.*]             # optional: parameters kept nominal (names or glob patterns)
+  free: [j2.tz]                   # optional: parameters estimated whatever their predicted sd
   \endcode
 */
 struct VISP_SELFCALIB_EXPORT vpSelfCalibDataset {
@@ -101,6 +103,12 @@ struct VISP_SELFCALIB_EXPORT vpSelfCalibDataset {
   //! when its own options leave them unset.
   double pose_sd_translation = 0, pose_sd_rotation = 0;
   std::vector<double> joint_sd;
+  /*!
+    Kinematic parameters the user keeps at their nominal value (fix) or has estimated whatever their
+    predicted sd (free): names or glob patterns of the model's parameters ("j3.*", "eMc.rz"); the
+    pipeline adds them to its bundle adjustment's (vpKinematicBundleAdjustment::Options fixed, free).
+  */
+  std::vector<std::string> fix, free;
   std::vector<View> views;
   Yardstick yardstick;
 

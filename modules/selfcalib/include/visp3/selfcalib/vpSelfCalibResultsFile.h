@@ -48,8 +48,11 @@
     calibrated}`, the reprojection RMS of the calibration views.
   - `estimated`: per estimated parameter (chain order), `[value, sd]`; `not_estimated`: per other
     parameter, the reason.
-  - `estimated_set` (opt.): `{rule, count, order: [names], new_direction: {name: value}}`, the
-    new-direction figures written with 3 significant digits.
+  - `estimated_set` (opt.): `{rule, count, order: [names], new_direction: {name: value},
+    fixed_by_user: [names], left_by_data: {name: {reason, needs}}}`, the new-direction figures
+    written with 3 significant digits; fixed_by_user and left_by_data are written when not empty
+    (the parameters the user fixed, and those the data do not determine, kept at nominal with the
+    reason and what would determine them).
   - `verification` (opt., a split with held-out views): `yardstick_error_nominal`,
     `yardstick_error_calibrated`, `reprojection_rms_nominal`, `reprojection_rms_calibrated`.
   - `protocol`: `{calibration_views, held_out_views, folds}`.
@@ -115,6 +118,12 @@ public:
     unsigned int count = 0;
     std::vector<std::string> order;
     std::vector<std::pair<std::string, double>> new_direction; //!< written with 3 significant digits
+    std::vector<std::string> fixed_by_user;                    //!< fixed by the caller (--fix, the dataset's fix:)
+    //! Left at nominal because the data do not determine them: name, reason, what would determine it.
+    struct LeftByData {
+      std::string name, reason, needs;
+    };
+    std::vector<LeftByData> left_by_data;
   };
   //! The `verification` block of results.yaml.
   struct Verification {

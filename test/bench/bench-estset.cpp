@@ -1,0 +1,395 @@
+/*
+ * bench-estset: the estimated set from what the data determine, on arms one of whose joints barely
+ * moves (the real Franka set's joint 3 moves 0.51 deg while the others move 51-122 deg).
+ *
+ *   bench-estset [--seeds N] [--draws K] [--stable D] [--robots panda,puma560] [--views 12,25]
+ *                [--noise 0.2,0.5] [--focal known,shared] [--csv FILE]
+ *
+ * Per robot (its stuck joint: the Panda's j3, a 6-axis arm's wrist j5), number of calibration views,
+ * focal mode, noise level and seed: a true robot with seeded errors (vpSelfCalibSimulator, 80 points
+ * and a yardstick), V calibration and 10 held-out configurations drawn around the home with the stuck
+ * joint within +-0.5 deg of it and every scene point in view (each draw aimed at the scene by a few
+ * Gauss-Newton steps on the other joints), the default pipeline (method bundle, the pixel sd stated)
+ * on K + 1 noise draws. Per row:
+ *   ok / doubtful / failed  the run's status (the pipeline's checks; failed: no model);
+ *   left at nominal         the parameters the data leave out (cause DATA), the most frequent list;
+ *   sets over the seeds     the number of different lists over the runs of the row (seeds are different
+ *                           geometries; the same-set check below is the one of a geometry);
+ *   nominal / calibrated    the held-out relative position error (c_0 M c_k, first held-out view to the
+ *                           others) of the nominal and the calibrated model, RMS over the runs, and the
+ *                           worst run's ratio calibrated / nominal (below 1: better in every run);
+ *   gain                    the mean over the runs of nominal / calibrated;
+ *   CRB RMS                 the RMS error the Cramer-Rao bound of the set estimated predicts;
+ *   gain the bound allows   nominal RMS / CRB RMS: what an efficient estimator of that set gains;
+ *   CRB ratio               RMS error / the RMS the Cramer-Rao bound of the set estimated predicts
+ *                           (vpKinematicBundleAdjustment::information at the truth with that set,
+ *                           propagated by relativePoseCovariance): 1 is efficient; the parameters
+ *                           left at nominal keep their true error, a bias the bound does not hold.
+ * Then the same-set check: D draws of one geometry per robot (12 views, 0.2 px, f known).
+ * Targets (f known): ok in every run, the calibrated error below the nominal one in every run, gain
+ * >= 3 with 12 views and >= 5 with 25, CRB ratio <= 1.3, one set per geometry.
+ */
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <random>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <visp3/core/vpException.h>
+#include <visp3/selfcalib/vpKinematicBundleAdjustment.h>
+#include <visp3/selfcalib/vpRobotSelfCalibration.h>
+#include <visp3/selfcalib/vpSelfCalibDataCheck.h>
+#include <visp3/selfcalib/vpSelfCalibSimulator.h>
+
+#include "benchCommon.h"
+#include "benchPaper.h"
+#include "selfcalibCli.h"
+
+namespace
+{
+constexpr unsigned int kHeldOut = 10;
+constexpr double kStuck = 0.5 * M_PI / 180.0; // rad, half the stuck joint's range
+
+unsigned int stuckJoint(const std::string &robot) { return robot == "panda" ? 2 : 4; }
+
+vpColVector home(const std::string &robot, const vpKinematicChain &chain)
+{
+  if (robot == "panda")
+    return vpColVector({0, -0.5, 0, -2.2, 0, 1.9, 0.785});
+  return vpSelfCalibSimulator::homeConfiguration(chain);
+}
+
+vpSelfCalibSimulator makeSim(const std::string &robot, unsigned int seed)
+{
+  const vpKinematicChain chain = vpKinematicChain::preset(robot);
+  vpSelfCalibSimulator::Options so;
+  so.seed = seed;
+  so.pixel_noise_sd = 0;
+  so.home = home(robot, chain);
+  return vpSelfCalibSimulator(chain, so);
+}
+
+/*
+  One configuration: the joints drawn around the home (the stuck one within +-kStuck of its home
+  value, the others within +-0.5 rad), then the others moved by damped Gauss-Newton steps so that the
+  optical axis passes through the scene centre at a drawn distance; kept when within the limits and
+  every scene point is in view.
+*/
+bool drawConfiguration(const vpSelfCalibSimulator &sim, const vpColVector &q0, unsigned int stuck, std::mt19937_64 &rng,
+                       vpColVector &q)
+{
+  const vpKinematicChain &chain = sim.getNominalChain();
+  const unsigned int n = chain.getNumJoints();
+  std::uniform_real_distribution<double> u(-1, 1);
+  q = q0;
+  for (unsigned int j = 0; j < n; ++j)
+    q[j] += j == stuck ? kStuck * u(rng) : 0.5 * u(rng);
+  const vpColVector c = sim.getSceneCentre();
+  const double dist = 0.6 + 0.2 * 0.5 * (u(rng) + 1);
+  auto residual = [&](const vpColVector &x) {
+    const vpHomogeneousMatrix cMf = chain.get_fMc(x).inverse();
+    vpColVector X(4);
+    for (unsigned int a = 0; a < 3; ++a)
+      X[a] = c[a];
+    X[3] = 1;
+    const vpColVector Xc = cMf * X;
+    return vpColVector({Xc[0] / Xc[2], Xc[1] / Xc[2], (Xc[2] - dist) / dist});
+  };
+  for (int it = 0; it < 30; ++it) {
+    const vpColVector r = residual(q);
+    if (r.frobeniusNorm() < 1e-9)
+      break;
+    vpMatrix J(3, n - 1);
+    unsigned int col = 0;
+    for (unsigned int j = 0; j < n; ++j) {
+      if (j == stuck)
+        continue;
+      vpColVector qe = q;
+      qe[j] += 1e-6;
+      const vpColVector d = (residual(qe) - r) / 1e-6;
+      for (unsigned int a = 0; a < 3; ++a)
+        J[a][col] = d[a];
+      ++col;
+    }
+    const vpColVector step = J.pseudoInverse() * r;
+    col = 0;
+    for (unsigned int j = 0; j < n; ++j)
+      if (j != stuck)
+        q[j] -= std::max(-0.3, std::min(0.3, step[col++]));
+  }
+  return residual(q).frobeniusNorm() < 1e-6 && chain.isInJointLimits(q) && sim.isVisible(q);
+}
+
+std::vector<vpColVector> configurations(const vpSelfCalibSimulator &sim, const vpColVector &q0, unsigned int stuck,
+                                        unsigned int count, unsigned int seed)
+{
+  std::mt19937_64 rng(7919ULL * seed + 17);
+  std::vector<vpColVector> out;
+  for (unsigned int attempt = 0; out.size() < count && attempt < 200 * count; ++attempt) {
+    vpColVector q;
+    if (drawConfiguration(sim, q0, stuck, rng, q))
+      out.push_back(q);
+  }
+  if (out.size() < count)
+    throw std::runtime_error("no feasible configurations around the home");
+  return out;
+}
+
+vpSelfCalibDataset noisy(const vpSelfCalibDataset &ds0, double noise, uint64_t seed)
+{
+  vpSelfCalibDataset dd = ds0;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> n(0, noise);
+  for (auto &v : dd.views)
+    for (auto &o : v.points)
+      o.ip = vpImagePoint(o.ip.get_i() + n(rng), o.ip.get_j() + n(rng));
+  return dd;
+}
+
+double g_tolerance_t = 3e-3, g_tolerance_r = 5e-3; // --tolerance
+
+vpRobotSelfCalibration::Result calibrate(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds,
+                                         vpRobotSelfCalibration::FocalMode mode, double noise, unsigned int views)
+{
+  vpRobotSelfCalibration::Options po;
+  po.tolerance_translation = g_tolerance_t;
+  po.tolerance_rotation = g_tolerance_r;
+  po.focal_mode = mode;
+  po.num_calibration_poses = views;
+  po.noise.pixel_sd = noise;
+  return vpRobotSelfCalibration::run(sim.getNominalChain(), ds, po);
+}
+
+std::string leftByData(const vpRobotSelfCalibration::Result &r)
+{
+  std::string s;
+  for (const auto &u : r.identifiability.unidentifiable)
+    if (u.cause == vpKinematicIdentification::CAUSE_DATA)
+      s += (s.empty() ? "" : " ") + u.name;
+  return s.empty() ? "none" : s;
+}
+
+double rms(const std::vector<double> &e)
+{
+  double s = 0;
+  for (double x : e)
+    s += x * x;
+  return e.empty() ? NAN : std::sqrt(s / e.size());
+}
+
+struct Row {
+  unsigned int ok = 0, doubtful = 0, failed = 0, runs = 0;
+  std::map<std::string, unsigned int> sets;
+  double sum_nominal2 = 0, sum_calibrated2 = 0, sum_bound2 = 0, worst = 0;
+  unsigned int pairs = 0, bound_pairs = 0;
+  bench::Stats gain;
+  double sum_e2_bounded = 0;
+};
+
+//! The Cramer-Rao bound of the set r estimated, at the truth, propagated to the held-out pairs (sum of variances).
+bool boundOf(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds0, unsigned int views,
+             const std::vector<vpColVector> &held, const vpRobotSelfCalibration::Result &r,
+             vpRobotSelfCalibration::FocalMode mode, double noise, std::vector<double> &pred)
+{
+  vpKinematicBundleAdjustment::Options bo;
+  bo.intrinsics = mode == vpRobotSelfCalibration::FOCAL_KNOWN ? 0u : vpKinematicBundleAdjustment::FX;
+  bo.estimated_set = r.identifiability;
+  vpSelfCalibNoiseModel bn;
+  bn.pixel_sd = noise;
+  const std::vector<vpSelfCalibDataset::View> cal(ds0.views.begin(), ds0.views.begin() + views);
+  const auto crb = vpKinematicBundleAdjustment::information(sim.getTrueChain(), sim.getCamera(), cal, sim.getYardstick(),
+                                                            sim.getScenePointsById(), bo, bn);
+  if (!crb.has_covariance)
+    return false;
+  pred.clear();
+  for (size_t k = 1; k < held.size(); ++k) {
+    const vpMatrix C = vpKinematicBundleAdjustment::relativePoseCovariance(
+        sim.getTrueChain(), crb.identifiability.identified, crb.covariance, held[0], held[k]);
+    pred.push_back(C[0][0] + C[1][1] + C[2][2]);
+  }
+  return true;
+}
+
+void runOnce(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, const std::vector<vpColVector> &held,
+             unsigned int views, vpRobotSelfCalibration::FocalMode mode, double noise, uint64_t draw_seed,
+             const std::vector<double> &nominal_errors, Row &row, bench::Csv &csv, const std::string &tag)
+{
+  const auto r = calibrate(clean, noisy(ds0, noise, draw_seed), mode, noise, views);
+  ++row.runs;
+  if (r.status != vpRobotSelfCalibration::OK && r.status != vpRobotSelfCalibration::DOUBTFUL) {
+    ++row.failed;
+    std::cerr << "\n" << tag << ": " << vpRobotSelfCalibration::statusName(r.status) << ": " << r.message << "\n";
+    return;
+  }
+  (r.status == vpRobotSelfCalibration::OK ? row.ok : row.doubtful)++;
+  if (r.status == vpRobotSelfCalibration::DOUBTFUL)
+    for (const auto &f : r.findings)
+      if (f.severity == vpSelfCalibDataCheck::DOUBT)
+        std::cerr << "\n" << tag << ": doubtful: " << f.code << ": " << f.message << "\n";
+  ++row.sets[leftByData(r)];
+  const std::vector<vpSelfCalibDataset::View> hv(ds0.views.begin() + views, ds0.views.end());
+  const vpCalibrationVerifier::Result v = bench::verifyAgainstTruth(clean, r.calibrated, r.camera, hv);
+  const double e_cal = rms(v.position_errors), e_nom = rms(nominal_errors);
+  row.worst = std::max(row.worst, e_cal / e_nom);
+  row.gain.add(e_nom / e_cal);
+  for (size_t k = 0; k < v.position_errors.size(); ++k) {
+    row.sum_calibrated2 += v.position_errors[k] * v.position_errors[k];
+    row.sum_nominal2 += nominal_errors[k] * nominal_errors[k];
+    ++row.pairs;
+  }
+  std::vector<double> pred;
+  if (boundOf(clean, ds0, views, held, r, mode, noise, pred))
+    for (size_t k = 0; k < pred.size() && k < v.position_errors.size(); ++k) {
+      row.sum_bound2 += pred[k];
+      row.sum_e2_bounded += v.position_errors[k] * v.position_errors[k];
+      ++row.bound_pairs;
+    }
+  if (csv.enabled())
+    csv.row() << tag << "," << vpRobotSelfCalibration::statusName(r.status) << "," << e_nom << "," << e_cal << ","
+              << "\"" << leftByData(r) << "\"\n";
+}
+} // namespace
+
+int main(int argc, char **argv)
+{
+  try {
+    unsigned int seeds = 10, draws = 0, stable = 30;
+    std::vector<std::string> robots = {"panda", "puma560"};
+    std::vector<unsigned int> view_counts = {12, 25};
+    std::vector<double> noises = {0.2, 0.5};
+    std::vector<std::string> focals = {"known", "shared"};
+    std::string csv_path;
+    CLI::App app("bench-estset: the estimated set from what the data determine, an arm with one joint stuck within "
+                 "+-0.5 deg.",
+                 "bench-estset");
+    selfcalibCli::addSeeds(app, seeds);
+    app.add_option("--draws", draws, "extra noise draws of each seed's geometry (default 0)")
+        ->type_name("K")
+        ->check(selfcalibCli::wholeNumber());
+    app.add_option("--stable", stable, "noise draws of one geometry for the same-set check (default 30; 0: none)")
+        ->type_name("D")
+        ->check(selfcalibCli::wholeNumber());
+    selfcalibCli::addRobots(app, robots, vpKinematicChain::presetNames());
+    app.add_option("--views", view_counts, "calibration views (default 12,25)")->type_name("V")->delimiter(',');
+    selfcalibCli::addNoiseLevels(app, noises, "pixel noise levels, above 0 (default 0.2,0.5)", true);
+    app.add_option("--focal", focals, "focal modes (default known,shared)")
+        ->type_name("MODES")
+        ->delimiter(',')
+        ->check(CLI::IsMember(
+            bench::focalModeNames({vpRobotSelfCalibration::FOCAL_KNOWN, vpRobotSelfCalibration::FOCAL_SHARED})));
+    std::vector<double> tolerance = {g_tolerance_t, g_tolerance_r};
+    app.add_option("--tolerance", tolerance,
+                   "the nominal model's tolerance given to calibrate, joint placements (m, rad); default 0.003,0.005: "
+                   "3 sd of the simulated robot's errors (1 mm, 0.1 deg)")
+        ->type_name("T,R")
+        ->delimiter(',')
+        ->expected(2);
+    app.add_option("--csv", csv_path, "one row per run")->type_name("FILE");
+    const int parsed = selfcalibCli::parse(app, argc, argv);
+    if (parsed >= 0)
+      return parsed;
+
+    g_tolerance_t = tolerance.at(0);
+    g_tolerance_r = tolerance.at(1);
+    bench::Csv csv(csv_path, "run,status,nominal_rms_m,calibrated_rms_m,left_at_nominal");
+    std::cout << "bench-estset: " << seeds << " seeds x " << (draws + 1) << " noise draws, the stuck joint within +-0.5 deg, "
+              << kHeldOut << " held-out views\n\n"
+              << "| robot | stuck | views | focal | noise (px) | ok | doubtful | failed | left at nominal (most frequent) | sets over the seeds | "
+                 "nominal RMS (mm) | calibrated RMS (mm) | CRB RMS (mm) | worst cal/nom | gain (mean) | gain the bound allows | CRB ratio | targets |\n"
+              << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    const auto t_start = std::chrono::steady_clock::now();
+    bool all_met = true;
+    for (const std::string &robot : robots) {
+      const unsigned int stuck = stuckJoint(robot);
+      for (unsigned int views : view_counts)
+        for (const std::string &focal : focals) {
+          const vpRobotSelfCalibration::FocalMode mode = vpRobotSelfCalibration::focalModeFromName(focal);
+          for (const double noise : noises) {
+            Row row;
+            for (unsigned int seed = 1; seed <= seeds; ++seed) {
+              const vpSelfCalibSimulator clean = makeSim(robot, seed);
+              const std::vector<vpColVector> q =
+                  configurations(clean, home(robot, clean.getNominalChain()), stuck, views + kHeldOut, seed);
+              const std::vector<vpColVector> held(q.begin() + views, q.end());
+              const vpSelfCalibDataset ds0 = bench::pipelineDataset(clean, q, mode);
+              const std::vector<vpSelfCalibDataset::View> hv(ds0.views.begin() + views, ds0.views.end());
+              const std::vector<double> nominal_errors =
+                  bench::verifyAgainstTruth(clean, clean.getNominalChain(), clean.getCamera(), hv).position_errors;
+              for (unsigned int d = 0; d <= draws; ++d) {
+                std::ostringstream tag;
+                tag << robot << "," << views << "," << focal << "," << noise << "," << seed << "," << d;
+                std::cerr << tag.str() << "        \r" << std::flush;
+                runOnce(clean, ds0, held, views, mode, noise, 1000003ULL * seed + d, nominal_errors, row, csv, tag.str());
+              }
+            }
+            std::string common;
+            unsigned int most = 0;
+            for (const auto &s : row.sets)
+              if (s.second > most) {
+                most = s.second;
+                common = s.first;
+              }
+            const double crb = row.sum_bound2 > 0 ? std::sqrt(row.sum_e2_bounded / row.sum_bound2) : NAN;
+            const double target_gain = views >= 25 ? 5.0 : 3.0;
+            const bool met = row.failed == 0 && row.doubtful == 0 && row.worst < 1 && row.gain.mean() >= target_gain &&
+                             crb <= 1.3;
+            if (mode == vpRobotSelfCalibration::FOCAL_KNOWN)
+              all_met = all_met && met;
+            std::cout << std::fixed << "| " << robot << " | j" << stuck + 1 << " | " << views << " | " << focal << " | "
+                      << std::setprecision(1) << noise << " | " << row.ok << " | " << row.doubtful << " | " << row.failed
+                      << " | " << common << " | " << row.sets.size() << " | " << std::setprecision(3)
+                      << 1e3 * std::sqrt(row.sum_nominal2 / std::max(1u, row.pairs)) << " | "
+                      << 1e3 * std::sqrt(row.sum_calibrated2 / std::max(1u, row.pairs)) << " | "
+                      << 1e3 * std::sqrt(row.sum_bound2 / std::max(1u, row.bound_pairs)) << " | " << std::setprecision(2)
+                      << row.worst << " | " << bench::meanSd(row.gain, 1, 1) << " | "
+                      << std::sqrt(row.sum_nominal2 / std::max(1u, row.pairs)) /
+                             std::sqrt(row.sum_bound2 / std::max(1u, row.bound_pairs))
+                      << " | " << crb << " | "
+                      << (mode == vpRobotSelfCalibration::FOCAL_KNOWN ? (met ? "met" : "NOT met") : "(not claimed)")
+                      << " |\n"
+                      << std::flush;
+          }
+        }
+    }
+    // The same set in repeated draws of one geometry.
+    bool same = true;
+    for (const std::string &robot : robots) {
+      if (stable == 0)
+        break;
+      const unsigned int stuck = stuckJoint(robot), views = 12;
+      const vpSelfCalibSimulator clean = makeSim(robot, 1);
+      const std::vector<vpColVector> q =
+          configurations(clean, home(robot, clean.getNominalChain()), stuck, views + kHeldOut, 1);
+      const vpSelfCalibDataset ds0 = bench::pipelineDataset(clean, q, vpRobotSelfCalibration::FOCAL_KNOWN);
+      std::map<std::string, unsigned int> sets;
+      for (unsigned int d = 0; d < stable; ++d) {
+        std::cerr << robot << " same-set draw " << d + 1 << "/" << stable << "      \r" << std::flush;
+        const auto r = calibrate(clean, noisy(ds0, 0.2, 5000011ULL + d), vpRobotSelfCalibration::FOCAL_KNOWN, 0.2, views);
+        ++sets[r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL ? leftByData(r)
+                                                                                                        : "(failed)"];
+      }
+      std::cout << "\nsame set, " << robot << " (12 views, 0.2 px, f known, " << stable << " draws): " << sets.size()
+                << " set(s):";
+      for (const auto &s : sets)
+        std::cout << " [" << s.first << "] x" << s.second;
+      same = same && sets.size() == 1;
+    }
+    std::cerr << std::string(70, ' ') << "\r";
+    std::cout << "\n\ntargets (f known): ok in every run, calibrated below nominal in every run, gain >= 3 (12 views) "
+                 "/ 5 (25 views), CRB ratio <= 1.3: "
+              << (all_met ? "met" : "NOT met") << "; the same set in every draw: " << (same ? "met" : "NOT met")
+              << "\ndone in " << std::setprecision(0)
+              << std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count() << " s\n";
+    return EXIT_SUCCESS;
+  } catch (const vpException &e) {
+    std::cerr << "bench-estset: " << e.getStringMessage() << "\n";
+  } catch (const std::exception &e) {
+    std::cerr << "bench-estset: " << e.what() << "\n";
+  }
+  return EXIT_FAILURE;
+}
