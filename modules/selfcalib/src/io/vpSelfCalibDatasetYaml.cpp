@@ -1,6 +1,6 @@
 /*
  * ViSP SelfCalib: dataset YAML (read and write) for vpSelfCalibDataset, with yaml-cpp; camera XML
- * through ViSP's vpXmlParserCamera. The format is in the header and the README.
+ * through ViSP's vpXmlParserCamera. The format is in the header and doc/formats.md.
  */
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>

@@ -597,7 +597,7 @@ void parametersSection(std::ostream &md, const vpSelfCalibReport::Record &run, c
        << mm(k < r.parameter_sd.size() ? r.parameter_sd[k] : 0.0) << " |\n";
   md << "\n## Not estimated (kept at nominal)\n\nThe estimated set follows a fixed preference order (eMc, base, "
         "then each joint as rz tz tx rx ry ty, base to tip) at the nominal model and the calibration joints only, so "
-        "the same robot and poses give the same set whatever the noise (README, \"The estimated set\"); the bundle "
+        "the same robot and poses give the same set whatever the noise (doc/concepts.md, \"The estimated set\"); the bundle "
         "adjustment then keeps those its own information at the start values (the stated noise) determines within "
         "the nominal model's tolerance.\n\n";
   using Ident = vpKinematicIdentification;

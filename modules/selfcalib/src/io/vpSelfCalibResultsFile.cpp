@@ -267,8 +267,8 @@ void emitEstimated(YAML::Emitter &out, const RF::Contents &c)
   if (c.estimated_set) {
     const RF::EstimatedSet &s = *c.estimated_set;
     out << YAML::Key << "estimated_set"
-        << YAML::Comment("fixed preference order at the nominal model and the calibration joints (README, "
-                         "\"The estimated set\")")
+        << YAML::Comment("candidates in a fixed preference order, kept when the data determine them "
+                         "(doc/concepts.md, \"The estimated set\")")
         << YAML::Value << YAML::BeginMap;
     out << YAML::Key << "rule" << YAML::Value << YAML::DoubleQuoted << s.rule;
     out << YAML::Key << "count" << YAML::Value << s.count;

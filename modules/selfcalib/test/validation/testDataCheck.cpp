@@ -318,12 +318,14 @@ TEST(DataCheck, ParallelAxesWarnAndSayWhatIsLost)
   // The estimated set (the fixed preference order, eMc first) holds eMc.tx, whose axis lies within
   // 1.4% of the common joint axis here: 99% of its effect is a rigid motion of the whole arm, and the
   // bundle adjustment's information keeps 5e-11 of it, below its 1e-10 test. The run fails naming the
-  // undetermined parameter, or is doubtful naming the poorly determined ones, or is ok saying what
-  // is lost.
+  // undetermined parameter, or is doubtful naming the poorly determined ones (or the correction of
+  // eMc.tx beyond its tolerance: its predicted sd is within the tolerance, so the estimated set from
+  // the data keeps it, and the data then pull it far), or is ok saying what is lost.
   if (r.status == vpRobotSelfCalibration::IDENTIFICATION_FAILED)
     EXPECT_NE(r.message.find("not determined: eMc.tx"), std::string::npos) << r.message;
   else if (r.status == vpRobotSelfCalibration::DOUBTFUL)
-    ASSERT_NE(finding(r, "poorly-determined"), nullptr) << codes(r);
+    ASSERT_TRUE(finding(r, "poorly-determined") != nullptr || finding(r, "correction-beyond-tolerance") != nullptr)
+        << codes(r);
   else {
     EXPECT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
     ASSERT_NE(finding(r, "identifiability-lost"), nullptr) << codes(r);
