@@ -59,6 +59,19 @@ BENCHES = [
     ("bench-planner", ["--seeds", "2"],
      "The paper's optimal trajectory (Section 3.3) against the random feasible start it is planned "
      "from: eq. 21 ratio error, pose-measurement error, held-out error, conditioning, planning time."),
+    ("bench-boards", ["--seeds", "5", "--draws", "2"],
+     "Eye-in-hand on a rendered ChArUco board (corners found by the board front end, then Gaussian "
+     "noise added): held-out error against the Cramer-Rao bound, the board's layout unknown (its points "
+     "are scene points) and known (`--board-geometry`), f known and shared."),
+    ("bench-estset", ["--focal", "known"],
+     "The bundle method on arms with one joint that barely moves (Panda joint 3, PUMA joint 5, within "
+     "+-0.5 deg): the estimated set decided from the data's information (what is left at nominal, the "
+     "same set over draws), the held-out relative-pose error against the nominal model's and the "
+     "Cramer-Rao bound of the set estimated."),
+    ("bench-eye-to-hand", [],
+     "A camera fixed in the world and a board on the tool (simulated points data, 2 mm / 2 mrad of "
+     "controller pose error): bMc and eMo against the Cramer-Rao bound over seeds, the NEES of their "
+     "reported covariance over noise draws, and the measured pose sd against the true one."),
 ]
 
 
