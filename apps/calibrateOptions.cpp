@@ -93,7 +93,7 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
                 "(default 0.01,0.05,0.1,0.5; hand-eye does not check eMc)")
       ->type_name("T,R[,TE,RE]")
       ->delimiter(',')
-      ->expected(2, 4)
+      ->expected(1, 4) // 1 or 3 refused below; (2, 4) would print "x 2" in the help
       ->check(selfcalibCli::number(0, true, 100));
   c->add_option("--pose-sd", a.pose_sd,
                 "hand-eye: the controller poses' error, translation (m) and rotation (rad) sd,\n"
@@ -276,8 +276,9 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
     po.noise.pixel_sd_origin = vpSelfCalibNoiseModel::MEASURED; // from 0.2 px
   else
     po.noise.pixel_sd = std::stod(a.pixel_sd);
-  if (a.tolerance.size() == 3)
-    throw CLI::ValidationError("--tolerance", "give 2 values (joint placements) or 4 (and eMc), not 3");
+  if (a.tolerance.size() == 1 || a.tolerance.size() == 3)
+    throw CLI::ValidationError("--tolerance", "give 2 values (joint placements) or 4 (and eMc), not " +
+                                                  std::to_string(a.tolerance.size()));
   if (a.tolerance.size() >= 2) {
     po.tolerance_translation = a.tolerance[0];
     po.tolerance_rotation = a.tolerance[1];

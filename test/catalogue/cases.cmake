@@ -37,6 +37,7 @@ catalogue_case(calibrate-pose-sd-one-value 2 "--pose-sd: give two values, T,R \\
 catalogue_case(calibrate-pose-sd-auto-and-number 2 "--pose-sd: give T,R \\(two numbers\\) or auto, not both" "calibrate --pose-sd auto,0.002" [=[$APP calibrate $G --out o --pose-sd auto,0.002]=])
 catalogue_case(calibrate-pose-sd-auto-bundle 2 "--pose-sd: auto measures the controller poses' error: it needs --method hand-eye" "calibrate --pose-sd auto --method bundle" [=[$APP calibrate $G --out o --pose-sd auto --method bundle]=])
 catalogue_case(calibrate-tolerance-three 2 "--tolerance: give 2 values \\(joint placements\\) or 4 \\(and eMc\\), not 3" "calibrate --tolerance with three values" [=[$APP calibrate $G --out o --tolerance 0.01,0.05,0.1]=])
+catalogue_case(calibrate-tolerance-one 2 "--tolerance: give 2 values \\(joint placements\\) or 4 \\(and eMc\\), not 1" "calibrate --tolerance with one value" [=[$APP calibrate $G --out o --tolerance 0.01]=])
 catalogue_case(calibrate-pose-sd-negative 2 "--pose-sd: expected 'auto' or a number of at least 0 and at most 10, got '-0.001'" "calibrate --pose-sd -0.001,0.001" [=[$APP calibrate $G --out o --pose-sd -0.001,0.001]=])
 catalogue_case(calibrate-threads-zero 2 "--threads: expected a whole number from 1 to 1024, got '0'" "calibrate --threads 0" [=[$APP calibrate $G --out o --threads 0]=])
 catalogue_case(calibrate-threads-huge 2 "--threads: expected a whole number from 1 to 1024, got '100000'" "calibrate --threads 100000" [=[$APP calibrate $G --out o --threads 100000]=])
