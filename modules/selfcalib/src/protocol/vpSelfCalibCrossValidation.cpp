@@ -209,7 +209,10 @@ vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinem
   res.nominal_median = spread(nom_median);
   std::ostringstream os;
   os << std::setprecision(3);
-  if (res.num_ok == 0)
+  if (res.num_ok == 0 && res.num_failed == 0)
+    os << "no fold measured (every fold calibrated, but no held-out view observes a point its training views "
+          "triangulate: too few points shared between views, e.g. one small tag)";
+  else if (res.num_ok == 0)
     os << "no fold measured (" << res.num_failed << " of " << cv.folds << " calibrations failed)";
   else {
     os << "held-out reprojection RMS " << res.calibrated_rms.mean << " px (sd " << res.calibrated_rms.sd << ", "
