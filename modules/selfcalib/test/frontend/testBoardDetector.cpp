@@ -20,6 +20,7 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibRenderer.h>
 
+#include "boardSpecTest.h"
 #include "boardTestImages.h"
 
 namespace fs = std::filesystem;
@@ -63,17 +64,6 @@ void expectSubPixelAtPoses(const vpBoardDetector::Options &o, const std::string 
     worst = std::max(worst, e);
   }
   std::cout << "[ board    ] " << what << ": largest error " << worst << " px over 5 poses\n";
-}
-
-void expectParseError(const std::string &spec, const std::string &message)
-{
-  try {
-    vpBoardDetector::parse(spec);
-    ADD_FAILURE() << "'" << spec << "' was accepted";
-  } catch (const vpSelfCalibException &e) {
-    EXPECT_NE(e.getStringMessage().find(message), std::string::npos)
-        << "'" << spec << "': " << e.getStringMessage() << " (expected '" << message << "')";
-  }
 }
 } // namespace
 

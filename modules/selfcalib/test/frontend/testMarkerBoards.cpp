@@ -22,6 +22,7 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
+#include "boardSpecTest.h"
 #include "markerTestImages.h"
 
 namespace fs = std::filesystem;
@@ -111,17 +112,6 @@ void measure(const vpBoardDetector::Options &o, double texel, double distance, d
   std::cout << "[ markers  ] " << what << ": " << m.points << " of " << m.expected
             << " visible points found over 10 views, error RMS " << std::sqrt(m.sum2 / std::max<size_t>(1, m.points))
             << " px, largest " << m.worst << " px\n";
-}
-
-void expectParseError(const std::string &spec, const std::string &message)
-{
-  try {
-    vpBoardDetector::parse(spec);
-    ADD_FAILURE() << "'" << spec << "' was accepted";
-  } catch (const vpSelfCalibException &e) {
-    EXPECT_NE(e.getStringMessage().find(message), std::string::npos)
-        << "'" << spec << "': " << e.getStringMessage() << " (expected '" << message << "')";
-  }
 }
 
 std::string writeBundle(const std::string &name, const std::string &content)
