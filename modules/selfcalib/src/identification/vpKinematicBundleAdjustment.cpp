@@ -8,6 +8,7 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -605,6 +606,57 @@ vpKinematicIdentification::Identifiability vpKinematicBundleAdjustment::estimate
   checkRobotError(start, options, noise);
   std::string refused;
   return setOf(start, camera, views, yardstick, X0, q, fMe, options, noise, refused);
+}
+
+vpColVector vpKinematicBundleAdjustment::predictedSd(const vpKinematicChain &start, const vpCameraParameters &camera,
+                                                     const std::vector<vpSelfCalibDataset::View> &views,
+                                                     const vpSelfCalibDataset::Yardstick &yardstick,
+                                                     const std::map<int, vpColVector> &points,
+                                                     const std::vector<unsigned int> &parameters, const Options &options,
+                                                     const vpSelfCalibNoiseModel &noise)
+{
+  options.check();
+  noise.check("vpKinematicBundleAdjustment::predictedSd");
+  vpSelfCalib::checkCamera(camera, "vpKinematicBundleAdjustment::predictedSd: the camera");
+  vpSelfCalib::checkChain(start, "vpKinematicBundleAdjustment::predictedSd: the model '" + start.getName() + "'");
+  if (options.hand_eye_only)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment::predictedSd: for the full kinematic mode (hand_eye_only "
+                               "estimates eMc whatever the data)");
+  const QuietCeres quiet;
+  checkViewsAndCamera(camera, static_cast<unsigned int>(views.size()), options);
+  std::vector<vpColVector> q;
+  std::vector<Rigid> fMe;
+  std::map<int, unsigned int> seen;
+  collectViews(start, views, options, q, fMe, seen);
+  const std::map<int, Eigen::Vector3d> X0 = startPoints(points, seen);
+  checkRobotError(start, options, noise);
+  const vpKinematicIdentification::Identifiability set = vpKinematicBundle::estimatedSet(start, q, options);
+  std::vector<int> columns;
+  for (unsigned int i : parameters) {
+    const auto it = std::lower_bound(set.identified.begin(), set.identified.end(), i);
+    if (it == set.identified.end() || *it != i)
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpKinematicBundleAdjustment::predictedSd: parameter " + std::to_string(i) +
+                                     " is not among the candidates of the model's rule for these views "
+                                     "(a redundant twin of another, or fixed); ask for the rule's set only");
+    columns.push_back(static_cast<int>(it - set.identified.begin()));
+  }
+  vpColVector out(static_cast<unsigned int>(parameters.size()), std::numeric_limits<double>::infinity());
+  int n_joint = 0;
+  bool camera_delta = false;
+  const std::vector<double> joint_sd = fullModeSd(start, options, noise, n_joint, camera_delta);
+  Adjustment a(X0, start, set.identified, q, fMe, false, joint_sd, n_joint, camera_delta);
+  a.noise = noise;
+  a.P = static_cast<int>(set.identified.size());
+  fillAdjustment(a, views, camera, options);
+  if (columns.empty() || !(2 * a.obs.size() > a.P + a.free_in.size() + 3 * a.X.size()))
+    return out;
+  prepareStart(a, yardstick, options);
+  const Eigen::VectorXd sd = vpKinematicBundle::predictedSd(a, columns, yardstick, options);
+  for (unsigned int k = 0; k < out.size(); ++k)
+    out[k] = sd(k);
+  return out;
 }
 
 vpKinematicBundleAdjustment::Result vpKinematicBundleAdjustment::information(

@@ -156,6 +156,14 @@ decideSet(Adjustment &a, const vpKinematicChain &start, const vpKinematicIdentif
           const std::vector<vpColVector> &q, const vpSelfCalibDataset::Yardstick &yardstick, const KBA::Options &opt);
 
 /*!
+  The predicted sd of the corrections `columns` (columns of the candidates a is built on) estimated
+  together, the other candidates held: decideSet's test of one subset (the same information, the
+  scale direction held without a yardstick). Infinite when the data do not determine them.
+*/
+Eigen::VectorXd predictedSd(Adjustment &a, const std::vector<int> &columns, const vpSelfCalibDataset::Yardstick &yardstick,
+                            const KBA::Options &opt);
+
+/*!
   Stage 6, the covariance of the corrections and the estimated intrinsics with the points
   marginalized, into res. False when the information is singular (res.undetermined then names the
   parameters of the undetermined directions).

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -288,5 +289,22 @@ vpKinematicIdentification::Identifiability decideSet(Adjustment &a, const vpKine
   std::sort(out.unidentifiable.begin(), out.unidentifiable.end(),
             [](const Ident::Unidentifiable &x, const Ident::Unidentifiable &y) { return x.index < y.index; });
   return out;
+}
+
+Eigen::VectorXd predictedSd(Adjustment &a, const std::vector<int> &columns, const vpSelfCalibDataset::Yardstick &yardstick,
+                            const KBA::Options &opt)
+{
+  Eigen::VectorXd sd = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(columns.size()),
+                                                 std::numeric_limits<double>::infinity());
+  std::shared_ptr<ceres::ParameterBlockOrdering> order;
+  KBA::ScaleSource source;
+  const std::unique_ptr<ceres::Problem> problem = buildProblem(a, yardstick, opt, 0, order, source, false);
+  if (!problem)
+    return sd;
+  const Eigen::MatrixXd M = correctionInformation(a, *problem, yardstick);
+  if (M.rows() != a.P || !M.allFinite())
+    return sd;
+  const Trial t = trial(M, columns, a, source == KBA::SCALE_NOMINAL);
+  return t.finite ? t.sd : sd;
 }
 } // namespace vpKinematicBundle

@@ -345,6 +345,21 @@ public:
                                                                  const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
 
   /*!
+    The predicted sd (m, rad) of the corrections `parameters` (chain indices, among the candidates of
+    the model's rule for these views: vpKinematicIdentification's set at the nominal model) estimated
+    together, the other corrections held at their start values: the test estimatedSet() applies to a
+    subset (the information of the adjustment at the start values, the points, intrinsics and robot
+    error marginalized, the scale direction held without a yardstick). Infinite when the data do not
+    determine them. Full kinematic mode only. Throws as adjust(), and on a parameter that is not a
+    candidate.
+  */
+  static vpColVector predictedSd(const vpKinematicChain &start, const vpCameraParameters &camera,
+                                 const std::vector<vpSelfCalibDataset::View> &views,
+                                 const vpSelfCalibDataset::Yardstick &yardstick, const std::map<int, vpColVector> &points,
+                                 const std::vector<unsigned int> &parameters, const Options &options,
+                                 const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
+
+  /*!
     The covariance of the same problem at the given state, without solving and without robust loss
     or outlier rejection. At the true chain, camera and points with the true noise this is the
     Cramér-Rao bound of the kinematic parameters and intrinsics.
