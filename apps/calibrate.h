@@ -48,5 +48,7 @@ void printStatus(const vpRobotSelfCalibration::Result &r, bool calibrated);
 void printProtocol(const vpSelfCalibProtocol::Result &p);
 //! calibrate's summary on stdout: what was estimated, eMc with its sd, the residuals, the intrinsics.
 void printSummary(const vpRobotSelfCalibration::Result &r, unsigned int num_calibration);
+//! When the data left parameters at nominal: the plan --from command that proposes the poses to add.
+void printAddPoses(const vpRobotSelfCalibration::Result &r, const std::string &dataset);
 
 #endif

@@ -238,6 +238,8 @@ int calibrate(const CalibrateArgs &a)
                                 (fs::path(out) / "results.yaml").string(), (fs::path(out) / "model.urdf").string()};
   printSummary(r, p.options.num_calibration_poses);
   std::cout << "\n";
+  if (r.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT)
+    printAddPoses(r, dataset);
   printProtocol(p);
   std::cout << "wrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
   std::cout << "report: " << (fs::path(out) / "report").string() << "/report.md (" << report << ")\n";

@@ -81,11 +81,15 @@ int compare(const CompareArgs &a);
 struct PlanArgs {
   std::string out, robot = "viper850", method = "observability";
   vpSelfCalibSimulator::Options so;
-  unsigned int poses = 15, held_out = 10;
+  unsigned int poses = 0, held_out = 10; //!< poses 0: not given (15 planned; with --from, as many as needed)
   bool force = false;
+  std::string from, out_file;           //!< --from DATASET, --out FILE
+  std::vector<double> tolerance;        //!< --tolerance (with --from)
 };
 void addPlan(CLI::App &app, PlanArgs &a);
 int plan(const PlanArgs &a);
+//! plan --from DATASET: the poses to add to a dataset's views (planFromCommand.cpp).
+int planFrom(const PlanArgs &a);
 
 struct SimulateArgs {
   std::string out, robot = "viper850", focal = "known", target = "textured", joints_file, camera_mount = "effector";

@@ -26,9 +26,15 @@
  *                           propagated by relativePoseCovariance): 1 is efficient; the parameters
  *                           left at nominal keep their true error, a bias the bound does not hold.
  * Then the same-set check: D draws of one geometry per robot (12 views, 0.2 px, f known).
+ * Then (--tables add) the poses to add: per robot and seed (12 views, 0.2 px, f known), calibrate, the
+ * poses vpMeasurementPlanner::planAdditions proposes (as plan --from: as many as determine what was
+ * left), the true robot's views at them with the same noise, calibrate again: what is left before and
+ * after, the poses added, the held-out error before and after. Target: nothing left after and a lower
+ * held-out error in every run.
  * Targets (f known): ok in every run, the calibrated error below the nominal one in every run, gain
  * >= 3 with 12 views and >= 5 with 25, CRB ratio <= 1.3, one set per geometry.
  */
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -42,6 +48,7 @@
 
 #include <visp3/core/vpException.h>
 #include <visp3/selfcalib/vpKinematicBundleAdjustment.h>
+#include <visp3/selfcalib/vpMeasurementPlanner.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibDataCheck.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
@@ -153,8 +160,7 @@ vpSelfCalibDataset noisy(const vpSelfCalibDataset &ds0, double noise, uint64_t s
 
 double g_tolerance_t = 3e-3, g_tolerance_r = 5e-3; // --tolerance
 
-vpRobotSelfCalibration::Result calibrate(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds,
-                                         vpRobotSelfCalibration::FocalMode mode, double noise, unsigned int views)
+vpRobotSelfCalibration::Options optionsOf(vpRobotSelfCalibration::FocalMode mode, double noise, unsigned int views)
 {
   vpRobotSelfCalibration::Options po;
   po.tolerance_translation = g_tolerance_t;
@@ -162,7 +168,13 @@ vpRobotSelfCalibration::Result calibrate(const vpSelfCalibSimulator &sim, const 
   po.focal_mode = mode;
   po.num_calibration_poses = views;
   po.noise.pixel_sd = noise;
-  return vpRobotSelfCalibration::run(sim.getNominalChain(), ds, po);
+  return po;
+}
+
+vpRobotSelfCalibration::Result calibrate(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds,
+                                         vpRobotSelfCalibration::FocalMode mode, double noise, unsigned int views)
+{
+  return vpRobotSelfCalibration::run(sim.getNominalChain(), ds, optionsOf(mode, noise, views));
 }
 
 std::string leftByData(const vpRobotSelfCalibration::Result &r)
@@ -253,6 +265,124 @@ void runOnce(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, c
     csv.row() << tag << "," << vpRobotSelfCalibration::statusName(r.status) << "," << e_nom << "," << e_cal << ","
               << "\"" << leftByData(r) << "\"\n";
 }
+
+//! The poses to add table: one run per seed, before and after the poses plan --from proposes.
+struct AddRow {
+  unsigned int runs = 0, failed = 0, left_before = 0, left_after = 0, better = 0;
+  std::map<std::string, unsigned int> before, after;
+  bench::Stats added, gain_before, gain_after;
+  double sum_nominal2 = 0, sum_before2 = 0, sum_after2 = 0;
+  unsigned int pairs = 0;
+};
+
+/*
+  One geometry (12 views, f known, the stuck joint): calibrate, plan the poses to add
+  (vpMeasurementPlanner::planAdditions on the calibration, as plan --from), simulate the true
+  robot's observations at them (the same noise), calibrate again on the views and the added poses;
+  the held-out error of both against the nominal model's.
+*/
+void addPosesRun(const std::string &robot, unsigned int seed, double noise, unsigned int views, AddRow &row)
+{
+  const vpSelfCalibSimulator clean = makeSim(robot, seed);
+  const unsigned int stuck = stuckJoint(robot);
+  const std::vector<vpColVector> q = configurations(clean, home(robot, clean.getNominalChain()), stuck, views + kHeldOut, seed);
+  const vpRobotSelfCalibration::FocalMode mode = vpRobotSelfCalibration::FOCAL_KNOWN;
+  const vpSelfCalibDataset ds1 = noisy(bench::pipelineDataset(clean, q, mode), noise, 1000003ULL * seed);
+  const auto r1 = calibrate(clean, ds1, mode, noise, views);
+  ++row.runs;
+  if (r1.status != vpRobotSelfCalibration::OK && r1.status != vpRobotSelfCalibration::DOUBTFUL) {
+    ++row.failed;
+    return;
+  }
+  const std::vector<vpSelfCalibDataset::View> cal(ds1.views.begin(), ds1.views.begin() + views);
+  vpPlannerScene scene;
+  for (const auto &p : r1.bundle.points)
+    scene.points.push_back(p.second);
+  scene.cam = r1.camera;
+  scene.width = ds1.width;
+  scene.height = ds1.height;
+  vpMeasurementPlanner::AdditionOptions ao;
+  ao.seed = seed;
+  const auto plan = vpMeasurementPlanner(clean.getNominalChain(), scene)
+                        .planAdditions(cal, r1.camera, r1.bundle.points, ds1.yardstick,
+                                       vpRobotSelfCalibration::bundleOptions(optionsOf(mode, noise, views), ds1), r1.noise, ao);
+  std::vector<vpColVector> q2(q.begin(), q.begin() + views);
+  for (const auto &a : plan.additions)
+    q2.push_back(a.q);
+  q2.insert(q2.end(), q.begin() + views, q.end());
+  const unsigned int views2 = views + static_cast<unsigned int>(plan.additions.size());
+  const vpSelfCalibDataset ds2 = noisy(bench::pipelineDataset(clean, q2, mode), noise, 1000003ULL * seed + 1);
+  const auto r2 = calibrate(clean, ds2, mode, noise, views2);
+  if (r2.status != vpRobotSelfCalibration::OK && r2.status != vpRobotSelfCalibration::DOUBTFUL) {
+    ++row.failed;
+    return;
+  }
+  row.added.add(static_cast<double>(plan.additions.size()));
+  ++row.before[leftByData(r1)];
+  ++row.after[leftByData(r2)];
+  row.left_before += leftByData(r1) != "none";
+  row.left_after += leftByData(r2) != "none";
+  const std::vector<vpSelfCalibDataset::View> hv(ds1.views.begin() + views, ds1.views.end());
+  const std::vector<double> e_nom =
+      bench::verifyAgainstTruth(clean, clean.getNominalChain(), clean.getCamera(), hv).position_errors;
+  const std::vector<double> e1 = bench::verifyAgainstTruth(clean, r1.calibrated, r1.camera, hv).position_errors;
+  const std::vector<double> e2 = bench::verifyAgainstTruth(clean, r2.calibrated, r2.camera, hv).position_errors;
+  row.gain_before.add(rms(e_nom) / rms(e1));
+  row.gain_after.add(rms(e_nom) / rms(e2));
+  row.better += rms(e2) < rms(e1);
+  for (size_t k = 0; k < e_nom.size() && k < e1.size() && k < e2.size(); ++k) {
+    row.sum_nominal2 += e_nom[k] * e_nom[k];
+    row.sum_before2 += e1[k] * e1[k];
+    row.sum_after2 += e2[k] * e2[k];
+    ++row.pairs;
+  }
+}
+
+std::string mostFrequent(const std::map<std::string, unsigned int> &sets)
+{
+  std::string common = "-";
+  unsigned int most = 0;
+  for (const auto &s : sets)
+    if (s.second > most) {
+      most = s.second;
+      common = s.first;
+    }
+  return common;
+}
+
+//! The second table; true when every run estimates every parameter after the poses and its held-out error drops.
+bool addPosesTable(const std::vector<std::string> &robots, unsigned int seeds)
+{
+  const unsigned int views = 12;
+  const double noise = 0.2;
+  std::cout << "\n\nposes to add (plan --from): " << views << " views, f known, " << noise
+            << " px; the poses proposed simulated (true robot, same noise) and calibrated again, " << seeds
+            << " seeds\n\n"
+            << "| robot | stuck | runs | failed | left at nominal before (most frequent) | poses added (mean) | "
+               "runs with parameters left after | left after (most frequent) | nominal RMS (mm) | calibrated RMS before (mm) | "
+               "after (mm) | gain before | gain after | runs better after | targets |\n"
+            << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  bool all = true;
+  for (const std::string &robot : robots) {
+    AddRow row;
+    for (unsigned int seed = 1; seed <= seeds; ++seed) {
+      std::cerr << robot << " poses to add, seed " << seed << "/" << seeds << "      \r" << std::flush;
+      addPosesRun(robot, seed, noise, views, row);
+    }
+    const bool met = row.failed == 0 && row.left_after == 0 && row.better == row.runs;
+    all = all && met;
+    const double n = std::max(1u, row.pairs);
+    std::cout << std::fixed << "| " << robot << " | j" << stuckJoint(robot) + 1 << " | " << row.runs << " | " << row.failed
+              << " | " << mostFrequent(row.before) << " | " << std::setprecision(1) << row.added.mean() << " | "
+              << row.left_after << " | " << mostFrequent(row.after) << " | " << std::setprecision(3)
+              << 1e3 * std::sqrt(row.sum_nominal2 / n) << " | " << 1e3 * std::sqrt(row.sum_before2 / n) << " | "
+              << 1e3 * std::sqrt(row.sum_after2 / n) << " | " << std::setprecision(2) << bench::meanSd(row.gain_before, 1, 1)
+              << " | " << bench::meanSd(row.gain_after, 1, 1) << " | " << row.better << " | "
+              << (met ? "met" : "NOT met") << " |\n"
+              << std::flush;
+  }
+  return all;
+}
 } // namespace
 
 int main(int argc, char **argv)
@@ -290,6 +420,13 @@ int main(int argc, char **argv)
         ->delimiter(',')
         ->expected(2);
     app.add_option("--csv", csv_path, "one row per run")->type_name("FILE");
+    std::vector<std::string> tables = {"main", "add"};
+    app.add_option("--tables", tables,
+                   "main: the set from the data and the same-set check; add: the poses plan --from proposes, "
+                   "added and calibrated again (12 views, 0.2 px, f known; its own seeds) (default main,add)")
+        ->type_name("T")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"main", "add"}));
     const int parsed = selfcalibCli::parse(app, argc, argv);
     if (parsed >= 0)
       return parsed;
@@ -304,7 +441,11 @@ int main(int argc, char **argv)
               << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     const auto t_start = std::chrono::steady_clock::now();
     bool all_met = true;
+    const bool main_table = std::find(tables.begin(), tables.end(), "main") != tables.end();
+    const bool add_table = std::find(tables.begin(), tables.end(), "add") != tables.end();
     for (const std::string &robot : robots) {
+      if (!main_table)
+        break;
       const unsigned int stuck = stuckJoint(robot);
       for (unsigned int views : view_counts)
         for (const std::string &focal : focals) {
@@ -359,7 +500,7 @@ int main(int argc, char **argv)
     // The same set in repeated draws of one geometry.
     bool same = true;
     for (const std::string &robot : robots) {
-      if (stable == 0)
+      if (stable == 0 || !main_table)
         break;
       const unsigned int stuck = stuckJoint(robot), views = 12;
       const vpSelfCalibSimulator clean = makeSim(robot, 1);
@@ -379,11 +520,17 @@ int main(int argc, char **argv)
         std::cout << " [" << s.first << "] x" << s.second;
       same = same && sets.size() == 1;
     }
+    const bool added = !add_table || addPosesTable(robots, seeds);
     std::cerr << std::string(70, ' ') << "\r";
-    std::cout << "\n\ntargets (f known): ok in every run, calibrated below nominal in every run, gain >= 3 (12 views) "
-                 "/ 5 (25 views), CRB ratio <= 1.3: "
-              << (all_met ? "met" : "NOT met") << "; the same set in every draw: " << (same ? "met" : "NOT met")
-              << "\ndone in " << std::setprecision(0)
+    if (main_table)
+      std::cout << "\n\ntargets (f known): ok in every run, calibrated below nominal in every run, gain >= 3 (12 views) "
+                   "/ 5 (25 views), CRB ratio <= 1.3: "
+                << (all_met ? "met" : "NOT met") << "; the same set in every draw: " << (same ? "met" : "NOT met");
+    if (add_table)
+      std::cout << "\n\nposes to add: every parameter estimated after adding the poses and the held-out error lower in "
+                   "every run: "
+                << (added ? "met" : "NOT met");
+    std::cout << "\ndone in " << std::setprecision(0)
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count() << " s\n";
     return EXIT_SUCCESS;
   } catch (const vpException &e) {
