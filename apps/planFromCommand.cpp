@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include <visp3/selfcalib/vpKinematicChain.h>
+#include <visp3/selfcalib/vpKinematicIdentification.h>
 #include <visp3/selfcalib/vpMeasurementPlanner.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibFileWriter.h>
@@ -127,13 +128,22 @@ int planFrom(const PlanArgs &a)
               << "): " << cal.message << "\n";
     return 3;
   }
+  // The parameters the calibration left at nominal (results.yaml's estimated_set.left_by_data).
+  vpMeasurementPlanner::AdditionOptions o;
+  for (const auto &u : cal.identifiability.unidentifiable)
+    if (u.cause == vpKinematicIdentification::CAUSE_DATA)
+      o.left.push_back(u.name);
+  if (o.left.empty()) {
+    std::cout << "nothing to add: the views of " << a.from
+              << " determine every parameter of the estimated set (none left at nominal by the data)\n";
+    return 0;
+  }
   vpPlannerScene scene;
   for (const auto &p : cal.bundle.points)
     scene.points.push_back(p.second);
   scene.cam = cal.camera;
   scene.width = ds.width;
   scene.height = ds.height;
-  vpMeasurementPlanner::AdditionOptions o;
   o.poses = a.poses;
   o.seed = a.so.seed;
   std::cerr << "... poses to add\n";
@@ -141,11 +151,6 @@ int planFrom(const PlanArgs &a)
   const vpMeasurementPlanner::AdditionResult r =
       planner.planAdditions(ds.views, cal.camera, cal.bundle.points, ds.yardstick,
                             vpRobotSelfCalibration::bundleOptions(po, ds), cal.noise, o);
-  if (r.left.empty()) {
-    std::cout << "nothing to add: the views of " << a.from
-              << " determine every parameter of the estimated set (none left at nominal by the data)\n";
-    return 0;
-  }
   if (r.status == vpMeasurementPlanner::INFEASIBLE) {
     std::cerr << "error: no pose to propose: " << r.message << "\n";
     return 3;

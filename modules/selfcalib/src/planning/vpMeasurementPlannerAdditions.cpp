@@ -241,6 +241,26 @@ std::vector<unsigned int> leftByData(const vpKinematicIdentification::Identifiab
   return left;
 }
 
+//! The named parameters, each a candidate of the model's rule for these views (else a caller mistake).
+std::vector<unsigned int> leftOf(const vpKinematicChain &chain, const vpKinematicIdentification::Identifiability &set,
+                                 const std::vector<std::string> &names)
+{
+  std::vector<unsigned int> out;
+  for (const std::string &n : names) {
+    const unsigned int i = chain.getParameterIndex(n);
+    bool candidate = std::binary_search(set.identified.begin(), set.identified.end(), i);
+    for (const auto &u : set.unidentifiable)
+      candidate = candidate || (u.index == i && u.cause == vpKinematicIdentification::CAUSE_DATA);
+    if (!candidate)
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpMeasurementPlanner::planAdditions: '" + n +
+                                     "' cannot be determined by more poses (fixed, or redundant in the model's "
+                                     "structure); name parameters the data leave at nominal");
+    out.push_back(i);
+  }
+  return out;
+}
+
 std::string describe(const std::vector<std::string> &names, const std::vector<double> &ratio)
 {
   std::ostringstream os;
@@ -267,7 +287,7 @@ void addPoses(const Problem &p, const MP &planner, const MP::AdditionOptions &o,
   std::vector<double> current = res.ratio_before;
   const unsigned int target = o.poses > 0 ? o.poses : o.max_poses;
   for (unsigned int k = 0; k < target; ++k) {
-    if (o.poses == 0 && std::all_of(current.begin(), current.end(), [](double r) { return r <= 1; }))
+    if (o.poses == 0 && std::all_of(current.begin(), current.end(), [&o](double r) { return r <= o.target; }))
       break;
     if (progress)
       progress("poses to add", k, target);
@@ -295,7 +315,7 @@ void addPoses(const Problem &p, const MP &planner, const MP::AdditionOptions &o,
     a.visible = static_cast<unsigned int>(added.back().points.size());
     a.ratio = ratios(p, added);
     for (size_t l = 0; l < a.ratio.size(); ++l)
-      if (a.ratio[l] <= 1 && current[l] > 1)
+      if (a.ratio[l] <= o.target && current[l] > o.target)
         a.determined.push_back(res.left[l]);
     current = a.ratio;
     taken.push_back(a.q);
@@ -307,6 +327,9 @@ void addPoses(const Problem &p, const MP &planner, const MP::AdditionOptions &o,
 void vpMeasurementPlanner::AdditionOptions::check() const
 {
   robust.check();
+  if (!(target > 0 && target <= 1))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpMeasurementPlanner::AdditionOptions: target must be in (0, 1]");
   if (max_poses < 1 || poses > 100 || max_poses > 100 || pool < 1 || !(step > 0 && std::isfinite(step)) ||
       !(refine_step > 0 && std::isfinite(refine_step)) || !(min_joint_distance >= 0))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
@@ -344,7 +367,7 @@ vpMeasurementPlanner::planAdditions(const std::vector<vpSelfCalibDataset::View> 
   const vpKinematicIdentification::Identifiability set =
       KBA::estimatedSet(m_chain, camera, views, yardstick, points, bundle, noise);
   // In the walk's order (the preference order), as the estimated set admits them.
-  res.left_index = leftByData(set);
+  res.left_index = o.left.empty() ? leftByData(set) : leftOf(m_chain, set, o.left);
   auto rank = [&set](unsigned int i) { return std::find(set.order.begin(), set.order.end(), i) - set.order.begin(); };
   std::stable_sort(res.left_index.begin(), res.left_index.end(),
                    [&rank](unsigned int a, unsigned int b) { return rank(a) < rank(b); });
@@ -375,7 +398,9 @@ vpMeasurementPlanner::planAdditions(const std::vector<vpSelfCalibDataset::View> 
   p.yardstick = yardstick;
   p.bundle = bundle;
   p.noise = noise;
-  p.kept = set.identified;
+  for (unsigned int i : set.identified)
+    if (std::find(res.left_index.begin(), res.left_index.end(), i) == res.left_index.end())
+      p.kept.push_back(i);
   p.left = res.left_index;
   p.scene = &scene;
   p.min_visible = scene.min_visible;

@@ -84,7 +84,7 @@
   a set of added poses: the estimated set's own walk over the parameters left at nominal (in the
   preference order, each tested with those estimated and those already admitted,
   vpKinematicBundleAdjustment::predictedSd), the sum of log(max(sd / tolerance, 0.1)), lower is
-  better. Greedy: the best candidate of the pool, refined by NLopt (LN_BOBYQA, joints within
+  better. Greedy, until every one is within AdditionOptions::target of its tolerance: the best candidate of the pool, refined by NLopt (LN_BOBYQA, joints within
   +-refine_step of it; a configuration that is not valid scores as undetermined), then the next.
   Finally the estimated set of the views with the proposed poses says what is still left.
 
@@ -196,6 +196,17 @@ public:
     //! Poses to propose; 0 (default): as many as determine every parameter left, up to max_poses.
     unsigned int poses = 0;
     unsigned int max_poses = 6;
+    /*!
+      The parameters to determine (names, e.g. a calibration's left_by_data); empty (default): those
+      vpKinematicBundleAdjustment::estimatedSet() leaves at nominal for these views.
+    */
+    std::vector<std::string> left;
+    /*!
+      Poses are added until every parameter to determine has a predicted sd of at most target times
+      its tolerance: below 1, a margin over the estimated set's own test (whose prediction moves with
+      the start values a calibration decides it at) and an estimate that improves on the nominal value.
+    */
+    double target = 0.5;
     unsigned int pool = 64;            //!< candidates drawn per pose (feasible ones kept)
     unsigned int max_evaluations = 30; //!< NLopt refinement of each chosen pose (0: none)
     double step = 0.8;                 //!< rad, largest move of the drawn joint from a view's value
@@ -218,7 +229,7 @@ public:
     vpColVector q;
     unsigned int visible = 0;            //!< scene points in view through the nominal model
     std::vector<double> ratio;           //!< per parameter left: predicted sd / tolerance with this pose and those before it
-    std::vector<std::string> determined; //!< parameters it brings within their tolerance
+    std::vector<std::string> determined; //!< parameters it brings within target times their tolerance
   };
 
   //! The result of planAdditions().
