@@ -83,6 +83,7 @@ struct PlanArgs {
   vpSelfCalibSimulator::Options so;
   unsigned int poses = 0, held_out = 10; //!< poses 0: not given (15 planned; with --from, as many as needed)
   bool force = false;
+  bool out_given = false;               //!< OUT.txt on the command line (even empty)
   std::string from, out_file;           //!< --from DATASET, --out FILE
   std::vector<double> tolerance;        //!< --tolerance (with --from)
 };

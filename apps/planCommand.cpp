@@ -26,7 +26,9 @@ void addPlan(CLI::App &app, PlanArgs &a)
             "simulate --joints or acquire --plan. Exit codes: 0 poses written, or nothing to add (said so);\n"
             "1 bad input (a dataset without joint readings, a camera in the world); 2 bad usage; 3 the\n"
             "calibration failed, or no candidate pose keeps the scene in view.");
-  c->add_option("OUT.txt", a.out, "the file to write (not with --from: use --out)")->type_name("FILE");
+  c->add_option("OUT.txt", a.out, "the file to write (not with --from: use --out)")
+      ->type_name("FILE")
+      ->each([&a](const std::string &) { a.out_given = true; });
   addRobotOption(*c, a.robot);
   c->add_option("--seed", a.so.seed, "scenario seed (default 1); with --from, of the candidate poses")
       ->type_name("N")
@@ -58,7 +60,7 @@ int plan(const PlanArgs &a)
 {
   if (!a.from.empty())
     return planFrom(a);
-  if (a.out.empty())
+  if (!a.out_given)
     throw CLI::ValidationError("OUT.txt", "give the file to write (or --from DATASET to plan the poses to add to a dataset)");
   if (!a.out_file.empty() || !a.tolerance.empty())
     throw CLI::ValidationError(!a.out_file.empty() ? "--out" : "--tolerance",

@@ -101,7 +101,7 @@ std::string jointsFile(const std::string &dataset, const vpMeasurementPlanner::A
 
 int planFrom(const PlanArgs &a)
 {
-  if (!a.out.empty())
+  if (a.out_given)
     throw CLI::ValidationError("OUT.txt", "with --from the joints file is --out FILE (default: stdout), not OUT.txt");
   if (a.poses > 100)
     throw CLI::ValidationError("--poses", "with --from, at most 100 poses to add, got " + std::to_string(a.poses));

@@ -587,25 +587,42 @@ vpKinematicBundleAdjustment::Result vpKinematicBundleAdjustment::adjust(const vp
   return run(start, camera, views, yardstick, points, options, noise, true);
 }
 
+namespace
+{
+//! The checked inputs of estimatedSet() and predictedSd(): every view's joints (or pose) and the start points.
+struct SetInputs {
+  std::vector<vpColVector> q;
+  std::vector<Rigid> fMe;
+  std::map<int, Eigen::Vector3d> X0;
+};
+
+SetInputs setInputs(const vpKinematicChain &start, const vpCameraParameters &camera,
+                    const std::vector<vpSelfCalibDataset::View> &views, const std::map<int, vpColVector> &points,
+                    const KBA::Options &options, const vpSelfCalibNoiseModel &noise, const std::string &where)
+{
+  options.check();
+  noise.check(where);
+  vpSelfCalib::checkCamera(camera, where + ": the camera");
+  vpSelfCalib::checkChain(start, where + ": the model '" + start.getName() + "'");
+  checkViewsAndCamera(camera, static_cast<unsigned int>(views.size()), options);
+  SetInputs in;
+  std::map<int, unsigned int> seen;
+  collectViews(start, views, options, in.q, in.fMe, seen);
+  in.X0 = startPoints(points, seen);
+  checkRobotError(start, options, noise);
+  return in;
+}
+} // namespace
+
 vpKinematicIdentification::Identifiability vpKinematicBundleAdjustment::estimatedSet(
     const vpKinematicChain &start, const vpCameraParameters &camera, const std::vector<vpSelfCalibDataset::View> &views,
     const vpSelfCalibDataset::Yardstick &yardstick, const std::map<int, vpColVector> &points, const Options &options,
     const vpSelfCalibNoiseModel &noise)
 {
-  options.check();
-  noise.check("vpKinematicBundleAdjustment");
-  vpSelfCalib::checkCamera(camera, "vpKinematicBundleAdjustment: the camera");
-  vpSelfCalib::checkChain(start, "vpKinematicBundleAdjustment: the model '" + start.getName() + "'");
   const QuietCeres quiet;
-  checkViewsAndCamera(camera, static_cast<unsigned int>(views.size()), options);
-  std::vector<vpColVector> q;
-  std::vector<Rigid> fMe;
-  std::map<int, unsigned int> seen;
-  collectViews(start, views, options, q, fMe, seen);
-  const std::map<int, Eigen::Vector3d> X0 = startPoints(points, seen);
-  checkRobotError(start, options, noise);
+  const SetInputs in = setInputs(start, camera, views, points, options, noise, "vpKinematicBundleAdjustment");
   std::string refused;
-  return setOf(start, camera, views, yardstick, X0, q, fMe, options, noise, refused);
+  return setOf(start, camera, views, yardstick, in.X0, in.q, in.fMe, options, noise, refused);
 }
 
 vpColVector vpKinematicBundleAdjustment::predictedSd(const vpKinematicChain &start, const vpCameraParameters &camera,
@@ -615,22 +632,13 @@ vpColVector vpKinematicBundleAdjustment::predictedSd(const vpKinematicChain &sta
                                                      const std::vector<unsigned int> &parameters, const Options &options,
                                                      const vpSelfCalibNoiseModel &noise)
 {
-  options.check();
-  noise.check("vpKinematicBundleAdjustment::predictedSd");
-  vpSelfCalib::checkCamera(camera, "vpKinematicBundleAdjustment::predictedSd: the camera");
-  vpSelfCalib::checkChain(start, "vpKinematicBundleAdjustment::predictedSd: the model '" + start.getName() + "'");
+  const QuietCeres quiet;
+  const SetInputs in = setInputs(start, camera, views, points, options, noise, "vpKinematicBundleAdjustment::predictedSd");
+  const std::vector<vpColVector> &q = in.q;
   if (options.hand_eye_only)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment::predictedSd: for the full kinematic mode (hand_eye_only "
                                "estimates eMc whatever the data)");
-  const QuietCeres quiet;
-  checkViewsAndCamera(camera, static_cast<unsigned int>(views.size()), options);
-  std::vector<vpColVector> q;
-  std::vector<Rigid> fMe;
-  std::map<int, unsigned int> seen;
-  collectViews(start, views, options, q, fMe, seen);
-  const std::map<int, Eigen::Vector3d> X0 = startPoints(points, seen);
-  checkRobotError(start, options, noise);
   const vpKinematicIdentification::Identifiability set = vpKinematicBundle::estimatedSet(start, q, options);
   std::vector<int> columns;
   for (unsigned int i : parameters) {
@@ -646,7 +654,7 @@ vpColVector vpKinematicBundleAdjustment::predictedSd(const vpKinematicChain &sta
   int n_joint = 0;
   bool camera_delta = false;
   const std::vector<double> joint_sd = fullModeSd(start, options, noise, n_joint, camera_delta);
-  Adjustment a(X0, start, set.identified, q, fMe, false, joint_sd, n_joint, camera_delta);
+  Adjustment a(in.X0, start, set.identified, q, in.fMe, false, joint_sd, n_joint, camera_delta);
   a.noise = noise;
   a.P = static_cast<int>(set.identified.size());
   fillAdjustment(a, views, camera, options);
