@@ -135,6 +135,7 @@ RSC::Options options(const Setup &s, const std::map<int, vpColVector> &layout)
 {
   RSC::Options o;
   o.method = isBundle(s) ? RSC::BUNDLE_ADJUSTMENT : RSC::HAND_EYE;
+  o.num_calibration_poses = s.views; // every view calibrates (the bound is of the same views)
   o.bundle.known_points = layout;
   o.noise.pixel_sd = s.noise;
   return o;
