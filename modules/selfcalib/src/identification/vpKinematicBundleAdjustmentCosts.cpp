@@ -24,6 +24,24 @@ const char *intrinsicName(Distortion model, int i)
   return model == Distortion::OPENCV ? kOpenCvNames[i] : kVispNames[i];
 }
 
+namespace
+{
+//! The chain's identification Jacobian columns of the corrections id at q: camera origin (Jt) and rotation (Jr) in f.
+void chainColumns(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const vpColVector &q,
+                  Eigen::Matrix<double, 3, Eigen::Dynamic> &Jt, Eigen::Matrix<double, 3, Eigen::Dynamic> &Jr)
+{
+  const vpMatrix J = chain.getJacobian(q);
+  const int P = static_cast<int>(id.size());
+  Jt.resize(3, P);
+  Jr.resize(3, P);
+  for (int c = 0; c < P; ++c)
+    for (int a = 0; a < 3; ++a) {
+      Jt(a, c) = J[a][id[c]];
+      Jr(a, c) = J[a + 3][id[c]];
+    }
+}
+} // namespace
+
 void computeView(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const vpColVector &q,
                  bool with_jacobian, ViewState &v)
 {
@@ -32,14 +50,8 @@ void computeView(const vpKinematicChain &chain, const std::vector<unsigned int> 
   v.tf = M.t;
   if (!with_jacobian)
     return;
-  const vpMatrix J = chain.getJacobian(q);
-  const int P = static_cast<int>(id.size());
-  Eigen::Matrix<double, 3, Eigen::Dynamic> Jt(3, P), Jr(3, P);
-  for (int c = 0; c < P; ++c)
-    for (int a = 0; a < 3; ++a) {
-      Jt(a, c) = J[a][id[c]];
-      Jr(a, c) = J[a + 3][id[c]];
-    }
+  Eigen::Matrix<double, 3, Eigen::Dynamic> Jt, Jr;
+  chainColumns(chain, id, q, Jt, Jr);
   v.A = v.RT * Jt;
   v.C = v.RT * Jr;
 }
@@ -99,14 +111,8 @@ void computeEyeToHandView(const vpKinematicChain &chain, const std::vector<unsig
   v.tf = G.t;
   if (!with_jacobian)
     return;
-  const vpMatrix J = chain.getJacobian(q);
-  const int P = static_cast<int>(id.size());
-  Eigen::Matrix<double, 3, Eigen::Dynamic> Jt(3, P), Jr(3, P);
-  for (int c = 0; c < P; ++c)
-    for (int a = 0; a < 3; ++a) {
-      Jt(a, c) = J[a][id[c]];
-      Jr(a, c) = J[a + 3][id[c]];
-    }
+  Eigen::Matrix<double, 3, Eigen::Dynamic> Jt, Jr;
+  chainColumns(chain, id, q, Jt, Jr);
   toEyeToHand(chain, q, id, Jt, Jr);
   v.A = v.RT * Jt;
   v.C = v.RT * Jr;
