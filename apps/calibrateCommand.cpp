@@ -186,10 +186,18 @@ int calibrate(const CalibrateArgs &a)
   cv::setNumThreads(a.threads);
   vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
   const bool world = ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD;
-  if (world && !a.method.empty() && co.method != vpRobotSelfCalibration::HAND_EYE)
-    throw CLI::ValidationError("--method", "camera_mount: world is calibrated with --method hand-eye; the " + a.method +
-                                               " method models a camera on the end-effector only (the dataset " +
-                                               dataset + " says the camera is fixed in the world)");
+  if (world && !a.method.empty() && co.method == vpRobotSelfCalibration::PAPER)
+    throw CLI::ValidationError("--method", "camera_mount: world is calibrated with --method bundle or hand-eye; the "
+                                           "paper method measures the camera's motion between views of a scene fixed "
+                                           "in the base frame, and the dataset " +
+                                               dataset + " says the camera is fixed in the world");
+  const bool world_bundle = world && !a.method.empty() && co.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT;
+  for (size_t k = 0; world_bundle && k < ds.views.size(); ++k)
+    if (ds.views[k].q.size() == 0)
+      throw CLI::ValidationError("--method", "camera_mount: world with --method bundle calibrates the arm's kinematics "
+                                             "from joint readings; pose " +
+                                                 std::to_string(k) + " of " + dataset +
+                                                 " has none (a controller pose only): use --method hand-eye");
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
   co.prior = nominal; // the front end's matching is guided by the nominal kinematics
   checkParameterLists(nominal, ds, po);
@@ -208,7 +216,9 @@ int calibrate(const CalibrateArgs &a)
               << cr.board.front().message << "); check the board's description (type, size, dictionary or tag family)\n";
     return 3;
   }
-  po.method = world ? vpRobotSelfCalibration::HAND_EYE : cr.method; // a camera in the world: hand-eye only
+  // A camera in the world: hand-eye unless the bundle method is asked for (with joint readings).
+  po.method = world ? (world_bundle ? vpRobotSelfCalibration::BUNDLE_ADJUSTMENT : vpRobotSelfCalibration::HAND_EYE)
+                    : cr.method;
   if (const int refused = checkMethodData(po.method, ds))
     return refused;
   if (pose_auto && po.method != vpRobotSelfCalibration::HAND_EYE)

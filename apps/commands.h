@@ -96,6 +96,8 @@ struct SimulateArgs {
   std::string out, robot = "viper850", focal = "known", target = "textured", joints_file, camera_mount = "effector";
   vpSelfCalibSimulator::Options so;
   double pose_sd = 0; //!< eye-to-hand: the controller poses' error (m and rad)
+  bool with_joints = false; //!< eye-to-hand: the target carried by --robot's arm, joint readings written
+  double joint_sd = 0;      //!< eye-to-hand with joints: the joint readings' error (rad)
   unsigned int poses = 25;
   bool force = false, controller = false, images = false;
 };

@@ -161,6 +161,75 @@ std::string writeTruth(const vpSelfCalibSimulator &sim, const std::string &out, 
   vpSelfCalibFileWriter::write(file.string(), std::string(y.c_str()) + "\n", "truth");
   return file.string();
 }
+
+/*
+  Eye-to-hand: the truth beside the dataset (STEM-truth.yaml): the camera, bMc and eMo (pose vectors,
+  m and rad), the target's layout (id, x, y, z in o), and with joints the true and nominal robot
+  models (the true model's hand-eye slot is the nominal's: the camera is bMc). Returns the file's name.
+*/
+std::string writeEyeToHandTruth(const vpSelfCalibSimulator::EyeToHandTruth &t, const std::string &out,
+                                const vpSelfCalibDataset &ds)
+{
+  const fs::path file = fs::path(out).parent_path() / (fs::path(out).stem().string() + "-truth.yaml");
+  YAML::Emitter y;
+  y << YAML::Comment("The truth " + std::string(kProgram) + " simulate used for " + fs::path(out).filename().string() +
+                     " (camera in the world, target on the tool)");
+  y << YAML::BeginMap << YAML::Key << "truth_of" << YAML::Value << fs::path(out).filename().string();
+  y << YAML::Key << "camera" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "width" << YAML::Value
+    << ds.width << YAML::Key << "height" << YAML::Value << ds.height << YAML::Key << "px" << YAML::Value
+    << ds.cam.get_px() << YAML::Key << "py" << YAML::Value << ds.cam.get_py() << YAML::Key << "u0" << YAML::Value
+    << ds.cam.get_u0() << YAML::Key << "v0" << YAML::Value << ds.cam.get_v0() << YAML::EndMap;
+  for (const auto &m : {std::make_pair("bMc", t.bMc), std::make_pair("eMo", t.eMo)}) {
+    const vpPoseVector p(m.second);
+    y << YAML::Key << m.first << YAML::Value << YAML::Flow << YAML::BeginSeq;
+    for (unsigned int i = 0; i < 6; ++i)
+      y << p[i];
+    y << YAML::EndSeq;
+  }
+  if (!t.q.empty()) {
+    y << YAML::Key << "true_model" << YAML::Value << YAML::Literal << t.chain.toYamlString();
+    y << YAML::Key << "nominal_model" << YAML::Value << YAML::Literal << t.chain.nominal().toYamlString();
+  }
+  y << YAML::Key << "points" << YAML::Value << YAML::BeginSeq;
+  for (const auto &pt : t.layout)
+    y << YAML::Flow << YAML::BeginSeq << pt.first << pt.second[0] << pt.second[1] << pt.second[2] << YAML::EndSeq;
+  y << YAML::EndSeq << YAML::EndMap;
+  vpSelfCalibFileWriter::write(file.string(), std::string(y.c_str()) + "\n", "truth");
+  return file.string();
+}
+
+//! simulate --camera-mount world: points data of a board on the tool seen by a fixed camera, and its truth.
+int simulateEyeToHand(const SimulateArgs &a)
+{
+  if (a.images || !a.joints_file.empty() || a.controller)
+    throw CLI::ValidationError("--camera-mount", "world simulates points data of its own poses: no --images, "
+                                                 "--joints or --controller-poses");
+  if (a.joint_sd > 0 && !a.with_joints)
+    throw CLI::ValidationError("--joint-sd", "the joint readings' error needs --with-joints");
+  if (a.pose_sd > 0 && a.with_joints)
+    throw CLI::ValidationError("--pose-sd", "the controller poses' error, and --with-joints writes joint readings "
+                                            "instead of controller poses: give their error with --joint-sd");
+  vpSelfCalibSimulator::EyeToHandOptions eo;
+  eo.seed = static_cast<unsigned int>(a.so.seed);
+  eo.num_views = a.poses;
+  eo.pixel_noise_sd = a.so.pixel_noise_sd;
+  eo.pose_sd_translation = eo.pose_sd_rotation = a.pose_sd;
+  if (a.with_joints) {
+    eo.robot = a.robot;
+    eo.joint_sd = a.joint_sd;
+  }
+  vpSelfCalibSimulator::EyeToHandTruth truth;
+  vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(eo, truth);
+  for (auto &v : ds.views) // a view has joints or a controller pose: the joints with --with-joints
+    v.has_fMe = v.has_fMe && v.q.size() == 0;
+  ds.saveYaml(a.out);
+  const std::string file = writeEyeToHandTruth(truth, a.out, ds);
+  std::cout << "wrote " << a.out << ": " << ds.views.size() << " views (camera in the world"
+            << (a.with_joints ? ", joint readings of " + a.robot : std::string()) << ")\n";
+  std::cout << "wrote " << file << ": the truth simulated (bMc, eMo, the target's layout"
+            << (a.with_joints ? ", true and nominal models" : "") << ")\n";
+  return 0;
+}
 } // namespace
 
 void addSimulate(CLI::App &app, SimulateArgs &a)
@@ -209,6 +278,12 @@ void addSimulate(CLI::App &app, SimulateArgs &a)
   c->add_option("--pose-sd", a.pose_sd, "with --camera-mount world: the controller poses' error sd (m and rad, default 0)")
       ->type_name("SD")
       ->check(CLI::Range(0.0, 0.1));
+  c->add_flag("--with-joints", a.with_joints,
+              "with --camera-mount world: the board is carried by --robot's simulated arm (seeded\n"
+              "errors), each view has its joint readings (data for --method bundle or hand-eye)");
+  c->add_option("--joint-sd", a.joint_sd, "with --with-joints: the joint readings' error sd (rad, default 0)")
+      ->type_name("RAD")
+      ->check(CLI::Range(0.0, 0.1));
   c->add_flag("--force", a.force, "replace an existing OUT.yaml");
   c->final_callback([&a] {
     if (a.target != "textured" && !a.images)
@@ -223,22 +298,8 @@ int simulate(const SimulateArgs &a)
   unsigned int poses = a.poses;
   if (outputRefused(out, a.force))
     return 1;
-  if (a.camera_mount == "world") {
-    if (a.images || !a.joints_file.empty() || a.controller)
-      throw CLI::ValidationError("--camera-mount", "world simulates points data of its own poses: no --images, "
-                                                   "--joints or --controller-poses");
-    vpSelfCalibSimulator::EyeToHandOptions eo;
-    eo.seed = so.seed;
-    eo.num_views = poses;
-    eo.pixel_noise_sd = so.pixel_noise_sd;
-    eo.pose_sd_translation = eo.pose_sd_rotation = a.pose_sd;
-    vpSelfCalibSimulator::EyeToHandTruth truth;
-    vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(eo, truth);
-    ds.saveYaml(out);
-    std::cerr << "true bMc " << vpPoseVector(truth.bMc).t() << "\ntrue eMo " << vpPoseVector(truth.eMo).t() << "\n";
-    std::cout << "wrote " << out << ": " << ds.views.size() << " views (camera in the world)\n";
-    return 0;
-  }
+  if (a.camera_mount == "world")
+    return simulateEyeToHand(a);
   const vpSelfCalibSimulator sim(vpKinematicChain::fromPresetOrFile(a.robot), so);
   std::vector<vpColVector> configurations;
   if (!a.joints_file.empty()) {

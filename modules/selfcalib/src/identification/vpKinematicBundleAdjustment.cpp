@@ -377,6 +377,7 @@ vpKinematicIdentification::Identifiability setOf(const vpKinematicChain &start, 
     const std::vector<double> joint_sd = fullModeSd(start, opt, noise, n_joint, camera_delta);
     Adjustment a(X0, start, set.identified, q, fMe, false, joint_sd, n_joint, camera_delta);
     a.noise = noise;
+    a.state.eye_to_hand = opt.eye_to_hand;
     a.P = static_cast<int>(set.identified.size());
     fillAdjustment(a, views, camera, opt);
     if (a.P > 0 && 2 * a.obs.size() > a.P + a.free_in.size() + 3 * a.X.size()) {
@@ -467,6 +468,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
                n_joint, camera_delta);
   a.noise = noise;
   a.state.inverted = opt.hand_eye_only && opt.controller_poses_inverted;
+  a.state.eye_to_hand = opt.eye_to_hand;
   a.P = static_cast<int>(res.identifiability.identified.size());
   fillAdjustment(a, views, camera, opt);
   const bool distortion = (opt.intrinsics & KBA::DISTORTION) || a.in[4] != 0;
@@ -523,6 +525,8 @@ const char *vpKinematicBundleAdjustment::scaleSourceName(ScaleSource s)
     return "the yardstick";
   case SCALE_ROBOT_MOTION:
     return "the robot's metric motion (and the yardstick when seen)";
+  case SCALE_KNOWN_POINTS:
+    return "the target's known layout";
   default:
     return "the start model (nominal scale: no yardstick)";
   }
@@ -571,6 +575,10 @@ void vpKinematicBundleAdjustment::Options::check() const
   if (!(known_points_sd > 0) || !std::isfinite(known_points_sd))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: known_points_sd must be positive and finite");
+  if (eye_to_hand && hand_eye_only)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment: eye_to_hand is the full kinematic mode's camera in the "
+                               "world; in hand-eye-only mode the eye-to-hand set-up is controller_poses_inverted");
   if (max_iterations == 0 || num_threads == 0)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: max_iterations and num_threads must be at least 1");

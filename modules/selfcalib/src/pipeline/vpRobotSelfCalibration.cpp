@@ -258,12 +258,18 @@ unsigned int checkInputs(const vpKinematicChain &nominal, const vpSelfCalibDatas
                          const vpRobotSelfCalibration::Options &opt)
 {
   opt.check();
-  if (ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD && opt.method != vpRobotSelfCalibration::HAND_EYE)
+  if (ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD && opt.method == vpRobotSelfCalibration::PAPER)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpRobotSelfCalibration: camera_mount: world is calibrated with --method hand-eye; the " +
-                                   std::string(vpRobotSelfCalibration::methodName(opt.method)) +
-                                   " method models a camera on the end-effector only (its kinematics are calibrated "
-                                   "from a scene fixed in the base frame)");
+                               "vpRobotSelfCalibration: camera_mount: world is calibrated with --method bundle or "
+                               "hand-eye; the paper method measures the camera's motion between views of a scene "
+                               "fixed in the base frame (two-view geometry, eq. 21's scale), and a fixed camera does "
+                               "not move");
+  if (ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD && opt.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT &&
+      opt.bundle.known_points.size() < 4)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpRobotSelfCalibration: camera_mount: world with the bundle method needs the layout of "
+                               "the target on the tool (a board: calibrate --board, or bundle.known_points, 4 points "
+                               "or more): the target's start pose and the scale come from it");
   // A camera or a model built in code is held to the files' plausibility bounds (beyond them the
   // solvers overflow and Ceres aborts on a CHECK instead of returning).
   vpSelfCalib::checkCamera(ds.cam, "vpRobotSelfCalibration: the dataset's camera");
@@ -303,7 +309,10 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
   if (input.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD) {
     // Eye-to-hand: the eye-in-hand problem of the inverted controller poses, its eMc (bMc here)
     // started where the target's known points say (else at the identity), the result renamed.
-    const vpSelfCalibDataset inverted = vpSelfCalibPipeline::eyeToHandAsEyeInHand(input_model, input);
+    // The bundle method: the joints' kinematics are calibrated (the controller poses are not used).
+    const bool joints = opt.method == BUNDLE_ADJUSTMENT;
+    const vpSelfCalibDataset inverted = vpSelfCalibPipeline::eyeToHandAsEyeInHand(
+        input_model, joints ? vpSelfCalibPipeline::eyeToHandJointsOnly(input, input_model.getNumJoints()) : input);
     vpKinematicChain model = input_model;
     vpHomogeneousMatrix bMc, eMo;
     double median_px = 0;
@@ -316,8 +325,9 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
       p[i] = 0;
     model.setParameters(p);
     Options o = opt;
-    o.bundle.controller_poses_inverted = true;
-    Result res = runMounted(model, inverted, o, progress);
+    o.bundle.controller_poses_inverted = !joints;
+    o.bundle.eye_to_hand = joints;
+    Result res = runMounted(model, joints ? input : inverted, o, progress);
     vpSelfCalibPipeline::eyeToHandResult(res);
     std::ostringstream start;
     start << "eye-to-hand, bMc started "
@@ -360,8 +370,11 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
     const vpSelfCalib::Rigid eMc = vpSelfCalib::rigidFromVisp(nominal.get_eMc_corrected());
     for (unsigned int k = 0; k < N; ++k) {
       const vpSelfCalibDataset::View &v = data0.views[k];
-      fMc.push_back(opt.method == HAND_EYE && v.has_fMe ? vpSelfCalib::rigidFromVisp(v.fMe) * eMc
-                                                          : vpSelfCalib::rigidFromVisp(nominal.get_fMc(v.q)));
+      if (opt.bundle.eye_to_hand) // the camera (the hand-eye slot) in the effector frame
+        fMc.push_back(vpSelfCalib::rigidFromVisp(nominal.get_fMe(v.q)).inverse() * eMc);
+      else
+        fMc.push_back(opt.method == HAND_EYE && v.has_fMe ? vpSelfCalib::rigidFromVisp(v.fMe) * eMc
+                                                            : vpSelfCalib::rigidFromVisp(nominal.get_fMc(v.q)));
     }
     const std::vector<vpSelfCalibDataset::View> cal(data0.views.begin(), data0.views.begin() + N);
     const vpSelfCalibPipeline::PredictedStart p =

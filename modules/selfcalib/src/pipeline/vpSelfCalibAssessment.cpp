@@ -176,16 +176,23 @@ void checkFit(const Context &c, Result &res)
     return;
   const bool opencv = !res.bundle.opencv_distortion.empty();
   const bool lens = !c.dataset.opencv_distortion.empty();
+  // Eye-to-hand with joints: each model's views as camera poses in the effector frame.
+  const bool e2h = c.bundle.eye_to_hand;
+  const std::vector<View> &cal = c.calibration;
   const vpCalibrationVerifier::Result nominal = vpCalibrationVerifier::verify(
-      c.nominal, c.dataset.cam, lens ? undistorted(c.calibration, lensOf(c.dataset)) : c.calibration,
+      c.nominal, c.dataset.cam,
+      e2h ? eyeToHandViews(c.nominal, lens ? undistorted(cal, lensOf(c.dataset)) : cal)
+          : (lens ? undistorted(cal, lensOf(c.dataset)) : cal),
       c.dataset.yardstick);
+  const std::vector<View> cal_calibrated =
+      opencv ? undistorted(cal, lensOf(res.camera, res.bundle.opencv_distortion)) : cal;
   const vpCalibrationVerifier::Result calibrated = vpCalibrationVerifier::verify(
-      res.calibrated, res.camera,
-      opencv ? undistorted(c.calibration, lensOf(res.camera, res.bundle.opencv_distortion)) : c.calibration,
+      res.calibrated, res.camera, e2h ? eyeToHandViews(res.calibrated, cal_calibrated) : cal_calibrated,
       c.dataset.yardstick);
   res.fit_nominal_rms = nominal.reprojection_rms;
   res.fit_calibrated_rms = calibrated.reprojection_rms;
-  if (c.options.method != vpRobotSelfCalibration::HAND_EYE && c.calibration.front().q.size() > 0)
+  // (eye-to-hand: the predicted error is the eye-in-hand relative poses', not this set-up's)
+  if (c.options.method != vpRobotSelfCalibration::HAND_EYE && !e2h && c.calibration.front().q.size() > 0)
     checkPredicted(c, res, calibrated.points);
   if (worse(calibrated, nominal, noiseOf(c, res)))
     add(res, vpSelfCalibDataCheck::DOUBT, "fit-worse-than-nominal",

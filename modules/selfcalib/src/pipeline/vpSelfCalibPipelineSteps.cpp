@@ -500,13 +500,16 @@ void verify(const Context &c, Result &res)
   // An estimated OpenCV lens model (which vpCameraParameters cannot hold): the held-out pixels
   // through the inverse of the start one (before) and of the estimated one (after).
   const bool opencv = !res.bundle.opencv_distortion.empty();
+  // Eye-to-hand with joints: each model's views as camera poses in the effector frame.
+  const std::vector<View> before = opencv ? undistorted(c.verification, lensOf(c.dataset)) : c.verification;
+  const std::vector<View> after =
+      opencv ? undistorted(c.verification, lensOf(res.camera, res.bundle.opencv_distortion)) : c.verification;
   res.before = vpCalibrationVerifier::verify(c.nominal, c.dataset.cam,
-                                             opencv ? undistorted(c.verification, lensOf(c.dataset)) : c.verification,
+                                             c.bundle.eye_to_hand ? eyeToHandViews(c.nominal, before) : before,
                                              c.dataset.yardstick);
-  res.after = vpCalibrationVerifier::verify(
-      res.calibrated, res.camera,
-      opencv ? undistorted(c.verification, lensOf(res.camera, res.bundle.opencv_distortion)) : c.verification,
-      c.dataset.yardstick);
+  res.after = vpCalibrationVerifier::verify(res.calibrated, res.camera,
+                                            c.bundle.eye_to_hand ? eyeToHandViews(res.calibrated, after) : after,
+                                            c.dataset.yardstick);
   res.verified = true;
   res.stage_seconds.push_back({"verification", seconds(tv)});
 }

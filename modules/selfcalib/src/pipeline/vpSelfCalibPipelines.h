@@ -207,6 +207,24 @@ bool eyeToHandStart(const vpSelfCalibDataset &inverted, unsigned int num_views, 
                     vpHomogeneousMatrix &bMc, vpHomogeneousMatrix &eMo, double &median_px);
 //! The result in eye-to-hand terms: eMc -> bMc, the known object's pose -> eMo (has_eMc false).
 void eyeToHandResult(Result &result);
+/*!
+  The dataset's views for their joints where they have them (their controller poses dropped), so
+  that eyeToHandAsEyeInHand() inverts the model's end-effector poses: the full kinematics method's.
+*/
+vpSelfCalibDataset eyeToHandJointsOnly(const vpSelfCalibDataset &ds, unsigned int num_joints);
+/*!
+  Eye-to-hand with joints (Options::eye_to_hand of the bundle adjustment): every view as a controller
+  pose view, fMe = model.fMe(q)^-1 (q cleared), so that the model's hand-eye slot (bMc) gives the
+  camera pose in the effector frame where an eye-in-hand check expects fMc (vpCalibrationVerifier).
+*/
+std::vector<View> eyeToHandViews(const vpKinematicChain &model, const std::vector<View> &views);
+/*!
+  The full kinematics method with the camera in the world (the context's bundle options
+  eye_to_hand, its nominal model's hand-eye slot the start bMc): the target's start pose eMo from
+  the same start as run(), its known points placed in e through it, then the kinematic bundle
+  adjustment of the chain, bMc, eMo and the intrinsics.
+*/
+void runBundleEyeToHand(const Context &context, Result &result);
 } // namespace vpSelfCalibPipeline
 
 #endif

@@ -178,6 +178,20 @@ public:
     */
     bool controller_poses_inverted = false;
     /*!
+      Full kinematic mode, eye-to-hand: the camera is fixed in the world and the points (a target
+      carried by the tool) are fixed in the end-effector frame e, which plays f for the points and
+      the known object (whose pose is then eMo). The chain's hand-eye slot (its nominal eMc and
+      correction eMc.*) holds bMc, the camera in the chain's reference frame; view k's camera pose
+      in e is fMe(q_k; rho)^-1 bMc, the joint-reading corrections dq_k on q_k as in eye-in-hand.
+      The estimated set mirrors the eye-in-hand one: the base and the placement of joint 1 act as a
+      change of bMc (estimated in their place), and the components of the last joint's placement
+      that commute with its rotation (its offset rz and slide tz) act as a change of the target's
+      pose eMo; both are left out with that reason. With known points the target's layout fixes the
+      scale (SCALE_KNOWN_POINTS). Not with hand_eye_only (controller_poses_inverted is that mode's
+      eye-to-hand).
+    */
+    bool eye_to_hand = false;
+    /*!
       Scale the covariance by sigma0^2 when sigma0 > 1: the residuals say the stated noise (pixel
       and robot) is too small, and the standard deviations are widened accordingly (the a
       posteriori variance factor). Off by default.
@@ -212,7 +226,11 @@ public:
     void check() const;
   };
 
-  enum ScaleSource { SCALE_YARDSTICK, SCALE_NOMINAL, SCALE_ROBOT_MOTION };
+  /*!
+    What fixes the scale: the yardstick, the start model's scale held (no yardstick), the robot's
+    metric motion (hand-eye-only mode), or the target's known layout (eye-to-hand, known points).
+  */
+  enum ScaleSource { SCALE_YARDSTICK, SCALE_NOMINAL, SCALE_ROBOT_MOTION, SCALE_KNOWN_POINTS };
   static const char *scaleSourceName(ScaleSource s);
   enum Status { OK, TOO_FEW_OBSERVATIONS, RANK_DEFICIENT, NO_CONVERGENCE };
   static const char *statusName(Status s);
