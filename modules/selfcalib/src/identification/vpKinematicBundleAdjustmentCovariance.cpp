@@ -25,7 +25,7 @@ namespace
   variance / prior variance), the posterior variances from `full` (the covariance at the stated
   weights, the dq blocks from row `first`). The joints share one factor (the stated per-joint ratios
   kept). A part whose redundancy is below 1 (the images do not separate its corrections from the
-  rest) is not measured: it stays 0 in res.measured.
+  rest, or its prior is below what they can see) is not measured: it stays 0 in res.measured.
 */
 void measureFullModeError(const Adjustment &a, const Eigen::MatrixXd &full, int first, KBA::Result &res)
 {
@@ -46,9 +46,13 @@ void measureFullModeError(const Adjustment &a, const Eigen::MatrixXd &full, int 
     for (double &sd : res.measured.joint_sd)
       sd *= factor;
   }
-  if (a.state.camera_delta && redundancy[1] >= 1 && redundancy[2] >= 1) {
-    res.measured.model_sd_translation = a.noise.model_sd_translation * std::sqrt(sum[1] / redundancy[1]);
-    res.measured.model_sd_rotation = a.noise.model_sd_rotation * std::sqrt(sum[2] / redundancy[2]);
+  // The model residual's parts apart: a part whose redundancy is below 1 while the other's is not
+  // is one its prior holds, not the images (a level the images cannot see): measured 0.
+  if (a.state.camera_delta && (redundancy[1] >= 1 || redundancy[2] >= 1)) {
+    if (redundancy[1] >= 1)
+      res.measured.model_sd_translation = a.noise.model_sd_translation * std::sqrt(sum[1] / redundancy[1]);
+    if (redundancy[2] >= 1)
+      res.measured.model_sd_rotation = a.noise.model_sd_rotation * std::sqrt(sum[2] / redundancy[2]);
   }
 }
 } // namespace
