@@ -231,7 +231,7 @@ void print(const std::vector<Row> &rows)
       st << (st.tellp() > 0 ? ", " : "") << s.first << " " << s.second;
     std::string joint = "(trusted)", model = "(trusted)";
     if (r.calibration == "default") {
-      joint = meanRange(r.joint_ratio, 1, 2) + (r.joint_true > 0 ? "" : " mrad");
+      joint = r.joint_ratio.count() ? meanRange(r.joint_ratio, 1, 2) + (r.joint_true > 0 ? "" : " mrad") : "";
       if (r.joint_exact)
         joint += (r.joint_ratio.count() ? ", " : "") + std::string("exact in ") + std::to_string(r.joint_exact);
       model = r.model_t.count() ? meanRange(r.model_t, 1e3, 3) + " / " + meanRange(r.model_r, 1e3, 3) : "";
