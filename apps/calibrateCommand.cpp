@@ -126,11 +126,14 @@ std::string writeResults(const fs::path &stage, const std::string &dataset, cons
 void stateRobotError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po)
 {
   // A stated robot error: the sd are widened by sigma0 when the residuals say the noise is larger.
-  if (!a.joint_sd.empty() || (a.pose_sd.size() == 2 && !po.trust_robot)) // two numbers (auto and 0 come alone)
+  // --joint-sd 0 and --pose-sd 0 come alone: exact, nothing stated.
+  const bool joints_stated = !a.joint_sd.empty() && a.joint_sd[0] > 0;
+  const bool pose_stated = a.pose_sd.size() == 2 && std::stod(a.pose_sd[0]) > 0;
+  if (joints_stated || pose_stated)
     po.bundle.scale_covariance = true;
-  if (!a.joint_sd.empty() && po.method != vpRobotSelfCalibration::PAPER)
+  if (joints_stated && po.method != vpRobotSelfCalibration::PAPER)
     po.noise.joint_sd = a.joint_sd;
-  if (a.pose_sd.size() != 2 || po.trust_robot)
+  if (!pose_stated)
     return;
   // The controller poses' error (hand-eye), or the kinematic model's residual (bundle); the
   // paper's method models neither.
@@ -185,6 +188,8 @@ int calibrate(const CalibrateArgs &a)
   // order. The result files must be bit-reproducible.
   cv::setNumThreads(a.threads);
   vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
+  if (a.joint_sd.size() == 1 && a.joint_sd[0] == 0)
+    ds.joint_sd.clear(); // --joint-sd 0: exact readings, whatever the dataset's robot_error says
   const bool world = ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD;
   if (world && !a.method.empty() && co.method == vpRobotSelfCalibration::PAPER)
     throw CLI::ValidationError("--method", "camera_mount: world is calibrated with --method bundle or hand-eye; the "

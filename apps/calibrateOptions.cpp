@@ -100,9 +100,10 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
                 "e.g. 0.002,0.002: each pose gets a correction with that prior, and the sd are\n"
                 "widened by sigma0 when the residuals say the noise is larger; bundle-adjustment: the\n"
                 "kinematic model's own residual (each camera pose corrected in its own frame with that\n"
-                "prior; default: none); auto (hand-eye's default): measured from the corrections\n"
-                "(variance components), from the dataset's robot_error or 1 mm / 1 mrad, runs again\n"
-                "until it settles within 10 %; 0: the controller poses are exact (no error modelled)")
+                "prior; default: measured, see --joint-sd); auto (hand-eye's default): measured from\n"
+                "the corrections (variance components), from the dataset's robot_error or 1 mm /\n"
+                "1 mrad, runs again until it settles within 10 %; 0: the robot is exact (no error\n"
+                "modelled: the controller poses, or the joint readings and the model)")
       ->type_name("T,R|auto|0")
       ->delimiter(',')
       ->expected(1, 2)
@@ -110,11 +111,14 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
   c->add_option("--joint-sd", a.joint_sd,
                 "bundle-adjustment: the joint readings' error (rad), one value for every joint or one\n"
                 "per joint, e.g. 1e-4: each view gets joint corrections with that prior, and the sd are\n"
-                "widened by sigma0 when the residuals say the noise is larger (default: the dataset's\n"
-                "robot_error, else exact readings)")
-      ->type_name("RAD[,RAD...]")
+                "widened by sigma0 when the residuals say the noise is larger. Default: measured\n"
+                "(variance components, runs again until it settles within 25 %) from the dataset's\n"
+                "robot_error, else from 3e-4 rad with the model's residual from 0.2 mm / 0.2 mrad;\n"
+                "a level below 4e-5 is dropped (exact). 0: the joint readings and the model are\n"
+                "exact (no error modelled, whatever the dataset's robot_error says)")
+      ->type_name("RAD[,RAD...]|0")
       ->delimiter(',')
-      ->check(selfcalibCli::number(0, true, 1));
+      ->check(selfcalibCli::number(0, false, 0.999));
   c->add_option("--fix", a.fix,
                 "bundle-adjustment: kinematic parameters kept at their nominal value, names or glob\n"
                 "patterns as the model names them (j2.tx, eMc.ry, 'j3.*,base.*'); added to the\n"
@@ -319,10 +323,19 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
     throw CLI::ValidationError("--pose-sd", "give two values, T,R (m, rad), or auto, or 0 (exact poses)");
   if (a.pose_sd.size() == 2 && !trusted && (std::stod(a.pose_sd[0]) == 0 || std::stod(a.pose_sd[1]) == 0))
     throw CLI::ValidationError("--pose-sd", "T and R are both positive (the error modelled) or both 0 (exact poses)");
-  po.trust_robot = trusted && !a.pose_sd.empty();
+  const bool joints_exact = std::count(a.joint_sd.begin(), a.joint_sd.end(), 0.0) > 0;
+  if (joints_exact && a.joint_sd.size() != 1)
+    throw CLI::ValidationError("--joint-sd", "0 (exact readings) comes alone; give positive values (rad), one for "
+                                             "every joint or one per joint");
+  if (joints_exact && !a.method.empty() && co.method != vpRobotSelfCalibration::BUNDLE_ADJUSTMENT)
+    throw CLI::ValidationError("--joint-sd", "the joint readings' error is the bundle method's (--method bundle); "
+                                             "hand-eye trusts the robot with --pose-sd 0");
+  po.trust_robot = (trusted && !a.pose_sd.empty()) || joints_exact;
   // Measured by default from the dataset's robot_error when it states one (below, once it is read).
   if (pose_auto || a.pose_sd.empty())
     po.noise.pose_sd_origin = vpSelfCalibNoiseModel::MEASURED;
+  if (a.joint_sd.empty() && a.pose_sd.empty())
+    po.noise.joint_sd_origin = po.noise.model_sd_origin = vpSelfCalibNoiseModel::MEASURED;
   // --pose-sd T,R and --joint-sd go to the noise model once the method is known (stateRobotError).
   return po;
 }

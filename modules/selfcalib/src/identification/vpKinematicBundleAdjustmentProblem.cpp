@@ -328,4 +328,30 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
   return problem;
 }
 
+MarginalBlocks marginalBlocks(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDataset::Yardstick &yardstick)
+{
+  MarginalBlocks b;
+  b.kept.push_back(a.state.rho.data());
+  if (!a.free_in.empty())
+    b.kept.push_back(a.in);
+  std::set<const double *> ends;
+  if (a.has_yardstick && problem.HasParameterBlock(a.X[yardstick.id_a].data()) &&
+      problem.HasParameterBlock(a.X[yardstick.id_b].data()))
+    for (int e : {yardstick.id_a, yardstick.id_b}) {
+      b.kept.push_back(a.X[e].data());
+      ends.insert(a.X[e].data());
+    }
+  b.num_ends = static_cast<int>(ends.size());
+  for (auto &d : a.state.delta)
+    b.kept.push_back(d.data());
+  for (auto &d : a.state.dq)
+    b.kept.push_back(d.data());
+  if (a.has_object && problem.HasParameterBlock(a.object.data()))
+    b.kept.push_back(a.object.data());
+  for (const auto &e : a.X.index())
+    if (!ends.count(a.X[e.first].data()) && problem.HasParameterBlock(a.X[e.first].data()))
+      b.eliminated.push_back(a.X[e.first].data());
+  return b;
+}
+
 } // namespace vpKinematicBundle

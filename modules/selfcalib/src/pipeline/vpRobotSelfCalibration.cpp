@@ -59,9 +59,9 @@ vpSelfCalibNoiseModel withDatasetRobotError(const vpRobotSelfCalibration::Option
   }
   if (opt.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT && noise.joint_sd.empty() && !ds.joint_sd.empty())
     noise.joint_sd = ds.joint_sd;
-  // Nothing states the controller poses' error: a real arm has one, so it is modelled and measured.
-  if (opt.method == vpRobotSelfCalibration::HAND_EYE && !noise.hasPoseError() && !opt.trust_robot)
-    noise = vpRobotSelfCalibration::robotErrorPrior(noise);
+  // Nothing states the robot's error: a real arm has one, so it is modelled and measured.
+  if (opt.method != vpRobotSelfCalibration::PAPER && !noise.hasRobotError() && !opt.trust_robot)
+    noise = vpRobotSelfCalibration::robotErrorPrior(noise, opt.method);
   return noise;
 }
 } // namespace
@@ -203,7 +203,8 @@ vpKinematicBundleAdjustment::Options vpRobotSelfCalibration::bundleOptions(const
   // The robot's error as the dataset states it (noiseModel()), with the sd widened by sigma0 when
   // the residuals say the noise is larger.
   const vpSelfCalibNoiseModel noise = withDatasetRobotError(opt, ds);
-  if (noise.hasPoseError() != opt.noise.hasPoseError() || noise.joint_sd != opt.noise.joint_sd)
+  if (noise.hasPoseError() != opt.noise.hasPoseError() || noise.joint_sd != opt.noise.joint_sd ||
+      noise.hasModelError() != opt.noise.hasModelError())
     bo.scale_covariance = true;
   // The dataset's OpenCV lens model: the model of the estimate, its coefficients the start (unless
   // the caller gives other start coefficients).
@@ -215,8 +216,14 @@ vpKinematicBundleAdjustment::Options vpRobotSelfCalibration::bundleOptions(const
   return bo;
 }
 
-vpSelfCalibNoiseModel vpRobotSelfCalibration::robotErrorPrior(const vpSelfCalibNoiseModel &noise)
+vpSelfCalibNoiseModel vpRobotSelfCalibration::robotErrorPrior(const vpSelfCalibNoiseModel &noise, Method method)
 {
+  if (method == BUNDLE_ADJUSTMENT)
+    return noise.withJointError({kJointErrorPrior}, vpSelfCalibNoiseModel::MEASURED)
+        .withModelError(kModelErrorPrior, kModelErrorPrior, vpSelfCalibNoiseModel::MEASURED);
+  if (method != HAND_EYE)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpRobotSelfCalibration::robotErrorPrior: PAPER models no robot error");
   return noise.withPoseError(1e-3, 1e-3, vpSelfCalibNoiseModel::MEASURED);
 }
 
@@ -427,8 +434,7 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
     const bool usable = res.status == OK || res.status == IDENTIFICATION_FAILED;
     const vpSelfCalibNoiseModel first_measured = res.measured;
     std::vector<vpSelfCalibDataCheck::Finding> notes;
-    vpSelfCalibPipeline::measureNoise(context.noise, first_measured, res.status == OK, usable, opt.method == HAND_EYE,
-                                      attempt, notes);
+    vpSelfCalibPipeline::measureNoise(context.noise, first_measured, res.status == OK, usable, true, attempt, notes);
     res.findings.insert(res.findings.end(), notes.begin(), notes.end());
   }
   const vpSelfCalibPipeline::Context &used = current ? *current : context;

@@ -278,9 +278,8 @@ void checkUnmodelledRobotError(const Context &c, Result &res)
                ? "; state the robot's pose error (calibrate --pose-sd T,R or the dataset's robot_error; a serial "
                  "arm's absolute accuracy is a few mm and mrad; the camera corrections above overstate it where a "
                  "rotation and a translation of the camera look alike)"
-               : "; state the joint readings' error (calibrate --joint-sd or the dataset's robot_error joint_sd) "
-                 "and, for what no parameter of the model explains, the model's own residual (calibrate --pose-sd "
-                 "T,R)"));
+               : "; model the joint readings' error and the model's own residual (calibrate's default measures "
+                 "them; or state them: --joint-sd, the dataset's robot_error joint_sd, --pose-sd T,R)"));
 }
 
 /*

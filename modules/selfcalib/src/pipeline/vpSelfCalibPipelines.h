@@ -165,14 +165,17 @@ using NoiseAttemptFunction = std::function<NoiseAttempt(const vpSelfCalibNoiseMo
   noise, an OK run or one that failed on rejected observations):
   - start.pixel_sd measured (origin MEASURED): one more run at the measured image noise when it
     differs by more than 25 % (measuredNoiseDiffers());
-  - pose_rounds and start's controller pose error measured: from a run that stands, rounds at the
-    measured pose error (and image noise) until both parts settle within 10 %, 5 at most; a warning
-    "robot-error-not-settled" in findings when it does not settle, cannot be measured, or a round
-    is not ok (the last ok run stands).
+  - robot_rounds and a form of start's robot error measured (the controller poses' pose_sd_*, the
+    joint readings' joint_sd, the model residual's model_sd_*, each with origin MEASURED): from a
+    run that stands, rounds at the measured levels (and image noise) until every part settles
+    (within 10 %, the full mode's joint and model forms within 25 %), 5 at most, no part below the floor (2e-5 m and rad, a serial arm's
+    repeatability); a form measured below twice the floor in every part is dropped (exact); a warning "robot-error-not-settled" in
+    findings when a form does not settle, cannot be measured, or a round is not ok (the last ok run
+    stands).
   Returns the noise model of the run that stands.
 */
 vpSelfCalibNoiseModel measureNoise(const vpSelfCalibNoiseModel &start, const vpSelfCalibNoiseModel &measured,
-                                   bool ok, bool usable, bool pose_rounds, const NoiseAttemptFunction &attempt,
+                                   bool ok, bool usable, bool robot_rounds, const NoiseAttemptFunction &attempt,
                                    std::vector<vpSelfCalibDataCheck::Finding> &findings);
 /*!
   The 99.9 % bound of the robot corrections' chi-square (bundle.robot_chi2) for their number, and

@@ -41,6 +41,21 @@ TEST(NoiseModel, LevelsChangeWithTheirOrigin)
   vpSelfCalibNoiseModel j;
   j.joint_sd = {1e-4};
   EXPECT_TRUE(j.hasRobotError());
+  // The full mode's forms, each with its own origin.
+  const vpSelfCalibNoiseModel f = n.withJointError({3e-4, 2e-4, 2e-4, 1e-4, 1e-4, 1e-4}, vpSelfCalibNoiseModel::MEASURED)
+                                      .withModelError(2e-4, 3e-4, vpSelfCalibNoiseModel::MEASURED);
+  EXPECT_EQ(f.joint_sd.size(), 6u);
+  EXPECT_EQ(f.joint_sd_origin, vpSelfCalibNoiseModel::MEASURED);
+  EXPECT_TRUE(f.hasModelError());
+  EXPECT_EQ(f.model_sd_rotation, 3e-4);
+  EXPECT_EQ(f.model_sd_origin, vpSelfCalibNoiseModel::MEASURED);
+  EXPECT_EQ(f.pose_sd_origin, vpSelfCalibNoiseModel::STATED); // the others untouched
+  EXPECT_NO_THROW(f.check());
+  const vpSelfCalibNoiseModel exact = f.withJointError({}, vpSelfCalibNoiseModel::MEASURED)
+                                          .withModelError(0, 0, vpSelfCalibNoiseModel::MEASURED);
+  EXPECT_FALSE(exact.hasRobotError());
+  EXPECT_EQ(u.joint_sd_origin, vpSelfCalibNoiseModel::MEASURED);
+  EXPECT_EQ(u.model_sd_origin, vpSelfCalibNoiseModel::MEASURED);
 }
 
 TEST(NoiseModel, NonsenseIsRefusedWithTheCallersName)
@@ -74,6 +89,12 @@ TEST(NoiseModel, NonsenseIsRefusedWithTheCallersName)
   }
   n = vpSelfCalibNoiseModel();
   n.loss = static_cast<vpSelfCalibNoiseModel::Loss>(7);
+  EXPECT_THROW(n.check(), vpSelfCalibException);
+  n = vpSelfCalibNoiseModel();
+  n.joint_sd_origin = static_cast<vpSelfCalibNoiseModel::Origin>(5);
+  EXPECT_THROW(n.check(), vpSelfCalibException);
+  n = vpSelfCalibNoiseModel();
+  n.model_sd_origin = static_cast<vpSelfCalibNoiseModel::Origin>(5);
   EXPECT_THROW(n.check(), vpSelfCalibException);
   try {
     vpSelfCalibNoiseModel m;

@@ -1042,7 +1042,7 @@ TEST(KinematicBundleAdjustment, JointReadingNoiseIsModelledAndTheSdAreHonest)
   o.fixed = ref.fixed;
   auto nees = [&](const vpKinematicBundleAdjustment::Result &r) { return ref.nees(r); };
   Random rng(46, 7);
-  double n_model = 0, n_trust = 0, sigma0 = 0, joint_rms = 0;
+  double n_model = 0, n_trust = 0, sigma0 = 0, joint_rms = 0, measured = 0;
   const unsigned int trials = 16;
   unsigned int used = 0, skipped = 0;
   vpSelfCalibNoiseModel nm = noise;
@@ -1068,6 +1068,13 @@ TEST(KinematicBundleAdjustment, JointReadingNoiseIsModelledAndTheSdAreHonest)
     n_model += nees(m);
     sigma0 += m.sigma0;
     joint_rms += m.joint_rms;
+    // Variance components at the true sd give it back, one factor on every joint.
+    ASSERT_EQ(m.measured.joint_sd.size(), ds.views[0].q.size());
+    EXPECT_EQ(m.measured.joint_sd[0], m.measured.joint_sd.back());
+    EXPECT_GT(m.measured.joint_sd[0], 0.6 * joint_sd);
+    EXPECT_LT(m.measured.joint_sd[0], 1.6 * joint_sd);
+    measured += m.measured.joint_sd[0];
+    EXPECT_FALSE(m.measured.hasModelError()); // not modelled, not measured
     n_trust += nees(r);
   }
   ASSERT_GE(used, trials / 2) << skipped << " draws with another estimated set";
@@ -1078,6 +1085,7 @@ TEST(KinematicBundleAdjustment, JointReadingNoiseIsModelledAndTheSdAreHonest)
   EXPECT_NEAR(sigma0 / used, 1.0, 0.25);
   EXPECT_GT(joint_rms / used, 0.3 * joint_sd);
   EXPECT_LT(joint_rms / used, joint_sd);
+  EXPECT_NEAR(measured / used / joint_sd, 1.0, 0.2);
   EXPECT_GT(n_trust, 2 * n_model);
 
   vpSelfCalibNoiseModel bad = noise;
@@ -1121,7 +1129,7 @@ TEST(KinematicBundleAdjustment, ModelResidualIsModelledInTheFullMode)
   nm.model_sd_rotation = sd_r;
   Random rng(47, 7);
   const unsigned int trials = 12;
-  double n_model = 0, n_trust = 0, sigma0 = 0, pose_rms = 0;
+  double n_model = 0, n_trust = 0, sigma0 = 0, pose_rms = 0, measured_t = 0, measured_r = 0;
   unsigned int trusted_ok = 0;
   for (unsigned int t = 0; t < trials; ++t) {
     vpSelfCalibDataset ds = clean;
@@ -1149,7 +1157,13 @@ TEST(KinematicBundleAdjustment, ModelResidualIsModelledInTheFullMode)
     }
     sigma0 += m.sigma0;
     pose_rms += m.pose_rms_translation;
+    // Variance components at the true sd give it back.
+    measured_t += m.measured.model_sd_translation;
+    measured_r += m.measured.model_sd_rotation;
+    EXPECT_TRUE(m.measured.joint_sd.empty());
   }
+  EXPECT_NEAR(measured_t / trials / sd_t, 1.0, 0.2);
+  EXPECT_NEAR(measured_r / trials / sd_r, 1.0, 0.2);
   n_model /= trials;
   EXPECT_GT(n_model, 0.4);
   EXPECT_LT(n_model, 2.0);

@@ -560,3 +560,88 @@ TEST(RobotSelfCalibration, HandEyeMeasuresTheRobotErrorByDefault)
     EXPECT_EQ(RSC::noiseModel(o, ds).pose_sd_translation, 3e-3);
   }
 }
+
+namespace
+{
+//! Joint readings off by sd (rad) on every joint of every view: the images stay those of the true joints.
+void offsetReadings(vpSelfCalibDataset &ds, double sd, uint64_t seed, uint64_t stream)
+{
+  vpSelfCalib::Random rng(seed, stream);
+  for (auto &v : ds.views)
+    for (unsigned int i = 0; i < v.q.size(); ++i)
+      v.q[i] += rng.normal(sd);
+}
+} // namespace
+
+/*
+  The bundle method models the robot's error by default (joint readings and the model's residual,
+  from robotErrorPrior()) and measures it: joint readings off by 0.03 deg measure about that back
+  on every seed (variance components, then runs again at the measured level), the origin MEASURED,
+  the mean over the seeds within 20 % of the truth. trust_robot (calibrate --joint-sd 0) models no
+  robot error: no joint corrections, the readings taken as exact.
+*/
+TEST(RobotSelfCalibration, BundleMeasuresTheJointReadingErrorByDefault)
+{
+  using RSC = vpRobotSelfCalibration;
+  const double joint_sd = 0.03 * M_PI / 180.0;
+  double sum = 0;
+  const uint64_t seeds[] = {51, 52, 53};
+  for (uint64_t seed : seeds) {
+    const vpSelfCalibSimulator sim = makeSim("viper850", seed, 0.2);
+    RSC::Options o;
+    o.num_calibration_poses = 15;
+    vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(15));
+    offsetReadings(ds, joint_sd, seed, 97);
+    const vpSelfCalibNoiseModel start = RSC::noiseModel(o, ds);
+    EXPECT_TRUE(start.joint_sd == std::vector<double>{RSC::kJointErrorPrior});
+    EXPECT_EQ(start.joint_sd_origin, vpSelfCalibNoiseModel::MEASURED);
+    EXPECT_EQ(start.model_sd_translation, RSC::kModelErrorPrior);
+    EXPECT_EQ(start.model_sd_origin, vpSelfCalibNoiseModel::MEASURED);
+    const RSC::Result r = RSC::run(sim.getNominalChain(), ds, o);
+    ASSERT_EQ(r.status, RSC::OK) << seed << ": " << r.message;
+    ASSERT_EQ(r.noise.joint_sd.size(), 6u) << seed; // one measured factor on the prior's one value for every joint
+    EXPECT_EQ(r.noise.joint_sd.front(), r.noise.joint_sd.back());
+    EXPECT_EQ(r.noise.joint_sd_origin, vpSelfCalibNoiseModel::MEASURED);
+    EXPECT_EQ(r.bundle.joint_corrections.size(), 15u);
+    const double ratio = r.noise.joint_sd[0] / joint_sd;
+    EXPECT_GT(ratio, 0.7) << seed;
+    EXPECT_LT(ratio, 1.4) << seed;
+    sum += ratio;
+    for (const auto &f : r.findings)
+      EXPECT_NE(f.code, "robot-error-not-settled") << seed << ": " << f.message;
+
+    RSC::Options trusted = o;
+    trusted.trust_robot = true;
+    EXPECT_FALSE(RSC::noiseModel(trusted, ds).hasRobotError());
+    const RSC::Result t = RSC::run(sim.getNominalChain(), ds, trusted);
+    EXPECT_FALSE(t.noise.hasRobotError()) << seed;
+    EXPECT_TRUE(t.bundle.joint_corrections.empty()) << seed;
+    EXPECT_TRUE(t.bundle.pose_corrections.empty()) << seed;
+  }
+  EXPECT_NEAR(sum / std::size(seeds), 1.0, 0.2);
+}
+
+/*
+  Exact joint readings and model: the default's robot error measures below a serial arm's
+  repeatability and is dropped, the run ending with no robot error modelled and the trusted run's
+  estimate (the default costs runs, not accuracy).
+*/
+TEST(RobotSelfCalibration, BundleDropsTheRobotErrorOnExactReadings)
+{
+  using RSC = vpRobotSelfCalibration;
+  const vpSelfCalibSimulator sim = makeSim("viper850", 54, 0.2);
+  RSC::Options o;
+  o.num_calibration_poses = 15;
+  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(15));
+  const RSC::Result r = RSC::run(sim.getNominalChain(), ds, o);
+  ASSERT_EQ(r.status, RSC::OK) << r.message;
+  EXPECT_FALSE(r.noise.hasRobotError()) << r.noise.joint_sd.size() << " " << r.noise.model_sd_translation;
+  for (const auto &f : r.findings)
+    EXPECT_NE(f.code, "robot-error-not-settled") << f.message;
+  RSC::Options trusted = o;
+  trusted.trust_robot = true;
+  const RSC::Result t = RSC::run(sim.getNominalChain(), ds, trusted);
+  ASSERT_EQ(t.status, RSC::OK) << t.message;
+  for (unsigned int i = 0; i < t.calibrated.getNumParameters(); ++i)
+    EXPECT_NEAR(r.calibrated.getParameters()[i], t.calibrated.getParameters()[i], 1e-9) << i;
+}

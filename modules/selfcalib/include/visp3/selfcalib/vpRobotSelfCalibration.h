@@ -154,24 +154,30 @@ public:
         level, the rest of the method has none. In every mode the covariance (PAPER: f's sd) is
         scaled by sigma0 when sigma0 is outside its 99.9 % chi-square interval, with a
         "noise-mismatch" finding naming both values.
-      - pose_sd_* (calibrate --pose-sd auto). HAND_EYE with the controller poses' error modelled:
-        after the run, when the pose error its corrections measure (variance component estimation)
-        differs from the one used by more than 10 % in either part, the method runs again with the
-        measured values (and the measured image noise when pixel_sd is measured too), up to 5
-        times; a run that is not ok ends the rounds and the last ok one stands, with the warning
+      - the robot's error: pose_sd_* (HAND_EYE, calibrate --pose-sd auto), joint_sd and
+        model_sd_* (BUNDLE_ADJUSTMENT, calibrate's default without --joint-sd / --pose-sd), each
+        with its own origin field. After the run, when the error its corrections measure
+        (variance component estimation; the joints with one factor on every joint's sd) differs
+        from the one used by more than 10 % in a part (25 % for the joint readings and the model
+        residual, which the images separate only weakly), the method runs again with the measured
+        values (and the measured image noise when pixel_sd is measured too), up to 5 times; a form
+        measured below 4e-5 m and rad (twice a serial arm's repeatability) in every part is dropped
+        (exact). A run that is not ok ends the rounds and the last ok one stands, with the warning
         "robot-error-not-settled" (also when the level does not settle in 5 rounds or cannot be
-        measured). The start: pose_sd_*, else the dataset's robot_error, else (trust_robot false,
-        the default) the prior robotErrorPrior() measured from there. Other methods: no effect.
+        measured). The start: the stated level, else the dataset's robot_error, else (trust_robot
+        false, the default) the prior robotErrorPrior() measured from there. PAPER: no effect.
       Result::noise says which levels were used.
     */
     vpSelfCalibNoiseModel noise;
     /*!
-      HAND_EYE: whether the controller poses are exact when neither noise nor the dataset states
-      their error. false (default): every real arm's poses are off by millimetres, so the error is
-      modelled from robotErrorPrior() and measured (variance components, then the method runs again
-      at the measured level; data without pose error measure it near 0 and end as if exact). true:
-      the poses are trusted, no error modelled (calibrate --pose-sd 0). A stated error (noise or the
-      dataset's robot_error) is used whatever this says. Other methods: not read.
+      HAND_EYE and BUNDLE_ADJUSTMENT: whether the robot is exact when neither noise nor the dataset
+      states its error (HAND_EYE: the controller poses; BUNDLE_ADJUSTMENT: the joint readings and
+      the kinematic model's residual). false (default): every real arm is off by a fraction of a
+      millimetre to millimetres, so the error is modelled from robotErrorPrior() and measured
+      (variance components, then the method runs again at the measured level; data without that
+      error measure it near 0 and end as if exact). true: the robot is trusted, no error modelled
+      (calibrate --pose-sd 0 or --joint-sd 0). A stated error (noise or the dataset's robot_error)
+      is used whatever this says. PAPER: not read.
     */
     bool trust_robot = false;
     //! The checks run before calibrating (its noise: the noise above).
@@ -341,19 +347,36 @@ public:
   /*!
     The noise model a run starts from: options.noise with, where it leaves the robot's error at 0,
     the dataset's robot_error in the method's form (HAND_EYE: the controller poses' pose_sd_*;
-    BUNDLE_ADJUSTMENT: joint_sd), else for HAND_EYE robotErrorPrior() unless options.trust_robot. Throws vpSelfCalibException on a robot error the method does not
+    BUNDLE_ADJUSTMENT: joint_sd), else robotErrorPrior() (HAND_EYE, BUNDLE_ADJUSTMENT) unless
+    options.trust_robot. Throws vpSelfCalibException on a robot error the method does not
     use (pose_sd_* with BUNDLE_ADJUSTMENT, model_sd_* or joint_sd with HAND_EYE, any with PAPER).
   */
   static vpSelfCalibNoiseModel noiseModel(const Options &options, const vpSelfCalibDataset &dataset);
 
   /*!
-    The controller poses' error a HAND_EYE run starts from when nothing states it (Options::trust_robot
-    false): 1 mm and 1 mrad, MEASURED. Between a serial arm's repeatability (0.02 to 0.1 mm) and its
+    The robot's error a run starts from when nothing states it (Options::trust_robot false), every
+    level MEASURED. BUNDLE_ADJUSTMENT: the joint readings' kJointErrorPrior and the model residual's
+    kModelErrorPrior (both parts). HAND_EYE: the controller poses' error, 1 mm and 1 mrad. Between a serial arm's repeatability (0.02 to 0.1 mm) and its
     absolute accuracy (1 to 5 mm, a few mrad): loose enough that the images, not the prior, decide
     where the poses are wrong, tight enough that the first run is not an unconstrained per-view
     fit. It is a start, not a claim: the run measures the level and runs again at it.
   */
-  static vpSelfCalibNoiseModel robotErrorPrior(const vpSelfCalibNoiseModel &noise);
+  static vpSelfCalibNoiseModel robotErrorPrior(const vpSelfCalibNoiseModel &noise, Method method = HAND_EYE);
+  /*!
+    rad: the joint reading error a BUNDLE_ADJUSTMENT run starts from when nothing states it, 3e-4
+    rad (0.017 deg). A 17 to 20 bit encoder reads a joint to 1e-5 rad, but what the model sees is
+    the joint's angle at the link, after the gear's lost motion and the joint's compliance under
+    the arm's own weight: 1e-4 to 1e-3 rad on serial arms (harmonic drives: about 1 arc-minute,
+    3e-4 rad). It is a start, not a claim: the run measures the level and runs again at it.
+  */
+  static constexpr double kJointErrorPrior = 3e-4;
+  /*!
+    m and rad: the kinematic model's residual a BUNDLE_ADJUSTMENT run starts from when nothing
+    states the robot's error, 0.2 mm and 0.2 mrad per view: what a geometric model leaves on a
+    serial arm after calibration (link and gear compliance, gear eccentricity: 0.1 to 0.5 mm),
+    above its repeatability (0.02 to 0.1 mm). Measured from there, as kJointErrorPrior.
+  */
+  static constexpr double kModelErrorPrior = 2e-4;
 
   /*!
     The multi-view reconstruction options a run uses (BUNDLE_ADJUSTMENT, HAND_EYE): options.multiview

@@ -75,8 +75,10 @@ public:
   Origin pose_sd_origin = STATED;
   //! rad, joint reading error (full kinematics), one value for every joint or one per joint; empty: exact.
   std::vector<double> joint_sd;
+  Origin joint_sd_origin = STATED;
   double model_sd_translation = 0;  //!< m, the kinematic model's residual (full kinematics); 0: none
   double model_sd_rotation = 0;     //!< rad, the kinematic model's residual (full kinematics); 0: none
+  Origin model_sd_origin = STATED;
 
   //! A model for measurements not made yet: every level 0, origin MEASURED (check() refuses it).
   static vpSelfCalibNoiseModel unmeasured();
@@ -94,6 +96,10 @@ public:
   vpSelfCalibNoiseModel withPixelNoise(double sd, Origin origin) const;
   //! This model with the controller pose error (t m, r rad), its origin `origin`.
   vpSelfCalibNoiseModel withPoseError(double t, double r, Origin origin) const;
+  //! This model with the joint reading error `sd` (rad; empty: exact readings), its origin `origin`.
+  vpSelfCalibNoiseModel withJointError(const std::vector<double> &sd, Origin origin) const;
+  //! This model with the kinematic model's residual (t m, r rad; both 0: none), its origin `origin`.
+  vpSelfCalibNoiseModel withModelError(double t, double r, Origin origin) const;
 
   /*!
     Throws vpSelfCalibException on nonsense: pixel_sd or loss_scale not positive or not finite, a
