@@ -1,6 +1,6 @@
 /*
- * ViSP SelfCalib: the measure-and-run-again step of every method. A level of the noise model whose
- * origin is MEASURED is measured from the residuals of a run, and the run is made again at the
+ * ViSP SelfCalib: the measure-and-run-again step of every method. A level of the noise model to be
+ * measured (measure_pixel_sd, measure_pose_sd) is measured from the residuals of a run, and the run is made again at the
  * measured level when it differs from the one used (vpSelfCalibPipelines.h).
  */
 #include <algorithm>
@@ -78,15 +78,17 @@ void measurePoseError(State &st, const NoiseAttemptFunction &attempt, std::vecto
     if (tm < kPoseFloor && rm < kPoseFloor)
       return settleExact(st, attempt, findings);
     const double t = std::max(tm, kPoseFloor), r = std::max(rm, kPoseFloor);
-    if (std::fabs(t / t0 - 1) <= kPoseSettled && std::fabs(r / r0 - 1) <= kPoseSettled)
+    if (std::fabs(t / t0 - 1) <= kPoseSettled && std::fabs(r / r0 - 1) <= kPoseSettled) {
+      st.used.pose_sd_origin = vpSelfCalibNoiseModel::MEASURED; // the measurement agrees with it
       return;
+    }
     if (round == kMaxPoseRounds) {
       note(findings, "the robot pose error did not settle in 5 rounds: the corrections measure " + mm(tm) + " mm / " +
                          mm(rm) + " mrad where " + mm(t0) + " mm / " + mm(r0) + " mrad was used");
       return;
     }
     vpSelfCalibNoiseModel next = st.used.withPoseError(t, r, vpSelfCalibNoiseModel::MEASURED);
-    if (st.used.pixel_sd_origin == vpSelfCalibNoiseModel::MEASURED &&
+    if (st.used.measure_pixel_sd &&
         measuredNoiseDiffers(next.pixel_sd, st.measured.pixel_sd))
       next = next.withPixelNoise(st.measured.pixel_sd, vpSelfCalibNoiseModel::MEASURED);
     const NoiseAttempt a = attempt(next, true);
@@ -111,8 +113,9 @@ vpSelfCalibNoiseModel measureNoise(const vpSelfCalibNoiseModel &start, const vpS
 {
   State st{start, measured, ok};
   // The image noise measured: once more at the level the residuals give, when it differs.
-  if (start.pixel_sd_origin == vpSelfCalibNoiseModel::MEASURED && usable &&
-      measuredNoiseDiffers(start.pixel_sd, measured.pixel_sd)) {
+  if (start.measure_pixel_sd && usable && !measuredNoiseDiffers(start.pixel_sd, measured.pixel_sd))
+    st.used.pixel_sd_origin = vpSelfCalibNoiseModel::MEASURED; // the measurement agrees with it
+  if (start.measure_pixel_sd && usable && measuredNoiseDiffers(start.pixel_sd, measured.pixel_sd)) {
     const vpSelfCalibNoiseModel next = start.withPixelNoise(measured.pixel_sd, vpSelfCalibNoiseModel::MEASURED);
     const NoiseAttempt a = attempt(next, false);
     if (a.ok) {
@@ -122,7 +125,7 @@ vpSelfCalibNoiseModel measureNoise(const vpSelfCalibNoiseModel &start, const vpS
     }
   }
   // The controller poses' error measured, from a run that stands.
-  if (pose_rounds && st.ok && start.pose_sd_origin == vpSelfCalibNoiseModel::MEASURED && start.hasPoseError())
+  if (pose_rounds && st.ok && start.measure_pose_sd && start.hasPoseError())
     measurePoseError(st, attempt, findings);
   return st.used;
 }
