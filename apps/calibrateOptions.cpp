@@ -277,7 +277,7 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
   vpRobotSelfCalibration::Options po;
   po.focal_mode = vpRobotSelfCalibration::focalModeFromName(a.focal);
   if (a.pixel_sd == "auto")
-    po.noise.pixel_sd_origin = vpSelfCalibNoiseModel::MEASURED; // from 0.2 px
+    po.noise.measure_pixel_sd = true; // from 0.2 px
   else
     po.noise.pixel_sd = std::stod(a.pixel_sd);
   if (a.tolerance.size() == 1 || a.tolerance.size() == 3)
@@ -333,9 +333,9 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
   po.trust_robot = (trusted && !a.pose_sd.empty()) || joints_exact;
   // Measured by default from the dataset's robot_error when it states one (below, once it is read).
   if (pose_auto || a.pose_sd.empty())
-    po.noise.pose_sd_origin = vpSelfCalibNoiseModel::MEASURED;
+    po.noise.measure_pose_sd = true;
   if (a.joint_sd.empty() && a.pose_sd.empty())
-    po.noise.joint_sd_origin = po.noise.model_sd_origin = vpSelfCalibNoiseModel::MEASURED;
+    po.noise.measure_joint_sd = po.noise.measure_model_sd = true;
   // --pose-sd T,R and --joint-sd go to the noise model once the method is known (stateRobotError).
   return po;
 }

@@ -163,7 +163,7 @@ Row ours(const std::string &method, const vpKinematicChain &nominal, const vpSel
     return row;
   }
   row.ok = true;
-  if (po.noise.pose_sd_origin == vpSelfCalibNoiseModel::MEASURED)
+  if (po.noise.measure_pose_sd)
     row.method += " (measured: " + fixed(1e3 * r.noise.pose_sd_translation, 1) + " mm / " +
                   fixed(1e3 * r.noise.pose_sd_rotation, 1) + " mrad)";
   row.eMc = r.eMc;

@@ -428,6 +428,34 @@ std::string rankDeficientMessage(const KBA::Result &res, const KBA::Options &opt
   return message;
 }
 
+//! What run() and estimatedSet() start from: each view's joints and end-effector pose, the points
+//! the views see, and their start values.
+struct Inputs {
+  std::vector<vpColVector> q;
+  std::vector<Rigid> fMe;
+  std::map<int, unsigned int> seen;
+  std::map<int, Eigen::Vector3d> X0;
+};
+
+//! The caller's inputs checked (options, noise, camera, model, views, robot error), then Inputs;
+//! `where` names the function in the messages.
+Inputs checkedInputs(const vpKinematicChain &start, const vpCameraParameters &camera,
+                     const std::vector<vpSelfCalibDataset::View> &views, const std::map<int, vpColVector> &points0,
+                     const KBA::Options &opt, const vpSelfCalibNoiseModel &noise,
+                     const std::string &where = "vpKinematicBundleAdjustment")
+{
+  opt.check();
+  noise.check(where);
+  vpSelfCalib::checkCamera(camera, where + ": the camera");
+  vpSelfCalib::checkChain(start, where + ": the model '" + start.getName() + "'");
+  checkViewsAndCamera(camera, static_cast<unsigned int>(views.size()), opt);
+  Inputs in;
+  collectViews(start, views, opt, in.q, in.fMe, in.seen);
+  in.X0 = startPoints(points0, in.seen);
+  checkRobotError(start, opt, noise);
+  return in;
+}
+
 //! The adjustment (solve) or only its information at the start state (!solve); see the header.
 vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpCameraParameters &camera,
                                         const std::vector<vpSelfCalibDataset::View> &views,
@@ -436,24 +464,17 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
                                         const vpKinematicBundleAdjustment::Options &opt,
                                         const vpSelfCalibNoiseModel &noise, bool solve)
 {
-  opt.check();
-  noise.check("vpKinematicBundleAdjustment");
-  vpSelfCalib::checkCamera(camera, "vpKinematicBundleAdjustment: the camera");
-  vpSelfCalib::checkChain(start, "vpKinematicBundleAdjustment: the model '" + start.getName() + "'");
   const QuietCeres quiet;
   const auto t0 = std::chrono::steady_clock::now();
-  checkViewsAndCamera(camera, static_cast<unsigned int>(views.size()), opt);
-  std::vector<vpColVector> q;
-  std::vector<Rigid> fMe;
-  std::map<int, unsigned int> seen;
-  collectViews(start, views, opt, q, fMe, seen);
-  const std::map<int, Eigen::Vector3d> X0 = startPoints(points0, seen);
+  const Inputs in = checkedInputs(start, camera, views, points0, opt, noise);
+  const std::vector<vpColVector> &q = in.q;
+  const std::vector<Rigid> &fMe = in.fMe;
+  const std::map<int, Eigen::Vector3d> &X0 = in.X0;
 
   KBA::Result res;
   res.chain = start;
   res.camera = camera;
   res.sd.resize(start.getNumParameters());
-  checkRobotError(start, opt, noise);
   std::string refused;
   res.identifiability = setOf(start, camera, views, yardstick, X0, q, fMe, opt, noise, refused);
   if (!refused.empty()) {
@@ -547,7 +568,7 @@ const char *vpKinematicBundleAdjustment::statusName(Status s)
   return "unknown";
 }
 
-void vpKinematicBundleAdjustment::Options::check() const
+void vpKinematicBundleAdjustment::Settings::check() const
 {
   if (intrinsics > (FX | ASPECT | PRINCIPAL_POINT | DISTORTION | DISTORTION_K3))
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicBundleAdjustment: unknown intrinsics flag");
@@ -595,40 +616,13 @@ vpKinematicBundleAdjustment::Result vpKinematicBundleAdjustment::adjust(const vp
   return run(start, camera, views, yardstick, points, options, noise, true);
 }
 
-namespace
-{
-//! The checked inputs of estimatedSet() and predictedSd(): every view's joints (or pose) and the start points.
-struct SetInputs {
-  std::vector<vpColVector> q;
-  std::vector<Rigid> fMe;
-  std::map<int, Eigen::Vector3d> X0;
-};
-
-SetInputs setInputs(const vpKinematicChain &start, const vpCameraParameters &camera,
-                    const std::vector<vpSelfCalibDataset::View> &views, const std::map<int, vpColVector> &points,
-                    const KBA::Options &options, const vpSelfCalibNoiseModel &noise, const std::string &where)
-{
-  options.check();
-  noise.check(where);
-  vpSelfCalib::checkCamera(camera, where + ": the camera");
-  vpSelfCalib::checkChain(start, where + ": the model '" + start.getName() + "'");
-  checkViewsAndCamera(camera, static_cast<unsigned int>(views.size()), options);
-  SetInputs in;
-  std::map<int, unsigned int> seen;
-  collectViews(start, views, options, in.q, in.fMe, seen);
-  in.X0 = startPoints(points, seen);
-  checkRobotError(start, options, noise);
-  return in;
-}
-} // namespace
-
 vpKinematicIdentification::Identifiability vpKinematicBundleAdjustment::estimatedSet(
     const vpKinematicChain &start, const vpCameraParameters &camera, const std::vector<vpSelfCalibDataset::View> &views,
     const vpSelfCalibDataset::Yardstick &yardstick, const std::map<int, vpColVector> &points, const Options &options,
     const vpSelfCalibNoiseModel &noise)
 {
   const QuietCeres quiet;
-  const SetInputs in = setInputs(start, camera, views, points, options, noise, "vpKinematicBundleAdjustment");
+  const Inputs in = checkedInputs(start, camera, views, points, options, noise);
   std::string refused;
   return setOf(start, camera, views, yardstick, in.X0, in.q, in.fMe, options, noise, refused);
 }
@@ -641,7 +635,7 @@ vpColVector vpKinematicBundleAdjustment::predictedSd(const vpKinematicChain &sta
                                                      const vpSelfCalibNoiseModel &noise)
 {
   const QuietCeres quiet;
-  const SetInputs in = setInputs(start, camera, views, points, options, noise, "vpKinematicBundleAdjustment::predictedSd");
+  const Inputs in = checkedInputs(start, camera, views, points, options, noise, "vpKinematicBundleAdjustment::predictedSd");
   const std::vector<vpColVector> &q = in.q;
   if (options.hand_eye_only)
     throw vpSelfCalibException(vpSelfCalibException::badValue,

@@ -162,6 +162,8 @@ decideSet(Adjustment &a, const vpKinematicChain &start, const vpKinematicIdentif
 */
 Eigen::VectorXd predictedSd(Adjustment &a, const std::vector<int> &columns, const vpSelfCalibDataset::Yardstick &yardstick,
                             const KBA::Options &opt);
+
+/*!
   The parameter blocks of the corrections' marginal information (decideSet) and covariance (stage
   6), listed once for both: kept, in this order, the corrections rho, the estimated intrinsics, the
   yardstick's two ends (linked by their residual), every view's robot-error correction (the

@@ -20,33 +20,6 @@
 namespace
 {
 /*
-  A field that a builder derives from another setting: accepted when the caller left it at its
-  default or set it to the derived value (a builder's output put back), a conflict otherwise.
-  Returns the derived value.
-*/
-template <typename T>
-T derived(const T &set, const T &default_value, const T &value, const char *field, const char *source)
-{
-  if (set == default_value || set == value)
-    return value;
-  std::ostringstream os;
-  os << std::boolalpha << "vpRobotSelfCalibration: " << field << " (" << set << ") is derived from " << source
-     << " (" << value << ") and not read: set " << source << " instead, or leave " << field << " at its default";
-  throw vpSelfCalibException(vpSelfCalibException::badValue, os.str());
-}
-
-// Every field of two two-view options equal (the option structs have no operator==): a field added
-// to vpTwoViewEstimator::Options or vpFundamentalMatrix::Options belongs here too.
-bool same(const vpTwoViewEstimator::Options &a, const vpTwoViewEstimator::Options &b)
-{
-  return a.focal_mode == b.focal_mode && a.fx == b.fx && a.u0 == b.u0 && a.v0 == b.v0 && a.mu == b.mu &&
-         a.ransac.inlier_threshold == b.ransac.inlier_threshold && a.ransac.confidence == b.ransac.confidence &&
-         a.ransac.max_iterations == b.ransac.max_iterations && a.ransac.seed == b.ransac.seed &&
-         a.refine == b.refine && a.huber == b.huber && a.planar_ratio == b.planar_ratio &&
-         a.min_coplanarity == b.min_coplanarity && a.rotation_tolerance == b.rotation_tolerance &&
-         a.max_fx_relative_sd == b.max_fx_relative_sd;
-}
-/*
   The options' noise model with, where it leaves the robot's error at 0, the dataset's robot_error
   in the method's form: controller poses (hand-eye) or joint readings (full kinematics).
 */
@@ -136,9 +109,6 @@ void vpRobotSelfCalibration::Options::check() const
   identification.check();
   bundle.check();
   data_check.check();
-  // The derived fields that conflict whatever the dataset (the builders find the others).
-  const vpKinematicBundleAdjustment::Options bundle_default;
-  derived(bundle.hand_eye_only, bundle_default.hand_eye_only, method == HAND_EYE, "bundle.hand_eye_only", "method");
 }
 
 vpRobotSelfCalibration::FocalMode vpRobotSelfCalibration::resolveFocalMode(const Options &opt,
@@ -155,32 +125,23 @@ vpRobotSelfCalibration::FocalMode vpRobotSelfCalibration::resolveFocalMode(const
 vpTwoViewEstimator::Options vpRobotSelfCalibration::twoViewOptions(const Options &opt, const vpSelfCalibDataset &ds)
 {
   const bool known = resolveFocalMode(opt, ds) == FOCAL_KNOWN;
-  const vpTwoViewEstimator::Options def;
-  const char *camera = "the dataset's camera";
-  vpTwoViewEstimator::Options to = opt.twoview;
-  to.fx = derived(opt.twoview.fx, def.fx, ds.cam.get_px(), "twoview.fx", camera);
-  to.u0 = derived(opt.twoview.u0, def.u0, ds.cam.get_u0(), "twoview.u0", camera);
-  to.v0 = derived(opt.twoview.v0, def.v0, ds.cam.get_v0(), "twoview.v0", camera);
-  to.mu = derived(opt.twoview.mu, def.mu, ds.cam.get_py() / ds.cam.get_px(), "twoview.mu", camera);
-  to.focal_mode = derived(opt.twoview.focal_mode, def.focal_mode,
-                          known ? vpRefinedFactorMethod::KNOWN : vpRefinedFactorMethod::PER_PAIR,
-                          "twoview.focal_mode", "focal_mode");
+  vpTwoViewEstimator::Options to;
+  static_cast<vpTwoViewEstimator::Settings &>(to) = opt.twoview;
+  to.fx = ds.cam.get_px();
+  to.u0 = ds.cam.get_u0();
+  to.v0 = ds.cam.get_v0();
+  to.mu = ds.cam.get_py() / ds.cam.get_px();
+  to.focal_mode = known ? vpRefinedFactorMethod::KNOWN : vpRefinedFactorMethod::PER_PAIR;
   return to;
 }
 
 vpMultiViewReconstruction::Options vpRobotSelfCalibration::multiViewOptions(const Options &opt,
                                                                              const vpSelfCalibDataset &ds)
 {
-  const vpMultiViewReconstruction::Options def;
-  vpMultiViewReconstruction::Options mo = opt.multiview;
+  vpMultiViewReconstruction::Options mo;
+  static_cast<vpMultiViewReconstruction::Settings &>(mo) = opt.multiview;
   mo.twoview = twoViewOptions(opt, ds);
-  if (!same(opt.multiview.twoview, def.twoview) && !same(opt.multiview.twoview, mo.twoview))
-    throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpRobotSelfCalibration: multiview.twoview is derived from twoview and the dataset "
-                               "(twoViewOptions()) and not read: set twoview instead, or leave multiview.twoview "
-                               "at its default");
-  mo.focal_known = derived(opt.multiview.focal_known, def.focal_known, resolveFocalMode(opt, ds) == FOCAL_KNOWN,
-                           "multiview.focal_known", "focal_mode");
+  mo.focal_known = resolveFocalMode(opt, ds) == FOCAL_KNOWN;
   return mo;
 }
 
@@ -188,16 +149,13 @@ vpKinematicBundleAdjustment::Options vpRobotSelfCalibration::bundleOptions(const
                                                                             const vpSelfCalibDataset &ds)
 {
   const unsigned int FX = vpKinematicBundleAdjustment::FX;
-  const vpKinematicBundleAdjustment::Options def;
-  vpKinematicBundleAdjustment::Options bo = opt.bundle;
-  const bool fx = derived((opt.bundle.intrinsics & FX) != 0, (def.intrinsics & FX) != 0,
-                          resolveFocalMode(opt, ds) != FOCAL_KNOWN, "the FX flag of bundle.intrinsics", "focal_mode");
-  if (fx)
+  vpKinematicBundleAdjustment::Options bo;
+  static_cast<vpKinematicBundleAdjustment::Settings &>(bo) = opt.bundle;
+  if (resolveFocalMode(opt, ds) != FOCAL_KNOWN)
     bo.intrinsics |= FX;
   else
     bo.intrinsics &= ~FX;
-  bo.hand_eye_only =
-      derived(opt.bundle.hand_eye_only, def.hand_eye_only, opt.method == HAND_EYE, "bundle.hand_eye_only", "method");
+  bo.hand_eye_only = opt.method == HAND_EYE;
   // The standard deviations follow the residuals when they contradict the stated noise (either way).
   bo.scale_covariance_chi2 = true;
   // The robot's error as the dataset states it (noiseModel()), with the sd widened by sigma0 when
@@ -218,13 +176,19 @@ vpKinematicBundleAdjustment::Options vpRobotSelfCalibration::bundleOptions(const
 
 vpSelfCalibNoiseModel vpRobotSelfCalibration::robotErrorPrior(const vpSelfCalibNoiseModel &noise, Method method)
 {
-  if (method == BUNDLE_ADJUSTMENT)
-    return noise.withJointError({kJointErrorPrior}, vpSelfCalibNoiseModel::MEASURED)
-        .withModelError(kModelErrorPrior, kModelErrorPrior, vpSelfCalibNoiseModel::MEASURED);
+  const vpSelfCalibNoiseModel::Origin stated = vpSelfCalibNoiseModel::STATED;
+  vpSelfCalibNoiseModel prior;
+  if (method == BUNDLE_ADJUSTMENT) {
+    prior = noise.withJointError({kJointErrorPrior}, stated).withModelError(kModelErrorPrior, kModelErrorPrior, stated);
+    prior.measure_joint_sd = prior.measure_model_sd = true;
+    return prior;
+  }
   if (method != HAND_EYE)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpRobotSelfCalibration::robotErrorPrior: PAPER models no robot error");
-  return noise.withPoseError(1e-3, 1e-3, vpSelfCalibNoiseModel::MEASURED);
+  prior = noise.withPoseError(1e-3, 1e-3, stated);
+  prior.measure_pose_sd = true;
+  return prior;
 }
 
 vpSelfCalibDataCheck::Options vpRobotSelfCalibration::dataCheckOptions(const Options &opt) { return opt.data_check; }

@@ -231,7 +231,7 @@ void checkNoise(const Context &c, Result &res)
   if (c.options.method == vpRobotSelfCalibration::PAPER)
     return;
   const vpKinematicBundleAdjustment::Result &b = res.bundle;
-  const bool measured_pixel = c.noise.pixel_sd_origin == vpSelfCalibNoiseModel::MEASURED;
+  const bool measured_pixel = c.noise.measure_pixel_sd;
   if (res.measured.pixel_sd > c.options.max_pixel_noise)
     add(res, vpSelfCalibDataCheck::DOUBT, "residuals-too-large",
         "the residuals measure an image noise of " + fixed(res.measured.pixel_sd, 2) + " px, above " +

@@ -1,7 +1,7 @@
 /*
- * ViSP SelfCalib: the measure-and-run-again step of every method. A level of the noise model whose
- * origin is MEASURED is measured from the residuals of a run, and the run is made again at the
- * measured level when it differs from the one used (vpSelfCalibPipelines.h).
+ * ViSP SelfCalib: the measure-and-run-again step of every method. A level of the noise model to be
+ * measured (its measure_* field) is measured from the residuals of a run, and the run is made again
+ * at the measured level when it differs from the one used (vpSelfCalibPipelines.h).
  */
 #include <algorithm>
 #include <cmath>
@@ -81,10 +81,16 @@ Levels levelsOf(const vpSelfCalibNoiseModel &n, Form f)
   const double j = n.joint_sd.empty() ? 0 : *std::max_element(n.joint_sd.begin(), n.joint_sd.end());
   return {j, j};
 }
+//! The form is to be measured (the noise model's measure_* request) and is modelled.
 bool measuredForm(const vpSelfCalibNoiseModel &n, Form f)
 {
-  const vpSelfCalibNoiseModel::Origin o = f == POSE ? n.pose_sd_origin : (f == MODEL ? n.model_sd_origin : n.joint_sd_origin);
-  return o == vpSelfCalibNoiseModel::MEASURED && levelsOf(n, f).modelled();
+  const bool asked = f == POSE ? n.measure_pose_sd : (f == MODEL ? n.measure_model_sd : n.measure_joint_sd);
+  return asked && levelsOf(n, f).modelled();
+}
+//! The form's level held is the one the residuals measure (they agreed with it).
+void markMeasured(vpSelfCalibNoiseModel &n, Form f)
+{
+  (f == POSE ? n.pose_sd_origin : (f == MODEL ? n.model_sd_origin : n.joint_sd_origin)) = vpSelfCalibNoiseModel::MEASURED;
 }
 std::string text(const Levels &l, Form f)
 {
@@ -127,7 +133,7 @@ bool settled(const Levels &from, const Levels &to, Form f)
 }
 
 /*
-  The robot's error measured, every form whose origin is MEASURED: rounds at the measured levels
+  The robot's error measured, every form to be measured (measure_pose_sd, measure_joint_sd, measure_model_sd): rounds at the measured levels
   until they settle; a form measured below the floor in every part is dropped (exact). A warning when
   a form does not settle, cannot be measured, or the run at the measured levels is not ok (the
   standing run is then the last ok one).
@@ -137,6 +143,7 @@ void measureRobotError(State &st, const NoiseAttemptFunction &attempt, std::vect
   for (int round = 0;; ++round) {
     vpSelfCalibNoiseModel next = st.used;
     bool changed = false, any = false;
+    std::vector<Form> agreed;
     std::string unmeasured, change;
     for (int f = 0; f < FORMS; ++f) {
       const Form form = static_cast<Form>(f);
@@ -147,6 +154,8 @@ void measureRobotError(State &st, const NoiseAttemptFunction &attempt, std::vect
       if (step == UNMEASURED)
         unmeasured += (unmeasured.empty() ? "" : ", ") + std::string(kFormName[f]) + " (the stated " +
                       text(levelsOf(st.used, form), form) + " is used)";
+      if (step == NEXT && settled(levelsOf(st.used, form), levelsOf(next, form), form))
+        agreed.push_back(form);
       if (step == DROP || (step == NEXT && !settled(levelsOf(st.used, form), levelsOf(next, form), form))) {
         changed = true;
         change += (change.empty() ? "" : ", ") + std::string(kFormName[f]) + " " + text(levelsOf(st.measured, form), form) +
@@ -156,13 +165,16 @@ void measureRobotError(State &st, const NoiseAttemptFunction &attempt, std::vect
     if (!unmeasured.empty() && (!changed || round == kMaxRobotRounds))
       note(findings, "the robot's error could not be measured (the views do not separate its corrections from the "
                      "rest, or no covariance): " + unmeasured);
-    if (!any || !changed)
+    if (!any || !changed) {
+      for (Form form : agreed)
+        markMeasured(st.used, form);
       return;
+    }
     if (round == kMaxRobotRounds) {
       note(findings, "the robot's error did not settle in 5 rounds: the corrections measure " + change);
       return;
     }
-    if (st.used.pixel_sd_origin == vpSelfCalibNoiseModel::MEASURED &&
+    if (st.used.measure_pixel_sd &&
         measuredNoiseDiffers(next.pixel_sd, st.measured.pixel_sd))
       next = next.withPixelNoise(st.measured.pixel_sd, vpSelfCalibNoiseModel::MEASURED);
     const NoiseAttempt a = attempt(next, true);
@@ -186,8 +198,9 @@ vpSelfCalibNoiseModel measureNoise(const vpSelfCalibNoiseModel &start, const vpS
 {
   State st{start, measured, ok};
   // The image noise measured: once more at the level the residuals give, when it differs.
-  if (start.pixel_sd_origin == vpSelfCalibNoiseModel::MEASURED && usable &&
-      measuredNoiseDiffers(start.pixel_sd, measured.pixel_sd)) {
+  if (start.measure_pixel_sd && usable && !measuredNoiseDiffers(start.pixel_sd, measured.pixel_sd))
+    st.used.pixel_sd_origin = vpSelfCalibNoiseModel::MEASURED; // the measurement agrees with it
+  if (start.measure_pixel_sd && usable && measuredNoiseDiffers(start.pixel_sd, measured.pixel_sd)) {
     const vpSelfCalibNoiseModel next = start.withPixelNoise(measured.pixel_sd, vpSelfCalibNoiseModel::MEASURED);
     const NoiseAttempt a = attempt(next, false);
     if (a.ok) {

@@ -163,10 +163,10 @@ using NoiseAttemptFunction = std::function<NoiseAttempt(const vpSelfCalibNoiseMo
   The measure-and-run-again step of every method. After a first run at `start` whose residuals
   measure `measured` (ok: it stands and is OK; usable: its residuals can be trusted for the image
   noise, an OK run or one that failed on rejected observations):
-  - start.pixel_sd measured (origin MEASURED): one more run at the measured image noise when it
+  - start.pixel_sd to be measured (measure_pixel_sd): one more run at the measured image noise when it
     differs by more than 25 % (measuredNoiseDiffers());
   - robot_rounds and a form of start's robot error measured (the controller poses' pose_sd_*, the
-    joint readings' joint_sd, the model residual's model_sd_*, each with origin MEASURED): from a
+    joint readings' joint_sd, the model residual's model_sd_*, each with its measure_* field): from a
     run that stands, rounds at the measured levels (and image noise) until every part settles
     (within 10 %, the full mode's joint and model forms within 25 %), 5 at most, no part below the floor (2e-5 m and rad, a serial arm's
     repeatability); a form measured below twice the floor in every part is dropped (exact); a warning "robot-error-not-settled" in

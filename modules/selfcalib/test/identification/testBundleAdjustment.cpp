@@ -226,7 +226,7 @@ TEST(KinematicBundleAdjustment, NoiseFreeRecoveryOfAllIntrinsicsWithDistortion)
                  vpKinematicBundleAdjustment::PRINCIPAL_POINT | vpKinematicBundleAdjustment::DISTORTION;
   o.tight = true;
   const auto cal = slice(ds, 0, 15);
-  const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam, cal, ds.yardstick, start_points, o);
+  const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam, cal, ds.yardstick, start_points, o, vpSelfCalibNoiseModel());
   ASSERT_EQ(r.status, vpKinematicBundleAdjustment::OK) << r.message;
   ASSERT_EQ(r.intrinsic_names.size(), 5u);
   EXPECT_NEAR(r.camera.get_px(), c0.get_px(), 1e-6);
@@ -398,30 +398,30 @@ TEST(KinematicBundleAdjustment, DegenerateAndBadInput)
   const vpKinematicBundleAdjustment::Options o;
   // The same configuration three times: nothing to estimate.
   std::vector<vpSelfCalibDataset::View> same(3, ds.views[0]);
-  auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, same, ds.yardstick, X, o);
+  auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, same, ds.yardstick, X, o, vpSelfCalibNoiseModel());
   EXPECT_EQ(r.status, vpKinematicBundleAdjustment::TOO_FEW_OBSERVATIONS);
   // Caller mistakes.
-  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, {ds.views[0]}, ds.yardstick, X, o),
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, {ds.views[0]}, ds.yardstick, X, o, vpSelfCalibNoiseModel()),
                vpSelfCalibException);
   std::vector<vpSelfCalibDataset::View> bad = ds.views;
   bad[2].q.resize(5);
-  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, bad, ds.yardstick, X, o),
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, bad, ds.yardstick, X, o, vpSelfCalibNoiseModel()),
                vpSelfCalibException);
   bad = ds.views;
   bad[1].points[0].ip.set_v(std::numeric_limits<double>::infinity());
-  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, bad, ds.yardstick, X, o),
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, bad, ds.yardstick, X, o, vpSelfCalibNoiseModel()),
                vpSelfCalibException);
   bad = ds.views;
   bad[1].points.push_back(bad[1].points[2]);
-  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, bad, ds.yardstick, X, o),
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, bad, ds.yardstick, X, o, vpSelfCalibNoiseModel()),
                vpSelfCalibException);
   std::map<int, vpColVector> badX = X;
   badX[3] = vpColVector(2);
-  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, ds.views, ds.yardstick, badX, o),
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, ds.views, ds.yardstick, badX, o, vpSelfCalibNoiseModel()),
                vpSelfCalibException);
   vpKinematicBundleAdjustment::Options bo;
   bo.fixed = {"j9.tx"};
-  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, ds.views, ds.yardstick, X, bo),
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, ds.views, ds.yardstick, X, bo, vpSelfCalibNoiseModel()),
                vpSelfCalibException);
   bo = o;
   bo.intrinsics = 64;
@@ -496,7 +496,7 @@ TEST(HandEye, RotationsAboutOneAxisAreRankDeficient)
   o.hand_eye_only = true;
   o.intrinsics = 0;
   const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam, views, vpSelfCalibDataset::Yardstick(),
-                                                     sim.getScenePointsById(), o);
+                                                     sim.getScenePointsById(), o, vpSelfCalibNoiseModel());
   EXPECT_EQ(r.status, vpKinematicBundleAdjustment::RANK_DEFICIENT) << r.message;
   EXPECT_NE(r.message.find("another axis"), std::string::npos) << r.message;
 }
@@ -532,7 +532,7 @@ HandEyeRun handEyeWithPoseError(uint64_t seed, double sd_t, double sd_r, double 
   o.noise.pose_sd_rotation = model_r;
   o.trust_robot = !(model_t > 0); // 0: the poses trusted (not the default's measured error)
   if (measure_pose_sd)
-    o.noise.pose_sd_origin = vpSelfCalibNoiseModel::MEASURED;
+    o.noise.measure_pose_sd = true;
   const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
   HandEyeRun out;
   out.ok = r.status == vpRobotSelfCalibration::OK;
@@ -749,14 +749,14 @@ TEST(HandEye, OnePlaneAtOneTiltLeavesFUndeterminedAndNamesIt)
   vpCameraParameters start;
   start.initPersProjWithoutDistortion(1400, 1400, cam.get_u0(), cam.get_v0());
   const auto r = vpKinematicBundleAdjustment::adjust(chain, start, planeViews(chain, cam, flat, X),
-                                                     vpSelfCalibDataset::Yardstick(), X, o);
+                                                     vpSelfCalibDataset::Yardstick(), X, o, vpSelfCalibNoiseModel());
   EXPECT_EQ(r.status, vpKinematicBundleAdjustment::RANK_DEFICIENT) << r.message;
   ASSERT_FALSE(r.undetermined.empty()) << r.message;
   EXPECT_NE(std::find(r.undetermined.begin(), r.undetermined.end(), "fx"), r.undetermined.end()) << r.message;
   EXPECT_NE(r.message.find("not determined: "), std::string::npos) << r.message;
   EXPECT_NE(r.message.find(" observations kept of "), std::string::npos) << r.message; // the causes, counts first
   const auto t = vpKinematicBundleAdjustment::adjust(chain, start, planeViews(chain, cam, tilted, X),
-                                                     vpSelfCalibDataset::Yardstick(), X, o);
+                                                     vpSelfCalibDataset::Yardstick(), X, o, vpSelfCalibNoiseModel());
   ASSERT_EQ(t.status, vpKinematicBundleAdjustment::OK) << t.message;
   EXPECT_NEAR(t.camera.get_px(), cam.get_px(), 1e-6);
 }
@@ -791,7 +791,7 @@ TEST(HandEye, KnownBoardLayoutIsAPriorOnItsPoints)
   for (auto &e : X0)
     e.second[2] += 0.01;
   const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam, views,
-                                                     vpSelfCalibDataset::Yardstick(), X0, o);
+                                                     vpSelfCalibDataset::Yardstick(), X0, o, vpSelfCalibNoiseModel());
   ASSERT_EQ(r.status, vpKinematicBundleAdjustment::OK) << r.message;
   EXPECT_LT(translationDistance(r.chain.get_eMc_corrected(), truth.get_eMc_corrected()), 1e-7);
   EXPECT_LT(rotationDistance(r.chain.get_eMc_corrected(), truth.get_eMc_corrected()), 1e-7);
@@ -802,7 +802,7 @@ TEST(HandEye, KnownBoardLayoutIsAPriorOnItsPoints)
   }
   o.known_points = {{0, layout[0]}, {1, layout[1]}, {900, layout[2]}};
   EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam, views, vpSelfCalibDataset::Yardstick(),
-                                                   X0, o),
+                                                   X0, o, vpSelfCalibNoiseModel()),
                vpSelfCalibException);
 }
 
@@ -947,7 +947,7 @@ TEST(HandEye, OpenCvDistortionAndPrincipalPointFromATiltedPlane)
                  vpKinematicBundleAdjustment::PRINCIPAL_POINT | vpKinematicBundleAdjustment::DISTORTION;
   o.distortion_model = vpKinematicBundleAdjustment::DISTORTION_OPENCV;
   o.tight = true;
-  const auto r = vpKinematicBundleAdjustment::adjust(truth, start, views, vpSelfCalibDataset::Yardstick(), X, o);
+  const auto r = vpKinematicBundleAdjustment::adjust(truth, start, views, vpSelfCalibDataset::Yardstick(), X, o, vpSelfCalibNoiseModel());
   ASSERT_EQ(r.status, vpKinematicBundleAdjustment::OK) << r.message;
   const std::vector<std::string> names = {"fx", "mu", "u0", "v0", "k1", "k2", "p1", "p2"};
   EXPECT_EQ(r.intrinsic_names, names);
@@ -975,7 +975,7 @@ TEST(HandEye, OpenCvDistortionAndPrincipalPointFromATiltedPlane)
   EXPECT_THROW(bad.check(), vpSelfCalibException);
   vpCameraParameters kud;
   kud.initPersProjWithDistortion(760, 760, 320, 246, -0.1, 0.1);
-  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(truth, kud, views, vpSelfCalibDataset::Yardstick(), X, o),
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(truth, kud, views, vpSelfCalibDataset::Yardstick(), X, o, vpSelfCalibNoiseModel()),
                vpSelfCalibException);
 }
 

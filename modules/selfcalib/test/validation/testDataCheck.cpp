@@ -114,7 +114,7 @@ TEST(DataCheck, ReferenceScenarioHasNoFinding)
     for (uint64_t seed : {1, 2, 3}) {
       const vpSelfCalibSimulator sim = makeSim(robot, seed);
       const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(25));
-      EXPECT_TRUE(vpSelfCalibDataCheck::check(sim.getNominalChain(), ds, 15, false, vpSelfCalibDataCheck::Options())
+      EXPECT_TRUE(vpSelfCalibDataCheck::check(sim.getNominalChain(), ds, 15, false, vpSelfCalibDataCheck::Options(), vpSelfCalibNoiseModel())
                       .empty())
           << robot << " seed " << seed;
     }
@@ -137,7 +137,7 @@ TEST(DataCheck, CallerMistakesThrowWithWhatToFix)
   EXPECT_NE(msg.find("outside the model's limits"), std::string::npos) << msg;
   // Within the tolerance (encoder noise at a limit): accepted.
   ds.views[3].q[1] = max2 + 1e-4;
-  EXPECT_EQ(vpSelfCalibDataCheck::check(sim.getNominalChain(), ds, 15, false, vpSelfCalibDataCheck::Options()).size(),
+  EXPECT_EQ(vpSelfCalibDataCheck::check(sim.getNominalChain(), ds, 15, false, vpSelfCalibDataCheck::Options(), vpSelfCalibNoiseModel()).size(),
             0u);
 
   ds = good;
@@ -286,7 +286,7 @@ TEST(DataCheck, PlanarSceneWithFocalKnownCalibrates)
     EXPECT_LT(e_plane, 2 * e_relief + 1e-4) << "seed " << seed;
     EXPECT_LT(e_plane, 0.5 * e_nominal) << "seed " << seed;
     // 1 cm of relief at 0.7 m: no finding at all.
-    const auto f = vpSelfCalibDataCheck::check(sim.getNominalChain(), relief, 15, false, vpSelfCalibDataCheck::Options());
+    const auto f = vpSelfCalibDataCheck::check(sim.getNominalChain(), relief, 15, false, vpSelfCalibDataCheck::Options(), vpSelfCalibNoiseModel());
     EXPECT_TRUE(f.empty()) << (f.empty() ? "" : f[0].message);
   }
 }
@@ -400,7 +400,7 @@ TEST(DataCheck, PointsOutsideTheImageWarn)
   const vpSelfCalibSimulator sim = makeSim("viper850", 16);
   vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(16));
   ds.width = 320; // the camera says 320 x 480, the observations span 640 columns
-  const auto f = vpSelfCalibDataCheck::check(sim.getNominalChain(), ds, 15, false, vpSelfCalibDataCheck::Options());
+  const auto f = vpSelfCalibDataCheck::check(sim.getNominalChain(), ds, 15, false, vpSelfCalibDataCheck::Options(), vpSelfCalibNoiseModel());
   ASSERT_FALSE(f.empty());
   EXPECT_EQ(f[0].code, "points-outside-image");
   EXPECT_NE(f[0].message.find("check that the camera size matches the images"), std::string::npos);
@@ -434,7 +434,7 @@ TEST(DataCheck, FewRandomMatchesAreNotAPlane)
   const vpSelfCalibSimulator sim = makeSim("viper850", 10);
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(15));
   const auto check = [&](const vpSelfCalibDataset &d) {
-    return vpSelfCalibDataCheck::check(sim.getNominalChain(), d, 15, false, vpSelfCalibDataCheck::Options());
+    return vpSelfCalibDataCheck::check(sim.getNominalChain(), d, 15, false, vpSelfCalibDataCheck::Options(), vpSelfCalibNoiseModel());
   };
   const auto has = [](const std::vector<vpSelfCalibDataCheck::Finding> &f, const std::string &code) {
     return std::any_of(f.begin(), f.end(), [&](const vpSelfCalibDataCheck::Finding &x) { return x.code == code; });

@@ -109,8 +109,13 @@ public:
   //! Lens distortion model of the estimate.
   enum DistortionModel { DISTORTION_VISP, DISTORTION_OPENCV };
 
-  //! Settings of vpKinematicBundleAdjustment (the defaults are the member initialisers).
-  struct Options {
+  /*!
+    The caller's settings of vpKinematicBundleAdjustment (the defaults are the member initialisers).
+    vpRobotSelfCalibration::Options holds these; the mode (hand_eye_only), which follows from the
+    method, is added by vpRobotSelfCalibration::bundleOptions(), which also sets the FX flag of
+    intrinsics from the focal mode.
+  */
+  struct Settings {
     unsigned int intrinsics = FX;      //!< estimated intrinsics; 0: the camera is known
     /*!
       DISTORTION_VISP (default): the camera's own model (vpCameraParameters' k_ud, or none).
@@ -162,14 +167,6 @@ public:
     unsigned int max_iterations = 100;
     bool tight = false;                //!< tolerances 1e-15 (exact recovery on noise-free data)
     bool covariance = true;            //!< compute the covariance
-    /*!
-      Hand-eye-only mode: the robot's kinematics are trusted and only the hand-eye correction
-      eMc.* (minus `fixed`) and the intrinsics are estimated, with each view's end-effector pose
-      fMe (View::fMe when has_fMe, else the chain's forward kinematics at View::q). The metric
-      end-effector motion fixes the scale (SCALE_ROBOT_MOTION); a yardstick seen in two views adds
-      its residual. Rotations about a single axis leave part of eMc unobservable: RANK_DEFICIENT.
-    */
-    bool hand_eye_only = false;
     /*!
       Hand-eye-only mode, eye-to-hand: each view's fMe is the inverse of a controller pose bMe (the
       effector frame plays f, the camera's base pose bMc plays eMc, the target's points are in the
@@ -223,7 +220,19 @@ public:
     */
     double known_points_sd = 1e-5;
     unsigned int num_threads = 1;       //!< more is faster on large problems, but not bit-reproducible
-    void check() const;
+    void check() const; //!< throws vpSelfCalibException on a setting out of range
+  };
+
+  //! What vpKinematicBundleAdjustment runs with: the settings and the mode.
+  struct Options : Settings {
+    /*!
+      Hand-eye-only mode: the robot's kinematics are trusted and only the hand-eye correction
+      eMc.* (minus `fixed`) and the intrinsics are estimated, with each view's end-effector pose
+      fMe (View::fMe when has_fMe, else the chain's forward kinematics at View::q). The metric
+      end-effector motion fixes the scale (SCALE_ROBOT_MOTION); a yardstick seen in two views adds
+      its residual. Rotations about a single axis leave part of eMc unobservable: RANK_DEFICIENT.
+    */
+    bool hand_eye_only = false;
   };
 
   /*!
@@ -347,7 +356,7 @@ public:
   static Result adjust(const vpKinematicChain &start, const vpCameraParameters &camera,
                        const std::vector<vpSelfCalibDataset::View> &views,
                        const vpSelfCalibDataset::Yardstick &yardstick, const std::map<int, vpColVector> &points,
-                       const Options &options, const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
+                       const Options &options, const vpSelfCalibNoiseModel &noise);
 
   /*!
     The estimated set adjust() decides for these data (see "The estimated set from the data"), at the
@@ -360,7 +369,7 @@ public:
                                                                  const vpSelfCalibDataset::Yardstick &yardstick,
                                                                  const std::map<int, vpColVector> &points,
                                                                  const Options &options,
-                                                                 const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
+                                                                 const vpSelfCalibNoiseModel &noise);
 
   /*!
     The predicted sd (m, rad) of the corrections `parameters` (chain indices, among the candidates of
@@ -385,7 +394,7 @@ public:
   static Result information(const vpKinematicChain &state, const vpCameraParameters &camera,
                             const std::vector<vpSelfCalibDataset::View> &views,
                             const vpSelfCalibDataset::Yardstick &yardstick, const std::map<int, vpColVector> &points,
-                            const Options &options, const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
+                            const Options &options, const vpSelfCalibNoiseModel &noise);
 
   /*!
     First-order covariance (6 x 6: position in m, then rotation in rad, both in the frame of c_ref)

@@ -74,14 +74,12 @@
   every step that weighs a residual (noiseModel() gives the one a run starts from); the dataset's
   camera gives the camera (the known focal length, or the first guess of a self-calibrated one),
   focal_mode and method give the flags that follow from them; the nested structs (twoview,
-  multiview, bundle, data_check) carry the caller's other settings of each step. The options each
-  step runs with are built from these by twoViewOptions(), multiViewOptions(), bundleOptions() and
-  dataCheckOptions(), public so that a caller can see exactly what will run; run() uses them and
-  never changes the caller's Options. A field that a builder derives (listed with each builder and
-  on the Options field) is not read: left at its default, or set to the value the builder gives it
-  (so that a builder's output can be put back into Options), it is accepted; any other value is a
-  caller mistake and throws vpSelfCalibException naming the setting to change instead, rather than
-  being silently ignored.
+  multiview, bundle, data_check) carry the caller's other settings of each step: they are the
+  steps' Settings types, without the camera, the focal mode or the mode the run gives them. The
+  options each step runs with are built from these by twoViewOptions(), multiViewOptions(),
+  bundleOptions() and dataCheckOptions(), public so that a caller can see exactly what will run;
+  run() uses them and never changes the caller's Options. A builder's output put back into
+  Options keeps its settings (the assignment takes the Settings part).
 */
 class VISP_SELFCALIB_EXPORT vpRobotSelfCalibration
 {
@@ -111,18 +109,17 @@ public:
     Method method = BUNDLE_ADJUSTMENT;
     unsigned int num_calibration_poses = 15; //!< the paper's 15 of 25
     FocalMode focal_mode = FOCAL_AUTO;
-    //! The two-view step of every method (PAPER's pairs, the multi-view step's pairs). Derived, not
-    //! read: fx, u0, v0, mu (the dataset's camera) and focal_mode (focal_mode above); see twoViewOptions().
-    vpTwoViewEstimator::Options twoview;
+    //! The two-view step of every method (PAPER's pairs, the multi-view step's pairs); the camera
+    //! and the focal mode are the dataset's and focal_mode above (twoViewOptions()).
+    vpTwoViewEstimator::Settings twoview;
     //! PAPER: the expected error of a two-view pose measurement (rad), rotation and translation
     //! direction: the weights of its pose-based identification (not the robot's error, which is in noise).
     double twoview_rotation_sd = 5e-3;
     double twoview_direction_sd = 5e-3;
     vpKinematicIdentification::Options identification;
-    //! BUNDLE_ADJUSTMENT, HAND_EYE, and PAPER's shared focal length (paper_focal_all_views). Derived,
-    //! not read: focal_known and twoview (the whole struct, from twoview above); see
-    //! multiViewOptions().
-    vpMultiViewReconstruction::Options multiview;
+    //! BUNDLE_ADJUSTMENT, HAND_EYE, and PAPER's shared focal length (paper_focal_all_views); its
+    //! two-view options are twoview above with the camera, its focal mode focal_mode's (multiViewOptions()).
+    vpMultiViewReconstruction::Settings multiview;
     /*!
       PAPER with FOCAL_SHARED (beyond the paper): true (default) takes the focal length from every
       calibration view jointly (vpMultiViewReconstruction's bundle adjustment, its points shared by
@@ -134,8 +131,9 @@ public:
     */
     bool paper_focal_all_views = true;
     //! BUNDLE_ADJUSTMENT, HAND_EYE (`fixed` also counts in the identifiability finding of every method).
-    //! Derived, not read: the FX flag of intrinsics and hand_eye_only; see bundleOptions().
-    vpKinematicBundleAdjustment::Options bundle;
+    //! The mode is the method's; whether the focal length is estimated is focal_mode's, and the FX
+    //! flag of intrinsics is not read (the other flags are); see bundleOptions().
+    vpKinematicBundleAdjustment::Settings bundle;
     /*!
       THE noise of the data, passed to every step (residual weights, robust loss, outlier tests, the
       data check's homography threshold, the robot's error in the bundle adjustment). Its robot
@@ -204,12 +202,8 @@ public:
     double tolerance_hand_eye_rotation = 0.5;
     //! px: a calibration whose residuals measure more image noise than this does not explain its images (DOUBTFUL).
     double max_pixel_noise = 3.0;
-    /*!
-      Throws vpSelfCalibException on nonsense values (the noise model's included, and a robot error
-      the method does not use), and on a derived field that conflicts with its source without the
-      dataset: bundle.hand_eye_only set with another method than HAND_EYE. The conflicts that depend on the dataset are found by the builders (run() calls them
-      before any work).
-    */
+    //! Throws vpSelfCalibException on nonsense values (the noise model's included, and a robot
+    //! error the method does not use).
     void check() const;
   };
 
@@ -316,8 +310,7 @@ public:
     Throws vpSelfCalibException on caller mistakes: fewer than 3 calibration views, a view without
     joints of the model's size or without any image point, non-finite values, joints outside the
     model's limits, no yardstick in the dataset (PAPER only: the bundle adjustment then keeps the
-    nominal scale), an unknown focal length with FOCAL_KNOWN, an Options field that a builder
-    derives set against its source (see "Options of the steps" above); all before any work.
+    nominal scale), an unknown focal length with FOCAL_KNOWN; all before any work.
     Degenerate data is DEGENERATE_DATA or a finding; numerical failures are statuses. The method's
     pipeline runs with the options the builders make; `options` is not changed.
   */
@@ -333,14 +326,13 @@ public:
 
   /*!
     The two-view options a run uses (PAPER's pairs; BUNDLE_ADJUSTMENT's and HAND_EYE's through
-    multiViewOptions()): options.twoview with, derived,
+    multiViewOptions()): the settings options.twoview with the run's inputs,
     - fx, u0, v0 the dataset camera's px, u0, v0 (fx: the known focal length, or the first guess
       when it is self-calibrated) and mu = py / px;
     - focal_mode KNOWN when resolveFocalMode() is FOCAL_KNOWN, else PER_PAIR (FOCAL_SHARED runs
       vpTwoViewEstimator::estimateShared, which sets its own).
 
-    Throws vpSelfCalibException when options.twoview sets one of these fields to a value other than
-    its default and the derived one, and as resolveFocalMode().
+    Throws vpSelfCalibException as resolveFocalMode().
   */
   static vpTwoViewEstimator::Options twoViewOptions(const Options &options, const vpSelfCalibDataset &dataset);
 
@@ -379,19 +371,18 @@ public:
   static constexpr double kModelErrorPrior = 2e-4;
 
   /*!
-    The multi-view reconstruction options a run uses (BUNDLE_ADJUSTMENT, HAND_EYE): options.multiview
-    with, derived,
+    The multi-view reconstruction options a run uses (BUNDLE_ADJUSTMENT, HAND_EYE): the settings
+    options.multiview with the run's inputs,
     - focal_known true when resolveFocalMode() is FOCAL_KNOWN;
     - twoview = twoViewOptions(options, dataset).
 
-    Throws vpSelfCalibException when options.multiview sets one of these fields to a value other
-    than its default and the derived one, and as twoViewOptions().
+    Throws vpSelfCalibException as twoViewOptions().
   */
   static vpMultiViewReconstruction::Options multiViewOptions(const Options &options, const vpSelfCalibDataset &dataset);
 
   /*!
-    The kinematic bundle adjustment options a run uses (BUNDLE_ADJUSTMENT, HAND_EYE): options.bundle
-    with, derived,
+    The kinematic bundle adjustment options a run uses (BUNDLE_ADJUSTMENT, HAND_EYE): the settings
+    options.bundle with the run's inputs,
     - the FX flag of intrinsics cleared when resolveFocalMode() is FOCAL_KNOWN, set otherwise (the
       other flags are the caller's);
     - hand_eye_only true for HAND_EYE.
@@ -399,10 +390,8 @@ public:
     Every method estimates the set vpKinematicIdentification::analyseConfigurations() selects from the
     calibration views' joint configurations at the nominal model (PAPER passes it to its
     identification; BUNDLE_ADJUSTMENT's start identification estimates a subset of it, the bundle
-    adjustment all of it), so it does not depend on the noise. Throws
-    vpSelfCalibException when options.bundle sets a derived field to a value other than its default
-    and the derived one (FX cleared while the focal length is estimated; hand_eye_only with another
-    method), and as resolveFocalMode().
+    adjustment all of it), so it does not depend on the noise. Throws vpSelfCalibException as
+    resolveFocalMode().
   */
   static vpKinematicBundleAdjustment::Options bundleOptions(const Options &options, const vpSelfCalibDataset &dataset);
 

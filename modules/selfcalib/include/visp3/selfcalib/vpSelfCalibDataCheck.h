@@ -80,7 +80,7 @@ public:
   */
   static std::vector<Finding> check(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
                                     unsigned int num_calibration, bool hand_eye, const Options &options,
-                                    const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
+                                    const vpSelfCalibNoiseModel &noise);
 
   //! True when a finding is DEGENERATE.
   static bool degenerate(const std::vector<Finding> &findings);
