@@ -596,13 +596,18 @@ void vpKinematicBundleAdjustment::Settings::check() const
   if (!(known_points_sd > 0) || !std::isfinite(known_points_sd))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: known_points_sd must be positive and finite");
+  if (max_iterations == 0 || num_threads == 0)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment: max_iterations and num_threads must be at least 1");
+}
+
+void vpKinematicBundleAdjustment::Options::check() const
+{
+  Settings::check();
   if (eye_to_hand && hand_eye_only)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: eye_to_hand is the full kinematic mode's camera in the "
                                "world; in hand-eye-only mode the eye-to-hand set-up is controller_poses_inverted");
-  if (max_iterations == 0 || num_threads == 0)
-    throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpKinematicBundleAdjustment: max_iterations and num_threads must be at least 1");
 }
 
 vpKinematicBundleAdjustment::Result vpKinematicBundleAdjustment::adjust(const vpKinematicChain &start,

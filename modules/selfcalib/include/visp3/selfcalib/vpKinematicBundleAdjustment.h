@@ -233,6 +233,8 @@ public:
       its residual. Rotations about a single axis leave part of eMc unobservable: RANK_DEFICIENT.
     */
     bool hand_eye_only = false;
+    //! Settings::check(), then the mode against the settings (eye_to_hand is the full mode's).
+    void check() const;
   };
 
   /*!
