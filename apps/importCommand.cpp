@@ -3,6 +3,7 @@
  */
 #include "commands.h"
 
+#include <fstream>
 #include <iostream>
 
 #include <visp3/selfcalib/vpKinematicChain.h>
@@ -39,6 +40,20 @@ void addImport(CLI::App &app, ImportArgs &a)
   c->add_flag("--force", a.force, "replace an existing OUT.yaml (and OUT-robot.yaml)");
 }
 
+namespace
+{
+//! Whether `file` is a regular file whose whole content is `text`.
+bool holdsText(const std::string &file, const std::string &text)
+{
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec) || std::filesystem::file_size(file, ec) != text.size() || ec)
+    return false;
+  std::ifstream in(file, std::ios::binary);
+  std::string content(text.size(), '\0');
+  return in.read(&content[0], static_cast<std::streamsize>(content.size())) && content == text;
+}
+} // namespace
+
 int importData(const ImportArgs &a)
 {
   if (outputRefused(a.out, a.force))
@@ -61,7 +76,9 @@ int importData(const ImportArgs &a)
         std::cerr << "error: '" << f << "' is an input of this import; choose another --out\n";
         return 1;
       }
-    if (!a.force) {
+    // A model identical to the one to write is no conflict (an import stopped between the model and
+    // the dataset left it, or an import of the same folder): nothing is lost by writing it again.
+    if (!a.force && !(f != a.out && holdsText(f, res.robot_model.toYamlString()))) {
       std::cerr << "error: '" << f << "' exists; use --force to replace it\n";
       return 1;
     }

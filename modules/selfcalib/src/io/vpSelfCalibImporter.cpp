@@ -23,6 +23,7 @@
 #include <visp3/io/vpImageIo.h>
 #include <yaml-cpp/yaml.h>
 
+#include "../core/vpSelfCalibFiles.h"
 #include "vpSelfCalibCameraXml.h"
 #include "vpSelfCalibYaml.h"
 
@@ -737,11 +738,32 @@ void vpSelfCalibImporter::Result::save(const std::string &dataset_file) const
   // Absolute, so that the writer finds the paths under the dataset's directory and writes them relative.
   const std::string out = absolutePath(dataset_file);
   vpSelfCalibDataset ds = dataset;
-  if (has_robot_model) {
-    ds.robot = robotModelFileFor(out);
-    robot_model.saveYaml(ds.robot);
+  if (!has_robot_model) {
+    ds.saveYaml(out);
+    return;
   }
-  ds.saveYaml(out);
+  // The pair: the robot model first, then the dataset that names it, so that a dataset is never
+  // there without its model. A dataset that cannot be written takes the new model back (the
+  // earlier one, or none), so that a failed import leaves the files as they were.
+  ds.robot = robotModelFileFor(out);
+  std::error_code ec;
+  const bool had_model = fs::is_regular_file(ds.robot, ec);
+  const std::string earlier_model =
+      had_model ? vpSelfCalib::readTextFileBounded(ds.robot, "robot model", size_t(1) << 24) : std::string();
+  robot_model.saveYaml(ds.robot);
+  try {
+    ds.saveYaml(out);
+  } catch (...) {
+    try {
+      if (had_model)
+        vpSelfCalib::writeFileAtomically(ds.robot, earlier_model, "robot model");
+      else
+        fs::remove(ds.robot, ec);
+    } catch (const vpException &) {
+      // the dataset's error is the one to report
+    }
+    throw;
+  }
 }
 
 vpHomogeneousMatrix vpSelfCalibImporter::readPose(const std::string &filename) { return readPoseFile(filename).M; }

@@ -125,8 +125,9 @@ public:
 
     /*!
       Writes the dataset (and robot_model, when has_robot_model, as robotModelFileFor(dataset_file)),
-      each atomically; image and robot paths under the dataset's directory are written relative to
-      it, the others absolute.
+      each atomically, the model first: a dataset is never there without its model, and when the
+      dataset cannot be written the model written for it is taken back. Image and robot paths under
+      the dataset's directory are written relative to it, the others absolute.
     */
     void save(const std::string &dataset_file) const;
   };
