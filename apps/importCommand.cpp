@@ -91,7 +91,9 @@ int importData(const ImportArgs &a)
             << "  camera: " << r.camera << "\n"
             << "  robot:  " << r.robot << "\n"
             << "  board:  " << (r.board.empty() ? "none described" : r.board)
-            << (r.board.empty() ? "" : "; used only with calibrate --board TYPE:RxC:SPACING (else natural features)")
+            << (r.board.empty()            ? ""
+                : r.board_option.empty() ? "; used only with calibrate --board TYPE:RxC:SPACING (else natural features)"
+                                         : "; used with calibrate --board " + r.board_option + " (else natural features)")
             << "\n"
             << "  robot error: " << r.robot_error << "\n";
   if (!r.unused.empty()) {
@@ -104,7 +106,7 @@ int importData(const ImportArgs &a)
     std::cout << " and " << vpSelfCalibImporter::robotModelFileFor(a.out);
   std::cout << ": " << r.num_views << " views\nnext: " << kProgram << " calibrate " << a.out << " --out DIR"
             << (r.board_option.empty() ? "" : " --method hand-eye --board " + r.board_option) << "\n";
-  if (!r.board_option.empty())
+  if (r.board_option.rfind("apriltag:", 0) == 0)
     std::cout << "  (the tag's pose eMo too: give its id and its geometry, --board " << r.board_option
               << ":ID --board-geometry)\n";
   return 0;

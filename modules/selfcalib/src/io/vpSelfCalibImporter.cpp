@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <iomanip>
@@ -399,12 +400,13 @@ struct NumberLess {
 // ViSP's hand-eye folder
 
 //! "9 x 6" and "square size: 0.0236 m" of chessboard-data.txt, as text; "" when not understood.
-std::string chessboardText(const std::string &text)
+std::string chessboardText(const std::string &text, std::string &board_option)
 {
   std::smatch size, square;
   if (!std::regex_search(text, size, std::regex("([0-9]+)\\s*x\\s*([0-9]+)")) ||
       !std::regex_search(text, square, std::regex("square size\\s*:\\s*([0-9.eE+-]+)")))
     return "";
+  board_option = "chessboard:" + size[1].str() + "x" + size[2].str() + ":" + square[1].str();
   return "chessboard, " + size[1].str() + " x " + size[2].str() + " inner corners, squares " + square[1].str() +
          " m (chessboard-data.txt)";
 }
@@ -531,7 +533,7 @@ vpSelfCalibImporter::Result importVisp(const fs::path &dir, const vpSelfCalibImp
       xmls.push_back(f);
     else if (name == "chessboard-data.txt") {
       im.input(f);
-      rep.board = chessboardText(readTextFile(f.string(), "board description"));
+      rep.board = chessboardText(readTextFile(f.string(), "board description"), rep.board_option);
       if (rep.board.empty())
         im.unused(name, "not understood (expected 'C x R' and 'square size: S m')");
     } else if (name == "apriltag-data.txt")
@@ -592,14 +594,24 @@ vpSelfCalibImporter::Result importVisp(const fs::path &dir, const vpSelfCalibImp
 // ---------------------------------------------------------------------------------------------
 // industrial_calibration's cal_data.yaml
 
-std::string targetFinderText(const Reader &r, const YAML::Node &t)
+std::string targetFinderText(const Reader &r, const YAML::Node &t, std::string &board_option)
 {
   if (!t.IsMap())
     r.fail("target_finder", "expected a map {type, rows, cols, spacing}, got " + Reader::show(t));
+  const std::string type = r.text(t["type"], "target_finder.type");
+  const double rows = r.number(t["rows"], "target_finder.rows"), cols = r.number(t["cols"], "target_finder.cols");
+  const double spacing = r.number(t["spacing"], "target_finder.spacing");
   std::ostringstream os;
-  os << r.text(t["type"], "target_finder.type") << ", " << r.number(t["rows"], "target_finder.rows") << " x "
-     << r.number(t["cols"], "target_finder.cols") << ", spacing " << r.number(t["spacing"], "target_finder.spacing")
-     << " m (cal_data.yaml target_finder)";
+  os << type << ", " << rows << " x " << cols << ", spacing " << spacing << " m (cal_data.yaml target_finder)";
+  // The circle grids calibrate --board reads (industrial_calibration's names for them).
+  const std::string board = type == "ModifiedCircleGridTargetFinder" ? "modified-circles"
+                            : type == "CircleGridTargetFinder"       ? "circles"
+                                                                     : "";
+  if (!board.empty() && rows >= 1 && cols >= 1 && rows == std::floor(rows) && cols == std::floor(cols) && spacing > 0) {
+    std::ostringstream opt;
+    opt << board << ":" << rows << "x" << cols << ":" << spacing;
+    board_option = opt.str();
+  }
   return os.str();
 }
 
@@ -645,7 +657,7 @@ vpSelfCalibImporter::Result importCalData(const fs::path &file, const vpSelfCali
     }
     if (root["target_finder"]) {
       try {
-        rep.board = targetFinderText(r, root["target_finder"]);
+        rep.board = targetFinderText(r, root["target_finder"], rep.board_option);
       } catch (const vpSelfCalibException &e) {
         im.unused("target_finder", "not understood: " + e.getStringMessage());
       }

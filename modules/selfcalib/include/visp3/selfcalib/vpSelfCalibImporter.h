@@ -106,7 +106,7 @@ public:
     std::string camera;              //!< where the intrinsics come from, their values and how they are taken
     std::string robot;               //!< the robot model used and where its eMc guess comes from
     std::string board;               //!< the calibration board described by the data, "" when none
-    std::string board_option;        //!< calibrate's --board for it when the importer knows one (an AprilTag)
+    std::string board_option;        //!< calibrate's --board for it when the importer knows one (chessboard, circle grid, AprilTag)
     std::string robot_error;         //!< the robot pose error the dataset states, and why
     std::vector<Unused> unused;
   };
