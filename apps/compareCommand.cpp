@@ -13,6 +13,7 @@
 #include <visp3/core/vpThetaUVector.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibFileWriter.h>
 #include <visp3/selfcalib/vpSelfCalibResultsFile.h>
 #include <yaml-cpp/yaml.h>
 
@@ -93,6 +94,34 @@ MotionError motionError(const vpKinematicChain &model, const vpKinematicChain &t
   return e;
 }
 
+/*
+  The main job's held-out pose error (vpCalibrationVerifier): the error of `model`'s relative camera
+  motions c_0 M c_k between the first configuration and each other, against the true model's;
+  the means over the k (m, rad).
+*/
+MotionError fromFirstError(const vpKinematicChain &model, const vpKinematicChain &truth, const std::vector<vpColVector> &qs)
+{
+  MotionError e;
+  for (size_t k = 1; k < qs.size(); ++k) {
+    const vpHomogeneousMatrix m = model.get_fMc(qs[0]).inverse() * model.get_fMc(qs[k]),
+                              t = truth.get_fMc(qs[0]).inverse() * truth.get_fMc(qs[k]), d = t.inverse() * m;
+    const double et = d.getTranslationVector().frobeniusNorm(), er = vpThetaUVector(d.getRotationMatrix()).getTheta();
+    e.rms_t += et / static_cast<double>(qs.size() - 1); // the mean, in the fields of the RMS
+    e.rms_r += er / static_cast<double>(qs.size() - 1);
+    e.max_t = std::max(e.max_t, et);
+    e.max_r = std::max(e.max_r, er);
+  }
+  return e;
+}
+
+void emitError(YAML::Emitter &y, const char *key, const MotionError &e, const char *mean_or_rms)
+{
+  y << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << (std::string(mean_or_rms) + "_m")
+    << YAML::Value << e.rms_t << YAML::Key << (std::string(mean_or_rms) + "_rad") << YAML::Value << e.rms_r
+    << YAML::Key << "max_m" << YAML::Value << e.max_t << YAML::Key << "max_rad" << YAML::Value << e.max_r
+    << YAML::EndMap;
+}
+
 std::ostream &operator<<(std::ostream &os, const MotionError &e)
 {
   return os << std::fixed << std::setprecision(3) << 1e3 * e.rms_t << " mm / " << 1e3 * e.rms_r << " mrad (largest "
@@ -113,6 +142,13 @@ void addCompare(CLI::App &app, CompareArgs &a)
   c->add_option("--pairs", a.pairs, "pairs of configurations drawn (default 1000)")
       ->type_name("N")
       ->check(selfcalibCli::wholeNumber(1, 1000000));
+  c->add_option("--joints", a.joints,
+                "configurations (one joint vector per line, as plan writes; e.g. its held-out poses):\n"
+                "also the error of the relative camera motions from the first to each other, mean\n"
+                "(the main job's 'relative pose error' on its held-out poses)")
+      ->type_name("FILE");
+  c->add_option("--yaml", a.yaml, "write the figures to OUT.yaml too (m, rad, px)")->type_name("OUT.yaml");
+  c->add_flag("--force", a.force, "replace an existing --yaml file");
 }
 
 int compare(const CompareArgs &a)
@@ -126,11 +162,50 @@ int compare(const CompareArgs &a)
               << t.true_model.getNumJoints() << ": not a result of this simulation's robot\n";
     return 1;
   }
-  std::cout << "relative camera motions, " << a.pairs << " pairs of random configurations: calibrated "
-            << motionError(model, t.true_model, a.pairs) << "; nominal " << motionError(t.nominal, t.true_model, a.pairs)
-            << "\n";
+  std::vector<vpColVector> qs;
+  if (!a.joints.empty()) {
+    qs = readJoints(a.joints, "joints file", t.true_model.getNumJoints());
+    if (qs.size() < 2) {
+      std::cerr << "error: " << a.joints << ": at least 2 configurations are needed (the first and one other)\n";
+      return 1;
+    }
+  }
+  if (!a.yaml.empty() && outputRefused(a.yaml, a.force))
+    return 1;
+  const MotionError cal = motionError(model, t.true_model, a.pairs), nom = motionError(t.nominal, t.true_model, a.pairs);
+  std::cout << "relative camera motions, " << a.pairs << " pairs of random configurations: calibrated " << cal
+            << "; nominal " << nom << "\n";
+  MotionError cal_q, nom_q;
+  if (!qs.empty()) {
+    cal_q = fromFirstError(model, t.true_model, qs);
+    nom_q = fromFirstError(t.nominal, t.true_model, qs);
+    std::cout << "relative camera motions from the first of the " << qs.size() << " configurations of " << a.joints
+              << " to each other, mean: calibrated " << cal_q << "; nominal " << nom_q << "\n";
+  }
   std::cout << std::fixed << std::setprecision(3) << "intrinsics: px " << res.camera.px - t.px << ", py "
             << res.camera.py - t.py << ", u0 " << res.camera.u0 - t.u0 << ", v0 " << res.camera.v0 - t.v0
             << " px off the truth (px " << t.px << ", py " << t.py << ", u0 " << t.u0 << ", v0 " << t.v0 << ")\n";
+  if (a.yaml.empty())
+    return 0;
+  YAML::Emitter y;
+  y << YAML::BeginMap << YAML::Key << "result" << YAML::Value << a.result << YAML::Key << "truth" << YAML::Value
+    << a.truth << YAML::Key << "random_pairs" << YAML::Value << YAML::BeginMap << YAML::Key << "pairs" << YAML::Value
+    << a.pairs;
+  emitError(y, "calibrated", cal, "rms");
+  emitError(y, "nominal", nom, "rms");
+  y << YAML::EndMap;
+  if (!qs.empty()) {
+    y << YAML::Key << "from_first" << YAML::Value << YAML::BeginMap << YAML::Key << "joints" << YAML::Value << a.joints
+      << YAML::Key << "configurations" << YAML::Value << qs.size();
+    emitError(y, "calibrated", cal_q, "mean");
+    emitError(y, "nominal", nom_q, "mean");
+    y << YAML::EndMap;
+  }
+  y << YAML::Key << "intrinsics_error" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "px"
+    << YAML::Value << res.camera.px - t.px << YAML::Key << "py" << YAML::Value << res.camera.py - t.py << YAML::Key
+    << "u0" << YAML::Value << res.camera.u0 - t.u0 << YAML::Key << "v0" << YAML::Value << res.camera.v0 - t.v0
+    << YAML::EndMap << YAML::EndMap;
+  vpSelfCalibFileWriter::write(a.yaml, std::string(y.c_str()) + "\n", "comparison");
+  std::cout << "wrote " << a.yaml << "\n";
   return 0;
 }
