@@ -123,6 +123,13 @@ std::string writeResults(const fs::path &stage, const std::string &dataset, cons
   hand-eye is refused by the run); none for the paper's method, which models no robot error (the
   options are not used).
 */
+//! --joint-sd with the hand-eye method: what is wrong and what to give instead.
+std::string jointSdWithHandEye()
+{
+  return "the joint readings' error is the full kinematic calibration's (--method bundle); the hand-eye method "
+         "models the controller poses' error: give --pose-sd T,R (m, rad) instead";
+}
+
 void stateRobotError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po)
 {
   // A stated robot error: the sd are widened by sigma0 when the residuals say the noise is larger.
@@ -190,6 +197,8 @@ int calibrate(const CalibrateArgs &a)
     throw CLI::ValidationError("--method", "camera_mount: world is calibrated with --method hand-eye; the " + a.method +
                                                " method models a camera on the end-effector only (the dataset " +
                                                dataset + " says the camera is fixed in the world)");
+  if (!a.joint_sd.empty() && (world || co.method == vpRobotSelfCalibration::HAND_EYE))
+    throw CLI::ValidationError("--joint-sd", jointSdWithHandEye());
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
   co.prior = nominal; // the front end's matching is guided by the nominal kinematics
   checkParameterLists(nominal, ds, po);
@@ -214,7 +223,15 @@ int calibrate(const CalibrateArgs &a)
   if (pose_auto && po.method != vpRobotSelfCalibration::HAND_EYE)
     std::cerr << "warning: --pose-sd auto measures the controller poses' error (hand-eye); the method is "
               << vpRobotSelfCalibration::methodName(po.method) << ", so it is not used\n";
+  if (!a.joint_sd.empty() && po.method == vpRobotSelfCalibration::HAND_EYE)
+    throw CLI::ValidationError("--joint-sd", jointSdWithHandEye());
   stateRobotError(a, po);
+  if (po.trust_robot && po.method == vpRobotSelfCalibration::HAND_EYE && ds.pose_sd_translation > 0) {
+    // --pose-sd 0 states exact poses: it overrides the dataset's robot_error, as --pose-sd T,R does.
+    std::cerr << "... robot error: --pose-sd 0: the controller poses are taken as exact (the dataset's robot_error "
+              << ds.pose_sd_translation << " m / " << ds.pose_sd_rotation << " rad is not used)\n";
+    ds.pose_sd_translation = ds.pose_sd_rotation = 0;
+  }
   const vpSelfCalibProtocol::Options protocol_options = protocolOptions(a, co);
   const vpSelfCalibProtocol::Plan plan =
       vpSelfCalibProtocol::plan(protocol_options, static_cast<unsigned int>(ds.views.size()));

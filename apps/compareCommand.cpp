@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <iomanip>
 #include <iostream>
 #include <random>
@@ -35,11 +37,24 @@ Truth readTruth(const std::string &file)
     throw vpSelfCalibException(vpSelfCalibException::parseError,
                                "truth '" + file + "': " + why + " (a file " + kProgram + " simulate writes, STEM-truth.yaml)");
   };
+  // A regular text file (not a device, a FIFO or a binary file), read whole, then parsed.
+  std::error_code ec;
+  const fs::file_status st = fs::status(file, ec);
+  if (!fs::exists(st))
+    throw vpSelfCalibException(vpSelfCalibException::ioError, "truth '" + file + "': cannot read it");
+  if (!fs::is_regular_file(st))
+    fail(fs::is_directory(st) ? "a directory, not a file" : "not a regular file (a device, a FIFO or a socket)");
+  if (fs::file_size(file, ec) > (size_t(64) << 20))
+    fail("larger than the 64 MiB read");
+  std::ifstream in(file, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.good() && !in.eof())
+    throw vpSelfCalibException(vpSelfCalibException::ioError, "truth '" + file + "': cannot read it");
+  if (text.find('\0') != std::string::npos)
+    fail("a NUL byte: not a text file");
   YAML::Node root;
   try {
-    root = YAML::LoadFile(file);
-  } catch (const YAML::BadFile &) {
-    throw vpSelfCalibException(vpSelfCalibException::ioError, "truth '" + file + "': cannot read it");
+    root = YAML::Load(text);
   } catch (const YAML::Exception &e) {
     fail("not YAML: " + e.msg);
   }
@@ -161,6 +176,18 @@ int compare(const CompareArgs &a)
     std::cerr << "error: " << (dir / "model.yaml").string() << " has " << model.getNumJoints() << " joints, the truth "
               << t.true_model.getNumJoints() << ": not a result of this simulation's robot\n";
     return 1;
+  }
+  // A result of this robot starts from the truth's nominal model: the same nominal table.
+  for (unsigned int j = 0; j < model.getNumJoints(); ++j) {
+    const vpKinematicChain::Joint &m = model.getJoints()[j], &n = t.nominal.getJoints()[j];
+    const double diff = std::max({std::fabs(m.a - n.a), std::fabs(m.d - n.d), std::fabs(m.alpha - n.alpha),
+                                  std::fabs(m.theta_offset - n.theta_offset)});
+    if (diff > 1e-9 || model.getConvention() != t.nominal.getConvention()) {
+      std::cerr << "error: " << (dir / "model.yaml").string() << ": joint " << j + 1
+                << "'s nominal row differs from the truth's nominal model ('" << t.nominal.getName()
+                << "'): not a result of this simulation's robot\n";
+      return 1;
+    }
   }
   std::vector<vpColVector> qs;
   if (!a.joints.empty()) {

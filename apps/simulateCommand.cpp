@@ -271,10 +271,20 @@ int simulate(const SimulateArgs &a)
   unsigned int poses = a.poses;
   if (outputRefused(out, a.force))
     return 1;
+  std::error_code ec;
+  const fs::path out_dir = fs::path(out).parent_path();
+  if (!out_dir.empty() && !fs::is_directory(out_dir, ec)) {
+    std::cerr << "error: '" << out << "': its directory '" << out_dir.string() << "' is not there\n";
+    return 1;
+  }
+  if (a.camera_mount != "world" && a.pose_sd > 0)
+    throw CLI::ValidationError("--pose-sd", "the controller poses' error is simulated with --camera-mount world only "
+                                            "(a camera on the effector: the robot's errors are in its true model)");
   if (a.camera_mount == "world") {
-    if (a.images || !a.joints_file.empty() || a.controller)
-      throw CLI::ValidationError("--camera-mount", "world simulates points data of its own poses: no --images, "
-                                                   "--joints or --controller-poses");
+    if (a.images || !a.joints_file.empty() || a.controller || a.focal == "shared")
+      throw CLI::ValidationError("--camera-mount", "world simulates points data of its own poses with the focal "
+                                                   "length known: no --images, --joints, --controller-poses or "
+                                                   "--focal shared");
     vpSelfCalibSimulator::EyeToHandOptions eo;
     eo.seed = so.seed;
     eo.num_views = poses;
