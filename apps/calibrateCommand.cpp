@@ -123,11 +123,17 @@ std::string writeResults(const fs::path &stage, const std::string &dataset, cons
   hand-eye is refused by the run); none for the paper's method, which models no robot error (the
   options are not used).
 */
-//! --joint-sd with the hand-eye method: what is wrong and what to give instead.
-std::string jointSdWithHandEye()
+//! The options of the full kinematic calibration only, refused with the hand-eye method (exit 2).
+void refuseBundleOptions(const CalibrateArgs &a)
 {
-  return "the joint readings' error is the full kinematic calibration's (--method bundle); the hand-eye method "
-         "models the controller poses' error: give --pose-sd T,R (m, rad) instead";
+  if (!a.joint_sd.empty())
+    throw CLI::ValidationError("--joint-sd", "the joint readings' error is the full kinematic calibration's (--method "
+                                             "bundle); the hand-eye method models the controller poses' error: give "
+                                             "--pose-sd T,R (m, rad) instead");
+  if (!a.free.empty())
+    throw CLI::ValidationError("--free", "the hand-eye method estimates every part of eMc (bMc with the camera in "
+                                         "the world) whatever the tolerance; --free frees the kinematic parameters of "
+                                         "--method bundle (--fix keeps a part of eMc at its nominal value)");
 }
 
 void stateRobotError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po)
@@ -197,8 +203,8 @@ int calibrate(const CalibrateArgs &a)
     throw CLI::ValidationError("--method", "camera_mount: world is calibrated with --method hand-eye; the " + a.method +
                                                " method models a camera on the end-effector only (the dataset " +
                                                dataset + " says the camera is fixed in the world)");
-  if (!a.joint_sd.empty() && (world || co.method == vpRobotSelfCalibration::HAND_EYE))
-    throw CLI::ValidationError("--joint-sd", jointSdWithHandEye());
+  if (world || co.method == vpRobotSelfCalibration::HAND_EYE)
+    refuseBundleOptions(a); // before the front end runs, when the method is known
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
   co.prior = nominal; // the front end's matching is guided by the nominal kinematics
   checkParameterLists(nominal, ds, po);
@@ -223,8 +229,8 @@ int calibrate(const CalibrateArgs &a)
   if (pose_auto && po.method != vpRobotSelfCalibration::HAND_EYE)
     std::cerr << "warning: --pose-sd auto measures the controller poses' error (hand-eye); the method is "
               << vpRobotSelfCalibration::methodName(po.method) << ", so it is not used\n";
-  if (!a.joint_sd.empty() && po.method == vpRobotSelfCalibration::HAND_EYE)
-    throw CLI::ValidationError("--joint-sd", jointSdWithHandEye());
+  if (po.method == vpRobotSelfCalibration::HAND_EYE)
+    refuseBundleOptions(a);
   stateRobotError(a, po);
   if (po.trust_robot && po.method == vpRobotSelfCalibration::HAND_EYE && ds.pose_sd_translation > 0) {
     // --pose-sd 0 states exact poses: it overrides the dataset's robot_error, as --pose-sd T,R does.

@@ -170,6 +170,13 @@ int compare(const CompareArgs &a)
 {
   const Truth t = readTruth(a.truth);
   const fs::path dir(a.result);
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec) || !fs::exists(dir / "model.yaml", ec) || !fs::exists(dir / "results.yaml", ec)) {
+    std::cerr << "error: '" << a.result << "' is not a directory calibrate wrote (its --out: model.yaml and "
+              << "results.yaml): " << (fs::is_directory(dir, ec) ? "model.yaml or results.yaml is missing" : fs::exists(dir, ec) ? "not a directory" : "it is not there")
+              << "\n";
+    return 1;
+  }
   const vpKinematicChain model = vpKinematicChain::loadYaml((dir / "model.yaml").string());
   const vpSelfCalibResultsFile::Contents res = vpSelfCalibResultsFile::read((dir / "results.yaml").string());
   if (model.getNumJoints() != t.true_model.getNumJoints()) {

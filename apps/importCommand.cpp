@@ -101,11 +101,16 @@ int importData(const ImportArgs &a)
     for (const vpSelfCalibImporter::Unused &u : r.unused)
       std::cout << "  " << u.what << ": " << u.reason << "\n";
   }
+  // cal_data.yaml's intrinsics are nominal values (fx = fy, the image centre, no distortion): with
+  // them a guess, the principal point and the distortion are estimated too.
+  const bool nominal_intrinsics =
+      r.layout == vpSelfCalibImporter::INDUSTRIAL_CALIBRATION && !res.dataset.focal_known;
   std::cout << "wrote " << a.out;
   if (res.has_robot_model)
     std::cout << " and " << vpSelfCalibImporter::robotModelFileFor(a.out);
   std::cout << ": " << r.num_views << " views\nnext: " << kProgram << " calibrate " << a.out << " --out DIR"
-            << (r.board_option.empty() ? "" : " --method hand-eye --board " + r.board_option) << "\n";
+            << (r.board_option.empty() ? "" : " --method hand-eye --board " + r.board_option)
+            << (nominal_intrinsics ? " --estimate pp,distortion" : "") << "\n";
   if (r.board_option.rfind("apriltag:", 0) == 0)
     std::cout << "  (the tag's pose eMo too: give its id and its geometry, --board " << r.board_option
               << ":ID --board-geometry)\n";
