@@ -117,6 +117,19 @@ std::string writeResults(const fs::path &stage, const std::string &dataset, cons
     std::cerr << "warning: " << w << "\n";
   return report.message;
 }
+//! The options of the full kinematic calibration only, refused with the hand-eye method (exit 2).
+void refuseBundleOptions(const CalibrateArgs &a)
+{
+  if (!a.joint_sd.empty())
+    throw CLI::ValidationError("--joint-sd", "the joint readings' error is the full kinematic calibration's (--method "
+                                             "bundle); the hand-eye method models the controller poses' error: give "
+                                             "--pose-sd T,R (m, rad) instead");
+  if (!a.free.empty())
+    throw CLI::ValidationError("--free", "the hand-eye method estimates every part of eMc (bMc with the camera in "
+                                         "the world) whatever the tolerance; --free frees the kinematic parameters of "
+                                         "--method bundle (--fix keeps a part of eMc at its nominal value)");
+}
+
 /*
   --pose-sd T,R and --joint-sd into the noise model of po's method: the controller poses' error
   (hand-eye), the kinematic model's residual and the joint readings' error (bundle; the joints' with
@@ -203,6 +216,8 @@ int calibrate(const CalibrateArgs &a)
                                              "from joint readings; pose " +
                                                  std::to_string(k) + " of " + dataset +
                                                  " has none (a controller pose only): use --method hand-eye");
+  if (!world_bundle && (world || co.method == vpRobotSelfCalibration::HAND_EYE))
+    refuseBundleOptions(a); // before the front end runs, when the method is known
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
   co.prior = nominal; // the front end's matching is guided by the nominal kinematics
   checkParameterLists(nominal, ds, po);
@@ -229,7 +244,15 @@ int calibrate(const CalibrateArgs &a)
   if (pose_auto && po.method != vpRobotSelfCalibration::HAND_EYE)
     std::cerr << "warning: --pose-sd auto measures the controller poses' error (hand-eye); the method is "
               << vpRobotSelfCalibration::methodName(po.method) << ", so it is not used\n";
+  if (po.method == vpRobotSelfCalibration::HAND_EYE)
+    refuseBundleOptions(a);
   stateRobotError(a, po);
+  if (po.trust_robot && po.method == vpRobotSelfCalibration::HAND_EYE && ds.pose_sd_translation > 0) {
+    // --pose-sd 0 states exact poses: it overrides the dataset's robot_error, as --pose-sd T,R does.
+    std::cerr << "... robot error: --pose-sd 0: the controller poses are taken as exact (the dataset's robot_error "
+              << ds.pose_sd_translation << " m / " << ds.pose_sd_rotation << " rad is not used)\n";
+    ds.pose_sd_translation = ds.pose_sd_rotation = 0;
+  }
   const vpSelfCalibProtocol::Options protocol_options = protocolOptions(a, co);
   const vpSelfCalibProtocol::Plan plan =
       vpSelfCalibProtocol::plan(protocol_options, static_cast<unsigned int>(ds.views.size()));

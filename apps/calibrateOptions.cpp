@@ -6,7 +6,6 @@
 #include <algorithm>
 
 #include <visp3/core/vpException.h>
-#include <visp3/io/vpImageIo.h>
 #include <visp3/selfcalib/vpBoardDetector.h>
 #include <visp3/selfcalib/vpDotGrid.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
@@ -250,14 +249,7 @@ vpSelfCalibImageCorrespondences::Options frontEndOptions(const CalibrateArgs &a)
     co.board = vpBoardDetector::parse(a.board);
   co.mask_board = a.mask_board;
   if (!a.mask.empty()) {
-    vpImage<unsigned char> mask;
-    try {
-      vpImageIo::read(mask, a.mask);
-    } catch (const vpException &e) {
-      throw vpSelfCalibException(vpSelfCalibException::ioError,
-                                 "--mask: cannot read the image '" + a.mask + "': " + e.getStringMessage());
-    }
-    co.front_end.masks.push_back(mask);
+    co.front_end.masks.push_back(vpFeatureFrontEnd::readImage(a.mask, "--mask: cannot read the image '" + a.mask + "'"));
   }
   // C x R; grid g numbered from 1000000 + 1000 g (as simulate --target dots).
   for (const std::string &item : a.dot_grids) {

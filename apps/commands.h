@@ -69,8 +69,9 @@ int verify(const ModelArgs &a);
 
 //! compare RESULT_DIR TRUTH.yaml: a result against the truth of a simulation.
 struct CompareArgs {
-  std::string result, truth;
+  std::string result, truth, joints, yaml;
   unsigned int pairs = 1000;
+  bool force = false;
 };
 void addCompare(CLI::App &app, CompareArgs &a);
 int compare(const CompareArgs &a);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <fstream>
 #include <iomanip>
+#include <memory>
 #include <iostream>
 #include <random>
 #include <sstream>
@@ -44,13 +45,50 @@ bool isRunImageDirectory(const std::string &name, const std::string &stem)
                      [](char c) { return std::isdigit(static_cast<unsigned char>(c)) || (c >= 'a' && c <= 'f'); });
 }
 
+//! Whether `dir` holds only rendered images (NNNN.png files), as a run's image directory does.
+bool holdsOnlyRenderedImages(const fs::path &dir)
+{
+  std::error_code ec;
+  for (const fs::directory_entry &e : fs::directory_iterator(dir, ec)) {
+    const std::string n = e.path().filename().string();
+    if (e.is_symlink(ec) || !e.is_regular_file(ec) || n.size() != 8 || n.compare(4, 4, ".png") != 0 ||
+        !std::all_of(n.begin(), n.begin() + 4, [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
+      return false;
+  }
+  return !ec;
+}
+
 /*
-  The image directory of the dataset at `out` that an earlier simulate --images wrote (one of
-  ours, beside it, every image in it), to be removed once the new dataset is in place; "" when
-  there is none. Also removes what killed runs left (their hidden staging directories): each is
-  opened as an output set, which removes the leftovers of its name unless a live run holds it.
+  Removes the image directories beside the dataset at `out` that no dataset points at: a run killed
+  between its images' commit and its dataset's rename leaves one. Only those named like a run's
+  (STEM-images-XXXXXXXX) that hold rendered images only, not the one `keep` names, and not one a
+  live run holds (its lock is taken first).
 */
-std::string earlierImageDirectory(const std::string &out)
+void removeOrphanImageDirectories(const fs::path &parent, const std::string &stem, const std::string &keep)
+{
+  std::error_code ec;
+  std::vector<fs::path> orphans;
+  for (const fs::directory_entry &e : fs::directory_iterator(parent, ec))
+    if (isRunImageDirectory(e.path().filename().string(), stem) && e.path().string() != keep &&
+        e.is_directory(ec) && !e.is_symlink(ec) && holdsOnlyRenderedImages(e.path()))
+      orphans.push_back(e.path());
+  for (const fs::path &d : orphans)
+    try {
+      const vpSelfCalibOutputDirectory held(d.string()); // refused while a live run holds it
+      fs::remove_all(d, ec);
+    } catch (const vpException &) {
+      // a live run's
+    }
+}
+
+/*
+  The image directories to remove once the new dataset is in place: the one of the dataset at
+  `out` that an earlier simulate --images wrote (one of ours, beside it, every image in it). Also
+  removes what killed runs left: their hidden staging directories (each opened as an output set,
+  which removes the leftovers of its name unless a live run holds it) and, when the dataset at
+  `out` is absent or one of ours, the image directories no dataset points at.
+*/
+std::vector<std::string> earlierImageDirectories(const std::string &out)
 {
   const fs::path parent = fs::absolute(out).lexically_normal().parent_path();
   const std::string stem = fs::path(out).stem().string();
@@ -65,21 +103,26 @@ std::string earlierImageDirectory(const std::string &out)
         // a live run's, or not ours to remove
       }
   }
-  if (canonical(out).empty())
-    return "";
+  if (canonical(out).empty()) {
+    removeOrphanImageDirectories(parent, stem, "");
+    return {};
+  }
   std::string dir;
   try {
     for (const vpSelfCalibDataset::View &v : vpSelfCalibDataset::loadYaml(out).views) {
       const fs::path d = fs::absolute(v.image).lexically_normal().parent_path();
       if (v.image.empty() || d.parent_path() != parent || !isRunImageDirectory(d.filename().string(), stem) ||
           (!dir.empty() && dir != d.string()))
-        return "";
+        return {};
       dir = d.string();
     }
   } catch (const vpException &) {
-    return ""; // not a dataset: its images, if any, are not ours to remove
+    return {}; // not a dataset: its images, if any, are not ours to remove
   }
-  return dir;
+  removeOrphanImageDirectories(parent, stem, dir);
+  if (dir.empty())
+    return {};
+  return {dir};
 }
 
 //! simulate --target apriltags: the bundle's description (vpBoardDetector's apriltag-bundle file) beside the dataset.
@@ -97,14 +140,18 @@ void writeTagBundle(const fs::path &dir, const vpSelfCalibRenderer::Options &ro)
 /*
   Renders the images into a directory of this run's own beside the dataset (STEM-images-XXXXXXXX),
   written as a set (vpSelfCalibOutputDirectory: staged, then renamed into place) before the dataset
-  that points at them: a run killed at any moment leaves the earlier dataset with its own images.
+  that points at them: a run killed at any moment leaves the earlier dataset with its own images
+  (and, killed between the two, an image directory no dataset points at, which the next run
+  removes). The set is returned with its lock, to be released once the dataset is in place.
 */
-void renderImages(const vpSelfCalibSimulator &sim, const SimulateArgs &a, const std::vector<vpColVector> &qs,
-                  const std::string &out, vpSelfCalibDataset &ds)
+std::unique_ptr<vpSelfCalibOutputDirectory> renderImages(const vpSelfCalibSimulator &sim, const SimulateArgs &a,
+                                                        const std::vector<vpColVector> &qs, const std::string &out,
+                                                        vpSelfCalibDataset &ds)
 {
   const fs::path parent = fs::path(out).parent_path(); // as given: the dataset then holds relative paths
   const fs::path img_dir = (parent.empty() ? fs::path(".") : parent) / (fs::path(out).stem().string() + "-images-" + runName());
-  vpSelfCalibOutputDirectory set(img_dir.string());
+  auto owned = std::make_unique<vpSelfCalibOutputDirectory>(img_dir.string());
+  vpSelfCalibOutputDirectory &set = *owned;
   vpSelfCalibRenderer::Options ro;
   ro.seed = a.so.seed;
   ro.scene = a.target == "dots"        ? vpSelfCalibRenderer::DOTS
@@ -134,6 +181,7 @@ void renderImages(const vpSelfCalibSimulator &sim, const SimulateArgs &a, const 
   set.commit();
   ds.yardstick.length = renderer.getYardstickLength(); // 0 for the boards: their first row is the yardstick
   ds.yardstick.id_a = ds.yardstick.id_b = -1;
+  return owned; // its lock held until the dataset points at it: no other run takes it for an orphan
 }
 /*
   The truth the dataset was simulated from, beside it (STEM-truth.yaml): the true and the nominal
@@ -201,9 +249,9 @@ std::string writeEyeToHandTruth(const vpSelfCalibSimulator::EyeToHandTruth &t, c
 //! simulate --camera-mount world: points data of a board on the tool seen by a fixed camera, and its truth.
 int simulateEyeToHand(const SimulateArgs &a)
 {
-  if (a.images || !a.joints_file.empty() || a.controller)
-    throw CLI::ValidationError("--camera-mount", "world simulates points data of its own poses: no --images, "
-                                                 "--joints or --controller-poses");
+  if (a.images || !a.joints_file.empty() || a.controller || a.focal == "shared")
+    throw CLI::ValidationError("--camera-mount", "world simulates points data of its own poses with the focal length "
+                                                 "known: no --images, --joints, --controller-poses or --focal shared");
   if (a.joint_sd > 0 && !a.with_joints)
     throw CLI::ValidationError("--joint-sd", "the joint readings' error needs --with-joints");
   if (a.pose_sd > 0 && a.with_joints)
@@ -298,6 +346,15 @@ int simulate(const SimulateArgs &a)
   unsigned int poses = a.poses;
   if (outputRefused(out, a.force))
     return 1;
+  std::error_code ec;
+  const fs::path out_dir = fs::path(out).parent_path();
+  if (!out_dir.empty() && !fs::is_directory(out_dir, ec)) {
+    std::cerr << "error: '" << out << "': its directory '" << out_dir.string() << "' is not there\n";
+    return 1;
+  }
+  if (a.camera_mount != "world" && a.pose_sd > 0)
+    throw CLI::ValidationError("--pose-sd", "the controller poses' error is simulated with --camera-mount world only "
+                                            "(a camera on the effector: the robot's errors are in its true model)");
   if (a.camera_mount == "world")
     return simulateEyeToHand(a);
   const vpSelfCalibSimulator sim(vpKinematicChain::fromPresetOrFile(a.robot), so);
@@ -341,21 +398,24 @@ int simulate(const SimulateArgs &a)
     ds.focal_known = false;
     ds.cam.initPersProjWithoutDistortion(0.93 * so.px, 0.93 * so.py, so.u0, so.v0);
   }
-  std::string earlier_images;
+  std::vector<std::string> earlier_images;
+  std::unique_ptr<vpSelfCalibOutputDirectory> images;
   if (a.images) {
     // Rendered acquisition: images beside the dataset, no points (the front end finds them), the
     // yardstick's length only (its dots are found in the images).
-    earlier_images = earlierImageDirectory(out);
-    renderImages(sim, a, qs, out, ds);
+    earlier_images = earlierImageDirectories(out);
+    images = renderImages(sim, a, qs, out, ds);
   }
-  // The one step from the earlier run to this one: the dataset renamed into place (its images,
-  // in a directory of their own, are already there). Then the earlier run's images go.
-  ds.saveYaml(out);
-  if (!earlier_images.empty()) {
-    std::error_code ec;
-    fs::remove_all(earlier_images, ec);
-  }
+  // The truth first: a dataset in place always has its truth beside it.
   const std::string truth = writeTruth(sim, out, ds);
+  // The one step from the earlier run to this one: the dataset renamed into place (its images,
+  // in a directory of their own, are already there). Then the earlier runs' images go.
+  ds.saveYaml(out);
+  images.reset();
+  for (const std::string &dir : earlier_images) {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
   if (a.images)
     std::cout << "wrote " << out << ": " << poses << " poses of " << a.robot << ", rendered images in "
               << fs::path(ds.views[0].image).parent_path().filename().string() << "/ beside it\n";

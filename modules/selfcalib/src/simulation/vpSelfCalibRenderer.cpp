@@ -16,6 +16,7 @@
 #include <visp3/io/vpImageIo.h>
 #include <visp3/robot/vpImageSimulator.h>
 
+#include "../core/vpSelfCalibFiles.h" // checkImageFile
 #include "../core/vpSelfCalibMarkers.h"
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibRandom.h"
@@ -224,7 +225,11 @@ vpSelfCalibRenderer::vpSelfCalibRenderer(const vpSelfCalibSimulator &sim, const 
       m_grids.push_back(g);
     } else
       try {
+        // The file and its header checked before decoding, as the dataset's images are.
+        vpSelfCalib::checkImageFile(files[side], "vpSelfCalibRenderer: cannot read the texture '" + files[side] + "'");
         vpImageIo::read(q.texture, files[side]);
+      } catch (const vpSelfCalibException &) {
+        throw;
       } catch (const vpException &e) {
         throw vpSelfCalibException(vpSelfCalibException::ioError,
                                    "vpSelfCalibRenderer: cannot read the texture '" + files[side] +
