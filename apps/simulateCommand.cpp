@@ -168,18 +168,10 @@ int simulateEyeToHandImages(const SimulateArgs &a)
     throw CLI::ValidationError("--camera-mount", "world simulates controller poses of its own: no --joints or "
                                                  "--controller-poses");
   const vpSelfCalibRenderer::Options ro = rendererOptions(a);
-  vpSelfCalibSimulator::EyeToHandOptions eo;
+  vpSelfCalibSimulator::EyeToHandOptions eo = vpSelfCalibEyeToHandRenderer::simulation(ro);
   eo.seed = a.so.seed;
   eo.num_views = a.poses;
   eo.pose_sd_translation = eo.pose_sd_rotation = a.pose_sd;
-  eo.width = 1280;
-  eo.height = 720;
-  eo.px = eo.py = 1000;
-  eo.u0 = 640;
-  eo.v0 = 360;
-  eo.lateral = 0.06;
-  eo.layout = vpSelfCalibEyeToHandRenderer::getOutline(ro);
-  eo.eMo = vpPoseVector(vpSelfCalibEyeToHandRenderer::boardOnTool(ro, 0.05, 0.1, -0.15, 0.3));
   vpSelfCalibSimulator::EyeToHandTruth truth;
   vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(eo, truth);
   const vpSelfCalibEyeToHandRenderer renderer(ro, ds.cam, eo.width, eo.height, truth.bMc, truth.eMo);

@@ -16,10 +16,13 @@
 #include <visp3/selfcalib/vpSelfCalibImageCorrespondences.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
+#include "../testCommon.h"
+
 namespace
 {
 using RSC = vpRobotSelfCalibration;
 using E2H = vpSelfCalibEyeToHandRenderer;
+using selfcalib_test::poseError;
 
 //! The board of `scene` as simulate --camera-mount world --images draws it, and its detector.
 vpSelfCalibRenderer::Options boardOptions(vpSelfCalibRenderer::Scene scene, unsigned int seed)
@@ -32,38 +35,18 @@ vpSelfCalibRenderer::Options boardOptions(vpSelfCalibRenderer::Scene scene, unsi
 
 vpBoardDetector::Options detectorOptions(const vpSelfCalibRenderer::Options &ro)
 {
-  if (ro.scene == vpSelfCalibRenderer::CHARUCO)
-    return vpBoardDetector::parse("charuco:7x5:0.02:0.015:DICT_6X6_250");
-  vpBoardDetector::Options o;
-  o.type = vpBoardDetector::APRILTAG;
-  o.dictionary = ro.tag_family;
-  for (const auto &t : vpSelfCalibRenderer::getTagBundle(ro)) {
-    vpBoardDetector::Options::BundleTag b;
-    b.id = t.first;
-    b.size = ro.tag_size;
-    b.bMt = t.second;
-    o.bundle.push_back(b);
-    o.tag_ids.push_back(t.first);
-  }
-  return o;
+  return ro.scene == vpSelfCalibRenderer::CHARUCO ? vpBoardDetector::parse("charuco:7x5:0.02:0.015:DICT_6X6_250")
+                                                  : selfcalib_test::tagBundleDetector(ro);
 }
 
-//! The eye-to-hand simulation of the rendered path: 1280 x 720, f 1000 px, the whole board in view.
+//! The eye-to-hand simulation of the rendered path (simulate --camera-mount world --images).
 vpSelfCalibDataset simulate(const vpSelfCalibRenderer::Options &ro, unsigned int seed, unsigned int views,
                             double pose_sd, vpSelfCalibSimulator::EyeToHandTruth &truth)
 {
-  vpSelfCalibSimulator::EyeToHandOptions eo;
+  vpSelfCalibSimulator::EyeToHandOptions eo = E2H::simulation(ro);
   eo.seed = seed;
   eo.num_views = views;
   eo.pose_sd_translation = eo.pose_sd_rotation = pose_sd;
-  eo.width = 1280;
-  eo.height = 720;
-  eo.px = eo.py = 1000;
-  eo.u0 = 640;
-  eo.v0 = 360;
-  eo.lateral = 0.06;
-  eo.layout = E2H::getOutline(ro);
-  eo.eMo = vpPoseVector(E2H::boardOnTool(ro, 0.05, 0.1, -0.15, 0.3));
   return vpSelfCalibSimulator::simulateEyeToHand(eo, truth);
 }
 
@@ -77,18 +60,6 @@ std::vector<vpImage<unsigned char>> render(const vpSelfCalibRenderer::Options &r
   return images;
 }
 
-// Per-axis errors (estimate - truth): translation (m) and theta u of truth^-1 estimate (rad).
-vpColVector poseError(const vpPoseVector &estimate, const vpHomogeneousMatrix &truth)
-{
-  const vpHomogeneousMatrix E(estimate);
-  const vpPoseVector d(truth.inverse() * E);
-  vpColVector e(6);
-  for (unsigned int i = 0; i < 3; ++i) {
-    e[i] = E[i][3] - truth[i][3];
-    e[3 + i] = d[3 + i];
-  }
-  return e;
-}
 } // namespace
 
 // The board on the tool is drawn where the truth says: every point of the ChArUco board and of the
@@ -136,38 +107,37 @@ TEST(EyeToHandImages, HandEyeOnRenderedBoardsRecoversTheTruth)
 {
   for (unsigned int seed = 1; seed <= 4; ++seed) {
     const vpSelfCalibRenderer::Scene scene = seed <= 3 ? vpSelfCalibRenderer::CHARUCO : vpSelfCalibRenderer::APRILTAGS;
-    {
-      const vpSelfCalibRenderer::Options ro = boardOptions(scene, seed);
-      vpSelfCalibSimulator::EyeToHandTruth truth;
-      vpSelfCalibDataset ds = simulate(ro, seed, 8, 0.001, truth);
-      ds.pose_sd_translation = ds.pose_sd_rotation = 0; // nothing stated: measured
-      vpSelfCalibImageCorrespondences::Options co;
-      co.front_end.features = false;
-      co.board = detectorOptions(ro);
-      co.method = RSC::HAND_EYE;
-      const vpSelfCalibImageCorrespondences::Result cr =
-          vpSelfCalibImageCorrespondences::fromImages(ds, render(ro, ds, truth), co);
-      ASSERT_EQ(cr.board_images, 8u);
-      RSC::Options o;
-      o.method = RSC::HAND_EYE;
-      o.bundle.known_points = vpBoardDetector(*co.board).getLayout();
-      const RSC::Result r = RSC::run(vpKinematicChain::preset("viper850"), ds, o);
-      ASSERT_TRUE(r.status == RSC::OK || r.status == RSC::DOUBTFUL) << r.message;
-      ASSERT_TRUE(r.has_bMc && r.has_eMo);
-      const vpColVector eb = poseError(r.bMc, truth.bMc), eo = poseError(r.eMo, truth.eMo);
-      std::cout << "[ e2h      ] seed " << seed << " " << vpBoardDetector::toString(*co.board) << ": bMc error "
-                << 1e3 * eb.extract(0, 3).frobeniusNorm() << " mm, " << 1e3 * eb.extract(3, 3).frobeniusNorm()
-                << " mrad; eMo " << 1e3 * eo.extract(0, 3).frobeniusNorm() << " mm, "
-                << 1e3 * eo.extract(3, 3).frobeniusNorm() << " mrad; measured pose sd "
-                << 1e3 * r.noise.pose_sd_translation << " mm, " << 1e3 * r.noise.pose_sd_rotation << " mrad\n";
-      for (unsigned int i = 0; i < 6; ++i) {
-        EXPECT_LT(std::fabs(eb[i]), 4 * r.bMc_sd[i]) << "seed " << seed << " bMc axis " << i;
-        EXPECT_LT(std::fabs(eo[i]), 4 * r.eMo_sd[i]) << "seed " << seed << " eMo axis " << i;
-        const double sd_max = i < 3 ? 0.005 : 0.010;
-        EXPECT_LT(r.bMc_sd[i], sd_max) << "seed " << seed << " bMc axis " << i;
-        EXPECT_LT(r.eMo_sd[i], sd_max) << "seed " << seed << " eMo axis " << i;
-      }
+    const vpSelfCalibRenderer::Options ro = boardOptions(scene, seed);
+    vpSelfCalibSimulator::EyeToHandTruth truth;
+    vpSelfCalibDataset ds = simulate(ro, seed, 8, 0.001, truth);
+    ds.pose_sd_translation = ds.pose_sd_rotation = 0; // nothing stated: measured
+    vpSelfCalibImageCorrespondences::Options co;
+    co.front_end.features = false;
+    co.board = detectorOptions(ro);
+    co.method = RSC::HAND_EYE;
+    const vpSelfCalibImageCorrespondences::Result cr =
+        vpSelfCalibImageCorrespondences::fromImages(ds, render(ro, ds, truth), co);
+    ASSERT_EQ(cr.board_images, 8u);
+    RSC::Options o;
+    o.method = RSC::HAND_EYE;
+    o.bundle.known_points = vpBoardDetector(*co.board).getLayout();
+    const RSC::Result r = RSC::run(vpKinematicChain::preset("viper850"), ds, o);
+    ASSERT_TRUE(r.status == RSC::OK || r.status == RSC::DOUBTFUL) << r.message;
+    ASSERT_TRUE(r.has_bMc && r.has_eMo);
+    const vpColVector eb = poseError(r.bMc, truth.bMc), eo = poseError(r.eMo, truth.eMo);
+    std::cout << "[ e2h      ] seed " << seed << " " << vpBoardDetector::toString(*co.board) << ": bMc error "
+              << 1e3 * eb.extract(0, 3).frobeniusNorm() << " mm, " << 1e3 * eb.extract(3, 3).frobeniusNorm()
+              << " mrad; eMo " << 1e3 * eo.extract(0, 3).frobeniusNorm() << " mm, "
+              << 1e3 * eo.extract(3, 3).frobeniusNorm() << " mrad; measured pose sd "
+              << 1e3 * r.noise.pose_sd_translation << " mm, " << 1e3 * r.noise.pose_sd_rotation << " mrad\n";
+    for (unsigned int i = 0; i < 6; ++i) {
+      EXPECT_LT(std::fabs(eb[i]), 4 * r.bMc_sd[i]) << "seed " << seed << " bMc axis " << i;
+      EXPECT_LT(std::fabs(eo[i]), 4 * r.eMo_sd[i]) << "seed " << seed << " eMo axis " << i;
+      const double sd_max = i < 3 ? 0.005 : 0.010;
+      EXPECT_LT(r.bMc_sd[i], sd_max) << "seed " << seed << " bMc axis " << i;
+      EXPECT_LT(r.eMo_sd[i], sd_max) << "seed " << seed << " eMo axis " << i;
     }
+  }
 }
 
 TEST(EyeToHandImages, OnlyBoardScenesAreRendered)

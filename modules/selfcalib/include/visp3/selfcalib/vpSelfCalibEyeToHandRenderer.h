@@ -20,6 +20,7 @@
 #include <visp3/core/vpHomogeneousMatrix.h>
 #include <visp3/core/vpImage.h>
 #include <visp3/selfcalib/vpSelfCalibRenderer.h>
+#include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
 /*!
   \class vpSelfCalibEyeToHandRenderer
@@ -60,6 +61,14 @@ public:
   */
   static vpHomogeneousMatrix boardOnTool(const vpSelfCalibRenderer::Options &options, double offset = 0.05,
                                          double tux = 0, double tuy = 0, double tuz = 0);
+
+  /*!
+    The eye-to-hand simulation of the rendered set-up (simulate --camera-mount world --images): a
+    1280 x 720 camera of f 1000 px, the board within 6 cm of its axis, its outline (getOutline())
+    in every image, placed on the tool by boardOnTool(options, 0.05, 0.1, -0.15, 0.3). The caller
+    sets the seed, the number of views and the controller poses' error.
+  */
+  static vpSelfCalibSimulator::EyeToHandOptions simulation(const vpSelfCalibRenderer::Options &options);
 
   /*!
     The print's four outer corners in the board's frame (ids 0 to 3): what must be in the image for
