@@ -4,6 +4,7 @@
 #include "commands.h"
 
 #include <algorithm>
+#include <functional>
 #include <fstream>
 #include <iomanip>
 #include <memory>
@@ -13,6 +14,7 @@
 
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
+#include <visp3/selfcalib/vpSelfCalibEyeToHandRenderer.h>
 #include <visp3/selfcalib/vpSelfCalibFileWriter.h>
 #include <visp3/selfcalib/vpSelfCalibRenderer.h>
 
@@ -137,30 +139,34 @@ void writeTagBundle(const fs::path &dir, const vpSelfCalibRenderer::Options &ro)
   vpSelfCalibFileWriter::write(file, yaml.str(), "tag bundle");
 }
 
-/*
-  Renders the images into a directory of this run's own beside the dataset (STEM-images-XXXXXXXX),
-  written as a set (vpSelfCalibOutputDirectory: staged, then renamed into place) before the dataset
-  that points at them: a run killed at any moment leaves the earlier dataset with its own images
-  (and, killed between the two, an image directory no dataset points at, which the next run
-  removes). The set is returned with its lock, to be released once the dataset is in place.
-*/
-std::unique_ptr<vpSelfCalibOutputDirectory> renderImages(const vpSelfCalibSimulator &sim, const SimulateArgs &a,
-                                                        const std::vector<vpColVector> &qs, const std::string &out,
-                                                        vpSelfCalibDataset &ds)
+//! The renderer's options of simulate --target.
+vpSelfCalibRenderer::Options rendererOptions(const SimulateArgs &a)
 {
-  const fs::path parent = fs::path(out).parent_path(); // as given: the dataset then holds relative paths
-  const fs::path img_dir = (parent.empty() ? fs::path(".") : parent) / (fs::path(out).stem().string() + "-images-" + runName());
-  auto owned = std::make_unique<vpSelfCalibOutputDirectory>(img_dir.string());
-  vpSelfCalibOutputDirectory &set = *owned;
   vpSelfCalibRenderer::Options ro;
   ro.seed = a.so.seed;
   ro.scene = a.target == "dots"        ? vpSelfCalibRenderer::DOTS
              : a.target == "charuco"   ? vpSelfCalibRenderer::CHARUCO
              : a.target == "apriltags" ? vpSelfCalibRenderer::APRILTAGS
                                        : vpSelfCalibRenderer::TEXTURED;
-  const vpSelfCalibRenderer renderer(sim, ro);
-  if (ro.scene == vpSelfCalibRenderer::APRILTAGS)
-    writeTagBundle(parent, ro);
+  return ro;
+}
+
+/*
+  Writes image k = render(k) of every view into a directory of this run's own beside the dataset
+  (STEM-images-XXXXXXXX), written as a set (vpSelfCalibOutputDirectory: staged, then renamed into
+  place) before the dataset that points at them: a run killed at any moment leaves the earlier
+  dataset with its own images (and, killed between the two, an image directory no dataset points
+  at, which the next run removes). The set is returned with its lock, to be released once the
+  dataset is in place.
+*/
+std::unique_ptr<vpSelfCalibOutputDirectory>
+writeImages(const std::function<vpImage<unsigned char>(unsigned int)> &render, const std::string &out,
+            vpSelfCalibDataset &ds)
+{
+  const fs::path parent = fs::path(out).parent_path(); // as given: the dataset then holds relative paths
+  const fs::path img_dir = (parent.empty() ? fs::path(".") : parent) / (fs::path(out).stem().string() + "-images-" + runName());
+  auto owned = std::make_unique<vpSelfCalibOutputDirectory>(img_dir.string());
+  vpSelfCalibOutputDirectory &set = *owned;
   for (size_t k = 0; k < ds.views.size(); ++k) {
     std::ostringstream name;
     name << std::setw(4) << std::setfill('0') << k + 1 << ".png";
@@ -168,7 +174,7 @@ std::unique_ptr<vpSelfCalibOutputDirectory> renderImages(const vpSelfCalibSimula
     // naming the file and the reason, and the dataset that would point at it is not written).
     try {
       vpSelfCalibFileWriter::writeImage((fs::path(set.staging()) / name.str()).string(),
-                                        renderer.render(qs[k], static_cast<unsigned int>(k)));
+                                        render(static_cast<unsigned int>(k)));
     } catch (...) {
       std::cerr << "\n"; // after the progress line
       throw;
@@ -179,10 +185,60 @@ std::unique_ptr<vpSelfCalibOutputDirectory> renderImages(const vpSelfCalibSimula
   }
   std::cerr << "\n";
   set.commit();
-  ds.yardstick.length = renderer.getYardstickLength(); // 0 for the boards: their first row is the yardstick
-  ds.yardstick.id_a = ds.yardstick.id_b = -1;
   return owned; // its lock held until the dataset points at it: no other run takes it for an orphan
 }
+
+//! The rendered images of the reference scenario's views at joints qs (see writeImages()).
+std::unique_ptr<vpSelfCalibOutputDirectory> renderImages(const vpSelfCalibSimulator &sim, const SimulateArgs &a, const std::vector<vpColVector> &qs,
+                  const std::string &out, vpSelfCalibDataset &ds)
+{
+  const vpSelfCalibRenderer::Options ro = rendererOptions(a);
+  const vpSelfCalibRenderer renderer(sim, ro);
+  if (ro.scene == vpSelfCalibRenderer::APRILTAGS)
+    writeTagBundle(fs::path(out).parent_path(), ro);
+  auto images = writeImages([&](unsigned int k) { return renderer.render(qs[k], k); }, out, ds);
+  ds.yardstick.length = renderer.getYardstickLength(); // 0 for the boards: their first row is the yardstick
+  ds.yardstick.id_a = ds.yardstick.id_b = -1;
+  return images;
+}
+
+/*
+  simulate --camera-mount world --images: a camera fixed in the world (1280 x 720, f 1000 px) sees
+  the board of --target (charuco or apriltags) on the tool, the tool's textured parts around it
+  (vpSelfCalibEyeToHandRenderer), at controller poses of vpSelfCalibSimulator::simulateEyeToHand
+  (the whole board in every image; --pose-sd their error).
+*/
+int simulateEyeToHandImages(const SimulateArgs &a)
+{
+  if (a.target != "charuco" && a.target != "apriltags")
+    throw CLI::ValidationError("--target", "--camera-mount world --images renders a board on the tool: --target "
+                                           "charuco or apriltags");
+  if (!a.joints_file.empty() || a.controller)
+    throw CLI::ValidationError("--camera-mount", "world simulates controller poses of its own: no --joints or "
+                                                 "--controller-poses");
+  const vpSelfCalibRenderer::Options ro = rendererOptions(a);
+  vpSelfCalibSimulator::EyeToHandOptions eo = vpSelfCalibEyeToHandRenderer::simulation(ro);
+  eo.seed = a.so.seed;
+  eo.num_views = a.poses;
+  eo.pose_sd_translation = eo.pose_sd_rotation = a.pose_sd;
+  vpSelfCalibSimulator::EyeToHandTruth truth;
+  vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(eo, truth);
+  const vpSelfCalibEyeToHandRenderer renderer(ro, ds.cam, eo.width, eo.height, truth.bMc, truth.eMo);
+  const std::string earlier_images = earlierImageDirectory(a.out);
+  if (ro.scene == vpSelfCalibRenderer::APRILTAGS)
+    writeTagBundle(fs::path(a.out).parent_path(), ro);
+  const auto images = writeImages([&](unsigned int k) { return renderer.render(truth.bMe[k], k); }, a.out, ds);
+  ds.saveYaml(a.out);
+  if (!earlier_images.empty()) {
+    std::error_code ec;
+    fs::remove_all(earlier_images, ec);
+  }
+  std::cerr << "true bMc " << vpPoseVector(truth.bMc).t() << "\ntrue eMo " << vpPoseVector(truth.eMo).t() << "\n";
+  std::cout << "wrote " << a.out << ": " << ds.views.size() << " views (camera in the world), rendered images in "
+            << fs::path(ds.views[0].image).parent_path().filename().string() << "/ beside it\n";
+  return 0;
+}
+
 /*
   The truth the dataset was simulated from, beside it (STEM-truth.yaml): the true and the nominal
   robot models (robot-model YAML, as text), the true camera and the scene points (id, x, y, z in
@@ -320,7 +376,9 @@ void addSimulate(CLI::App &app, SimulateArgs &a)
   c->add_option("--camera-mount", a.camera_mount,
                  "effector (default: the reference scenario) or world: a camera fixed in the world and a\n"
                  "6 x 5 board (2 cm, the layout of --board chessboard:5x6:0.02, rows x cols) on the tool, points data\n"
-                 "(calibrate --method hand-eye --board chessboard:5x6:0.02 --board-geometry)")
+                 "(calibrate --method hand-eye --board chessboard:5x6:0.02 --board-geometry); with --images\n"
+                 "--target charuco|apriltags: that board on the tool, its plate and last link textured, seen\n"
+                 "by a 1280 x 720 camera (calibrate --method hand-eye --board ... --board-geometry)")
       ->type_name("MOUNT")
       ->check(CLI::IsMember({"effector", "world"}));
   c->add_option("--pose-sd", a.pose_sd, "with --camera-mount world: the controller poses' error sd (m and rad, default 0)")
@@ -355,6 +413,8 @@ int simulate(const SimulateArgs &a)
   if (a.camera_mount != "world" && a.pose_sd > 0)
     throw CLI::ValidationError("--pose-sd", "the controller poses' error is simulated with --camera-mount world only "
                                             "(a camera on the effector: the robot's errors are in its true model)");
+  if (a.camera_mount == "world" && a.images)
+    return simulateEyeToHandImages(a);
   if (a.camera_mount == "world")
     return simulateEyeToHand(a);
   const vpSelfCalibSimulator sim(vpKinematicChain::fromPresetOrFile(a.robot), so);

@@ -30,7 +30,11 @@ BENCHES = [
      "grid): the library's import, board front end and calibration against OpenCV's board-based hand-eye "
      "on the same corners, and the differences to the data sets' reference eMc "
      "(`../shared/data/README.md`). The second table is the default cross-validation's held-out "
-     "reprojection error fold by fold, with ViSP's published eMc as the floor the data allow."),
+     "reprojection error fold by fold, with ViSP's published eMc as the floor the data allow. Then "
+     "ViSP's Franka eye-to-hand set (a fixed camera, one AprilTag on the gripper, 8 views): ours "
+     "(bMc and eMo, the tag's layout known) beside OpenCV's calibrateRobotWorldHandEye (Shah, Li) and "
+     "calibrateHandEye on the inverted poses, on the same corners, against the data set's reference; "
+     "and that set's simulated counterpart, which says whether the reported sd hold on such a set."),
     ("bench-twoview", ["--seeds", "10"],
      "The paper's Section 3.1 (two-view pose and focal length) on the reference scenario (Viper850, 80 "
      "points + yardstick, f = 1500 px): the pairs (pose 1, pose i) of 25 poses, against OpenCV's "

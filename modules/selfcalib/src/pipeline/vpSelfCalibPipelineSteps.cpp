@@ -185,8 +185,11 @@ vpKinematicIdentification::Measurement poseMeasurement(const vpColVector &q, con
 
 bool checkData(const Context &c, Result &res)
 {
+  vpSelfCalibDataCheck::Options check = c.data_check;
+  if (check.known_points.empty())
+    check.known_points = c.options.bundle.known_points;
   res.findings = vpSelfCalibDataCheck::check(c.nominal, c.dataset, c.num_calibration,
-                                             c.options.method == vpRobotSelfCalibration::HAND_EYE, c.data_check, c.noise);
+                                             c.options.method == vpRobotSelfCalibration::HAND_EYE, check, c.noise);
   if (!vpSelfCalibDataCheck::degenerate(res.findings))
     return true;
   res.status = vpRobotSelfCalibration::DEGENERATE_DATA;

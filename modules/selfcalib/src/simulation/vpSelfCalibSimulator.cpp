@@ -440,6 +440,8 @@ vpSelfCalib::Rigid lookAt(const Eigen::Vector3d &from, const Eigen::Vector3d &to
 //! The target's points in o: a grid on z = 0 from o (vpBoardDetector's chessboard layout), or natural features in a box about o.
 std::map<int, vpColVector> eyeToHandLayout(const vpSelfCalibSimulator::EyeToHandOptions &o)
 {
+  if (!o.layout.empty())
+    return o.layout;
   std::map<int, vpColVector> layout;
   vpSelfCalib::Random rng(o.seed, 11);
   if (o.board) {
@@ -560,7 +562,8 @@ vpSelfCalibDataset vpSelfCalibSimulator::simulateEyeToHand(const EyeToHandOption
   const uint64_t noise = o.noise_seed ? (static_cast<uint64_t>(o.noise_seed) << 32) ^ o.seed : o.seed;
   Random pose_rng(o.seed, 12), noise_rng(noise, 13), error_rng(noise, 14);
   Rigid facing;
-  facing.R = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix(); // the target's z towards the camera
+  if (o.layout.empty()) // the target's z towards the camera
+    facing.R = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
   for (unsigned int attempt = 0; o.robot.empty() && ds.views.size() < o.num_views && attempt < 100 * o.num_views;
        ++attempt) {
     const Eigen::Vector3d axis =
@@ -570,7 +573,7 @@ vpSelfCalibDataset vpSelfCalibSimulator::simulateEyeToHand(const EyeToHandOption
     cMo.t = Eigen::Vector3d(pose_rng.uniform(-o.lateral, o.lateral), pose_rng.uniform(-o.lateral, o.lateral),
                             pose_rng.uniform(o.distance_min, o.distance_max));
     vpSelfCalibDataset::View v;
-    if (!observeTarget(o, truth.layout, cMo, noise_rng, v) && (o.board || v.points.size() < 6))
+    if (!observeTarget(o, truth.layout, cMo, noise_rng, v) && (o.board || !o.layout.empty() || v.points.size() < 6))
       continue;
     const Rigid bMe = bMc * cMo * eMo.inverse();
     const double d[6] = {error_rng.normal(o.pose_sd_translation), error_rng.normal(o.pose_sd_translation),

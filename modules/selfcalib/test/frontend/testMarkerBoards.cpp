@@ -22,6 +22,7 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
+#include "../testCommon.h"
 #include "boardSpecTest.h"
 #include "markerTestImages.h"
 
@@ -345,18 +346,8 @@ TEST(MarkerBoards, RenderedScenarioBoardsAreWhereTheTruthSays)
     vpBoardDetector::Options o;
     if (scene == vpSelfCalibRenderer::CHARUCO)
       o = vpBoardDetector::parse("charuco:7x5:0.02:0.015:DICT_6X6_250");
-    else {
-      o.type = vpBoardDetector::APRILTAG;
-      o.dictionary = ro.tag_family;
-      for (const auto &t : vpSelfCalibRenderer::getTagBundle(ro)) {
-        vpBoardDetector::Options::BundleTag b;
-        b.id = t.first;
-        b.size = ro.tag_size;
-        b.bMt = t.second;
-        o.bundle.push_back(b);
-        o.tag_ids.push_back(t.first);
-      }
-    }
+    else
+      o = selfcalib_test::tagBundleDetector(ro);
     const vpBoardDetector det(o);
     const std::map<int, vpColVector> layout = det.getLayout();
     double worst = 0;

@@ -13,10 +13,12 @@
 
 #include "core/vpSelfCalibRandom.h"
 #include "identification/vpKinematicBundleAdjustmentCosts.h"
+#include "../testCommon.h"
 
 namespace
 {
 using RSC = vpRobotSelfCalibration;
+using selfcalib_test::poseError;
 
 RSC::Result calibrate(const vpSelfCalibDataset &ds, const std::map<int, vpColVector> &layout, double pixel_sd,
                       bool tight = false)
@@ -29,18 +31,6 @@ RSC::Result calibrate(const vpSelfCalibDataset &ds, const std::map<int, vpColVec
   return RSC::run(vpKinematicChain::preset("viper850"), ds, o);
 }
 
-// Per-axis errors (estimate - truth): translation (m) and theta u of truth^-1 estimate (rad).
-vpColVector poseError(const vpPoseVector &estimate, const vpHomogeneousMatrix &truth)
-{
-  const vpHomogeneousMatrix E(estimate);
-  const vpPoseVector d(truth.inverse() * E);
-  vpColVector e(6);
-  for (unsigned int i = 0; i < 3; ++i) {
-    e[i] = E[i][3] - truth[i][3];
-    e[3 + i] = d[3 + i];
-  }
-  return e;
-}
 } // namespace
 
 TEST(EyeToHand, NoiseFreeBoardIsRecoveredExactly)

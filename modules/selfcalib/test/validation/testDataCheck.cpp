@@ -474,3 +474,44 @@ TEST(DataCheck, FewRandomMatchesAreNotAPlane)
   EXPECT_FALSE(has(f, "planar-scene"));
   EXPECT_TRUE(has(f, "few-correspondences"));
 }
+
+// One small tag of a known layout (4 corners per view, as ViSP's eye-to-hand set): PnP places each
+// view from its 4 coplanar points and the layout gives their depth, so neither "fewer than 6 image
+// points" nor "no view shares 15 points" is said; without the layout (unknown scene points) both
+// are. A view with 3 of the tag's corners is named with PnP's minimum, 4. Through
+// vpRobotSelfCalibration the bundle adjustment's known_points are the layout.
+TEST(DataCheck, OneSmallTagOfAKnownLayoutIsEnough)
+{
+  vpSelfCalibSimulator::EyeToHandOptions so;
+  so.board_cols = so.board_rows = 2;
+  so.board_spacing = 0.048;
+  so.num_views = 8;
+  vpSelfCalibSimulator::EyeToHandTruth truth;
+  vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(so, truth);
+  const vpKinematicChain nominal = vpKinematicChain::preset("viper850");
+  const auto has = [](const std::vector<vpSelfCalibDataCheck::Finding> &f, const std::string &code) {
+    return std::any_of(f.begin(), f.end(), [&](const vpSelfCalibDataCheck::Finding &x) { return x.code == code; });
+  };
+  vpSelfCalibDataCheck::Options known;
+  known.known_points = truth.layout;
+  std::vector<vpSelfCalibDataCheck::Finding> f = vpSelfCalibDataCheck::check(nominal, ds, 8, true, known);
+  EXPECT_FALSE(has(f, "few-points"));
+  EXPECT_FALSE(has(f, "few-correspondences"));
+  f = vpSelfCalibDataCheck::check(nominal, ds, 8, true, vpSelfCalibDataCheck::Options());
+  EXPECT_TRUE(has(f, "few-points"));
+  EXPECT_TRUE(has(f, "few-correspondences"));
+
+  vpRobotSelfCalibration::Options o;
+  o.method = vpRobotSelfCalibration::HAND_EYE;
+  o.bundle.known_points = truth.layout;
+  const Result r = vpRobotSelfCalibration::run(nominal, ds, o);
+  EXPECT_EQ(finding(r, "few-points"), nullptr) << codes(r);
+  EXPECT_EQ(finding(r, "few-correspondences"), nullptr) << codes(r);
+
+  ds.views[2].points.pop_back();
+  f = vpSelfCalibDataCheck::check(nominal, ds, 8, true, known);
+  const auto it = std::find_if(f.begin(), f.end(), [](const vpSelfCalibDataCheck::Finding &x) { return x.code == "few-points"; });
+  ASSERT_NE(it, f.end());
+  EXPECT_EQ(it->message, "calibration poses with fewer than 4 points of the known layout: 2 (3); PnP needs 4 to place "
+                         "such a pose: aim the camera so that it sees more of the board");
+}

@@ -178,6 +178,13 @@ public:
     unsigned int num_points = 40;
     double box_size = 0.08;
     vpPoseVector eMo = vpPoseVector(0.02, -0.01, 0.06, 0.1, -0.15, 0.3);
+    /*!
+      Not empty: the target's points in o instead (a printed board's outline, for rendered images):
+      every one must be in the image, and o's z points away from the camera (vpBoardDetector's
+      frame, z into the board: the printed side faces the camera); empty: the grid or the features
+      above, o's z towards the camera.
+    */
+    std::map<int, vpColVector> layout;
     //! Target poses: distance from the camera (m), lateral range (m), tilt range (rad) about the facing pose.
     double distance_min = 0.35, distance_max = 0.6, lateral = 0.08, tilt = 30 * M_PI / 180.0;
     double pixel_noise_sd = 0.2;                 //!< px, Gaussian, on u and v
