@@ -224,14 +224,15 @@ int simulateEyeToHandImages(const SimulateArgs &a)
   vpSelfCalibSimulator::EyeToHandTruth truth;
   vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(eo, truth);
   const vpSelfCalibEyeToHandRenderer renderer(ro, ds.cam, eo.width, eo.height, truth.bMc, truth.eMo);
-  const std::string earlier_images = earlierImageDirectory(a.out);
+  const std::vector<std::string> earlier_images = earlierImageDirectories(a.out);
   if (ro.scene == vpSelfCalibRenderer::APRILTAGS)
     writeTagBundle(fs::path(a.out).parent_path(), ro);
-  const auto images = writeImages([&](unsigned int k) { return renderer.render(truth.bMe[k], k); }, a.out, ds);
+  auto images = writeImages([&](unsigned int k) { return renderer.render(truth.bMe[k], k); }, a.out, ds);
   ds.saveYaml(a.out);
-  if (!earlier_images.empty()) {
+  images.reset();
+  for (const std::string &dir : earlier_images) {
     std::error_code ec;
-    fs::remove_all(earlier_images, ec);
+    fs::remove_all(dir, ec);
   }
   std::cerr << "true bMc " << vpPoseVector(truth.bMc).t() << "\ntrue eMo " << vpPoseVector(truth.eMo).t() << "\n";
   std::cout << "wrote " << a.out << ": " << ds.views.size() << " views (camera in the world), rendered images in "
