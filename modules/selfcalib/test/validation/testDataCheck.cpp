@@ -494,10 +494,10 @@ TEST(DataCheck, OneSmallTagOfAKnownLayoutIsEnough)
   };
   vpSelfCalibDataCheck::Options known;
   known.known_points = truth.layout;
-  std::vector<vpSelfCalibDataCheck::Finding> f = vpSelfCalibDataCheck::check(nominal, ds, 8, true, known);
+  std::vector<vpSelfCalibDataCheck::Finding> f = vpSelfCalibDataCheck::check(nominal, ds, 8, true, known, vpSelfCalibNoiseModel());
   EXPECT_FALSE(has(f, "few-points"));
   EXPECT_FALSE(has(f, "few-correspondences"));
-  f = vpSelfCalibDataCheck::check(nominal, ds, 8, true, vpSelfCalibDataCheck::Options());
+  f = vpSelfCalibDataCheck::check(nominal, ds, 8, true, vpSelfCalibDataCheck::Options(), vpSelfCalibNoiseModel());
   EXPECT_TRUE(has(f, "few-points"));
   EXPECT_TRUE(has(f, "few-correspondences"));
 
@@ -509,7 +509,7 @@ TEST(DataCheck, OneSmallTagOfAKnownLayoutIsEnough)
   EXPECT_EQ(finding(r, "few-correspondences"), nullptr) << codes(r);
 
   ds.views[2].points.pop_back();
-  f = vpSelfCalibDataCheck::check(nominal, ds, 8, true, known);
+  f = vpSelfCalibDataCheck::check(nominal, ds, 8, true, known, vpSelfCalibNoiseModel());
   const auto it = std::find_if(f.begin(), f.end(), [](const vpSelfCalibDataCheck::Finding &x) { return x.code == "few-points"; });
   ASSERT_NE(it, f.end());
   EXPECT_EQ(it->message, "calibration poses with fewer than 4 points of the known layout: 2 (3); PnP needs 4 to place "
