@@ -326,8 +326,6 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
   // Measured by default from the dataset's robot_error when it states one (below, once it is read).
   if (pose_auto || a.pose_sd.empty())
     po.noise.measure_pose_sd = true;
-  if (a.joint_sd.empty() && a.pose_sd.empty())
-    po.noise.measure_joint_sd = po.noise.measure_model_sd = true;
   // --pose-sd T,R and --joint-sd go to the noise model once the method is known (stateRobotError).
   return po;
 }

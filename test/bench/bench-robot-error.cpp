@@ -175,6 +175,7 @@ void calibrate(Row &row, const vpSelfCalibSimulator &sim, const vpSelfCalibDatas
   vpRobotSelfCalibration::Options po;
   po.num_calibration_poses = kCalibration;
   po.trust_robot = trusted; // calibrate --joint-sd 0
+  po.noise.measure_joint_sd = po.noise.measure_model_sd = !trusted; // modelled from the prior and measured
   unsigned int runs = 0;
   const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, po, [&](const std::string &stage, unsigned int, unsigned int) {
     if (stage == "identification from the multi-view poses")

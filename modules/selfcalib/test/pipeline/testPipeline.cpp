@@ -577,8 +577,8 @@ void offsetReadings(vpSelfCalibDataset &ds, double sd, uint64_t seed, uint64_t s
 } // namespace
 
 /*
-  The bundle method models the robot's error by default (joint readings and the model's residual,
-  from robotErrorPrior()) and measures it: joint readings off by 0.03 deg measure about that back
+  The bundle method asked to measure the robot's error (noise.measure_joint_sd, measure_model_sd)
+  models it from robotErrorPrior() (joint readings and the model's residual) and measures it: joint readings off by 0.03 deg measure about that back
   on every seed (variance components, then runs again at the measured level), the origin MEASURED,
   the mean over the seeds within 20 % of the truth. trust_robot (calibrate --joint-sd 0) models no
   robot error: no joint corrections, the readings taken as exact.
@@ -593,6 +593,7 @@ TEST(RobotSelfCalibration, BundleMeasuresTheJointReadingErrorByDefault)
     const vpSelfCalibSimulator sim = makeSim("viper850", seed, 0.2);
     RSC::Options o;
     o.num_calibration_poses = 15;
+    o.noise.measure_joint_sd = o.noise.measure_model_sd = true; // the full kinematics' robot error measured
     vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(15));
     offsetReadings(ds, joint_sd, seed, 97);
     const vpSelfCalibNoiseModel start = RSC::noiseModel(o, ds);
@@ -635,6 +636,7 @@ TEST(RobotSelfCalibration, BundleDropsTheRobotErrorOnExactReadings)
   const vpSelfCalibSimulator sim = makeSim("viper850", 54, 0.2);
   RSC::Options o;
   o.num_calibration_poses = 15;
+  o.noise.measure_joint_sd = o.noise.measure_model_sd = true; // the full kinematics' robot error measured
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(15));
   const RSC::Result r = RSC::run(sim.getNominalChain(), ds, o);
   ASSERT_EQ(r.status, RSC::OK) << r.message;
