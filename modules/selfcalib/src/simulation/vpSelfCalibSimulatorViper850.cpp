@@ -5,44 +5,32 @@
 #include <visp3/selfcalib/vpSelfCalibSimulatorViper850.h>
 
 #include <cmath>
-#include <iostream>
 #include <mutex>
-#include <streambuf>
+#include <optional>
+
+#include "../core/vpSelfCalibSilentCout.h"
 
 namespace
 {
-//! A stream buffer that discards what is written to it.
-class DiscardBuffer : public std::streambuf
-{
-protected:
-  int overflow(int c) override { return traits_type::not_eof(c); }
-  std::streamsize xsputn(const char *, std::streamsize n) override { return n; }
-};
-
-DiscardBuffer g_discard;
 std::mutex g_quiet_mutex;
-std::streambuf *g_saved_cout = nullptr;
-bool g_quiet = false;
+std::optional<vpSelfCalib::SilentCout> g_quiet;
 
 /*
   vpSimulatorViper850's constructor prints its default camera ("Get default camera parameters for
-  camera ...") on std::cout, a text no caller asked for. std::cout discards what is written to it
-  from this call (evaluated before the base class is constructed) to restoreCout(), in the
-  constructor's body or when the base's constructor throws. Returns `display`.
+  camera ...") on std::cout, a text no caller asked for. std::cout is silent from this call
+  (evaluated before the base class is constructed) to restoreCout(), in the constructor's body or
+  when the base's constructor throws. Returns `display`.
 */
 bool quietCout(bool display)
 {
   g_quiet_mutex.lock();
-  g_saved_cout = std::cout.rdbuf(&g_discard);
-  g_quiet = true;
+  g_quiet.emplace();
   return display;
 }
 
 void restoreCout()
 {
-  std::cout.rdbuf(g_saved_cout);
-  g_saved_cout = nullptr;
-  g_quiet = false;
+  g_quiet.reset();
   g_quiet_mutex.unlock();
 }
 } // namespace
