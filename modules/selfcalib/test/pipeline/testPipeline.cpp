@@ -650,11 +650,12 @@ TEST(RobotSelfCalibration, BundleDropsTheRobotErrorOnExactReadings)
   ASSERT_EQ(r.status, RSC::OK) << r.message;
   EXPECT_FALSE(r.noise.hasRobotError()) << r.noise.joint_sd.size() << " " << r.noise.model_sd_translation;
   // Measured inside the one bundle adjustment: the method runs once, the priors re-weighed a few
-  // times (each part shrinks by a factor of 2 to 4 a round from the prior to below 4e-5), then the
-  // estimate converged to the tight tolerances without the dropped corrections.
+  // times (each part shrinks by a factor of about 1.5 to 4 a round from the prior, 3e-4 rad and
+  // 2e-4 m / rad, to below 4e-5: 3 to 5 rounds on the seeds measured), then the estimate converged
+  // to the tight tolerances without the dropped corrections (one more solve).
   EXPECT_EQ(method_runs, 1u);
-  EXPECT_GE(r.bundle.robot_rounds, 1u);
-  EXPECT_LE(r.bundle.robot_rounds, 5u);
+  EXPECT_GE(r.bundle.robot_rounds, 2u);
+  EXPECT_LE(r.bundle.robot_rounds, 7u);
   for (const auto &f : r.findings)
     EXPECT_NE(f.code, "robot-error-not-settled") << f.message;
   RSC::Options trusted = o;
