@@ -120,7 +120,7 @@ std::string writeResults(const fs::path &stage, const std::string &dataset, cons
 //! The options of the full kinematic calibration only, refused with the hand-eye method (exit 2).
 void refuseBundleOptions(const CalibrateArgs &a)
 {
-  if (!a.joint_sd.empty())
+  if (!a.joint_sd.empty() || a.joint_sd_auto)
     throw CLI::ValidationError("--joint-sd", "the joint readings' error is the full kinematic calibration's (--method "
                                              "bundle); the hand-eye method models the controller poses' error: give "
                                              "--pose-sd T,R (m, rad) instead");

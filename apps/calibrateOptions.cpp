@@ -89,17 +89,27 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
       ->delimiter(',')
       ->expected(1, 2)
       ->check(selfcalibCli::wordOrNumber("auto", 0, false, 10));
-  c->add_option("--joint-sd", a.joint_sd,
-                "bundle-adjustment: the joint readings' error (rad), one value for every joint or one\n"
-                "per joint, e.g. 1e-4: each view gets joint corrections with that prior, and the sd are\n"
-                "widened by sigma0 when the residuals say the noise is larger. Default: measured\n"
-                "(variance components, runs again until it settles within 25 %) from the dataset's\n"
-                "robot_error, else from 3e-4 rad with the model's residual from 0.2 mm / 0.2 mrad;\n"
-                "a level below 4e-5 is dropped (exact). 0: the joint readings and the model are\n"
-                "exact (no error modelled, whatever the dataset's robot_error says)")
-      ->type_name("RAD[,RAD...]|0")
+  c->add_option_function<std::vector<std::string>>(
+       "--joint-sd",
+       [&a](const std::vector<std::string> &values) {
+         for (const std::string &v : values)
+           if (v == "auto")
+             a.joint_sd_auto = true;
+           else
+             a.joint_sd.push_back(std::stod(v));
+       },
+       "bundle-adjustment: the joint readings' error (rad). auto: measured (variance\n"
+       "components inside the bundle adjustment, the priors re-weighed until they settle\n"
+       "within 25 %) from the dataset's robot_error, else from 3e-4 rad with the model's\n"
+       "residual from 0.2 mm / 0.2 mrad; a level below 4e-5 is dropped (exact). S: stated,\n"
+       "one value for every joint or one per joint, e.g. 1e-4: each view gets joint\n"
+       "corrections with that prior, and the sd are widened by sigma0 when the residuals say\n"
+       "the noise is larger. 0: the joint readings and the model are exact (no error\n"
+       "modelled, whatever the dataset's robot_error says). Default: the dataset's\n"
+       "robot_error, stated, else exact")
+      ->type_name("auto|RAD[,RAD...]|0")
       ->delimiter(',')
-      ->check(selfcalibCli::number(0, false, 0.999));
+      ->check(selfcalibCli::wordOrNumber("auto", 0, false, 0.999));
   c->add_option("--fix", a.fix,
                 "bundle-adjustment: kinematic parameters kept at their nominal value, names or glob\n"
                 "patterns as the model names them (j2.tx, eMc.ry, 'j3.*,base.*'); added to the\n"
@@ -200,6 +210,9 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
     throw CLI::ValidationError("--pose-sd", "give two values, T,R (m, rad), or auto, or 0 (exact poses)");
   if (a.pose_sd.size() == 2 && !trusted && (std::stod(a.pose_sd[0]) == 0 || std::stod(a.pose_sd[1]) == 0))
     throw CLI::ValidationError("--pose-sd", "T and R are both positive (the error modelled) or both 0 (exact poses)");
+  if (a.joint_sd_auto && !a.joint_sd.empty())
+    throw CLI::ValidationError("--joint-sd", "auto (measured) comes alone; or give the error (rad), one value for every "
+                                             "joint or one per joint, or 0 (exact readings)");
   const bool joints_exact = std::count(a.joint_sd.begin(), a.joint_sd.end(), 0.0) > 0;
   if (joints_exact && a.joint_sd.size() != 1)
     throw CLI::ValidationError("--joint-sd", "0 (exact readings) comes alone; give positive values (rad), one for "
@@ -211,6 +224,8 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
   // Measured by default from the dataset's robot_error when it states one (below, once it is read).
   if (pose_auto || a.pose_sd.empty())
     po.noise.measure_pose_sd = true;
+  if (a.joint_sd_auto)
+    po.noise.measure_joint_sd = po.noise.measure_model_sd = true; // modelled from the prior and measured
   // --pose-sd T,R and --joint-sd go to the noise model once the method is known (stateRobotError).
   return po;
 }

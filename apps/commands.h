@@ -135,7 +135,8 @@ struct CalibrateArgs {
   bool folds_given = false;
   std::string heldout;            //!< --heldout FILE: a second dataset to verify on
   std::vector<std::string> pose_sd; //!< robot pose error (m, rad) of controller poses, or "auto"; empty: exact
-  std::vector<double> joint_sd; //!< joint-reading noise (rad), one or one per joint; empty: exact
+  std::vector<double> joint_sd; //!< joint-reading noise (rad), one or one per joint; empty: exact or measured
+  bool joint_sd_auto = false;   //!< --joint-sd auto: measured (the default)
   std::vector<std::string> estimate; //!< intrinsics estimated beside f: aspect, pp, distortion
   std::vector<std::string> fix, free; //!< kinematic parameters (names or glob patterns) kept nominal / freed
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));

@@ -75,7 +75,7 @@ BENCHES = [
     ("bench-robot-error", ["--seeds", "2", "--draws", "3"],
      "The bundle method's robot error measured (noise.measure_joint_sd and measure_model_sd: the joint "
      "readings and the kinematic model's residual modelled from a prior and measured by variance "
-     "components; the row 'default') against trusting the robot "
+     "components, in one bundle adjustment; the row '--joint-sd auto') against trusting the robot "
      "(`--joint-sd 0`), on the reference scene (Viper850, 80 points + yardstick, 0.2 px, f known) with "
      "exact joint readings, readings off by 0.02 deg, and readings off by 0.05 deg with a 0.1 mm / "
      "0.1 mrad model residual: the levels measured against the simulated ones, the held-out error "

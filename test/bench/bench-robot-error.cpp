@@ -1,5 +1,5 @@
 /*
- * bench-robot-error: the bundle method's default robot error (joint readings and the kinematic
+ * bench-robot-error: the bundle method's robot error measured (--joint-sd auto: joint readings and the kinematic
  * model's residual, measured by variance components) on data with and without a robot error.
  *
  *   bench-robot-error [--seeds N] [--draws K] [--robots viper850,ur5] [--cases LIST] [--csv FILE]
@@ -10,7 +10,7 @@
  * model-residual cases, each calibration camera pose is off the true robot's by a Gaussian 6-D
  * residual (t in mm, r in mrad, in the camera frame) that no kinematic parameter explains. The
  * held-out views keep their true joints: their error is the calibrated model's. Each case is
- * calibrated twice on the same draws: with calibrate's default (nothing stated: the robot's error
+ * calibrated twice on the same draws: with --joint-sd auto (nothing stated: the robot's error
  * modelled from vpRobotSelfCalibration::robotErrorPrior() and measured) and trusted (--joint-sd 0:
  * no robot error modelled). Per row, over its seeds and draws:
  *   statuses           vpRobotSelfCalibration::statusName of the runs;
@@ -27,8 +27,8 @@
  *                      seed's noise-free estimate x0 (no pixel noise, no robot error, the same set),
  *                      mean over the ok runs with that set: 1 when the covariance is honest;
  *   runs / s           the method's runs per calibration (the noise rounds) and the wall time.
- * Targets (with a robot error, default): ok in every run, held-out within 1.3x the predicted, NEES
- * 0.7-1.4, the joint sd measured within 0.7-1.4x the truth; exact data: the default's held-out error
+ * Targets (with a robot error, --joint-sd auto): ok in every run, held-out within 1.3x the predicted, NEES
+ * 0.7-1.4, the joint sd measured within 0.7-1.4x the truth; exact data: the measured run's held-out error
  * within 10 % of the trusted run's.
  */
 #include <algorithm>
@@ -231,7 +231,7 @@ void print(const std::vector<Row> &rows)
     for (const auto &s : r.statuses)
       st << (st.tellp() > 0 ? ", " : "") << s.first << " " << s.second;
     std::string joint = "(trusted)", model = "(trusted)";
-    if (r.calibration == "default") {
+    if (r.calibration == "--joint-sd auto") {
       joint = r.joint_ratio.count() ? meanRange(r.joint_ratio, 1, 2) + (r.joint_true > 0 ? "" : " mrad") : "";
       if (r.joint_exact)
         joint += (r.joint_ratio.count() ? ", " : "") + std::string("exact in ") + std::to_string(r.joint_exact);
@@ -258,7 +258,7 @@ int main(int argc, char **argv)
     for (const Case &c : kCases)
       cases.push_back(c.name);
     std::string csv_path;
-    CLI::App app("bench-robot-error: the bundle method's default robot error (joint readings and the model's residual,\n"
+    CLI::App app("bench-robot-error: the bundle method's robot error measured (joint readings and the model's residual,\n"
                  "measured) on data with and without one, against trusting the robot (--joint-sd 0).",
                  "bench-robot-error");
     selfcalibCli::addSeeds(app, seeds);
@@ -290,7 +290,7 @@ int main(int argc, char **argv)
     for (const std::string &robot : robots)
       for (const Case &c : kCases)
         if (std::find(cases.begin(), cases.end(), c.name) != cases.end())
-          for (const char *cal : {"default", "--joint-sd 0"}) {
+          for (const char *cal : {"--joint-sd auto", "--joint-sd 0"}) {
             Row r;
             r.robot = robot;
             r.error = c.name == "exact" ? "none"
@@ -334,8 +334,8 @@ int main(int argc, char **argv)
       }
     std::cerr << std::string(90, ' ') << "\r";
     print(rows);
-    std::cout << "\ntargets: with a robot error and the default: ok in every run, held-out within 1.3x the predicted, "
-                 "NEES 0.7-1.4, joint sd measured 0.7-1.4x the truth; exact data: the default within 10 % of the "
+    std::cout << "\ntargets: with a robot error and --joint-sd auto: ok in every run, held-out within 1.3x the predicted, "
+                 "NEES 0.7-1.4, joint sd measured 0.7-1.4x the truth; exact data: --joint-sd auto within 10 % of the "
                  "trusted held-out error\ndone in "
               << std::fixed << std::setprecision(0)
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count() << " s\n";

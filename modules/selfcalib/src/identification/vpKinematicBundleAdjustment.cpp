@@ -11,6 +11,7 @@
 #include <limits>
 #include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -20,6 +21,7 @@
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibRange.h"
+#include "../core/vpSelfCalibRobotErrorLevels.h"
 #include "vpKinematicBundleAdjustmentProblem.h"
 
 using namespace vpSelfCalib;
@@ -235,6 +237,143 @@ void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::
   res.intrinsics_sd.resize(static_cast<unsigned int>(a.free_in.size()));
   for (size_t i = 0; i < a.free_in.size(); ++i)
     res.intrinsics[static_cast<unsigned int>(i)] = a.in[a.free_in[i]];
+}
+
+/*
+  The robot's error of a full-mode noise model put in the adjustment: the priors' sds (a.joint_sd)
+  and, for a form dropped (joint readings exact, or no model residual), its part of every view's
+  correction removed. Only forms already modelled are kept.
+*/
+void applyRobotLevels(Adjustment &a, const vpSelfCalibNoiseModel &noise)
+{
+  const int nj = a.state.n_joint;
+  const bool joints = nj > 0 && !noise.joint_sd.empty(), model = a.state.camera_delta && noise.hasModelError();
+  std::vector<double> sd;
+  for (int i = 0; joints && i < nj; ++i)
+    sd.push_back(noise.joint_sd.size() == 1 ? noise.joint_sd[0] : noise.joint_sd[static_cast<size_t>(i)]);
+  for (int i = 0; model && i < 6; ++i)
+    sd.push_back(i < 3 ? noise.model_sd_translation : noise.model_sd_rotation);
+  for (auto &d : a.state.dq) {
+    std::vector<double> kept;
+    if (joints)
+      kept.insert(kept.end(), d.begin(), d.begin() + nj);
+    if (model)
+      kept.insert(kept.end(), d.begin() + nj, d.end());
+    d = kept;
+  }
+  if (sd.empty())
+    a.state.dq.clear();
+  a.state.n_joint = joints ? nj : 0;
+  a.state.camera_delta = model;
+  a.joint_sd = sd;
+  a.noise = noise;
+  a.state.update(true);
+}
+
+/*
+  One solve again at the robot error `noise` from the adjustment's state: the kept observations,
+  plain least squares (the schedule's last stage), then the estimate and covariance into res from
+  `solved` (the result before the estimate). tight: converged to the tight tolerances (the estimate
+  that stands), else to Ceres's default ones (a round whose levels are measured again). False, res
+  untouched, when it fails.
+*/
+bool solveAgain(Adjustment &a, const vpSelfCalibNoiseModel &noise, const vpSelfCalibDataset::Yardstick &yardstick,
+                const KBA::Options &opt, bool distortion, const std::vector<std::string> &names,
+                const KBA::Result &solved, bool tight, KBA::Result &res)
+{
+  applyRobotLevels(a, noise);
+  a.scale_covariance = true; // the robot's error measured: the sds follow sigma0 above 1
+  KBA::Result r = solved;
+  std::shared_ptr<ceres::ParameterBlockOrdering> order;
+  const std::unique_ptr<ceres::Problem> problem = buildProblem(a, yardstick, opt, 0, order, r.scale_source);
+  if (!problem)
+    return false;
+  ceres::Solver::Options so = solverOptions(opt.max_iterations, tight, ceres::DENSE_SCHUR);
+  so.linear_solver_ordering = order;
+  so.num_threads = static_cast<int>(opt.num_threads);
+  ceres::Solver::Summary summary;
+  vpSelfCalib::solve(so, problem.get(), &summary);
+  r.iterations = res.iterations + static_cast<unsigned int>(summary.iterations.size());
+  a.state.update(true);
+  if (!summary.IsSolutionUsable())
+    return false;
+  fillEstimate(a, opt, distortion, r);
+  if (a.state.delta.empty() && a.state.dq.empty())
+    reposeViews(a, r);
+  if (!fillCovariance(a, *problem, yardstick, names, r))
+    return false;
+  r.noise = noise;
+  r.robot_rounds = res.robot_rounds + 1;
+  res = r;
+  return true;
+}
+
+std::string levelText(const vpSelfCalibNoiseModel &n, RobotErrorForm f)
+{
+  const RobotErrorLevels l = levelsOf(n, f);
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(f == JOINT_ERROR ? 3 : 1) << 1e3 * l.t;
+  if (f == MODEL_ERROR)
+    os << " mm / " << 1e3 * l.r;
+  os << " mrad";
+  return os.str();
+}
+
+constexpr int kMaxRobotRounds = 8; //!< solves again at the measured robot error, at most
+
+/*
+  Full mode, the robot's error measured (the noise's measure_joint_sd, measure_model_sd; see
+  Result::noise): variance components in the solution's neighbourhood. res holds a converged solve
+  with its covariance; `solved` is the result before its estimate.
+*/
+void settleRobotError(Adjustment &a, const vpSelfCalibDataset::Yardstick &yardstick, const KBA::Options &opt,
+                      bool distortion, const std::vector<std::string> &names, const KBA::Result &solved,
+                      KBA::Result &res)
+{
+  const char *const form_name[] = {"", "the joint reading error", "the model residual"};
+  bool tight = true; // the solution of res converged to the tight tolerances
+  for (;;) {
+    vpSelfCalibNoiseModel next = res.noise;
+    std::vector<RobotErrorForm> agreed;
+    std::string change, unmeasured;
+    for (RobotErrorForm f : {JOINT_ERROR, MODEL_ERROR}) {
+      if (!measuredForm(res.noise, f))
+        continue;
+      const RobotErrorStep step = nextLevel(res.noise, res.measured, f, next);
+      if (step == UNMEASURED_LEVEL)
+        unmeasured += (unmeasured.empty() ? "" : ", ") + std::string(form_name[f]) + " (the stated " +
+                      levelText(res.noise, f) + " is used)";
+      else if (step == NEXT_LEVEL && settled(levelsOf(res.noise, f), levelsOf(next, f), f))
+        agreed.push_back(f);
+      else
+        change += (change.empty() ? "" : ", ") + std::string(form_name[f]) + " " + levelText(res.measured, f) +
+                  " where " + levelText(res.noise, f) + " was used";
+    }
+    if (!unmeasured.empty() && (change.empty() || static_cast<int>(res.robot_rounds) == kMaxRobotRounds))
+      res.robot_error_unsettled = "the robot's error could not be measured (the views do not separate its corrections "
+                                  "from the rest, or no covariance): " + unmeasured;
+    if (change.empty()) {
+      // The levels agree with the solution's: that solution converged to the tight tolerances.
+      if (!tight && !solveAgain(a, res.noise, yardstick, opt, distortion, names, solved, true, res))
+        res.robot_error_unsettled = "the solve at the measured robot error failed to converge to the tight "
+                                    "tolerances: the estimate is converged to Ceres's default ones";
+      for (RobotErrorForm f : agreed)
+        markMeasured(res.noise, f);
+      return;
+    }
+    if (static_cast<int>(res.robot_rounds) == kMaxRobotRounds) {
+      res.robot_error_unsettled = "the robot's error did not settle in " + std::to_string(kMaxRobotRounds) +
+                                  " rounds: the corrections measure " + change;
+      return;
+    }
+    tight = false;
+    if (!solveAgain(a, next, yardstick, opt, distortion, names, solved, false, res)) {
+      res.robot_error_unsettled = "the robot's error the corrections measure is not the one used (" + change +
+                                  "), and the solve at the measured level failed: the result is the one at the level "
+                                  "used; these views may not determine the robot's error (add views)";
+      return;
+    }
+  }
 }
 
 //! The checks of the views and the camera that need more than Options::check.
@@ -474,6 +613,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   KBA::Result res;
   res.chain = start;
   res.camera = camera;
+  res.noise = noise;
   res.sd.resize(start.getNumParameters());
   std::string refused;
   res.identifiability = setOf(start, camera, views, yardstick, X0, q, fMe, opt, noise, refused);
@@ -511,6 +651,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     return res;
   }
   res.seconds_solve = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const KBA::Result solved = res;
   fillEstimate(a, opt, distortion, res);
   if (solve && a.state.delta.empty() && a.state.dq.empty())
     reposeViews(a, res);
@@ -522,12 +663,15 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   if (opt.covariance) {
     const auto tc = std::chrono::steady_clock::now();
     fillCovariance(a, *problem, yardstick, start.getParameterNames(), res);
-    res.seconds_covariance = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc).count();
     if (!res.has_covariance) {
+      res.seconds_covariance = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc).count();
       res.status = KBA::RANK_DEFICIENT;
       res.message = rankDeficientMessage(res, opt);
       return res;
     }
+    if (solve && !opt.hand_eye_only && (noise.measure_joint_sd || noise.measure_model_sd))
+      settleRobotError(a, yardstick, opt, distortion, start.getParameterNames(), solved, res);
+    res.seconds_covariance = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc).count();
   }
   res.status = KBA::OK;
   std::ostringstream os;

@@ -33,7 +33,8 @@ vpSelfCalibNoiseModel withDatasetRobotError(const vpRobotSelfCalibration::Option
   if (opt.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT && noise.joint_sd.empty() && !ds.joint_sd.empty())
     noise.joint_sd = ds.joint_sd;
   // Nothing states the robot's error: a real arm has one, so it is modelled and measured (hand-eye
-  // by default; the full kinematics when the caller asks for its joint or model error measured).
+  // by default; the full kinematics when the caller asks for its joint or model error measured,
+  // which its bundle adjustment does in one adjustment).
   const bool full_measured = noise.measure_joint_sd || noise.measure_model_sd;
   if ((opt.method == vpRobotSelfCalibration::HAND_EYE ||
        (opt.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT && full_measured)) &&
@@ -215,8 +216,12 @@ void runMethod(const vpSelfCalibPipeline::Context &c, vpRobotSelfCalibration::Re
   else
     vpSelfCalibPipeline::runPaper(c, res);
   if (c.options.method != vpRobotSelfCalibration::PAPER) {
-    res.noise = c.noise;
+    // The bundle method's joint and model levels as its adjustment measured them.
+    const bool adjusted = res.bundle.status == vpKinematicBundleAdjustment::OK;
+    res.noise = adjusted ? res.bundle.noise : c.noise;
     res.measured = res.bundle.measured;
+    if (adjusted && !res.bundle.robot_error_unsettled.empty())
+      res.findings.push_back({vpSelfCalibDataCheck::WARNING, "robot-error-not-settled", res.bundle.robot_error_unsettled});
   } else {
     // The paper's pixel residuals are those of its focal length from every view (f shared), if any;
     // the pipeline says the noise it used there.
@@ -402,8 +407,13 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
     const bool usable = res.status == OK || res.status == IDENTIFICATION_FAILED;
     const vpSelfCalibNoiseModel first_measured = res.measured;
     std::vector<vpSelfCalibDataCheck::Finding> notes;
-    vpSelfCalibPipeline::measureNoise(context.noise, first_measured, res.status == OK, usable, true, attempt, notes);
+    vpSelfCalibPipeline::measureNoise(res.noise, first_measured, res.status == OK, usable, true, attempt, notes);
     res.findings.insert(res.findings.end(), notes.begin(), notes.end());
+    // The checks below at the robot error the adjustment measured (its sds then follow sigma0).
+    if (res.bundle.robot_rounds > 0) {
+      const vpSelfCalibPipeline::Context base = current ? *current : context;
+      current.emplace(base, res.noise, true);
+    }
   }
   const vpSelfCalibPipeline::Context &used = current ? *current : context;
 

@@ -165,13 +165,13 @@ using NoiseAttemptFunction = std::function<NoiseAttempt(const vpSelfCalibNoiseMo
   noise, an OK run or one that failed on rejected observations):
   - start.pixel_sd to be measured (measure_pixel_sd): one more run at the measured image noise when it
     differs by more than 25 % (measuredNoiseDiffers());
-  - robot_rounds and a form of start's robot error measured (the controller poses' pose_sd_*, the
-    joint readings' joint_sd, the model residual's model_sd_*, each with its measure_* field): from a
-    run that stands, rounds at the measured levels (and image noise) until every part settles
-    (within 10 %, the full mode's joint and model forms within 25 %), 5 at most, no part below the floor (2e-5 m and rad, a serial arm's
-    repeatability); a form measured below twice the floor in every part is dropped (exact); a warning "robot-error-not-settled" in
-    findings when a form does not settle, cannot be measured, or a round is not ok (the last ok run
-    stands).
+  - robot_rounds and the controller poses' error measured (pose_sd_*, measure_pose_sd): from a run
+    that stands, rounds at the measured levels (and image noise) until every part settles within
+    10 %, 5 at most, no part below the floor (2e-5 m and rad, a serial arm's repeatability); measured
+    below twice the floor in every part it is dropped (exact); a warning "robot-error-not-settled" in
+    findings when it does not settle, cannot be measured, or a round is not ok (the last ok run
+    stands). The full kinematics' joint readings and model residual are measured inside the bundle
+    adjustment (vpKinematicBundleAdjustment::Result::noise, the same rules), not by runs again.
   Returns the noise model of the run that stands.
 */
 vpSelfCalibNoiseModel measureNoise(const vpSelfCalibNoiseModel &start, const vpSelfCalibNoiseModel &measured,

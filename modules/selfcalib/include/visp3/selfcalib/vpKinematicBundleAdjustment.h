@@ -296,8 +296,33 @@ public:
         at the stated weights. A stated sd that is right gives about itself back; 0 without pose
         corrections, without covariance, or when the corrections' redundancy is below 1 (the images
         do not separate them from the rest).
+      - joint_sd (rad, one per joint) and model_sd_translation (m), model_sd_rotation (rad), full
+        mode with the joint readings' error or the model's residual modelled and a covariance, the
+        same way: the joints share one factor on their stated sds (sum over every joint correction
+        of its square over its stated variance, over their redundancy), the model residual's
+        translations and rotations one factor each; a part whose redundancy is below 1 is 0.
     */
     vpSelfCalibNoiseModel measured = vpSelfCalibNoiseModel::unmeasured();
+    /*!
+      The noise the estimate stands at: the one given, except in full mode for the joint readings'
+      error and the model's residual when the noise model asks to measure them (measure_joint_sd,
+      measure_model_sd). Those are measured in the neighbourhood of the solution: the levels the
+      variance components give (`measured`, each part at least a serial arm's repeatability, 2e-5 m
+      and rad) weigh the priors again and the adjustment is solved again from its solution (the
+      kept observations, plain least squares), until every part changes by 25 % or less (its
+      origin then MEASURED). A form measured below 4e-5 in every part is dropped: its corrections
+      are no longer estimated (exact readings, or no model residual). The estimate, covariance and
+      statistics are those of the last solve.
+    */
+    vpSelfCalibNoiseModel noise;
+    //! The solves again of that measurement (0: the first solve's levels agreed, or nothing measured).
+    unsigned int robot_rounds = 0;
+    /*!
+      Empty when the robot's error measured settled (or nothing was measured); else what did not:
+      a form that could not be measured (redundancy below 1), levels still moving after the last
+      round, or a solve again that failed (the estimate is then the last one that succeeded).
+    */
+    std::string robot_error_unsettled;
     //! The two-sided 99.9 % interval of sigma0 for the degrees of freedom of the solution.
     double sigma0_low = 0, sigma0_high = 0;
     /*!
