@@ -5,7 +5,7 @@
  *
  *   bench-eye-to-hand [--seeds N] [--draws K] [--noise 0.2,0.5] [--pose-sd T,R] [--joint-sd R]
  *                     [--robots ur5,panda] [--methods hand-eye,bundle] [--robot-error none,with] [--views M]
- *                     [--csv FILE]
+ *                     [--first-seed S] [--csv FILE]
  *
  * The arms (a 6-axis ur5 and a 7-axis panda by default) carry a board of 8 x 6 corners 3 cm apart
  * (a ChArUco board's corners as points data) seen by a fixed 1280 x 720 camera (f 1000 px) about
@@ -311,12 +311,12 @@ struct RowResult {
   }
 };
 
-RowResult row(const Setup &s, unsigned int seeds, unsigned int draws, bench::Csv &csv)
+RowResult row(const Setup &s, unsigned int first, unsigned int seeds, unsigned int draws, bench::Csv &csv)
 {
   RowResult out;
   ReferenceCache cache;
   const std::string key = s.method + "," + s.robot + "," + std::to_string(s.noise) + "," + (s.robot_error ? "1" : "0");
-  for (unsigned int seed = 1; seed <= seeds; ++seed) {
+  for (unsigned int seed = first; seed < first + seeds; ++seed) {
     Eigen::Matrix<double, 6, 1> eb, eo;
     Eigen::MatrixXd Cb, Co;
     RSC::Result r;
@@ -341,12 +341,12 @@ RowResult row(const Setup &s, unsigned int seeds, unsigned int draws, bench::Csv
               << std::sqrt(bounds[0]) << "," << std::sqrt(bounds[1]) << "," << out.cb.v.back() << "," << out.co.v.back()
               << "\n";
   }
-  // NEES over draws on seed 1's geometry, with the run's own covariance.
+  // NEES over draws on the first seed's geometry, with the run's own covariance.
   for (unsigned int d = 1; d <= draws; ++d) {
     Eigen::Matrix<double, 6, 1> eb, eo;
     Eigen::MatrixXd Cb, Co;
     RSC::Result r;
-    if (!measure(s, 1, d, eb, eo, Cb, Co, r, cache))
+    if (!measure(s, first, d, eb, eo, Cb, Co, r, cache))
       continue;
     const Eigen::MatrixXd Rb = block(r.bundle.covariance, r.bundle.covariance_names, kEMc);
     if (Rb.size() != 36)
@@ -355,7 +355,7 @@ RowResult row(const Setup &s, unsigned int seeds, unsigned int draws, bench::Csv
     out.no.add(nees(eo, objectCovariance(r.bundle)));
     out.db.add(nees(eb, Cb));
     out.dob.add(nees(eo, Co));
-    csv.row() << key << ",draw,1," << d << "," << RSC::statusName(r.status) << ",,,,,,," << out.nb.v.back() << ","
+    csv.row() << key << ",draw," << first << "," << d << "," << RSC::statusName(r.status) << ",,,,,,," << out.nb.v.back() << ","
               << out.no.v.back() << "\n";
   }
   return out;
@@ -380,7 +380,7 @@ std::string pair(const RowResult &r, int i)
 int main(int argc, char **argv)
 {
   try {
-    unsigned int seeds = 10, draws = 30, views = 25;
+    unsigned int seeds = 10, draws = 30, views = 25, first_seed = 1;
     std::vector<double> noises = {0.2, 0.5}, pose_sd = {0.002, 0.002};
     double joint_sd = 0.002;
     std::vector<std::string> robots = {"ur5", "panda"}, methods = {"hand-eye", "bundle"}, errors = {"none", "with"};
@@ -410,6 +410,9 @@ int main(int argc, char **argv)
         ->type_name("none|with,...")
         ->delimiter(',')
         ->check(CLI::IsMember({"none", "with"}));
+    app.add_option("--first-seed", first_seed, "the first seed (geometry; default 1): more seeds of a row in another run")
+        ->type_name("S")
+        ->check(CLI::Range(1u, 1000000u));
     app.add_option("--views", views, "views per data set (default 25)")->type_name("M")->check(CLI::Range(6, 200));
     app.add_option("--csv", csv_path, "one row per set-up and seed or draw")->type_name("FILE");
     const int parsed = selfcalibCli::parse(app, argc, argv);
@@ -436,7 +439,7 @@ int main(int argc, char **argv)
             if (std::find(errors.begin(), errors.end(), error ? "with" : "none") == errors.end())
               continue;
             Setup s{method, robot, noise, error, views, pose_sd, joint_sd};
-            const RowResult r = row(s, seeds, draws, csv);
+            const RowResult r = row(s, first_seed, seeds, draws, csv);
             all_met = all_met && r.met();
             std::cout << std::fixed << std::setprecision(1) << "| " << method << " | " << robot << " | " << noise << " | "
                       << (error ? (method == "bundle" ? "joints" : "poses") : "none") << " | " << r.runs << " | "
