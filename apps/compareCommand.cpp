@@ -1,7 +1,7 @@
 /*
  * visp-selfcalib compare: a calibration result measured against the truth a simulation wrote.
  */
-#include "commands.h"
+#include "compare.h"
 
 #include <algorithm>
 #include <cmath>
@@ -31,7 +31,8 @@ struct Truth {
   double px = 0, py = 0, u0 = 0, v0 = 0;
 };
 
-Truth readTruth(const std::string &file)
+//! The truth file's YAML (a regular text file, read whole, then parsed).
+YAML::Node readTruthFile(const std::string &file)
 {
   const auto fail = [&file](const std::string &why) -> void {
     throw vpSelfCalibException(vpSelfCalibException::parseError,
@@ -58,8 +59,17 @@ Truth readTruth(const std::string &file)
   } catch (const YAML::Exception &e) {
     fail("not YAML: " + e.msg);
   }
+  return root;
+}
+
+Truth readTruth(const YAML::Node &root, const std::string &file)
+{
+  const auto fail = [&file](const std::string &why) -> void {
+    throw vpSelfCalibException(vpSelfCalibException::parseError,
+                               "truth '" + file + "': " + why + " (a file " + kProgram + " simulate writes, STEM-truth.yaml)");
+  };
   if (!root.IsMap() || !root["true_model"] || !root["nominal_model"] || !root["camera"] || !root["camera"].IsMap())
-    fail("expected the keys true_model, nominal_model and camera");
+    fail("expected the keys true_model, nominal_model and camera (or bMc and eMo: a camera fixed in the world)");
   Truth t{vpKinematicChain::fromYamlString(root["true_model"].as<std::string>(), file + ": true_model"),
           vpKinematicChain::fromYamlString(root["nominal_model"].as<std::string>(), file + ": nominal_model")};
   try {
@@ -151,7 +161,11 @@ void addCompare(CLI::App &app, CompareArgs &a)
             "simulate beside its dataset, STEM-truth.yaml): the error of the relative camera motions between\n"
             "pairs of random configurations within the joint limits (free of the base frame, which\n"
             "self-calibration does not determine), for the calibrated and the nominal model, and the error of\n"
-            "the intrinsics.");
+            "the intrinsics. A truth of a camera fixed in the world (simulate --camera-mount world): the\n"
+            "errors of bMc and eMo (distance, angle, and the largest component error in the result's sd)\n"
+            "and, with joint readings, of the camera's view of the target cMo(q) over --pairs random\n"
+            "configurations (over the configurations of --joints when given), the calibrated model's and\n"
+            "the nominal kinematics' with the true bMc and eMo.");
   c->add_option("RESULT_DIR", a.result, "a directory calibrate wrote")->type_name("DIR")->required();
   c->add_option("TRUTH", a.truth, "the truth file simulate wrote")->type_name("FILE")->required();
   c->add_option("--pairs", a.pairs, "pairs of configurations drawn (default 1000)")
@@ -168,7 +182,7 @@ void addCompare(CLI::App &app, CompareArgs &a)
 
 int compare(const CompareArgs &a)
 {
-  const Truth t = readTruth(a.truth);
+  const YAML::Node root = readTruthFile(a.truth);
   const fs::path dir(a.result);
   std::error_code ec;
   if (!fs::is_directory(dir, ec) || !fs::exists(dir / "model.yaml", ec) || !fs::exists(dir / "results.yaml", ec)) {
@@ -177,6 +191,9 @@ int compare(const CompareArgs &a)
               << "\n";
     return 1;
   }
+  if (root.IsMap() && root["bMc"] && root["eMo"]) // a camera fixed in the world
+    return compareEyeToHand(a, root);
+  const Truth t = readTruth(root, a.truth);
   const vpKinematicChain model = vpKinematicChain::loadYaml((dir / "model.yaml").string());
   const vpSelfCalibResultsFile::Contents res = vpSelfCalibResultsFile::read((dir / "results.yaml").string());
   if (model.getNumJoints() != t.true_model.getNumJoints()) {

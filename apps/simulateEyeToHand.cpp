@@ -5,7 +5,9 @@
 #include "simulate.h"
 
 #include <iostream>
+#include <sstream>
 
+#include <visp3/selfcalib/vpBoardDetector.h>
 #include <visp3/selfcalib/vpSelfCalibEyeToHandRenderer.h>
 #include <visp3/selfcalib/vpSelfCalibFileWriter.h>
 
@@ -14,44 +16,6 @@
 #include <yaml-cpp/yaml.h>
 
 namespace fs = std::filesystem;
-
-/*
-  simulate --camera-mount world --images: a camera fixed in the world (1280 x 720, f 1000 px) sees
-  the board of --target (charuco or apriltags) on the tool, the tool's textured parts around it
-  (vpSelfCalibEyeToHandRenderer), at controller poses of vpSelfCalibSimulator::simulateEyeToHand
-  (the whole board in every image; --pose-sd their error).
-*/
-int simulateEyeToHandImages(const SimulateArgs &a)
-{
-  if (a.target != "charuco" && a.target != "apriltags")
-    throw CLI::ValidationError("--target", "--camera-mount world --images renders a board on the tool: --target "
-                                           "charuco or apriltags");
-  if (!a.joints_file.empty() || a.controller)
-    throw CLI::ValidationError("--camera-mount", "world simulates controller poses of its own: no --joints or "
-                                                 "--controller-poses");
-  const vpSelfCalibRenderer::Options ro = rendererOptions(a);
-  vpSelfCalibSimulator::EyeToHandOptions eo = vpSelfCalibEyeToHandRenderer::simulation(ro);
-  eo.seed = a.so.seed;
-  eo.num_views = a.poses;
-  eo.pose_sd_translation = eo.pose_sd_rotation = a.pose_sd;
-  vpSelfCalibSimulator::EyeToHandTruth truth;
-  vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(eo, truth);
-  const vpSelfCalibEyeToHandRenderer renderer(ro, ds.cam, eo.width, eo.height, truth.bMc, truth.eMo);
-  const std::vector<std::string> earlier_images = earlierImageDirectories(a.out);
-  if (ro.scene == vpSelfCalibRenderer::APRILTAGS)
-    writeTagBundle(fs::path(a.out).parent_path(), ro);
-  auto images = writeImages([&](unsigned int k) { return renderer.render(truth.bMe[k], k); }, a.out, ds);
-  ds.saveYaml(a.out);
-  images.reset();
-  for (const std::string &dir : earlier_images) {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-  std::cerr << "true bMc " << vpPoseVector(truth.bMc).t() << "\ntrue eMo " << vpPoseVector(truth.eMo).t() << "\n";
-  std::cout << "wrote " << a.out << ": " << ds.views.size() << " views (camera in the world), rendered images in "
-            << fs::path(ds.views[0].image).parent_path().filename().string() << "/ beside it\n";
-  return 0;
-}
 
 namespace
 {
@@ -91,7 +55,65 @@ std::string writeEyeToHandTruth(const vpSelfCalibSimulator::EyeToHandTruth &t, c
   return file.string();
 }
 
+/*
+  The board of --target as calibrate reads it from the images (vpBoardDetector's layout, in the
+  frame the renderer prints it in, the frame of eMo): its spec and its corners by id.
+*/
+std::string boardSpec(const vpSelfCalibRenderer::Options &ro, const std::string &out)
+{
+  if (ro.scene == vpSelfCalibRenderer::APRILTAGS)
+    return "apriltag-bundle:" + ((fs::path(out).parent_path().empty() ? fs::path(".") : fs::path(out).parent_path()) /
+                                 "tags.yaml").string();
+  std::ostringstream spec;
+  spec << "charuco:" << ro.charuco_cols << "x" << ro.charuco_rows << ":" << ro.charuco_square << ":"
+       << ro.charuco_marker << ":" << ro.charuco_dictionary;
+  return spec.str();
+}
+
 } // namespace
+
+/*
+  simulate --camera-mount world --images: a camera fixed in the world (1280 x 720, f 1000 px) sees
+  the board of --target (charuco or apriltags) on the tool, the tool's textured parts around it
+  (vpSelfCalibEyeToHandRenderer), at controller poses of vpSelfCalibSimulator::simulateEyeToHand
+  (the whole board in every image; --pose-sd their error).
+*/
+int simulateEyeToHandImages(const SimulateArgs &a)
+{
+  if (a.target != "charuco" && a.target != "apriltags")
+    throw CLI::ValidationError("--target", "--camera-mount world --images renders a board on the tool: --target "
+                                           "charuco or apriltags");
+  if (!a.joints_file.empty() || a.controller)
+    throw CLI::ValidationError("--camera-mount", "world simulates controller poses of its own: no --joints or "
+                                                 "--controller-poses");
+  const vpSelfCalibRenderer::Options ro = rendererOptions(a);
+  vpSelfCalibSimulator::EyeToHandOptions eo = vpSelfCalibEyeToHandRenderer::simulation(ro);
+  eo.seed = a.so.seed;
+  eo.num_views = a.poses;
+  eo.pose_sd_translation = eo.pose_sd_rotation = a.pose_sd;
+  vpSelfCalibSimulator::EyeToHandTruth truth;
+  vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(eo, truth);
+  const vpSelfCalibEyeToHandRenderer renderer(ro, ds.cam, eo.width, eo.height, truth.bMc, truth.eMo);
+  const std::vector<std::string> earlier_images = earlierImageDirectories(a.out);
+  if (ro.scene == vpSelfCalibRenderer::APRILTAGS)
+    writeTagBundle(fs::path(a.out).parent_path(), ro);
+  auto images = writeImages([&](unsigned int k) { return renderer.render(truth.bMe[k], k); }, a.out, ds);
+  ds.saveYaml(a.out);
+  // The truth's layout is the board's as calibrate finds it in the images (the simulation's is its outline).
+  const std::string spec = boardSpec(ro, a.out);
+  truth.layout = vpBoardDetector(vpBoardDetector::parse(spec)).getLayout();
+  const std::string file = writeEyeToHandTruth(truth, a.out, ds);
+  images.reset();
+  for (const std::string &dir : earlier_images) {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+  std::cout << "wrote " << a.out << ": " << ds.views.size() << " views (camera in the world), rendered images in "
+            << fs::path(ds.views[0].image).parent_path().filename().string() << "/ beside it\n";
+  std::cout << "wrote " << file << ": the truth simulated (bMc, eMo, the layout of --board " << spec << ")\n";
+  return 0;
+}
+
 
 //! simulate --camera-mount world: points data of a board on the tool seen by a fixed camera, and its truth.
 int simulateEyeToHand(const SimulateArgs &a)

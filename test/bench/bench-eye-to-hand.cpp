@@ -4,13 +4,15 @@
  * vpSelfCalibSimulator::simulateEyeToHand.
  *
  *   bench-eye-to-hand [--seeds N] [--draws K] [--noise 0.2,0.5] [--pose-sd T,R] [--joint-sd R]
- *                     [--robots ur5,panda] [--methods hand-eye,bundle] [--views M] [--csv FILE]
+ *                     [--robots ur5,panda] [--methods hand-eye,bundle] [--robot-error none,with] [--views M]
+ *                     [--first-seed S] [--csv FILE]
  *
  * The arms (a 6-axis ur5 and a 7-axis panda by default) carry a board of 8 x 6 corners 3 cm apart
  * (a ChArUco board's corners as points data) seen by a fixed 1280 x 720 camera (f 1000 px) about
  * 0.7 m away; M views (25) drawn about a home configuration. Per method, arm, pixel noise and robot
  * error (without; with: the controller poses' T m / R rad for hand-eye, 2 mm / 2 mrad by default,
- * the joint readings' R rad for bundle, 2 mrad by default, stated as the dataset states it):
+ * the joint readings' R rad for bundle, 2 mrad by default, stated as the dataset states it; without,
+ * the data stated exact, trust_robot, so that the run models what the bound models):
  *   - accuracy against the Cramér-Rao bound: over N seeds (geometries), the RMS error of bMc and eMo
  *     (translation in m, rotation in rad, over the three axes) over the RMS of the bound, the
  *     covariance of the same problem at the truth (vpKinematicBundleAdjustment::information, the
@@ -18,13 +20,17 @@
  *     the base and joint 1's placement act as a change of bMc, the last joint's offset and slide as
  *     one of eMo, so the truth is the same model's noise-free estimate on the same geometry and
  *     estimated set (what the true robot is in the estimated parameters), and the bound is taken
- *     there;
+ *     there; and each run's error e against the bound C at its geometry, e' C^-1 e / 6, over the seeds
+ *     and over the draws below (1 at the bound), which says whether a ratio above 1.2 is the
+ *     estimator (NEES above 1 on the same geometry) or the spread of an RMS over few seeds;
  *   - honesty of the reported covariance: on the first seed's geometry, K noise draws (pixels and
  *     robot error); the mean normalised estimation error squared NEES / 6 of bMc (the chain's eMc
  *     correction block and its covariance) and of eMo (the board pose and its covariance)
  *     (target 0.7-1.4).
  */
+#include <algorithm>
 #include <chrono>
+#include <map>
 #include <cmath>
 #include <cstdlib>
 #include <iomanip>
@@ -138,6 +144,9 @@ RSC::Options options(const Setup &s, const std::map<int, vpColVector> &layout)
   o.num_calibration_poses = s.views; // every view calibrates (the bound is of the same views)
   o.bundle.known_points = layout;
   o.noise.pixel_sd = s.noise;
+  // Without robot error the data states it exact, as with it the data states its level: the run
+  // models what the bound models (the default would model and measure an error that is not there).
+  o.trust_robot = !s.robot_error;
   return o;
 }
 
@@ -193,6 +202,14 @@ bool handEyeBound(const Setup &s, const vpSelfCalibDataset &ds, const vpSelfCali
   return C_bMc.size() == 36;
 }
 
+//! A bundle reference and its bound, kept per seed and estimated set (the draws share seed 1's).
+struct Reference {
+  RSC::Result ref;
+  Eigen::MatrixXd C_bMc, C_eMo;
+  bool ok = false;
+};
+using ReferenceCache = std::map<std::string, Reference>;
+
 /*
   Bundle: the reference (the same model's noise-free estimate on the same geometry, estimated set
   and stated noise: the truth in the estimated parameters) and the Cramér-Rao bound there (the true
@@ -244,7 +261,8 @@ double nees(const Eigen::Matrix<double, 6, 1> &e, const Eigen::MatrixXd &C)
 
 //! One run and its errors against the truth (hand-eye) or the reference (bundle), with the bound; false: failed.
 bool measure(const Setup &s, unsigned int seed, unsigned int draw, Eigen::Matrix<double, 6, 1> &eb,
-             Eigen::Matrix<double, 6, 1> &eo, Eigen::MatrixXd &Cb, Eigen::MatrixXd &Co, RSC::Result &r)
+             Eigen::Matrix<double, 6, 1> &eo, Eigen::MatrixXd &Cb, Eigen::MatrixXd &Co, RSC::Result &r,
+             ReferenceCache &cache)
 {
   vpSelfCalibSimulator::EyeToHandTruth truth;
   const vpSelfCalibDataset ds = simulate(s, seed, draw, false, truth);
@@ -257,17 +275,29 @@ bool measure(const Setup &s, unsigned int seed, unsigned int draw, Eigen::Matrix
     errors(r, truth.bMc, truth.eMo, eb, eo);
     return true;
   }
-  RSC::Result ref;
-  if (!bundleReference(s, seed, r, ref, Cb, Co))
+  std::string key = std::to_string(seed);
+  for (unsigned int i : r.identifiability.identified)
+    key += "," + std::to_string(i);
+  auto it = cache.find(key);
+  if (it == cache.end()) {
+    Reference e;
+    e.ok = bundleReference(s, seed, r, e.ref, e.C_bMc, e.C_eMo);
+    it = cache.emplace(key, e).first;
+  }
+  if (!it->second.ok)
     return false;
-  errors(r, ref.calibrated.get_eMc_corrected(), vpHomogeneousMatrix(ref.eMo), eb, eo);
+  Cb = it->second.C_bMc;
+  Co = it->second.C_eMo;
+  errors(r, it->second.ref.calibrated.get_eMc_corrected(), vpHomogeneousMatrix(it->second.ref.eMo), eb, eo);
   return true;
 }
 
 struct RowResult {
   double e2[4] = {0, 0, 0, 0}, b2[4] = {0, 0, 0, 0};
   unsigned int runs = 0, failed = 0;
-  bench::Stats nb, no;
+  bench::Stats nb, no;   //!< NEES / 6 of the run's own covariance over the draws
+  bench::Stats cb, co;   //!< NEES / 6 against the Cramér-Rao bound over the seeds
+  bench::Stats db, dob;  //!< NEES / 6 against the Cramér-Rao bound over the draws (seed 1's geometry)
   double worst() const
   {
     double w = 0;
@@ -281,16 +311,17 @@ struct RowResult {
   }
 };
 
-RowResult row(const Setup &s, unsigned int seeds, unsigned int draws, bench::Csv &csv)
+RowResult row(const Setup &s, unsigned int first, unsigned int seeds, unsigned int draws, bench::Csv &csv)
 {
   RowResult out;
+  ReferenceCache cache;
   const std::string key = s.method + "," + s.robot + "," + std::to_string(s.noise) + "," + (s.robot_error ? "1" : "0");
-  for (unsigned int seed = 1; seed <= seeds; ++seed) {
+  for (unsigned int seed = first; seed < first + seeds; ++seed) {
     Eigen::Matrix<double, 6, 1> eb, eo;
     Eigen::MatrixXd Cb, Co;
     RSC::Result r;
     ++out.runs;
-    if (!measure(s, seed, 0, eb, eo, Cb, Co, r)) {
+    if (!measure(s, seed, 0, eb, eo, Cb, Co, r, cache)) {
       ++out.failed;
       csv.row() << key << ",seed," << seed << ",0," << RSC::statusName(r.status) << ",,,,,,,,\n";
       continue;
@@ -303,26 +334,38 @@ RowResult row(const Setup &s, unsigned int seeds, unsigned int draws, bench::Csv
       out.e2[i] += parts[i];
       out.b2[i] += bounds[i];
     }
+    out.cb.add(nees(eb, Cb));
+    out.co.add(nees(eo, Co));
     csv.row() << key << ",seed," << seed << ",0," << RSC::statusName(r.status) << "," << std::sqrt(parts[0]) << ","
               << std::sqrt(parts[1]) << "," << std::sqrt(parts[2]) << "," << std::sqrt(parts[3]) << ","
-              << std::sqrt(bounds[0]) << "," << std::sqrt(bounds[1]) << ",,\n";
+              << std::sqrt(bounds[0]) << "," << std::sqrt(bounds[1]) << "," << out.cb.v.back() << "," << out.co.v.back()
+              << "\n";
   }
-  // NEES over draws on seed 1's geometry, with the run's own covariance.
+  // NEES over draws on the first seed's geometry, with the run's own covariance.
   for (unsigned int d = 1; d <= draws; ++d) {
     Eigen::Matrix<double, 6, 1> eb, eo;
     Eigen::MatrixXd Cb, Co;
     RSC::Result r;
-    if (!measure(s, 1, d, eb, eo, Cb, Co, r))
+    if (!measure(s, first, d, eb, eo, Cb, Co, r, cache))
       continue;
     const Eigen::MatrixXd Rb = block(r.bundle.covariance, r.bundle.covariance_names, kEMc);
     if (Rb.size() != 36)
       continue;
     out.nb.add(nees(eb, Rb));
     out.no.add(nees(eo, objectCovariance(r.bundle)));
-    csv.row() << key << ",draw,1," << d << "," << RSC::statusName(r.status) << ",,,,,,," << out.nb.v.back() << ","
+    out.db.add(nees(eb, Cb));
+    out.dob.add(nees(eo, Co));
+    csv.row() << key << ",draw," << first << "," << d << "," << RSC::statusName(r.status) << ",,,,,,," << out.nb.v.back() << ","
               << out.no.v.back() << "\n";
   }
   return out;
+}
+
+//! sqrt(chi2_k(0.975) / k): the ratio an RMS over k squared N(0, 1) exceeds with probability 2.5 % (Wilson-Hilferty).
+double chi2Ratio975(unsigned int k)
+{
+  const double a = 2.0 / (9.0 * k), q = 1.0 - a + 1.959964 * std::sqrt(a);
+  return std::sqrt(q * q * q);
 }
 
 std::string pair(const RowResult &r, int i)
@@ -337,10 +380,10 @@ std::string pair(const RowResult &r, int i)
 int main(int argc, char **argv)
 {
   try {
-    unsigned int seeds = 10, draws = 30, views = 25;
+    unsigned int seeds = 10, draws = 30, views = 25, first_seed = 1;
     std::vector<double> noises = {0.2, 0.5}, pose_sd = {0.002, 0.002};
     double joint_sd = 0.002;
-    std::vector<std::string> robots = {"ur5", "panda"}, methods = {"hand-eye", "bundle"};
+    std::vector<std::string> robots = {"ur5", "panda"}, methods = {"hand-eye", "bundle"}, errors = {"none", "with"};
     std::string csv_path;
     CLI::App app("bench-eye-to-hand: a camera fixed in the world, a board on the tool of a 6- and a 7-axis arm, the\n"
                  "hand-eye and full kinematics methods against the Cramér-Rao bound and their own covariance.",
@@ -363,6 +406,13 @@ int main(int argc, char **argv)
         ->type_name("M,...")
         ->delimiter(',')
         ->check(CLI::IsMember({"hand-eye", "bundle"}));
+    app.add_option("--robot-error", errors, "rows without and/or with robot error (default none,with)")
+        ->type_name("none|with,...")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"none", "with"}));
+    app.add_option("--first-seed", first_seed, "the first seed (geometry; default 1): more seeds of a row in another run")
+        ->type_name("S")
+        ->check(CLI::Range(1u, 1000000u));
     app.add_option("--views", views, "views per data set (default 25)")->type_name("M")->check(CLI::Range(6, 200));
     app.add_option("--csv", csv_path, "one row per set-up and seed or draw")->type_name("FILE");
     const int parsed = selfcalibCli::parse(app, argc, argv);
@@ -370,30 +420,42 @@ int main(int argc, char **argv)
       return parsed;
     bench::Csv csv(csv_path, "method,robot,noise_px,robot_error,kind,seed,draw,status,bMc_t_err_m,bMc_r_err_rad,"
                              "eMo_t_err_m,eMo_r_err_rad,bound_bMc_t_m,bound_bMc_r_rad,nees_bMc,nees_eMo");
+    // nees_*: a seed's error against the Cramér-Rao bound (kind seed), a draw's against the run's covariance (kind draw)
     std::cout << "bench-eye-to-hand: " << seeds << " seeds, " << draws << " draws; " << views
               << " views of a board of 8 x 6 corners (3 cm) on the tool, a fixed 1280 x 720 camera (f 1000 px) about "
                  "0.7 m away; robot error: controller poses "
               << 1e3 * pose_sd[0] << " mm / " << 1e3 * pose_sd[1] << " mrad (hand-eye), joint readings " << 1e3 * joint_sd
               << " mrad (bundle)\n\n"
               << "| method | arm | noise (px) | robot error | runs | failed | bMc t RMS / bound (mm) | bMc r RMS / bound "
-                 "(mrad) | eMo t RMS / bound (mm) | eMo r RMS / bound (mrad) | worst ratio | NEES/6 bMc | NEES/6 eMo | "
-                 "targets |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+                 "(mrad) | eMo t RMS / bound (mm) | eMo r RMS / bound (mrad) | worst ratio | error / bound NEES/6 bMc, eMo: "
+                 "seeds; draws | "
+                 "NEES/6 bMc | NEES/6 eMo | targets |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     const auto t_start = std::chrono::steady_clock::now();
     bool all_met = true;
     for (const std::string &method : methods)
       for (const std::string &robot : robots)
         for (double noise : noises)
           for (bool error : {false, true}) {
+            if (std::find(errors.begin(), errors.end(), error ? "with" : "none") == errors.end())
+              continue;
             Setup s{method, robot, noise, error, views, pose_sd, joint_sd};
-            const RowResult r = row(s, seeds, draws, csv);
+            const RowResult r = row(s, first_seed, seeds, draws, csv);
             all_met = all_met && r.met();
             std::cout << std::fixed << std::setprecision(1) << "| " << method << " | " << robot << " | " << noise << " | "
                       << (error ? (method == "bundle" ? "joints" : "poses") : "none") << " | " << r.runs << " | "
                       << r.failed << " | " << pair(r, 0) << " | " << pair(r, 1) << " | " << pair(r, 2) << " | "
-                      << pair(r, 3) << " | " << std::setprecision(2) << r.worst() << " | " << r.nb.mean() << " ("
+                      << pair(r, 3) << " | " << std::setprecision(2) << r.worst() << " | " << r.cb.mean() << ", "
+                      << r.co.mean() << "; " << r.db.mean() << ", " << r.dob.mean() << " | " << r.nb.mean() << " ("
                       << r.nb.count() << ") | " << r.no.mean() << " | " << (r.met() ? "met" : "NOT met") << " |\n"
                       << std::flush;
           }
+    std::cout << "\nerror / bound NEES/6: a run's error e against the bound C at its geometry, e' C^-1 e / 6, the mean "
+                 "over the seeds and over the draws on the first seed's geometry (at the bound: 1, sd "
+              << std::setprecision(2) << std::sqrt(2.0 / (6.0 * seeds)) << " over " << seeds << " seeds, "
+              << std::sqrt(2.0 / (6.0 * std::max(1u, draws))) << " over " << draws
+              << " draws); an RMS / bound ratio of one block over " << seeds << " seeds of an estimator at its bound "
+              << "exceeds " << chi2Ratio975(3 * seeds) << " in 2.5 % of the rows (3 axes of equal variance; fewer "
+              << "effective axes, more)\n";
     std::cout << "\ntargets: RMS / Cramer-Rao bound <= 1.2 for bMc and eMo (t and r), NEES/6 in 0.7-1.4, no failure: "
               << (all_met ? "met" : "NOT met") << "\ndone in " << std::setprecision(0)
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count() << " s\n";

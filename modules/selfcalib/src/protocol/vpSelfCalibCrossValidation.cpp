@@ -37,6 +37,104 @@ Rigid predictedCamera(const vpKinematicChain &model, const View &v, bool control
                                  " and no fMe");
 }
 
+/*
+  The reprojection error of test views on a scene triangulated from scene views, each view's camera
+  given in the frame the scene is fixed in (fMc): see vpSelfCalibCrossValidation::reprojection().
+*/
+vpSelfCalibCrossValidation::Reprojection reprojectionThrough(const CameraModel &camera, const std::vector<View> &scene_views,
+                                                             const std::vector<Rigid> &fMc,
+                                                             const std::vector<View> &test_views,
+                                                             const std::vector<Rigid> &test_fMc)
+{
+  std::vector<Rigid> cMf;
+  for (const Rigid &M : test_fMc)
+    cMf.push_back(M.inverse());
+  const std::map<int, Eigen::Vector3d> X = vpSelfCalibPipeline::triangulateViews(scene_views, fMc, camera);
+  vpSelfCalibCrossValidation::Reprojection r;
+  r.points = static_cast<unsigned int>(X.size());
+  std::vector<double> errors;
+  const double valid_r2 = camera.validRadius2();
+  for (size_t k = 0; k < test_views.size(); ++k)
+    for (const auto &o : test_views[k].points) {
+      const auto it = X.find(o.id);
+      if (it == X.end())
+        continue;
+      const Eigen::Vector3d Xc = cMf[k] * it->second;
+      if (!inFront(Xc)) {
+        ++r.behind;
+        continue;
+      }
+      // Outside the lens model's valid region the polynomial's pixel is no prediction: not seen.
+      if (Xc.head<2>().squaredNorm() / (Xc(2) * Xc(2)) >= valid_r2) {
+        ++r.outside;
+        continue;
+      }
+      errors.push_back((camera.project(Xc) - Eigen::Vector2d(o.ip.get_u(), o.ip.get_v())).norm());
+    }
+  r.observations = static_cast<unsigned int>(errors.size());
+  if (errors.empty())
+    return r;
+  double sum2 = 0;
+  for (double e : errors)
+    sum2 += e * e;
+  r.rms = std::sqrt(sum2 / errors.size());
+  std::sort(errors.begin(), errors.end());
+  const size_t m = errors.size();
+  r.median = m % 2 ? errors[m / 2] : 0.5 * (errors[m / 2 - 1] + errors[m / 2]);
+  return r;
+}
+
+/*
+  A camera fixed in the world: view k's camera in the target's frame o, oMc = (bMe eMo)^-1 bMc,
+  bMe the view's controller pose (HAND_EYE) or the kinematics at its joints. The target (a board,
+  tags, or the tool's natural features, whose frame is e: eMo the identity) is the scene that
+  stays fixed from view to view in this frame.
+*/
+Rigid cameraInTarget(const vpKinematicChain &kinematics, const View &v, bool controller_poses,
+                     const vpHomogeneousMatrix &bMc, const vpHomogeneousMatrix &eMo, size_t index)
+{
+  vpHomogeneousMatrix bMe;
+  if (controller_poses && v.has_fMe)
+    bMe = v.fMe;
+  else if (v.q.size() == kinematics.getNumJoints())
+    bMe = kinematics.get_fMe(v.q);
+  else if (v.has_fMe)
+    bMe = v.fMe;
+  else
+    throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                               "vpSelfCalibCrossValidation: view " + std::to_string(index) +
+                                   " has no joint vector of size " + std::to_string(kinematics.getNumJoints()) +
+                                   " and no fMe");
+  return rigidFromVisp((bMe * eMo).inverse() * bMc);
+}
+
+/*
+  The held-out reprojection with the camera fixed in the world: the target's points triangulated in
+  its frame from the training views' cameras oMc, projected into the held-out views' (the same
+  rule as reprojection()). The fold's bMc and eMo with the given kinematics and camera: the
+  calibrated model's, or the nominal kinematics and the dataset's camera (the reference: what the
+  calibrated bMc and eMo predict without the calibrated kinematics; HAND_EYE calibrates none, and
+  the two differ only by the camera).
+*/
+vpSelfCalibCrossValidation::Reprojection worldReprojection(const vpKinematicChain &kinematics,
+                                                           const vpRobotSelfCalibration::Result &r,
+                                                           const vpCameraParameters &cam,
+                                                           const std::vector<double> &opencv_distortion,
+                                                           bool controller_poses, const std::vector<View> &scene_views,
+                                                           const std::vector<View> &test_views)
+{
+  if (!r.has_bMc) // no camera pose to place: nothing compared
+    return vpSelfCalibCrossValidation::Reprojection();
+  const vpHomogeneousMatrix bMc(r.bMc), eMo = r.has_eMo ? vpHomogeneousMatrix(r.eMo) : vpHomogeneousMatrix();
+  std::vector<Rigid> oMc, test_oMc;
+  for (size_t k = 0; k < scene_views.size(); ++k)
+    oMc.push_back(cameraInTarget(kinematics, scene_views[k], controller_poses, bMc, eMo, k));
+  for (size_t k = 0; k < test_views.size(); ++k)
+    test_oMc.push_back(cameraInTarget(kinematics, test_views[k], controller_poses, bMc, eMo, k));
+  return reprojectionThrough(vpSelfCalibPipeline::lensOf(cam, opencv_distortion), scene_views, oMc, test_views,
+                             test_oMc);
+}
+
 vpSelfCalibCrossValidation::Spread spread(const std::vector<double> &x)
 {
   vpSelfCalibCrossValidation::Spread s;
@@ -91,46 +189,12 @@ vpSelfCalibCrossValidation::reprojection(const vpKinematicChain &model, const vp
                                          const std::vector<double> &opencv_distortion, bool controller_poses,
                                          const std::vector<View> &scene_views, const std::vector<View> &test_views)
 {
-  const CameraModel camera = vpSelfCalibPipeline::lensOf(cam, opencv_distortion);
-  std::vector<Rigid> fMc;
+  std::vector<Rigid> fMc, test_fMc;
   for (size_t k = 0; k < scene_views.size(); ++k)
     fMc.push_back(predictedCamera(model, scene_views[k], controller_poses, k));
-  std::vector<Rigid> cMf;
   for (size_t k = 0; k < test_views.size(); ++k)
-    cMf.push_back(predictedCamera(model, test_views[k], controller_poses, k).inverse());
-  const std::map<int, Eigen::Vector3d> X = vpSelfCalibPipeline::triangulateViews(scene_views, fMc, camera);
-  Reprojection r;
-  r.points = static_cast<unsigned int>(X.size());
-  std::vector<double> errors;
-  const double valid_r2 = camera.validRadius2();
-  for (size_t k = 0; k < test_views.size(); ++k)
-    for (const auto &o : test_views[k].points) {
-      const auto it = X.find(o.id);
-      if (it == X.end())
-        continue;
-      const Eigen::Vector3d Xc = cMf[k] * it->second;
-      if (!inFront(Xc)) {
-        ++r.behind;
-        continue;
-      }
-      // Outside the lens model's valid region the polynomial's pixel is no prediction: not seen.
-      if (Xc.head<2>().squaredNorm() / (Xc(2) * Xc(2)) >= valid_r2) {
-        ++r.outside;
-        continue;
-      }
-      errors.push_back((camera.project(Xc) - Eigen::Vector2d(o.ip.get_u(), o.ip.get_v())).norm());
-    }
-  r.observations = static_cast<unsigned int>(errors.size());
-  if (errors.empty())
-    return r;
-  double sum2 = 0;
-  for (double e : errors)
-    sum2 += e * e;
-  r.rms = std::sqrt(sum2 / errors.size());
-  std::sort(errors.begin(), errors.end());
-  const size_t m = errors.size();
-  r.median = m % 2 ? errors[m / 2] : 0.5 * (errors[m / 2 - 1] + errors[m / 2]);
-  return r;
+    test_fMc.push_back(predictedCamera(model, test_views[k], controller_poses, k));
+  return reprojectionThrough(vpSelfCalibPipeline::lensOf(cam, opencv_distortion), scene_views, fMc, test_views, test_fMc);
 }
 
 std::vector<double> vpSelfCalibCrossValidation::calibratedDistortion(const vpRobotSelfCalibration::Result &result,
@@ -177,18 +241,18 @@ vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinem
     fold.held_out = held[f];
     fold.status = r.status;
     fold.message = r.message;
-    // A camera fixed in the world: the held-out reprojection below places a camera on the flange
-    // (fMe eMc), which this set-up does not have; its figures would mean nothing.
+    // A camera fixed in the world: the target's frame is the one the scene is fixed in (worldReprojection()).
     const bool world = ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD;
     if (!world)
       fold.nominal = reprojection(nominal, ds.cam, ds.opencv_distortion, controller_poses, train, test);
-    if (world && (r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL))
-      fold.message += "; not measured: the held-out reprojection needs a camera on the flange";
     // A doubtful fold has a model (the one calibrate would write, marked): it is cross-validated too.
-    else if (r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL) {
+    if (r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL) {
       fold.fx = r.camera.get_px();
+      if (world)
+        fold.nominal = worldReprojection(nominal, r, ds.cam, ds.opencv_distortion, controller_poses, train, test);
       fold.calibrated =
-          reprojection(r.calibrated, r.camera, calibratedDistortion(r, ds), controller_poses, train, test);
+          world ? worldReprojection(r.calibrated, r, r.camera, calibratedDistortion(r, ds), controller_poses, train, test)
+                : reprojection(r.calibrated, r.camera, calibratedDistortion(r, ds), controller_poses, train, test);
       if (r.verified && r.before.has_yardstick && r.after.has_yardstick) {
         fold.verified = true;
         fold.yardstick_error_nominal = r.before.yardstick_error;
@@ -215,10 +279,7 @@ vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinem
   res.nominal_median = spread(nom_median);
   std::ostringstream os;
   os << std::setprecision(3);
-  if (res.num_ok == 0 && res.num_failed == 0 && ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD)
-    os << "no fold measured (every fold calibrated, but the held-out reprojection is not implemented for a camera "
-          "fixed in the world: the calibration's residuals and sd are its measure)";
-  else if (res.num_ok == 0 && res.num_failed == 0)
+  if (res.num_ok == 0 && res.num_failed == 0)
     os << "no fold measured (every fold calibrated, but no held-out view observes a point its training views "
           "triangulate: too few points shared between views, e.g. one small tag)";
   else if (res.num_ok == 0)

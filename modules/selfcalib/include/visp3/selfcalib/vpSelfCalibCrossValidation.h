@@ -45,8 +45,13 @@
   The calibrated model: the fold's calibrated chain (joints through the kinematics; for HAND_EYE a
   view's controller pose fMe with the calibrated eMc) and camera (the calibrated intrinsics and
   lens). The nominal model: the nominal chain (fMe with its eMc for HAND_EYE) and the dataset's
-  camera. A fold whose calibration fails keeps its status and message and is left out of the
-  summary (counted in num_failed), never hidden.
+  camera. A camera fixed in the world (dataset camera_mount world): the scene is the target, fixed
+  in its own frame o, and each view's camera there is oMc = (bMe eMo)^-1 bMc, bMe the view's
+  controller pose (HAND_EYE) or the kinematics at its joints; the calibrated model: the fold's bMc,
+  eMo, kinematics and camera; the nominal: the fold's bMc and eMo with the nominal kinematics and
+  the dataset's camera (HAND_EYE calibrates no kinematics: the two differ by the camera only). A
+  fold whose calibration fails keeps its status and message and is left out of the summary
+  (counted in num_failed), never hidden.
 
   <b>What it measures.</b> A held-out pixel is predicted from other views only through the
   model: the error is the image noise (its RMS is sqrt(2) sigma for an isotropic sd sigma per
