@@ -420,40 +420,58 @@ double triangulateAll(const std::vector<View> &views, const std::vector<Rigid> &
 }
 } // namespace
 
+double scanFocal(const std::function<double(double)> &score, double center)
+{
+  // A ladder of focal lengths from 0.3x to 4x center (steps of 2^(1/4)), then golden-section
+  // search on log f between the best rung's neighbours.
+  double best = std::numeric_limits<double>::infinity();
+  int best_k = 0;
+  for (int k = -7; k <= 8; ++k) {
+    const double e = score(center * std::pow(2.0, k / 4.0));
+    if (e < best) {
+      best = e;
+      best_k = k;
+    }
+  }
+  if (!std::isfinite(best))
+    return 0;
+  double a = std::log(center) + (best_k - 1) * std::log(2.0) / 4, b = a + std::log(2.0) / 2;
+  const double g = (std::sqrt(5.0) - 1) / 2;
+  double x1 = b - g * (b - a), x2 = a + g * (b - a), e1 = score(std::exp(x1)), e2 = score(std::exp(x2));
+  for (int it = 0; it < 20; ++it) {
+    if (e1 < e2) {
+      b = x2;
+      x2 = x1;
+      e2 = e1;
+      x1 = b - g * (b - a);
+      e1 = score(std::exp(x1));
+    } else {
+      a = x1;
+      x1 = x2;
+      e1 = e2;
+      x2 = a + g * (b - a);
+      e2 = score(std::exp(x2));
+    }
+  }
+  return std::exp(0.5 * (a + b));
+}
+
 PredictedStart predictedStart(const std::vector<View> &views, const std::vector<Rigid> &fMc, const CameraModel &lens,
                               bool focal_known)
 {
   PredictedStart out;
   std::map<int, Eigen::Vector3d> X;
   CameraModel camera = lens;
-  double best = std::numeric_limits<double>::infinity(), f0 = lens.px();
+  double f0 = lens.px();
   if (!focal_known) {
-    // A ladder of focal lengths from 0.3x to 3x the guess (steps of 2^(1/4)), then golden-section
-    // search between the best rung's neighbours.
-    auto error = [&](double f) {
-      camera.intrinsics()[0] = f;
-      return triangulateAll(views, fMc, camera, X);
-    };
-    int best_k = 0;
-    for (int k = -7; k <= 6; ++k) {
-      const double e = error(lens.px() * std::pow(2.0, k / 4.0));
-      if (e < best) {
-        best = e;
-        best_k = k;
-      }
-    }
-    if (!std::isfinite(best))
+    f0 = scanFocal(
+        [&](double f) {
+          camera.intrinsics()[0] = f;
+          return triangulateAll(views, fMc, camera, X);
+        },
+        lens.px());
+    if (!(f0 > 0))
       return out;
-    double a = std::log(lens.px()) + (best_k - 1) * std::log(2.0) / 4, b = a + std::log(2.0) / 2;
-    const double g = (std::sqrt(5.0) - 1) / 2;
-    for (int it = 0; it < 20; ++it) {
-      const double x1 = b - g * (b - a), x2 = a + g * (b - a);
-      if (error(std::exp(x1)) < error(std::exp(x2)))
-        b = x2;
-      else
-        a = x1;
-    }
-    f0 = std::exp(0.5 * (a + b));
   }
   camera.intrinsics()[0] = f0;
   out.median_error = triangulateAll(views, fMc, camera, X);
