@@ -357,7 +357,7 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
   const vpSelfCalibDataset &data = start.dataset;
   const vpKinematicChain &model = start.model;
   // Resolves the focal mode and builds every step's options: the remaining caller mistakes throw here.
-  const vpSelfCalibPipeline::Context context(model, data, opt, N, progress);
+  const vpSelfCalibPipeline::Context context(model, data, opt, N, progress, &nominal, start.eMc_from_data);
 
   Result res;
   res.method = opt.method;
@@ -402,6 +402,8 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
   const vpSelfCalibPipeline::Context &used = current ? *current : context;
   if (!start.message.empty())
     res.message = start.message + "; " + res.message;
+  if (start.eMc_from_data && res.status == OK)
+    vpSelfCalibPipeline::findGuessFar(nominal, opt, res);
 
   vpSelfCalibPipeline::checkResult(used, res);
   if (res.status != OK) {

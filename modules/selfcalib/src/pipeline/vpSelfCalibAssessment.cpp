@@ -59,8 +59,8 @@ void checkTolerance(const Context &c, Result &res)
   for (unsigned int i : res.identifiability.identified) {
     const std::string &n = names[i];
     const bool hand_eye = n.rfind("eMc.", 0) == 0;
-    if (hand_eye && o.method == vpRobotSelfCalibration::HAND_EYE)
-      continue; // the quantity calibrated, from any start
+    if (hand_eye && (o.method == vpRobotSelfCalibration::HAND_EYE || c.eMc_from_data))
+      continue; // the quantity calibrated, from any start (the caller's guess: findGuessFar())
     const bool t = isTranslation(n);
     const double tol = hand_eye ? (t ? o.tolerance_hand_eye_translation : o.tolerance_hand_eye_rotation)
                                 : (t ? o.tolerance_translation : o.tolerance_rotation);
@@ -177,7 +177,7 @@ void checkFit(const Context &c, Result &res)
   const bool opencv = !res.bundle.opencv_distortion.empty();
   const bool lens = !c.dataset.opencv_distortion.empty();
   const vpCalibrationVerifier::Result nominal = vpCalibrationVerifier::verify(
-      c.nominal, c.dataset.cam, lens ? undistorted(c.calibration, lensOf(c.dataset)) : c.calibration,
+      c.guess, c.dataset.cam, lens ? undistorted(c.calibration, lensOf(c.dataset)) : c.calibration,
       c.dataset.yardstick);
   const vpCalibrationVerifier::Result calibrated = vpCalibrationVerifier::verify(
       res.calibrated, res.camera,

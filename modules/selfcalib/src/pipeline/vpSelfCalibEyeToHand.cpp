@@ -68,7 +68,14 @@ bool viewPose(const View &v, const std::map<int, vpColVector> &layout, const vpC
     return false;
   cv::Rodrigues(r, R);
   cMo = fromCv(R, t);
-  return cMo.t.allFinite() && cMo.t(2) > 0;
+  if (!cMo.t.allFinite() || !cMo.R.allFinite())
+    return false;
+  // In front of the camera: the points' median depth (a layout's origin may lie anywhere).
+  std::vector<double> z;
+  for (const cv::Point3d &X : object)
+    z.push_back((cMo * Eigen::Vector3d(X.x, X.y, X.z))(2));
+  std::nth_element(z.begin(), z.begin() + static_cast<long>(z.size() / 2), z.end());
+  return z[z.size() / 2] > 0;
 }
 
 //! Median reprojection error (px) of the known points through bMc and eMo over the views (G = fMe = eMb).

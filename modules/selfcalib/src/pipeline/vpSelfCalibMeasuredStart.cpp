@@ -130,6 +130,36 @@ double motionScore(std::vector<Pair> &pairs, const CameraModel &lens, double f, 
 }
 
 /*
+  The posed pairs' motions refined at the focal length f (vpTwoViewEstimator, f known: RANSAC, then
+  the refined factor method on the inliers): the five-point RANSAC keeps a minimal sample's motion,
+  whose rotation axis is off by milliradians on a small, distant scene even without noise. A pair
+  the estimator cannot pose keeps its five-point motion.
+*/
+void refinePairs(std::vector<Pair> &pairs, const CameraModel &lens, double f, double threshold_px)
+{
+  vpTwoViewEstimator::Options o;
+  o.focal_mode = vpRefinedFactorMethod::KNOWN;
+  o.fx = f;
+  o.u0 = lens.u0();
+  o.v0 = lens.v0();
+  o.mu = lens.mu();
+  o.ransac.inlier_threshold = threshold_px;
+  for (Pair &p : pairs) {
+    if (!p.posed)
+      continue;
+    std::vector<vpImagePoint> a, b;
+    for (size_t i = 0; i < p.p0.size(); ++i) {
+      a.emplace_back(p.p0[i].y, p.p0[i].x);
+      b.emplace_back(p.pk[i].y, p.pk[i].x);
+    }
+    const vpTwoViewEstimator::Result r = vpTwoViewEstimator::estimate(a, b, o);
+    const Rigid M = rigidFromVisp(r.c2Mc1);
+    if (r.hasPose() && M.t.norm() > 0.5 && M.R.allFinite() && M.t.allFinite())
+      p.ckMc0 = M;
+  }
+}
+
+/*
   eMc from the posed pairs: its rotation by OpenCV's rotation closed forms (Tsai, Park, Horaud; the
   one whose rotations R_e_k R_X R_c_k = R_e_0 R_X agree best, median angle), then its translation t
   and each pair's scale s_k by linear least squares on fMe_k eMc c_kMc_0 = fMe_0 eMc:
@@ -248,6 +278,8 @@ MeasuredStart measuredStart(const std::vector<View> &views, const CameraModel &l
   const double f =
       focal_known ? lens.px() : scanFocal([&](double x) { return motionScore(pairs, lens, x, threshold_px); }, center);
   const double score = f > 0 ? motionScore(pairs, lens, f, threshold_px) : std::numeric_limits<double>::infinity();
+  if (std::isfinite(score))
+    refinePairs(pairs, lens, f, threshold_px);
   if (!std::isfinite(score) || !handEyeFromMotions(pairs, fMe, out.eMc)) {
     out.how = "the two-view motions of fewer than 3 pairs with view 0 agree with the robot's";
     return out;
@@ -306,21 +338,6 @@ double focalFromModel(const vpKinematicChain &model, const std::vector<View> &ca
   return p.ok ? p.fx : 0;
 }
 
-//! A warning when the model's eMc is beyond its stated tolerance of the one the data measure.
-void compareWithGuess(const vpKinematicChain &nominal, const Rigid &measured,
-                      const vpRobotSelfCalibration::Options &opt, DataStart &start)
-{
-  const vpHomogeneousMatrix guess = nominal.get_eMc_corrected(), data = toVisp(measured);
-  const double dt = translationDistance(guess, data), dr = rotationDistance(guess, data);
-  if (dt <= opt.tolerance_hand_eye_translation && dr <= opt.tolerance_hand_eye_rotation)
-    return;
-  std::ostringstream os;
-  os << std::setprecision(3) << "the model's eMc is " << dt * 1000 << " mm and " << dr * 180 / M_PI
-     << " deg from the one the data measure (tolerance " << opt.tolerance_hand_eye_translation * 1000 << " mm, "
-     << opt.tolerance_hand_eye_rotation * 180 / M_PI
-     << " deg): the run started from the data's; correct the model's eMc guess (the calibrated model has it)";
-  start.findings.push_back(vpSelfCalibDataCheck::Finding{vpSelfCalibDataCheck::WARNING, "emc-guess-far", os.str()});
-}
 } // namespace
 
 DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDataset &data, unsigned int N,
@@ -351,8 +368,8 @@ DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDatase
   const double threshold = std::max(1.0, 3 * opt.noise.pixel_sd);
   const MeasuredStart m = measuredStart(pixels, lens, data.width, opt.bundle.known_points, focal_known, threshold);
   if (m.has_eMc) {
-    compareWithGuess(nominal, m.eMc, opt, start);
     start.model = withNominalEMc(nominal, m.eMc);
+    start.eMc_from_data = true;
     os << "eMc started from " << m.how;
   } else {
     os << "eMc started from the model's guess (" << m.how << ")";
@@ -373,5 +390,22 @@ DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDatase
   }
   start.message = os.str();
   return start;
+}
+} // namespace vpSelfCalibPipeline
+
+namespace vpSelfCalibPipeline
+{
+void findGuessFar(const vpKinematicChain &guess, const vpRobotSelfCalibration::Options &opt, Result &res)
+{
+  const vpHomogeneousMatrix g = guess.get_eMc_corrected(), c = res.calibrated.get_eMc_corrected();
+  const double dt = translationDistance(g, c), dr = rotationDistance(g, c);
+  if (dt <= opt.tolerance_hand_eye_translation && dr <= opt.tolerance_hand_eye_rotation)
+    return;
+  std::ostringstream os;
+  os << std::setprecision(3) << "the model's eMc guess is " << dt * 1000 << " mm and " << dr * 180 / M_PI
+     << " deg from the calibrated one (tolerance " << opt.tolerance_hand_eye_translation * 1000 << " mm, "
+     << opt.tolerance_hand_eye_rotation * 180 / M_PI
+     << " deg); the run started from the eMc the data measure: correct the guess (the calibrated model has it)";
+  res.findings.push_back(vpSelfCalibDataCheck::Finding{vpSelfCalibDataCheck::WARNING, "emc-guess-far", os.str()});
 }
 } // namespace vpSelfCalibPipeline

@@ -107,7 +107,8 @@ vpKinematicBundleAdjustment::Options withEstimatedSetOptions(vpKinematicBundleAd
 
 Context::Context(const vpKinematicChain &nominal_, const vpSelfCalibDataset &dataset_,
                  const vpRobotSelfCalibration::Options &options_, unsigned int num_calibration_,
-                 const vpRobotSelfCalibration::Progress &progress_)
+                 const vpRobotSelfCalibration::Progress &progress_, const vpKinematicChain *guess_,
+                 bool eMc_from_data_)
   : nominal(nominal_), dataset(dataset_), options(options_), progress(progress_), num_calibration(num_calibration_),
     mode(vpRobotSelfCalibration::resolveFocalMode(options_, dataset_)),
     calibration(dataset_.views.begin(), dataset_.views.begin() + num_calibration_),
@@ -116,7 +117,8 @@ Context::Context(const vpKinematicChain &nominal_, const vpSelfCalibDataset &dat
     multiview(vpRobotSelfCalibration::multiViewOptions(options_, dataset_)),
     bundle(withEstimatedSetOptions(vpRobotSelfCalibration::bundleOptions(options_, dataset_), options_, dataset_)),
     data_check(vpRobotSelfCalibration::dataCheckOptions(options_)),
-    noise(vpRobotSelfCalibration::noiseModel(options_, dataset_))
+    noise(vpRobotSelfCalibration::noiseModel(options_, dataset_)), guess(guess_ ? *guess_ : nominal_),
+    eMc_from_data(eMc_from_data_)
 {
 }
 
@@ -135,7 +137,8 @@ Context::Context(const Context &base, const vpSelfCalibNoiseModel &noise_, bool 
   : nominal(base.nominal), dataset(base.dataset), options(base.options), progress(base.progress),
     num_calibration(base.num_calibration), mode(base.mode), calibration(base.calibration),
     verification(base.verification), twoview(base.twoview), multiview(base.multiview),
-    bundle(withScaledCovariance(base.bundle, robot_round)), data_check(base.data_check), noise(noise_)
+    bundle(withScaledCovariance(base.bundle, robot_round)), data_check(base.data_check), noise(noise_),
+    guess(base.guess), eMc_from_data(base.eMc_from_data)
 {
 }
 
@@ -518,7 +521,7 @@ void verify(const Context &c, Result &res)
   // An estimated OpenCV lens model (which vpCameraParameters cannot hold): the held-out pixels
   // through the inverse of the start one (before) and of the estimated one (after).
   const bool opencv = !res.bundle.opencv_distortion.empty();
-  res.before = vpCalibrationVerifier::verify(c.nominal, c.dataset.cam,
+  res.before = vpCalibrationVerifier::verify(c.guess, c.dataset.cam,
                                              opencv ? undistorted(c.verification, lensOf(c.dataset)) : c.verification,
                                              c.dataset.yardstick);
   res.after = vpCalibrationVerifier::verify(

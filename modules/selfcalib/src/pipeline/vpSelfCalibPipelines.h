@@ -34,7 +34,8 @@ using View = vpSelfCalibDataset::View;
 struct Context {
   Context(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
           const vpRobotSelfCalibration::Options &options, unsigned int num_calibration,
-          const vpRobotSelfCalibration::Progress &progress);
+          const vpRobotSelfCalibration::Progress &progress, const vpKinematicChain *guess = nullptr,
+          bool eMc_from_data = false);
   /*!
     The same run at another noise model (measured levels). robot_round: the robot's error was
     measured, and the covariance is scaled by sigma0 when the residuals say the noise is larger.
@@ -53,6 +54,11 @@ struct Context {
   const vpKinematicBundleAdjustment::Options bundle;
   const vpSelfCalibDataCheck::Options data_check;
   const vpSelfCalibNoiseModel noise; //!< the noise of every step (vpRobotSelfCalibration::noiseModel())
+  //! The caller's model (nominal, unless the run started from another: startFromData()): the
+  //! reference of the assessment's and the verification's "nominal" figures.
+  const vpKinematicChain &guess;
+  //! The nominal model's eMc is the one the data measure (startFromData()), not the caller's guess.
+  const bool eMc_from_data;
 
   //! Reports progress when the caller gave a callback.
   void report(const std::string &stage, unsigned int done, unsigned int total) const;
@@ -253,21 +259,23 @@ MeasuredStart measuredStart(const std::vector<View> &views, const vpSelfCalib::C
 struct DataStart {
   vpKinematicChain model;                             //!< the nominal model, eMc measured when it could be
   vpSelfCalibDataset dataset;                         //!< the dataset, its focal length measured when self-calibrated
-  std::vector<vpSelfCalibDataCheck::Finding> findings; //!< the model's eMc far from the data's, or not measured
+  std::vector<vpSelfCalibDataCheck::Finding> findings; //!< eMc not measured
   std::string message;                                //!< how eMc and f were started
+  bool eMc_from_data = false;                         //!< model's eMc is the measured one
 };
 /*!
   The start of the bundle and hand-eye methods (the paper's: the inputs unchanged): measuredStart()
   on the first N views (end-effector poses: the controller's with HAND_EYE, else the nominal
   kinematics at the joints); the model's eMc replaced by the measured one (its eMc correction
-  zeroed), a warning "emc-guess-far" when the guess is beyond the model's hand-eye tolerance of it;
-  when eMc cannot be measured, the guess, and the warning "emc-start-guess". A self-calibrated focal
+  zeroed); when eMc cannot be measured, the guess, and the warning "emc-start-guess". A self-calibrated focal
   length measured with it, else where the rays of the model's camera poses meet best
   (predictedStart()). Eye-to-hand (bundle.controller_poses_inverted: run() started bMc): the focal
   length only, from the rays.
 */
 DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDataset &data, unsigned int N,
                         const vpRobotSelfCalibration::Options &opt);
+//! A warning "emc-guess-far" when the calibrated eMc is beyond the caller's hand-eye tolerance of its guess.
+void findGuessFar(const vpKinematicChain &guess, const vpRobotSelfCalibration::Options &opt, Result &res);
 } // namespace vpSelfCalibPipeline
 
 #endif
