@@ -415,6 +415,8 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
   }
   vpSelfCalibPipeline::verify(used, res);
   vpSelfCalibPipeline::assess(used, res);
+  if (start.eMc_from_data)
+    vpSelfCalibPipeline::expressInGuess(nominal, res);
   res.seconds = seconds(t0);
   return res;
 }

@@ -225,6 +225,39 @@ bool handEyeFromMotions(const std::vector<Pair> &pairs, const std::vector<Rigid>
   return eMc.t.allFinite() && 2 * negative < n;
 }
 
+/*
+  True when two of the end-effector's motions from view 0 rotate kMinPairRotation or more about
+  axes 3 deg apart or more: without, AX = XB leaves eMc's rotation (and the focal length's scan)
+  undetermined.
+*/
+bool rotatesAboutTwoAxes(const std::vector<Rigid> &fMe)
+{
+  std::vector<Eigen::Vector3d> axes;
+  for (size_t k = 1; k < fMe.size(); ++k) {
+    const Eigen::Vector3d r = logSO3((fMe[k].inverse() * fMe[0]).R);
+    if (r.allFinite() && r.norm() >= kMinPairRotation)
+      axes.push_back(r.normalized());
+  }
+  for (size_t i = 0; i < axes.size(); ++i)
+    for (size_t j = i + 1; j < axes.size(); ++j)
+      if (axes[i].cross(axes[j]).norm() >= std::sin(3 * M_PI / 180))
+        return true;
+  return false;
+}
+
+//! True when every pixel and end-effector pose of the views is finite (else the data check says what is wrong).
+bool allFinite(const std::vector<View> &views)
+{
+  for (const View &v : views) {
+    if (!rigidFromVisp(v.fMe).R.allFinite() || !rigidFromVisp(v.fMe).t.allFinite())
+      return false;
+    for (const auto &o : v.points)
+      if (!std::isfinite(o.ip.get_u()) || !std::isfinite(o.ip.get_v()))
+        return false;
+  }
+  return true;
+}
+
 //! The pinhole camera (f, mu f) of the lens's principal point, no distortion.
 vpCameraParameters pinholeAt(const CameraModel &lens, double f)
 {
@@ -246,6 +279,10 @@ MeasuredStart measuredStart(const std::vector<View> &views, const CameraModel &l
     fMe.push_back(rigidFromVisp(v.fMe));
   }
   const double center = width > 0 ? width : 2 * lens.u0();
+  if (!rotatesAboutTwoAxes(fMe)) {
+    out.how = "the end-effector does not rotate about two different axes";
+    return out;
+  }
   // A target of known points: the reprojection error through the robot.
   if (layout.size() >= 4) {
     Rigid fMo;
@@ -348,11 +385,16 @@ DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDatase
     return start;
   const bool focal_known = vpRobotSelfCalibration::resolveFocalMode(opt, data) == vpRobotSelfCalibration::FOCAL_KNOWN;
   std::vector<View> cal(data.views.begin(), data.views.begin() + N);
-  for (View &v : cal)
-    if (!v.has_fMe || opt.method != vpRobotSelfCalibration::HAND_EYE) {
-      v.fMe = nominal.get_fMe(v.q);
-      v.has_fMe = true;
-    }
+  for (View &v : cal) {
+    if (v.has_fMe && opt.method == vpRobotSelfCalibration::HAND_EYE)
+      continue;
+    if (!allFinite(v.q))
+      return start; // the data check says which joint
+    v.fMe = nominal.get_fMe(v.q);
+    v.has_fMe = true;
+  }
+  if (!allFinite(cal))
+    return start;
   std::ostringstream os;
   if (opt.bundle.controller_poses_inverted) {
     // Eye-to-hand: run() started bMc from the target; the focal length from the rays it predicts.
@@ -407,5 +449,32 @@ void findGuessFar(const vpKinematicChain &guess, const vpRobotSelfCalibration::O
      << opt.tolerance_hand_eye_rotation * 180 / M_PI
      << " deg); the run started from the eMc the data measure: correct the guess (the calibrated model has it)";
   res.findings.push_back(vpSelfCalibDataCheck::Finding{vpSelfCalibDataCheck::WARNING, "emc-guess-far", os.str()});
+}
+} // namespace vpSelfCalibPipeline
+
+namespace vpSelfCalibPipeline
+{
+void expressInGuess(const vpKinematicChain &guess, Result &res)
+{
+  const Rigid G = rigidFromPose(guess.get_eMc_pose()), S = rigidFromPose(res.calibrated.get_eMc_pose());
+  const Rigid D = G.inverse() * rigidFromVisp(res.calibrated.get_eMc_corrected());
+  const Eigen::Vector3d r = logSO3(D.R);
+  const unsigned int first = res.calibrated.getNumParameters() - vpKinematicChain::kBlockSize;
+  vpColVector p = res.calibrated.getParameters();
+  // sd of the translation through d(D.t)/d(correction.t) = G.R^T S.R (correlations left out).
+  const Eigen::Matrix3d M = G.R.transpose() * S.R;
+  if (res.parameter_sd.size() == p.size()) {
+    Eigen::Vector3d sd;
+    for (int i = 0; i < 3; ++i)
+      sd(i) = res.parameter_sd[first + static_cast<unsigned int>(i)];
+    for (int i = 0; i < 3; ++i)
+      res.parameter_sd[first + static_cast<unsigned int>(i)] = std::sqrt(M.row(i).cwiseAbs2().dot(sd.cwiseAbs2()));
+  }
+  for (unsigned int i = 0; i < 3; ++i) {
+    p[first + i] = D.t(i);
+    p[first + 3 + i] = r(i);
+  }
+  res.calibrated.set_eMc(guess.get_eMc_pose());
+  res.calibrated.setParameters(p);
 }
 } // namespace vpSelfCalibPipeline

@@ -274,6 +274,13 @@ struct DataStart {
 */
 DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDataset &data, unsigned int N,
                         const vpRobotSelfCalibration::Options &opt);
+/*!
+  The calibrated model of a run started from the data's eMc expressed against the caller's model:
+  its eMc the guess's, its eMc correction D such that guess D = the calibrated eMc (the corrections
+  read against the caller's model, as without the start); the translation's sd turned with it, the
+  rotation's left as estimated (the same when the guess's rotation is the start's).
+*/
+void expressInGuess(const vpKinematicChain &guess, Result &res);
 //! A warning "emc-guess-far" when the calibrated eMc is beyond the caller's hand-eye tolerance of its guess.
 void findGuessFar(const vpKinematicChain &guess, const vpRobotSelfCalibration::Options &opt, Result &res);
 } // namespace vpSelfCalibPipeline
