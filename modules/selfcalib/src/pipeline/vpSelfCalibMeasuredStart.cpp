@@ -388,7 +388,7 @@ DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDatase
   for (View &v : cal) {
     if (v.has_fMe && opt.method == vpRobotSelfCalibration::HAND_EYE)
       continue;
-    if (!allFinite(v.q))
+    if (!vpSelfCalib::allFinite(v.q))
       return start; // the data check says which joint
     v.fMe = nominal.get_fMe(v.q);
     v.has_fMe = true;
