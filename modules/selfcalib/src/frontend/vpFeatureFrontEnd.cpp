@@ -195,6 +195,18 @@ std::vector<vpImage<unsigned char>> vpFeatureFrontEnd::readImages(const vpSelfCa
   return images;
 }
 
+vpImage<unsigned char> vpFeatureFrontEnd::readImage(const std::string &file, const std::string &context)
+{
+  vpSelfCalib::checkImageFile(file, context);
+  vpImage<unsigned char> image;
+  try {
+    vpImageIo::read(image, file);
+  } catch (const vpException &e) {
+    throw vpSelfCalibException(vpSelfCalibException::ioError, context + ": " + e.getStringMessage());
+  }
+  return image;
+}
+
 vpFeatureFrontEnd::Result vpFeatureFrontEnd::fillDataset(vpSelfCalibDataset &ds, const Options &opt)
 {
   const std::vector<vpImage<unsigned char>> images = readImages(ds);

@@ -384,19 +384,21 @@ DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDatase
   if (opt.method == vpRobotSelfCalibration::PAPER)
     return start;
   const bool focal_known = vpRobotSelfCalibration::resolveFocalMode(opt, data) == vpRobotSelfCalibration::FOCAL_KNOWN;
+  const bool eye_to_hand = opt.bundle.controller_poses_inverted || opt.bundle.eye_to_hand;
   std::vector<View> cal(data.views.begin(), data.views.begin() + N);
   for (View &v : cal) {
     if (v.has_fMe && opt.method == vpRobotSelfCalibration::HAND_EYE)
       continue;
     if (!vpSelfCalib::allFinite(v.q))
       return start; // the data check says which joint
-    v.fMe = nominal.get_fMe(v.q);
+    // Eye-to-hand with joints: the camera (the hand-eye slot, bMc) seen from the effector frame.
+    v.fMe = opt.bundle.eye_to_hand ? nominal.get_fMe(v.q).inverse() : nominal.get_fMe(v.q);
     v.has_fMe = true;
   }
   if (!allFinite(cal))
     return start;
   std::ostringstream os;
-  if (opt.bundle.controller_poses_inverted) {
+  if (eye_to_hand) {
     // Eye-to-hand: run() started bMc from the target; the focal length from the rays it predicts.
     const double f = focal_known ? 0 : focalFromModel(nominal, cal, data);
     if (f > 0)
