@@ -297,7 +297,7 @@ MeasuredStart measuredStart(const std::vector<View> &views, const CameraModel &l
     const double f = focal_known ? lens.px() : scanFocal(score, center);
     if (f > 0 && handEyeFromKnownPoints(views, layout, pinholeAt(lens, f), out.eMc, fMo, px, posed)) {
       std::ostringstream os;
-      os << "the target's poses in " << posed << " views (PnP, hand-eye closed form; median " << std::setprecision(3)
+      os << "the target's poses in " << posed << " views (PnP, hand-eye closed form, median " << std::setprecision(3)
          << px << " px through the robot)";
       out.how = os.str();
       out.has_eMc = true;
@@ -323,7 +323,7 @@ MeasuredStart measuredStart(const std::vector<View> &views, const CameraModel &l
   }
   const long posed = std::count_if(pairs.begin(), pairs.end(), [](const Pair &p) { return p.posed; });
   std::ostringstream os;
-  os << "the camera's motions of " << posed << " pairs with view 0 (five-point, hand-eye closed form; median "
+  os << "the camera's motions of " << posed << " pairs with view 0 (five-point, hand-eye closed form, median "
      << std::setprecision(3) << score * 180 / M_PI << " deg from the robot's rotation angles)";
   out.how = os.str();
   out.has_eMc = true;
