@@ -7,7 +7,8 @@
  * controller poses (or the nominal kinematics at the joints), and the two are tied by
  * fMe_k eMc c_kMo = fMo for every view k (AX = XB):
  * - a target of known points: each view's target pose by PnP, eMc by OpenCV's closed forms;
- * - a scene of unknown points: the two-view motion c_kMc_0 of each pair (view 0, view k) by
+ * - a scene of unknown points: the two-view motion c_kMc_r of each pair (view r, view k), r the view
+ *   that shares enough points with the most others, by
  *   OpenCV's five-point solver, the rotation of eMc by OpenCV's closed forms, its translation and
  *   each pair's unknown scale by linear least squares.
  * A self-calibrated focal length is the one at which the two agree best, scanned over 0.3x to 4x the
@@ -23,6 +24,7 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
+#include <set>
 #include <sstream>
 
 #include <Eigen/QR>
@@ -36,7 +38,7 @@ namespace vpSelfCalibPipeline
 {
 namespace
 {
-//! Pairs (view 0, view k) with fewer common points are not measured.
+//! Pairs (view r, view k) with fewer common points are not measured.
 const unsigned int kMinPairPoints = 15;
 //! Pairs whose end-effector rotates less (rad) carry little on the focal length.
 const double kMinPairRotation = 0.035;
@@ -62,23 +64,56 @@ cv::Mat cvMatrix(const Eigen::Matrix3d &R)
 
 cv::Mat cvVector(const Eigen::Vector3d &t) { return (cv::Mat_<double>(3, 1) << t(0), t(1), t(2)); }
 
-//! The pair (view 0, view k): common pixels, the end-effector's rotation angle, the camera's motion.
+//! The pair (view r, view k): common pixels, the end-effector's rotation angle, the camera's motion.
 struct Pair {
   unsigned int k = 0;
-  std::vector<cv::Point2d> p0, pk;
+  std::vector<cv::Point2d> p0, pk; //!< in view r, in view k
   double robot_angle = 0;
   bool posed = false;
-  Rigid ckMc0; //!< translation of unit length
+  Rigid ckMc0; //!< c_kMc_r, translation of unit length
 };
 
-//! The pairs (view 0, view k) with kMinPairPoints common ids or more.
-std::vector<Pair> pairsWithView0(const std::vector<View> &views, const std::vector<Rigid> &fMe)
+//! The number of ids views a and b share.
+size_t sharedIds(const View &a, const View &b)
+{
+  std::set<int> ids;
+  for (const auto &o : a.points)
+    ids.insert(o.id);
+  return static_cast<size_t>(
+      std::count_if(b.points.begin(), b.points.end(), [&](const vpSelfCalibDataset::Observation &o) { return ids.count(o.id) > 0; }));
+}
+
+/*
+  The reference view of the pairs: the one that shares kMinPairPoints ids or more with the most
+  other views (the first of those when several do), so that a first view that sees little of the
+  scene does not leave the start to the guess.
+*/
+unsigned int referenceView(const std::vector<View> &views)
+{
+  unsigned int best = 0;
+  size_t best_count = 0;
+  for (unsigned int r = 0; r < views.size(); ++r) {
+    size_t count = 0;
+    for (unsigned int k = 0; k < views.size(); ++k)
+      count += k != r && sharedIds(views[r], views[k]) >= kMinPairPoints;
+    if (count > best_count) {
+      best = r;
+      best_count = count;
+    }
+  }
+  return best;
+}
+
+//! The pairs (view r, view k) with kMinPairPoints common ids or more.
+std::vector<Pair> pairsWithView(const std::vector<View> &views, const std::vector<Rigid> &fMe, unsigned int r)
 {
   std::map<int, vpImagePoint> first;
-  for (const auto &o : views[0].points)
+  for (const auto &o : views[r].points)
     first[o.id] = o.ip;
   std::vector<Pair> pairs;
-  for (unsigned int k = 1; k < views.size(); ++k) {
+  for (unsigned int k = 0; k < views.size(); ++k) {
+    if (k == r)
+      continue;
     Pair p;
     p.k = k;
     for (const auto &o : views[k].points) {
@@ -88,7 +123,7 @@ std::vector<Pair> pairsWithView0(const std::vector<View> &views, const std::vect
       p.p0.emplace_back(it->second.get_u(), it->second.get_v());
       p.pk.emplace_back(o.ip.get_u(), o.ip.get_v());
     }
-    p.robot_angle = angleOf((fMe[k].inverse() * fMe[0]).R);
+    p.robot_angle = angleOf((fMe[k].inverse() * fMe[r]).R);
     if (p.p0.size() >= kMinPairPoints)
       pairs.push_back(p);
   }
@@ -161,15 +196,15 @@ void refinePairs(std::vector<Pair> &pairs, const CameraModel &lens, double f, do
 
 /*
   eMc from the posed pairs: its rotation by OpenCV's rotation closed forms (Tsai, Park, Horaud; the
-  one whose rotations R_e_k R_X R_c_k = R_e_0 R_X agree best, median angle), then its translation t
-  and each pair's scale s_k by linear least squares on fMe_k eMc c_kMc_0 = fMe_0 eMc:
-  (R_e_k - R_e_0) t + s_k R_e_k R_X u_k = t_e_0 - t_e_k (u_k: the pair's unit translation).
+  one whose rotations R_e_k R_X R_c_k = R_e_r R_X agree best, median angle), then its translation t
+  and each pair's scale s_k by linear least squares on fMe_k eMc c_kMc_r = fMe_r eMc:
+  (R_e_k - R_e_r) t + s_k R_e_k R_X u_k = t_e_r - t_e_k (u_k: the pair's unit translation).
   False with fewer than 3 posed pairs, a rank-deficient system or a negative scale in the majority.
 */
-bool handEyeFromMotions(const std::vector<Pair> &pairs, const std::vector<Rigid> &fMe, Rigid &eMc)
+bool handEyeFromMotions(const std::vector<Pair> &pairs, const std::vector<Rigid> &fMe, unsigned int r, Rigid &eMc)
 {
   std::vector<const Pair *> posed;
-  std::vector<cv::Mat> Rg{cvMatrix(fMe[0].R)}, tg{cvVector(fMe[0].t)}, Rt{cvMatrix(Eigen::Matrix3d::Identity())},
+  std::vector<cv::Mat> Rg{cvMatrix(fMe[r].R)}, tg{cvVector(fMe[r].t)}, Rt{cvMatrix(Eigen::Matrix3d::Identity())},
       tt{cvVector(Eigen::Vector3d::Zero())};
   for (const Pair &p : pairs) {
     if (!p.posed)
@@ -198,7 +233,7 @@ bool handEyeFromMotions(const std::vector<Pair> &pairs, const std::vector<Rigid>
       continue;
     std::vector<double> e;
     for (const Pair *p : posed)
-      e.push_back(angleOf((fMe[p->k].R * X * p->ckMc0.R).transpose() * fMe[0].R * X));
+      e.push_back(angleOf((fMe[p->k].R * X * p->ckMc0.R).transpose() * fMe[r].R * X));
     const double m_e = median(e);
     if (m_e < best) {
       best = m_e;
@@ -212,9 +247,9 @@ bool handEyeFromMotions(const std::vector<Pair> &pairs, const std::vector<Rigid>
   Eigen::VectorXd b(3 * n);
   for (Eigen::Index i = 0; i < n; ++i) {
     const Rigid &Ek = fMe[posed[static_cast<size_t>(i)]->k];
-    A.block<3, 3>(3 * i, 0) = Ek.R - fMe[0].R;
+    A.block<3, 3>(3 * i, 0) = Ek.R - fMe[r].R;
     A.block<3, 1>(3 * i, 3 + i) = Ek.R * eMc.R * posed[static_cast<size_t>(i)]->ckMc0.t;
-    b.segment<3>(3 * i) = fMe[0].t - Ek.t;
+    b.segment<3>(3 * i) = fMe[r].t - Ek.t;
   }
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
   if (qr.rank() < 3 + n)
@@ -306,10 +341,11 @@ MeasuredStart measuredStart(const std::vector<View> &views, const CameraModel &l
       return out;
     }
   }
-  // Unknown points: the camera's motions from view 0.
-  std::vector<Pair> pairs = pairsWithView0(views, fMe);
+  // Unknown points: the camera's motions from the reference view.
+  const unsigned int r = referenceView(views);
+  std::vector<Pair> pairs = pairsWithView(views, fMe, r);
   if (pairs.size() < 3) {
-    out.how = "fewer than 3 views share " + std::to_string(kMinPairPoints) + " points with view 0";
+    out.how = "no view shares " + std::to_string(kMinPairPoints) + " points with 3 others";
     return out;
   }
   const double f =
@@ -317,13 +353,13 @@ MeasuredStart measuredStart(const std::vector<View> &views, const CameraModel &l
   const double score = f > 0 ? motionScore(pairs, lens, f, threshold_px) : std::numeric_limits<double>::infinity();
   if (std::isfinite(score))
     refinePairs(pairs, lens, f, threshold_px);
-  if (!std::isfinite(score) || !handEyeFromMotions(pairs, fMe, out.eMc)) {
-    out.how = "the two-view motions of fewer than 3 pairs with view 0 agree with the robot's";
+  if (!std::isfinite(score) || !handEyeFromMotions(pairs, fMe, r, out.eMc)) {
+    out.how = "the two-view motions of fewer than 3 pairs with view " + std::to_string(r) + " agree with the robot's";
     return out;
   }
   const long posed = std::count_if(pairs.begin(), pairs.end(), [](const Pair &p) { return p.posed; });
   std::ostringstream os;
-  os << "the camera's motions of " << posed << " pairs with view 0 (five-point, hand-eye closed form, median "
+  os << "the camera's motions of " << posed << " pairs with view " << r << " (five-point, hand-eye closed form, median "
      << std::setprecision(3) << score * 180 / M_PI << " deg from the robot's rotation angles)";
   out.how = os.str();
   out.has_eMc = true;
@@ -421,7 +457,7 @@ DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDatase
         vpSelfCalibDataCheck::WARNING, "emc-start-guess",
         "eMc could not be measured from the data (" + m.how +
             "): the run started from the model's eMc guess; if it is far off, give a closer one or more views that "
-            "share points with the first"});
+            "share points with each other"});
   }
   if (!focal_known) {
     const double f = m.has_fx ? m.fx : focalFromModel(start.model, cal, data);

@@ -266,8 +266,8 @@ struct MeasuredStart {
   their pixels a pinhole camera's at lens's principal point and aspect ratio, whatever lens's focal
   length): with a target of 4 known points or more (layout), handEyeFromKnownPoints(), its focal
   length the one whose median reprojection error through the robot is lowest (scanFocal() around the
-  image width); else the two-view motions of the pairs (view 0, view k) sharing 15 points or more
-  (OpenCV's five-point RANSAC, threshold_px), the focal length the one at which their rotation angles
+  image width); else the two-view motions of the pairs (view r, view k) sharing 15 points or more, r
+  the view with the most such pairs (OpenCV's five-point RANSAC, threshold_px), the focal length the one at which their rotation angles
   agree best with the end-effector's (median), eMc's rotation by OpenCV's closed forms and its
   translation with the pairs' scales by linear least squares. Depends on neither the model's eMc nor
   lens's focal length. has_eMc false (how says why) when too few views are posed. Throws

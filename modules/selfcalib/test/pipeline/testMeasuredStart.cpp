@@ -5,6 +5,7 @@
  */
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -138,25 +139,44 @@ TEST(MeasuredStart, HandEyeFromControllerPosesDoesNotDependOnTheGuesses)
     EXPECT_LT(std::fabs(r.eMc[i] - truth[i]), 4 * r.eMc_sd[i]) << i;
 }
 
-// Views that share too few points with view 0: eMc starts from the model's guess, and the run says
-// so (emc-start-guess); the focal length from the rays of the model's camera poses.
+// No view shares 15 points with 3 others (each view keeps 12): eMc starts from the model's guess,
+// and the run says so (emc-start-guess); the focal length from the rays of the model's camera poses.
 TEST(MeasuredStart, TooFewSharedPointsFallsBackToTheGuessAndSaysSo)
 {
   const vpSelfCalibSimulator sim = makeSim("viper850", 5, 0.2);
   vpSelfCalibDataset ds = withGuess(sim.makeDataset(sim.generateConfigurations(8)), 1000);
-  ds.views[0].points.resize(12);
+  for (auto &v : ds.views)
+    v.points.resize(std::min<size_t>(v.points.size(), 12));
   RSC::Options o;
   o.num_calibration_poses = 8;
   const vpSelfCalibPipeline::DataStart s = vpSelfCalibPipeline::startFromData(sim.getNominalChain(), ds, 8, o);
   EXPECT_FALSE(s.eMc_from_data);
   ASSERT_EQ(s.findings.size(), 1u);
   EXPECT_EQ(s.findings[0].code, "emc-start-guess");
-  EXPECT_NE(s.findings[0].message.find("fewer than 3 views share 15 points with view 0"), std::string::npos)
+  EXPECT_NE(s.findings[0].message.find("no view shares 15 points with 3 others"), std::string::npos)
       << s.findings[0].message;
   EXPECT_LT(vpSelfCalib::rotationDistance(s.model.get_eMc_corrected(), sim.getNominalChain().get_eMc_corrected()),
             1e-12);
   EXPECT_NE(s.message.find("eMc started from the model's guess"), std::string::npos) << s.message;
   EXPECT_NE(s.message.find("where the rays of the model's camera poses meet best"), std::string::npos) << s.message;
+}
+
+// A first view that sees little of the scene (12 points): the pairs are taken with the view that
+// shares enough points with the most others, and eMc is still measured, exactly on noise-free views.
+TEST(MeasuredStart, AFirstViewSeeingLittleDoesNotLeaveTheStartToTheGuess)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 7, 0.0);
+  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(8));
+  std::vector<vpSelfCalibDataset::View> views = withTrueFMe(sim, ds);
+  views[0].points.resize(12);
+  const vpSelfCalibPipeline::MeasuredStart m =
+      vpSelfCalibPipeline::measuredStart(views, vpSelfCalib::CameraModel::fromVisp(sim.getCamera()), 640, {}, true, 1.0);
+  ASSERT_TRUE(m.has_eMc) << m.how;
+  EXPECT_EQ(m.how.find("pairs with view 0 "), std::string::npos) << m.how;
+  EXPECT_NE(m.how.find("the camera's motions of 6 pairs with view "), std::string::npos) << m.how;
+  const vpHomogeneousMatrix eMc_true = sim.getTrueChain().get_eMc_corrected();
+  EXPECT_LT(vpSelfCalib::rotationDistance(vpSelfCalib::toVisp(m.eMc), eMc_true), 1e-5) << m.how;
+  EXPECT_LT(vpSelfCalib::translationDistance(vpSelfCalib::toVisp(m.eMc), eMc_true), 1e-5) << m.how;
 }
 
 // A view without its end-effector pose is a caller mistake.
