@@ -34,11 +34,14 @@
 #include <visp3/selfcalib/vpSelfCalibRenderer.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
+#include "../../modules/selfcalib/test/pipeline/startGuesses.h"
 #include "selfcalibCli.h"
 
 namespace
 {
 using RSC = vpRobotSelfCalibration;
+using selfcalib_test::turned90;
+using selfcalib_test::withGuess;
 
 //! One start: the focal guess as a multiple of the truth, and the eMc guess turned or not.
 struct Start {
@@ -52,25 +55,6 @@ std::string startName(const Start &s)
   std::ostringstream os;
   os << s.k << "x, eMc " << (s.turned ? "90 deg off" : "right");
   return os.str();
-}
-
-//! The model with its eMc guess turned by 90 deg about the camera's x axis.
-vpKinematicChain turned90(const vpKinematicChain &model)
-{
-  vpKinematicChain out = model;
-  vpHomogeneousMatrix R;
-  R.buildFrom(0, 0, 0, M_PI / 2, 0, 0);
-  out.set_eMc(vpPoseVector(model.get_eMc() * R));
-  return out;
-}
-
-//! The dataset with the focal length self-calibrated from the guess g (px).
-vpSelfCalibDataset withGuess(vpSelfCalibDataset ds, double g)
-{
-  ds.focal_known = false;
-  const double mu = ds.cam.get_py() / ds.cam.get_px();
-  ds.cam.initPersProjWithoutDistortion(g, mu * g, ds.cam.get_u0(), ds.cam.get_v0());
-  return ds;
 }
 
 //! A run's answer and what its start found.

@@ -29,6 +29,7 @@
 
 #include <Eigen/QR>
 #include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
 
 #include "../core/vpSelfCalibMath.h"
 
@@ -53,16 +54,20 @@ double median(std::vector<double> v)
   return v[v.size() / 2];
 }
 
-cv::Mat cvMatrix(const Eigen::Matrix3d &R)
+//! A rotation or a translation as an OpenCV matrix (CV_64F).
+cv::Mat toCvMat(const Eigen::Matrix3d &m)
 {
-  cv::Mat m(3, 3, CV_64F);
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      m.at<double>(i, j) = R(i, j);
-  return m;
+  cv::Mat out;
+  cv::eigen2cv(m, out);
+  return out;
 }
 
-cv::Mat cvVector(const Eigen::Vector3d &t) { return (cv::Mat_<double>(3, 1) << t(0), t(1), t(2)); }
+cv::Mat toCvMat(const Eigen::Vector3d &v)
+{
+  cv::Mat out;
+  cv::eigen2cv(v, out);
+  return out;
+}
 
 //! The pair (view r, view k): common pixels, the end-effector's rotation angle, the camera's motion.
 struct Pair {
@@ -146,11 +151,8 @@ double motionScore(std::vector<Pair> &pairs, const CameraModel &lens, double f, 
     const cv::Mat E = cv::findEssentialMat(p.p0, p.pk, K, cv::RANSAC, 0.999, threshold_px, mask);
     if (E.empty() || E.rows != 3 || cv::recoverPose(E(cv::Rect(0, 0, 3, 3)), p.p0, p.pk, K, R, t, mask) == 0)
       continue;
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j)
-        p.ckMc0.R(i, j) = R.at<double>(i, j);
-      p.ckMc0.t(i) = t.at<double>(i);
-    }
+    cv::cv2eigen(R, p.ckMc0.R);
+    cv::cv2eigen(t, p.ckMc0.t);
     if (!p.ckMc0.R.allFinite() || !p.ckMc0.t.allFinite())
       continue;
     p.posed = true;
@@ -204,16 +206,16 @@ void refinePairs(std::vector<Pair> &pairs, const CameraModel &lens, double f, do
 bool handEyeFromMotions(const std::vector<Pair> &pairs, const std::vector<Rigid> &fMe, unsigned int r, Rigid &eMc)
 {
   std::vector<const Pair *> posed;
-  std::vector<cv::Mat> Rg{cvMatrix(fMe[r].R)}, tg{cvVector(fMe[r].t)}, Rt{cvMatrix(Eigen::Matrix3d::Identity())},
-      tt{cvVector(Eigen::Vector3d::Zero())};
+  std::vector<cv::Mat> Rg{toCvMat(fMe[r].R)}, tg{toCvMat(fMe[r].t)}, Rt{toCvMat(Eigen::Matrix3d(Eigen::Matrix3d::Identity()))},
+      tt{toCvMat(Eigen::Vector3d(Eigen::Vector3d::Zero()))};
   for (const Pair &p : pairs) {
     if (!p.posed)
       continue;
     posed.push_back(&p);
-    Rg.push_back(cvMatrix(fMe[p.k].R));
-    tg.push_back(cvVector(fMe[p.k].t));
-    Rt.push_back(cvMatrix(p.ckMc0.R));
-    tt.push_back(cvVector(p.ckMc0.t));
+    Rg.push_back(toCvMat(fMe[p.k].R));
+    tg.push_back(toCvMat(fMe[p.k].t));
+    Rt.push_back(toCvMat(p.ckMc0.R));
+    tt.push_back(toCvMat(p.ckMc0.t));
   }
   if (posed.size() < 3)
     return false;
@@ -226,9 +228,7 @@ bool handEyeFromMotions(const std::vector<Pair> &pairs, const std::vector<Rigid>
       continue;
     }
     Eigen::Matrix3d X;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        X(i, j) = R.at<double>(i, j);
+    cv::cv2eigen(R, X);
     if (!X.allFinite())
       continue;
     std::vector<double> e;

@@ -15,6 +15,7 @@
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
 #include "../testCommon.h"
+#include "startGuesses.h"
 #include "core/vpSelfCalibMath.h"
 #include "pipeline/vpSelfCalibPipelines.h"
 
@@ -23,24 +24,6 @@ using RSC = vpRobotSelfCalibration;
 
 namespace
 {
-//! The model with its eMc guess turned by 90 deg about the camera's x axis.
-vpKinematicChain turned90(const vpKinematicChain &model)
-{
-  vpKinematicChain out = model;
-  vpHomogeneousMatrix R;
-  R.buildFrom(0, 0, 0, M_PI / 2, 0, 0);
-  out.set_eMc(vpPoseVector(model.get_eMc() * R));
-  return out;
-}
-
-//! The dataset with the focal length to be self-calibrated from the guess g (px).
-vpSelfCalibDataset withGuess(vpSelfCalibDataset ds, double g)
-{
-  ds.focal_known = false;
-  ds.cam.initPersProjWithoutDistortion(g, g, ds.cam.get_u0(), ds.cam.get_v0());
-  return ds;
-}
-
 //! The first n views with their true end-effector poses set (has_fMe).
 std::vector<vpSelfCalibDataset::View> withTrueFMe(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds)
 {
