@@ -341,45 +341,23 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
     pinhole.views = vpSelfCalibPipeline::undistorted(ds.views, vpSelfCalibPipeline::lensOf(ds));
     pinhole.opencv_distortion.clear();
   }
-  vpSelfCalibDataset started;
   const vpSelfCalibDataset &data0 = pinhole.views.empty() ? ds : pinhole;
-  if (opt.method != PAPER && resolveFocalMode(opt, data0) != FOCAL_KNOWN) {
-    // A self-calibrated focal length starts from where the rays of the robot's predicted camera
-    // poses meet best, not from the image width (a start twice the truth does not converge).
-    std::vector<vpSelfCalib::Rigid> fMc;
-    const vpSelfCalib::Rigid eMc = vpSelfCalib::rigidFromVisp(nominal.get_eMc_corrected());
-    for (unsigned int k = 0; k < N; ++k) {
-      const vpSelfCalibDataset::View &v = data0.views[k];
-      if (opt.bundle.eye_to_hand) // the camera (the hand-eye slot) in the effector frame
-        fMc.push_back(vpSelfCalib::rigidFromVisp(nominal.get_fMe(v.q)).inverse() * eMc);
-      else
-        fMc.push_back(opt.method == HAND_EYE && v.has_fMe ? vpSelfCalib::rigidFromVisp(v.fMe) * eMc
-                                                            : vpSelfCalib::rigidFromVisp(nominal.get_fMc(v.q)));
-    }
-    const std::vector<vpSelfCalibDataset::View> cal(data0.views.begin(), data0.views.begin() + N);
-    const vpSelfCalibPipeline::PredictedStart p =
-        vpSelfCalibPipeline::predictedStart(cal, fMc, vpSelfCalibPipeline::lensOf(data0), false);
-    if (p.ok) {
-      started = data0;
-      const double mu = data0.cam.get_py() / data0.cam.get_px();
-      started.cam.initPersProjWithoutDistortion(p.fx, mu * p.fx, data0.cam.get_u0(), data0.cam.get_v0());
-      if (data0.cam.get_projModel() == vpCameraParameters::perspectiveProjWithDistortion)
-        started.cam.initPersProjWithDistortion(p.fx, mu * p.fx, data0.cam.get_u0(), data0.cam.get_v0(),
-                                               data0.cam.get_kud(), data0.cam.get_kdu());
-    }
-  }
-  const vpSelfCalibDataset &data = started.views.empty() ? data0 : started;
+  // eMc and a self-calibrated focal length started from what the data measure, not from the guesses.
+  const vpSelfCalibPipeline::DataStart start = vpSelfCalibPipeline::startFromData(nominal, data0, N, opt);
+  const vpSelfCalibDataset &data = start.dataset;
+  const vpKinematicChain &model = start.model;
   // Resolves the focal mode and builds every step's options: the remaining caller mistakes throw here.
-  const vpSelfCalibPipeline::Context context(nominal, data, opt, N, progress);
+  const vpSelfCalibPipeline::Context context(model, data, opt, N, progress, &nominal, start.eMc_from_data);
 
   Result res;
   res.method = opt.method;
-  res.calibrated = nominal;
+  res.calibrated = model;
   res.camera = data.cam;
   if (!vpSelfCalibPipeline::checkData(context, res)) {
     res.seconds = seconds(t0);
     return res;
   }
+  res.findings.insert(res.findings.end(), start.findings.begin(), start.findings.end());
   const std::vector<vpSelfCalibDataCheck::Finding> data_findings = res.findings;
   runMethod(context, res);
   // Later runs at the measured noise levels; `current` is the context of the run that stands.
@@ -388,7 +366,7 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
     const vpSelfCalibPipeline::Context c(context, noise, robot_round);
     Result next;
     next.method = opt.method;
-    next.calibrated = nominal;
+    next.calibrated = model;
     next.camera = data.cam;
     next.findings = data_findings;
     runMethod(c, next);
@@ -416,6 +394,10 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
     }
   }
   const vpSelfCalibPipeline::Context &used = current ? *current : context;
+  if (!start.message.empty())
+    res.message = start.message + "; " + res.message;
+  if (start.eMc_from_data && res.status == OK)
+    vpSelfCalibPipeline::findGuessFar(nominal, opt, res);
 
   vpSelfCalibPipeline::checkResult(used, res);
   if (res.status != OK) {
@@ -427,6 +409,8 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
   }
   vpSelfCalibPipeline::verify(used, res);
   vpSelfCalibPipeline::assess(used, res);
+  if (start.eMc_from_data)
+    vpSelfCalibPipeline::expressInGuess(nominal, res);
   res.seconds = seconds(t0);
   return res;
 }

@@ -59,8 +59,8 @@ void checkTolerance(const Context &c, Result &res)
   for (unsigned int i : res.identifiability.identified) {
     const std::string &n = names[i];
     const bool hand_eye = n.rfind("eMc.", 0) == 0;
-    if (hand_eye && o.method == vpRobotSelfCalibration::HAND_EYE)
-      continue; // the quantity calibrated, from any start
+    if (hand_eye && (o.method == vpRobotSelfCalibration::HAND_EYE || c.eMc_from_data))
+      continue; // the quantity calibrated, from any start (the caller's guess: findGuessFar())
     const bool t = isTranslation(n);
     const double tol = hand_eye ? (t ? o.tolerance_hand_eye_translation : o.tolerance_hand_eye_rotation)
                                 : (t ? o.tolerance_translation : o.tolerance_rotation);
@@ -180,8 +180,8 @@ void checkFit(const Context &c, Result &res)
   const bool e2h = c.bundle.eye_to_hand;
   const std::vector<View> &cal = c.calibration;
   const vpCalibrationVerifier::Result nominal = vpCalibrationVerifier::verify(
-      c.nominal, c.dataset.cam,
-      e2h ? eyeToHandViews(c.nominal, lens ? undistorted(cal, lensOf(c.dataset)) : cal)
+      c.guess, c.dataset.cam,
+      e2h ? eyeToHandViews(c.guess, lens ? undistorted(cal, lensOf(c.dataset)) : cal)
           : (lens ? undistorted(cal, lensOf(c.dataset)) : cal),
       c.dataset.yardstick);
   const std::vector<View> cal_calibrated =

@@ -68,7 +68,14 @@ bool viewPose(const View &v, const std::map<int, vpColVector> &layout, const vpC
     return false;
   cv::Rodrigues(r, R);
   cMo = fromCv(R, t);
-  return cMo.t.allFinite() && cMo.t(2) > 0;
+  if (!cMo.t.allFinite() || !cMo.R.allFinite())
+    return false;
+  // In front of the camera: the points' median depth (a layout's origin may lie anywhere).
+  std::vector<double> z;
+  for (const cv::Point3d &X : object)
+    z.push_back((cMo * Eigen::Vector3d(X.x, X.y, X.z))(2));
+  std::nth_element(z.begin(), z.begin() + static_cast<long>(z.size() / 2), z.end());
+  return z[z.size() / 2] > 0;
 }
 
 //! Median reprojection error (px) of the known points through bMc and eMo over the views (G = fMe = eMb).
@@ -110,24 +117,16 @@ vpSelfCalibDataset eyeToHandAsEyeInHand(const vpKinematicChain &nominal, const v
   return inv;
 }
 
-/*
-  The start bMc of an eye-to-hand set-up with a target of known points: each view's target pose by
-  PnP, then OpenCV's closed forms (Tsai, Park, Horaud, Andreff, Daniilidis) on the inverted
-  controller poses; with each, eMo from every view; the pair that reprojects the known points with
-  the lowest median error over every view is kept (on small motions of a small target the closed
-  forms disagree by metres, and which one is right differs between data sets).
-*/
-bool eyeToHandStart(const vpSelfCalibDataset &inv, unsigned int num_views, const std::map<int, vpColVector> &layout,
-                    vpHomogeneousMatrix &bMc, vpHomogeneousMatrix &eMo, double &median_px)
+bool handEyeFromKnownPoints(const std::vector<View> &views, const std::map<int, vpColVector> &layout,
+                            const vpCameraParameters &cam, Rigid &eMc, Rigid &fMo, double &median_px,
+                            unsigned int &num_posed)
 {
-  const std::vector<View> views =
-      undistorted(std::vector<View>(inv.views.begin(), inv.views.begin() + num_views), lensOf(inv));
   std::vector<Rigid> G, cMo;
   std::vector<View> posed;
   std::vector<cv::Mat> Rg, tg, Rt, tt;
   for (const View &v : views) {
     Rigid c;
-    if (!viewPose(v, layout, inv.cam, c))
+    if (!v.has_fMe || !viewPose(v, layout, cam, c))
       continue;
     G.push_back(rigidFromVisp(v.fMe));
     cMo.push_back(c);
@@ -137,6 +136,7 @@ bool eyeToHandStart(const vpSelfCalibDataset &inv, unsigned int num_views, const
     Rt.push_back(toCv(c.R));
     tt.push_back(toCv(c.t));
   }
+  num_posed = static_cast<unsigned int>(G.size());
   if (G.size() < 3)
     return false;
   median_px = std::numeric_limits<double>::infinity();
@@ -153,15 +153,33 @@ bool eyeToHandStart(const vpSelfCalibDataset &inv, unsigned int num_views, const
       continue;
     for (size_t k = 0; k < G.size(); ++k) {
       const Rigid o = G[k] * X * cMo[k];
-      const double e = medianError(posed, G, X, o, layout, inv.cam);
+      const double e = medianError(posed, G, X, o, layout, cam);
       if (e < median_px) {
         median_px = e;
-        bMc = toVisp(X);
-        eMo = toVisp(o);
+        eMc = X;
+        fMo = o;
       }
     }
   }
   return std::isfinite(median_px);
+}
+
+/*
+  The start bMc of an eye-to-hand set-up with a target of known points: handEyeFromKnownPoints() on
+  the inverted controller poses (bMc in place of eMc, eMo in place of fMo).
+*/
+bool eyeToHandStart(const vpSelfCalibDataset &inv, unsigned int num_views, const std::map<int, vpColVector> &layout,
+                    vpHomogeneousMatrix &bMc, vpHomogeneousMatrix &eMo, double &median_px)
+{
+  const std::vector<View> views =
+      undistorted(std::vector<View>(inv.views.begin(), inv.views.begin() + num_views), lensOf(inv));
+  Rigid X, o;
+  unsigned int posed = 0;
+  if (!handEyeFromKnownPoints(views, layout, inv.cam, X, o, median_px, posed))
+    return false;
+  bMc = toVisp(X);
+  eMo = toVisp(o);
+  return true;
 }
 
 vpSelfCalibDataset eyeToHandJointsOnly(const vpSelfCalibDataset &ds, unsigned int num_joints)

@@ -107,7 +107,8 @@ vpKinematicBundleAdjustment::Options withEstimatedSetOptions(vpKinematicBundleAd
 
 Context::Context(const vpKinematicChain &nominal_, const vpSelfCalibDataset &dataset_,
                  const vpRobotSelfCalibration::Options &options_, unsigned int num_calibration_,
-                 const vpRobotSelfCalibration::Progress &progress_)
+                 const vpRobotSelfCalibration::Progress &progress_, const vpKinematicChain *guess_,
+                 bool eMc_from_data_)
   : nominal(nominal_), dataset(dataset_), options(options_), progress(progress_), num_calibration(num_calibration_),
     mode(vpRobotSelfCalibration::resolveFocalMode(options_, dataset_)),
     calibration(dataset_.views.begin(), dataset_.views.begin() + num_calibration_),
@@ -116,7 +117,8 @@ Context::Context(const vpKinematicChain &nominal_, const vpSelfCalibDataset &dat
     multiview(vpRobotSelfCalibration::multiViewOptions(options_, dataset_)),
     bundle(withEstimatedSetOptions(vpRobotSelfCalibration::bundleOptions(options_, dataset_), options_, dataset_)),
     data_check(vpRobotSelfCalibration::dataCheckOptions(options_)),
-    noise(vpRobotSelfCalibration::noiseModel(options_, dataset_))
+    noise(vpRobotSelfCalibration::noiseModel(options_, dataset_)), guess(guess_ ? *guess_ : nominal_),
+    eMc_from_data(eMc_from_data_)
 {
 }
 
@@ -135,7 +137,8 @@ Context::Context(const Context &base, const vpSelfCalibNoiseModel &noise_, bool 
   : nominal(base.nominal), dataset(base.dataset), options(base.options), progress(base.progress),
     num_calibration(base.num_calibration), mode(base.mode), calibration(base.calibration),
     verification(base.verification), twoview(base.twoview), multiview(base.multiview),
-    bundle(withScaledCovariance(base.bundle, robot_round)), data_check(base.data_check), noise(noise_)
+    bundle(withScaledCovariance(base.bundle, robot_round)), data_check(base.data_check), noise(noise_),
+    guess(base.guess), eMc_from_data(base.eMc_from_data)
 {
 }
 
@@ -423,40 +426,58 @@ double triangulateAll(const std::vector<View> &views, const std::vector<Rigid> &
 }
 } // namespace
 
+double scanFocal(const std::function<double(double)> &score, double center)
+{
+  // A ladder of focal lengths from 0.3x to 4x center (steps of 2^(1/4)), then golden-section
+  // search on log f between the best rung's neighbours.
+  double best = std::numeric_limits<double>::infinity();
+  int best_k = 0;
+  for (int k = -7; k <= 8; ++k) {
+    const double e = score(center * std::pow(2.0, k / 4.0));
+    if (e < best) {
+      best = e;
+      best_k = k;
+    }
+  }
+  if (!std::isfinite(best))
+    return 0;
+  double a = std::log(center) + (best_k - 1) * std::log(2.0) / 4, b = a + std::log(2.0) / 2;
+  const double g = (std::sqrt(5.0) - 1) / 2;
+  double x1 = b - g * (b - a), x2 = a + g * (b - a), e1 = score(std::exp(x1)), e2 = score(std::exp(x2));
+  for (int it = 0; it < 20; ++it) {
+    if (e1 < e2) {
+      b = x2;
+      x2 = x1;
+      e2 = e1;
+      x1 = b - g * (b - a);
+      e1 = score(std::exp(x1));
+    } else {
+      a = x1;
+      x1 = x2;
+      e1 = e2;
+      x2 = a + g * (b - a);
+      e2 = score(std::exp(x2));
+    }
+  }
+  return std::exp(0.5 * (a + b));
+}
+
 PredictedStart predictedStart(const std::vector<View> &views, const std::vector<Rigid> &fMc, const CameraModel &lens,
                               bool focal_known)
 {
   PredictedStart out;
   std::map<int, Eigen::Vector3d> X;
   CameraModel camera = lens;
-  double best = std::numeric_limits<double>::infinity(), f0 = lens.px();
+  double f0 = lens.px();
   if (!focal_known) {
-    // A ladder of focal lengths from 0.3x to 3x the guess (steps of 2^(1/4)), then golden-section
-    // search between the best rung's neighbours.
-    auto error = [&](double f) {
-      camera.intrinsics()[0] = f;
-      return triangulateAll(views, fMc, camera, X);
-    };
-    int best_k = 0;
-    for (int k = -7; k <= 6; ++k) {
-      const double e = error(lens.px() * std::pow(2.0, k / 4.0));
-      if (e < best) {
-        best = e;
-        best_k = k;
-      }
-    }
-    if (!std::isfinite(best))
+    f0 = scanFocal(
+        [&](double f) {
+          camera.intrinsics()[0] = f;
+          return triangulateAll(views, fMc, camera, X);
+        },
+        lens.px());
+    if (!(f0 > 0))
       return out;
-    double a = std::log(lens.px()) + (best_k - 1) * std::log(2.0) / 4, b = a + std::log(2.0) / 2;
-    const double g = (std::sqrt(5.0) - 1) / 2;
-    for (int it = 0; it < 20; ++it) {
-      const double x1 = b - g * (b - a), x2 = a + g * (b - a);
-      if (error(std::exp(x1)) < error(std::exp(x2)))
-        b = x2;
-      else
-        a = x1;
-    }
-    f0 = std::exp(0.5 * (a + b));
   }
   camera.intrinsics()[0] = f0;
   out.median_error = triangulateAll(views, fMc, camera, X);
@@ -507,8 +528,8 @@ void verify(const Context &c, Result &res)
   const std::vector<View> before = opencv ? undistorted(c.verification, lensOf(c.dataset)) : c.verification;
   const std::vector<View> after =
       opencv ? undistorted(c.verification, lensOf(res.camera, res.bundle.opencv_distortion)) : c.verification;
-  res.before = vpCalibrationVerifier::verify(c.nominal, c.dataset.cam,
-                                             c.bundle.eye_to_hand ? eyeToHandViews(c.nominal, before) : before,
+  res.before = vpCalibrationVerifier::verify(c.guess, c.dataset.cam,
+                                             c.bundle.eye_to_hand ? eyeToHandViews(c.guess, before) : before,
                                              c.dataset.yardstick);
   res.after = vpCalibrationVerifier::verify(res.calibrated, res.camera,
                                             c.bundle.eye_to_hand ? eyeToHandViews(res.calibrated, after) : after,

@@ -34,7 +34,8 @@ using View = vpSelfCalibDataset::View;
 struct Context {
   Context(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
           const vpRobotSelfCalibration::Options &options, unsigned int num_calibration,
-          const vpRobotSelfCalibration::Progress &progress);
+          const vpRobotSelfCalibration::Progress &progress, const vpKinematicChain *guess = nullptr,
+          bool eMc_from_data = false);
   /*!
     The same run at another noise model (measured levels). robot_round: the robot's error was
     measured, and the covariance is scaled by sigma0 when the residuals say the noise is larger.
@@ -53,6 +54,11 @@ struct Context {
   const vpKinematicBundleAdjustment::Options bundle;
   const vpSelfCalibDataCheck::Options data_check;
   const vpSelfCalibNoiseModel noise; //!< the noise of every step (vpRobotSelfCalibration::noiseModel())
+  //! The caller's model (nominal, unless the run started from another: startFromData()): the
+  //! reference of the assessment's and the verification's "nominal" figures.
+  const vpKinematicChain &guess;
+  //! The nominal model's eMc is the one the data measure (startFromData()), not the caller's guess.
+  const bool eMc_from_data;
 
   //! Reports progress when the caller gave a callback.
   void report(const std::string &stage, unsigned int done, unsigned int total) const;
@@ -110,6 +116,13 @@ bool bundleFrom(const Context &context, const vpKinematicChain &start, const std
                 double fx0, const std::vector<View> &views, const vpKinematicBundleAdjustment::Options &bundle_options,
                 const std::string &label, Result &result);
 
+/*!
+  The focal length (px) that minimises score(f): a ladder of rungs from 0.3x to 4x `center` (steps
+  of 2^(1/4)), then a golden-section search on log f between the best rung's neighbours; 0 when no
+  rung has a finite score.
+*/
+double scanFocal(const std::function<double(double)> &score, double center);
+
 //! A start from the camera poses the robot predicts (see predictedStart()).
 struct PredictedStart {
   bool ok = false;
@@ -121,7 +134,7 @@ struct PredictedStart {
   Every point seen twice triangulated from the cameras the robot predicts (fMc: nominal kinematics
   or controller poses with the nominal eMc) through the lens; with the focal length not known, the
   focal length that makes these rays meet best (lowest median reprojection error over a ladder of
-  candidates from 0.3x to 3x the lens's, then a golden-section search). Needs no two-view geometry:
+  candidates from 0.3x to 4x the lens's, scanFocal()). Needs no two-view geometry:
   it works on planar scenes and from any focal guess. ok false when fewer than 10 observations
   triangulate.
 */
@@ -202,6 +215,17 @@ void assess(const Context &context, Result &result);
 */
 vpSelfCalibDataset eyeToHandAsEyeInHand(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds);
 /*!
+  eMc and the target's pose fMo from its known points (layout, its frame o) in views whose fMe is
+  set (has_fMe; pixels of a pinhole camera `cam`): each view's target pose by PnP, then OpenCV's
+  closed forms (Tsai, Park, Horaud, Andreff, Daniilidis); with each, fMo from every view; the pair
+  that reprojects the known points with the lowest median error (median_px) over every view is kept
+  (on small motions of a small target the closed forms disagree by metres, and which one is right
+  differs between data sets). num_posed: the views PnP posed. False with fewer than 3 posed.
+*/
+bool handEyeFromKnownPoints(const std::vector<View> &views, const std::map<int, vpColVector> &layout,
+                            const vpCameraParameters &cam, vpSelfCalib::Rigid &eMc, vpSelfCalib::Rigid &fMo,
+                            double &median_px, unsigned int &num_posed);
+/*!
   A start bMc and eMo from the target's known points (layout, its frame o) in the first num_views
   views of an inverted dataset: per-view PnP and OpenCV's hand-eye closed forms, the pair with the
   lowest median reprojection error (median_px) kept. False with fewer than 3 views posed.
@@ -228,6 +252,58 @@ std::vector<View> eyeToHandViews(const vpKinematicChain &model, const std::vecto
   adjustment of the chain, bMc, eMo and the intrinsics.
 */
 void runBundleEyeToHand(const Context &context, Result &result);
+
+//! A start for eMc and the focal length measured from the data (vpSelfCalibMeasuredStart.cpp).
+struct MeasuredStart {
+  bool has_eMc = false;  //!< eMc measured
+  bool has_fx = false;   //!< the focal length measured (not when it is known)
+  double fx = 0;         //!< px
+  vpSelfCalib::Rigid eMc;
+  std::string how;       //!< what measured them, or why they could not be
+};
+/*!
+  eMc and, when focal_known is false, the focal length measured from views whose fMe is set (has_fMe;
+  their pixels a pinhole camera's at lens's principal point and aspect ratio, whatever lens's focal
+  length): with a target of 4 known points or more (layout), handEyeFromKnownPoints(), its focal
+  length the one whose median reprojection error through the robot is lowest (scanFocal() around the
+  image width); else the two-view motions of the pairs (view r, view k) sharing 15 points or more, r
+  the view with the most such pairs (OpenCV's five-point RANSAC, threshold_px), the focal length the one at which their rotation angles
+  agree best with the end-effector's (median), eMc's rotation by OpenCV's closed forms and its
+  translation with the pairs' scales by linear least squares. Depends on neither the model's eMc nor
+  lens's focal length. has_eMc false (how says why) when too few views are posed. Throws
+  vpSelfCalibException when a view has no fMe.
+*/
+MeasuredStart measuredStart(const std::vector<View> &views, const vpSelfCalib::CameraModel &lens, unsigned int width,
+                            const std::map<int, vpColVector> &layout, bool focal_known, double threshold_px);
+
+//! What a run starts from (startFromData()).
+struct DataStart {
+  vpKinematicChain model;                             //!< the nominal model, eMc measured when it could be
+  vpSelfCalibDataset dataset;                         //!< the dataset, its focal length measured when self-calibrated
+  std::vector<vpSelfCalibDataCheck::Finding> findings; //!< eMc not measured
+  std::string message;                                //!< how eMc and f were started
+  bool eMc_from_data = false;                         //!< model's eMc is the measured one
+};
+/*!
+  The start of the bundle and hand-eye methods (the paper's: the inputs unchanged): measuredStart()
+  on the first N views (end-effector poses: the controller's with HAND_EYE, else the nominal
+  kinematics at the joints); the model's eMc replaced by the measured one (its eMc correction
+  zeroed); when eMc cannot be measured, the guess, and the warning "emc-start-guess". A self-calibrated focal
+  length measured with it, else where the rays of the model's camera poses meet best
+  (predictedStart()). Eye-to-hand (bundle.controller_poses_inverted or bundle.eye_to_hand: run()
+  started bMc): the focal length only, from the rays.
+*/
+DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDataset &data, unsigned int N,
+                        const vpRobotSelfCalibration::Options &opt);
+/*!
+  The calibrated model of a run started from the data's eMc expressed against the caller's model:
+  its eMc the guess's, its eMc correction D such that guess D = the calibrated eMc (the corrections
+  read against the caller's model, as without the start); the translation's sd turned with it, the
+  rotation's left as estimated (the same when the guess's rotation is the start's).
+*/
+void expressInGuess(const vpKinematicChain &guess, Result &res);
+//! A warning "emc-guess-far" when the calibrated eMc is beyond the caller's hand-eye tolerance of its guess.
+void findGuessFar(const vpKinematicChain &guess, const vpRobotSelfCalibration::Options &opt, Result &res);
 } // namespace vpSelfCalibPipeline
 
 #endif
