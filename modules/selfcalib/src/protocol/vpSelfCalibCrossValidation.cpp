@@ -89,9 +89,10 @@ std::vector<std::vector<unsigned int>> vpSelfCalibCrossValidation::folds(unsigne
 vpSelfCalibCrossValidation::Reprojection
 vpSelfCalibCrossValidation::reprojection(const vpKinematicChain &model, const vpCameraParameters &cam,
                                          const std::vector<double> &opencv_distortion, bool controller_poses,
-                                         const std::vector<View> &scene_views, const std::vector<View> &test_views)
+                                         const std::vector<View> &scene_views, const std::vector<View> &test_views,
+                                         unsigned int width, unsigned int height)
 {
-  const CameraModel camera = vpSelfCalibPipeline::lensOf(cam, opencv_distortion);
+  const CameraModel camera = vpSelfCalibPipeline::lensOf(cam, opencv_distortion).withImage(width, height);
   std::vector<Rigid> fMc;
   for (size_t k = 0; k < scene_views.size(); ++k)
     fMc.push_back(predictedCamera(model, scene_views[k], controller_poses, k));
@@ -102,7 +103,6 @@ vpSelfCalibCrossValidation::reprojection(const vpKinematicChain &model, const vp
   Reprojection r;
   r.points = static_cast<unsigned int>(X.size());
   std::vector<double> errors;
-  const double valid_r2 = camera.validRadius2();
   for (size_t k = 0; k < test_views.size(); ++k)
     for (const auto &o : test_views[k].points) {
       const auto it = X.find(o.id);
@@ -113,8 +113,9 @@ vpSelfCalibCrossValidation::reprojection(const vpKinematicChain &model, const vp
         ++r.behind;
         continue;
       }
-      // Outside the lens model's valid region the polynomial's pixel is no prediction: not seen.
-      if (Xc.head<2>().squaredNorm() / (Xc(2) * Xc(2)) >= valid_r2) {
+      // Outside the lens model's valid region (its polynomial's monotonic range, the image and its
+      // margin) the polynomial's pixel is no prediction: not seen.
+      if (!camera.sees(Xc)) {
         ++r.outside;
         continue;
       }
@@ -177,12 +178,14 @@ vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinem
     fold.held_out = held[f];
     fold.status = r.status;
     fold.message = r.message;
-    fold.nominal = reprojection(nominal, ds.cam, ds.opencv_distortion, controller_poses, train, test);
+    fold.nominal =
+        reprojection(nominal, ds.cam, ds.opencv_distortion, controller_poses, train, test, ds.width, ds.height);
     // A doubtful fold has a model (the one calibrate would write, marked): it is cross-validated too.
     if (r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL) {
       fold.fx = r.camera.get_px();
       fold.calibrated =
-          reprojection(r.calibrated, r.camera, calibratedDistortion(r, ds), controller_poses, train, test);
+          reprojection(r.calibrated, r.camera, calibratedDistortion(r, ds), controller_poses, train, test, ds.width,
+                       ds.height);
       if (r.verified && r.before.has_yardstick && r.after.has_yardstick) {
         fold.verified = true;
         fold.yardstick_error_nominal = r.before.yardstick_error;
@@ -239,8 +242,9 @@ vpSelfCalibCrossValidation::HeldOut vpSelfCalibCrossValidation::verifyHeldOut(
   HeldOut out;
   out.views = static_cast<unsigned int>(h.views.size());
   const std::vector<double> lens = calibratedDistortion(r, ds);
-  out.calibrated = reprojection(r.calibrated, r.camera, lens, controller_poses, h.views, h.views);
-  out.nominal = reprojection(nominal, h.cam, h.opencv_distortion, controller_poses, h.views, h.views);
+  out.calibrated = reprojection(r.calibrated, r.camera, lens, controller_poses, h.views, h.views, h.width, h.height);
+  out.nominal =
+      reprojection(nominal, h.cam, h.opencv_distortion, controller_poses, h.views, h.views, h.width, h.height);
   if (h.yardstick.isSet()) {
     // vpCalibrationVerifier's camera holds no OpenCV lens: the pixels through its inverse first.
     auto pinhole = [&h](const vpCameraParameters &cam, const std::vector<double> &opencv) {

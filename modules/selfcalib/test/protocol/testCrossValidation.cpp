@@ -354,3 +354,78 @@ TEST(CrossValidation, PointsOutsideTheLensModelAreNotSeen)
   EXPECT_LT(both.rms, 2 * seen.rms);
   EXPECT_LT(both.median, 2 * seen.median);
 }
+
+// The image and its margin (k1 = -0.3, 1280 x 720, p_x 1600): a point inside the polynomial's
+// monotonic range (r^2 < 1 / 0.9) whose undistorted pixel lies more than the margin outside the
+// image is not seen once the camera is told its image; a pinhole camera still sees it (its model
+// holds everywhere). In the cross-validation, exactly the held-out observations whose predicted
+// undistorted pixel lies beyond the image and its margin are counted outside, not compared.
+TEST(CrossValidation, PointsOutsideTheImageAndItsMarginAreNotSeen)
+{
+  const double in[9] = {1600, 1, 640, 360, -0.3, 0, 0, 0, 0};
+  const vpSelfCalib::CameraModel lens(vpSelfCalib::Distortion::OPENCV, in);
+  const vpSelfCalib::CameraModel framed = lens.withImage(1280, 720); // margin 320 px
+  ASSERT_NEAR(lens.validRadius2(), 1 / 0.9, 1e-9);
+  const Eigen::Vector3d near_edge(0.59, 0.42, 1), beyond_u(0.61, 0, 1), beyond_v(0, 0.43, 1), left(-0.61, 0, 1);
+  for (const Eigen::Vector3d &X : {near_edge, beyond_u, beyond_v, left})
+    EXPECT_TRUE(lens.sees(X)); // inside the polynomial's range: the old rule sees them all
+  EXPECT_TRUE(framed.sees(near_edge)); // u = 1584, v = 1032: within 1600 and 1040
+  EXPECT_FALSE(framed.sees(beyond_u)); // u = 1616
+  EXPECT_FALSE(framed.sees(beyond_v)); // v = 1048
+  EXPECT_FALSE(framed.sees(left));     // u = -336
+  EXPECT_FALSE(framed.sees(Eigen::Vector3d(0.1, 0, -1))); // behind
+  const vpSelfCalib::CameraModel tight = lens.withImage(1280, 720, 0);
+  EXPECT_TRUE(tight.sees(Eigen::Vector3d(0.39, 0, 1)));  // u = 1264
+  EXPECT_FALSE(tight.sees(Eigen::Vector3d(0.41, 0, 1))); // u = 1296
+  const vpSelfCalib::CameraModel pin = vpSelfCalib::CameraModel::pinhole(1600, 1600, 640, 360).withImage(1280, 720);
+  EXPECT_TRUE(pin.sees(Eigen::Vector3d(5, 3, 1)));
+
+  const vpKinematicChain model = vpKinematicChain::fromPresetOrFile("viper850");
+  const vpHomogeneousMatrix eMc = model.get_eMc_corrected();
+  const std::vector<double> coefficients = {-0.3, 0, 0, 0, 0};
+  const vpCameraParameters cam(1600, 1600, 640, 360);
+  std::vector<Eigen::Vector3d> scene;
+  for (int i = -4; i <= 4; ++i)
+    for (int j = -3; j <= 3; ++j)
+      scene.emplace_back(0.05 * i, 0.05 * j, 2.0);
+  vpSelfCalib::Random rng(11, 1);
+  const auto view = [&](const vpHomogeneousMatrix &fMc) {
+    vpSelfCalibDataset::View v;
+    v.has_fMe = true;
+    v.fMe = fMc * eMc.inverse();
+    const vpSelfCalib::Rigid cMf = vpSelfCalib::rigidFromVisp(fMc).inverse();
+    for (size_t p = 0; p < scene.size(); ++p) {
+      const Eigen::Vector2d uv = lens.project(cMf * scene[p]);
+      v.points.push_back({static_cast<int>(p), vpImagePoint(uv(1) + rng.normal(0.2), uv(0) + rng.normal(0.2))});
+    }
+    return v;
+  };
+  const std::vector<vpSelfCalibDataset::View> train = {view(vpHomogeneousMatrix(-0.2, 0, 0, 0, 0, 0)),
+                                                       view(vpHomogeneousMatrix(0.2, 0, 0, 0, 0, 0)),
+                                                       view(vpHomogeneousMatrix(0, 0.2, 0, 0, 0, 0))};
+  // A camera turned 28 degrees about y: the grid at |x / z| from about 0.43 to 0.65, part of it
+  // beyond u = 1600; its pixels observed wrongly (anywhere in the image).
+  const vpHomogeneousMatrix fMc_turned(0, 0, 0, 0, -28 * M_PI / 180, 0);
+  vpSelfCalibDataset::View turned = view(fMc_turned);
+  for (auto &o : turned.points)
+    o.ip = vpImagePoint(rng.uniform(0, 720), rng.uniform(0, 1280));
+  const vpSelfCalib::Rigid cMf = vpSelfCalib::rigidFromVisp(fMc_turned).inverse();
+  unsigned int beyond = 0;
+  for (const Eigen::Vector3d &X : scene) {
+    const Eigen::Vector3d Xc = cMf * X;
+    const double u = 640 + 1600 * Xc(0) / Xc(2), v = 360 + 1600 * Xc(1) / Xc(2);
+    ASSERT_LT(Xc.head<2>().squaredNorm() / (Xc(2) * Xc(2)), 1 / 0.9);
+    beyond += u < -320 || u > 1600 || v < -320 || v > 1040;
+  }
+  ASSERT_GT(beyond, 5u);
+  ASSERT_LT(beyond, scene.size() - 5);
+  const CV::Reprojection unframed = CV::reprojection(model, cam, coefficients, true, train, {turned});
+  const CV::Reprojection image = CV::reprojection(model, cam, coefficients, true, train, {turned}, 1280, 720);
+  EXPECT_EQ(unframed.outside, 0u);
+  EXPECT_EQ(image.outside, beyond);
+  EXPECT_EQ(image.observations + beyond, unframed.observations);
+  // Without distortion the image's size changes nothing.
+  const CV::Reprojection pinhole = CV::reprojection(model, cam, {}, true, train, {turned}, 1280, 720);
+  EXPECT_EQ(pinhole.outside, 0u);
+  EXPECT_EQ(pinhole.observations, scene.size());
+}
