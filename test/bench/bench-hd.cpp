@@ -12,7 +12,7 @@
  * file of images (--dataset, e.g. an imported real set), its reference eMc given by --reference.
  *
  *   bench-hd [--size 1280x720] [--views 12] [--seeds 1] [--folds 5] [--threads 2] [--work DIR]
- *   bench-hd --dataset DS.yaml [--reference tx,ty,tz,tux,tuy,tuz] [-- CALIBRATE-OPTIONS...]
+ *   bench-hd --dataset DS.yaml [--reference tx,ty,tz,tux,tuy,tuz] [--with 'CALIBRATE-OPTIONS']
  *
  * Target: 12 views of 1280 x 720, hand-eye with 5-fold cross-validation, under 30 s on 2 cores.
  */
@@ -105,7 +105,7 @@ Timing runTimed(const std::string &command, const std::string &log_file)
   char buf[4096];
   while (fgets(buf, sizeof buf, p)) {
     std::string line(buf);
-    log << line;
+    log << line << std::flush;
     if (!line.empty() && line.back() == '\n')
       line.pop_back();
     if (line.rfind("... ", 0) != 0) {
@@ -251,7 +251,7 @@ int main(int argc, char **argv)
     std::string size = "1280x720", work, dataset, app = appPath(argv[0]), csv_path;
     unsigned int views = 12, seeds = 1, folds = 5, threads = 2;
     std::vector<double> reference;
-    std::vector<std::string> extra;
+    std::string with;
     CLI::App cli("bench-hd: the wall time of `visp-selfcalib calibrate --method hand-eye --folds K` on HD images,\n"
                  "stage by stage, and its accuracy (rendered hand-eye set, or a dataset of images).",
                  "bench-hd");
@@ -268,7 +268,8 @@ int main(int argc, char **argv)
         ->expected(6)
         ->type_name("POSE");
     cli.add_option("--app", app, "the visp-selfcalib program (default: beside this one)")->type_name("FILE");
-    cli.add_option("extra", extra, "after --: more calibrate options (e.g. --board SPEC)")->type_name("OPTIONS");
+    cli.add_option("--with", with, "more calibrate options, as one argument (e.g. '--board chessboard:9x6:0.0236')")
+        ->type_name("OPTIONS");
     cli.add_option("--csv", csv_path, "one row per run")->type_name("FILE");
     const int parsed = selfcalibCli::parse(cli, argc, argv);
     if (parsed >= 0)
@@ -283,9 +284,7 @@ int main(int argc, char **argv)
     if (temporary)
       work = (fs::temp_directory_path() / ("bench-hd-" + std::to_string(getpid()))).string();
     fs::create_directories(work);
-    std::string more;
-    for (const std::string &e : extra)
-      more += " " + quote(e);
+    const std::string more = with.empty() ? std::string() : " " + with; // split by the shell
 
     std::cout << "| set | status | total s | cpu s | front end s | calibration s | cross-validation s (folds) | report s "
                  "| eMc error mm | eMc error mrad | f px (true) | rms px | held-out rms px |\n"
