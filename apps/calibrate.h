@@ -1,7 +1,7 @@
 /*
  * visp-selfcalib calibrate: the pieces its files share (calibrateOptions.cpp: the command line and
- * the library options it gives; calibrateCommand.cpp: the run; calibrateOutput.cpp: the output
- * directory and what is printed).
+ * the library options it gives, calibrateFrontEnd.cpp: its front-end part; calibrateCommand.cpp: the
+ * run; calibrateOutput.cpp: the output directory and what is printed).
  */
 #ifndef VISP_SELFCALIB_CALIBRATE_H
 #define VISP_SELFCALIB_CALIBRATE_H
@@ -17,6 +17,8 @@
 
 #include "commands.h"
 
+//! calibrate's front-end options (dot grids, natural features, a board, a mask): calibrateFrontEnd.cpp.
+void addFrontEndOptions(CLI::App *c, CalibrateArgs &a);
 //! The front end's options from the command line (throws on a bad --mask image).
 vpSelfCalibImageCorrespondences::Options frontEndOptions(const CalibrateArgs &a);
 //! The calibration's options from the command line; CLI::ValidationError for options that disagree.
@@ -48,5 +50,7 @@ void printStatus(const vpRobotSelfCalibration::Result &r, bool calibrated);
 void printProtocol(const vpSelfCalibProtocol::Result &p);
 //! calibrate's summary on stdout: what was estimated, eMc with its sd, the residuals, the intrinsics.
 void printSummary(const vpRobotSelfCalibration::Result &r, unsigned int num_calibration);
+//! When the data left parameters at nominal: the plan --from command that proposes the poses to add.
+void printAddPoses(const vpRobotSelfCalibration::Result &r, const std::string &dataset);
 
 #endif

@@ -117,6 +117,19 @@ std::string writeResults(const fs::path &stage, const std::string &dataset, cons
     std::cerr << "warning: " << w << "\n";
   return report.message;
 }
+//! The options of the full kinematic calibration only, refused with the hand-eye method (exit 2).
+void refuseBundleOptions(const CalibrateArgs &a)
+{
+  if (!a.joint_sd.empty())
+    throw CLI::ValidationError("--joint-sd", "the joint readings' error is the full kinematic calibration's (--method "
+                                             "bundle); the hand-eye method models the controller poses' error: give "
+                                             "--pose-sd T,R (m, rad) instead");
+  if (!a.free.empty())
+    throw CLI::ValidationError("--free", "the hand-eye method estimates every part of eMc (bMc with the camera in "
+                                         "the world) whatever the tolerance; --free frees the kinematic parameters of "
+                                         "--method bundle (--fix keeps a part of eMc at its nominal value)");
+}
+
 /*
   --pose-sd T,R and --joint-sd into the noise model of po's method: the controller poses' error
   (hand-eye), the kinematic model's residual and the joint readings' error (bundle; the joints' with
@@ -126,11 +139,14 @@ std::string writeResults(const fs::path &stage, const std::string &dataset, cons
 void stateRobotError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po)
 {
   // A stated robot error: the sd are widened by sigma0 when the residuals say the noise is larger.
-  if (!a.joint_sd.empty() || (a.pose_sd.size() == 2 && !po.trust_robot)) // two numbers (auto and 0 come alone)
+  // --joint-sd 0 and --pose-sd 0 come alone: exact, nothing stated.
+  const bool joints_stated = !a.joint_sd.empty() && a.joint_sd[0] > 0;
+  const bool pose_stated = a.pose_sd.size() == 2 && std::stod(a.pose_sd[0]) > 0;
+  if (joints_stated || pose_stated)
     po.bundle.scale_covariance = true;
-  if (!a.joint_sd.empty() && po.method != vpRobotSelfCalibration::PAPER)
+  if (joints_stated && po.method != vpRobotSelfCalibration::PAPER)
     po.noise.joint_sd = a.joint_sd;
-  if (a.pose_sd.size() != 2 || po.trust_robot)
+  if (!pose_stated)
     return;
   // The controller poses' error (hand-eye), or the kinematic model's residual (bundle); the
   // paper's method models neither.
@@ -185,11 +201,23 @@ int calibrate(const CalibrateArgs &a)
   // order. The result files must be bit-reproducible.
   cv::setNumThreads(a.threads);
   vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
+  if (a.joint_sd.size() == 1 && a.joint_sd[0] == 0)
+    ds.joint_sd.clear(); // --joint-sd 0: exact readings, whatever the dataset's robot_error says
   const bool world = ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD;
-  if (world && !a.method.empty() && co.method != vpRobotSelfCalibration::HAND_EYE)
-    throw CLI::ValidationError("--method", "camera_mount: world is calibrated with --method hand-eye; the " + a.method +
-                                               " method models a camera on the end-effector only (the dataset " +
-                                               dataset + " says the camera is fixed in the world)");
+  if (world && !a.method.empty() && co.method == vpRobotSelfCalibration::PAPER)
+    throw CLI::ValidationError("--method", "camera_mount: world is calibrated with --method bundle or hand-eye; the "
+                                           "paper method measures the camera's motion between views of a scene fixed "
+                                           "in the base frame, and the dataset " +
+                                               dataset + " says the camera is fixed in the world");
+  const bool world_bundle = world && !a.method.empty() && co.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT;
+  for (size_t k = 0; world_bundle && k < ds.views.size(); ++k)
+    if (ds.views[k].q.size() == 0)
+      throw CLI::ValidationError("--method", "camera_mount: world with --method bundle calibrates the arm's kinematics "
+                                             "from joint readings; pose " +
+                                                 std::to_string(k) + " of " + dataset +
+                                                 " has none (a controller pose only): use --method hand-eye");
+  if (!world_bundle && (world || co.method == vpRobotSelfCalibration::HAND_EYE))
+    refuseBundleOptions(a); // before the front end runs, when the method is known
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
   co.prior = nominal; // the front end's matching is guided by the nominal kinematics
   checkParameterLists(nominal, ds, po);
@@ -208,13 +236,23 @@ int calibrate(const CalibrateArgs &a)
               << cr.board.front().message << "); check the board's description (type, size, dictionary or tag family)\n";
     return 3;
   }
-  po.method = world ? vpRobotSelfCalibration::HAND_EYE : cr.method; // a camera in the world: hand-eye only
+  // A camera in the world: hand-eye unless the bundle method is asked for (with joint readings).
+  po.method = world ? (world_bundle ? vpRobotSelfCalibration::BUNDLE_ADJUSTMENT : vpRobotSelfCalibration::HAND_EYE)
+                    : cr.method;
   if (const int refused = checkMethodData(po.method, ds))
     return refused;
   if (pose_auto && po.method != vpRobotSelfCalibration::HAND_EYE)
     std::cerr << "warning: --pose-sd auto measures the controller poses' error (hand-eye); the method is "
               << vpRobotSelfCalibration::methodName(po.method) << ", so it is not used\n";
+  if (po.method == vpRobotSelfCalibration::HAND_EYE)
+    refuseBundleOptions(a);
   stateRobotError(a, po);
+  if (po.trust_robot && po.method == vpRobotSelfCalibration::HAND_EYE && ds.pose_sd_translation > 0) {
+    // --pose-sd 0 states exact poses: it overrides the dataset's robot_error, as --pose-sd T,R does.
+    std::cerr << "... robot error: --pose-sd 0: the controller poses are taken as exact (the dataset's robot_error "
+              << ds.pose_sd_translation << " m / " << ds.pose_sd_rotation << " rad is not used)\n";
+    ds.pose_sd_translation = ds.pose_sd_rotation = 0;
+  }
   const vpSelfCalibProtocol::Options protocol_options = protocolOptions(a, co);
   const vpSelfCalibProtocol::Plan plan =
       vpSelfCalibProtocol::plan(protocol_options, static_cast<unsigned int>(ds.views.size()));
@@ -238,6 +276,8 @@ int calibrate(const CalibrateArgs &a)
                                 (fs::path(out) / "results.yaml").string(), (fs::path(out) / "model.urdf").string()};
   printSummary(r, p.options.num_calibration_poses);
   std::cout << "\n";
+  if (r.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT)
+    printAddPoses(r, dataset);
   printProtocol(p);
   std::cout << "wrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
   std::cout << "report: " << (fs::path(out) / "report").string() << "/report.md (" << report << ")\n";

@@ -6,32 +6,13 @@
 #include <algorithm>
 
 #include <visp3/core/vpException.h>
-#include <visp3/io/vpImageIo.h>
 #include <visp3/selfcalib/vpBoardDetector.h>
-#include <visp3/selfcalib/vpDotGrid.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include "selfcalibCli.h"
 
 namespace
 {
-//! "CxR": C columns, R rows of an asymmetric circle grid; false when it is not that.
-bool parseDotGrid(const std::string &item, vpFeatureFrontEnd::DotGrid &g)
-{
-  const size_t x = item.find('x');
-  const std::string digits = "0123456789";
-  if (x == std::string::npos || x == 0 || x + 1 == item.size() ||
-      item.substr(0, x).find_first_not_of(digits) != std::string::npos ||
-      item.substr(x + 1).find_first_not_of(digits) != std::string::npos || item.size() > 12)
-    return false;
-  const unsigned long cols = std::stoul(item.substr(0, x)), rows = std::stoul(item.substr(x + 1));
-  if (cols == 0 || rows == 0 || cols > 1000 || rows > 1000)
-    return false;
-  g.cols = static_cast<unsigned int>(cols);
-  g.rows = static_cast<unsigned int>(rows);
-  return true;
-}
-
 //! The protocol: the method, the split of the views, the folds, a held-out dataset.
 void addProtocolOptions(CLI::App *c, CalibrateArgs &a)
 {
@@ -100,9 +81,10 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
                 "e.g. 0.002,0.002: each pose gets a correction with that prior, and the sd are\n"
                 "widened by sigma0 when the residuals say the noise is larger; bundle-adjustment: the\n"
                 "kinematic model's own residual (each camera pose corrected in its own frame with that\n"
-                "prior; default: none); auto (hand-eye's default): measured from the corrections\n"
-                "(variance components), from the dataset's robot_error or 1 mm / 1 mrad, runs again\n"
-                "until it settles within 10 %; 0: the controller poses are exact (no error modelled)")
+                "prior; default: measured, see --joint-sd); auto (hand-eye's default): measured from\n"
+                "the corrections (variance components), from the dataset's robot_error or 1 mm /\n"
+                "1 mrad, runs again until it settles within 10 %; 0: the robot is exact (no error\n"
+                "modelled: the controller poses, or the joint readings and the model)")
       ->type_name("T,R|auto|0")
       ->delimiter(',')
       ->expected(1, 2)
@@ -110,11 +92,14 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
   c->add_option("--joint-sd", a.joint_sd,
                 "bundle-adjustment: the joint readings' error (rad), one value for every joint or one\n"
                 "per joint, e.g. 1e-4: each view gets joint corrections with that prior, and the sd are\n"
-                "widened by sigma0 when the residuals say the noise is larger (default: the dataset's\n"
-                "robot_error, else exact readings)")
-      ->type_name("RAD[,RAD...]")
+                "widened by sigma0 when the residuals say the noise is larger. Default: measured\n"
+                "(variance components, runs again until it settles within 25 %) from the dataset's\n"
+                "robot_error, else from 3e-4 rad with the model's residual from 0.2 mm / 0.2 mrad;\n"
+                "a level below 4e-5 is dropped (exact). 0: the joint readings and the model are\n"
+                "exact (no error modelled, whatever the dataset's robot_error says)")
+      ->type_name("RAD[,RAD...]|0")
       ->delimiter(',')
-      ->check(selfcalibCli::number(0, true, 1));
+      ->check(selfcalibCli::number(0, false, 0.999));
   c->add_option("--fix", a.fix,
                 "bundle-adjustment: kinematic parameters kept at their nominal value, names or glob\n"
                 "patterns as the model names them (j2.tx, eMc.ry, 'j3.*,base.*'); added to the\n"
@@ -140,80 +125,6 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
       ->check(selfcalibCli::wholeNumber(1, 1024));
 }
 
-//! The front end: dot grids, natural features, a board, a mask.
-void addFrontEndOptions(CLI::App *c, CalibrateArgs &a)
-{
-  c->add_option("--dot-grids", a.dot_grids,
-                "dot targets for the front end: asymmetric circle grids, C columns x R rows (R odd),\n"
-                "grid g numbered from 1000000 + 1000 g; their dots must differ in size")
-      ->type_name("CxR[,CxR...]")
-      ->delimiter(',')
-      ->check(CLI::Validator(
-          [](std::string &item) -> std::string {
-            vpFeatureFrontEnd::DotGrid g;
-            return parseDotGrid(item, g) ? std::string() : "expected COLSxROWS[,COLSxROWS...], got '" + item + "'";
-          },
-          std::string()));
-  CLI::Option *no_features = c->add_flag("--no-features", a.no_features, "no natural features (dot targets only)");
-  CLI::Option *board =
-      c->add_option("--board", a.board,
-                    "a calibration board whose points are the observations (their ids from\n"
-                    "2000000 + row * cols + col): chessboard:ROWSxCOLS:SPACING (inner corners),\n"
-                    "circles:, acircles: or modified-circles:ROWSxCOLS:SPACING (dots), spacing in m,\n"
-                    "e.g. chessboard:9x6:0.0236, modified-circles:10x10:0.0254; ':upright' accepts a\n"
-                    "board that looks the same turned.\n"
-                    "charuco:COLSxROWS:SQUARE:MARKER:DICT: a ChArUco board of COLS x ROWS squares\n"
-                    "(OpenCV's count), SQUARE and MARKER sides in m, an OpenCV dictionary, e.g.\n"
-                    "charuco:5x7:0.034:0.028:DICT_6X6_250; inner corner (r, c) has the id\n"
-                    "2000000 + r * (COLS - 1) + c (OpenCV's ChArUco corner id) and lies at\n"
-                    "((c + 1), (r + 1)) * SQUARE from the board's top-left outer corner (x right,\n"
-                    "y down, z into the board); a board partly out of view or hidden still gives\n"
-                    "the corners it shows.\n"
-                    "apriltag:FAMILY:SIZE[:ID,...]: AprilTags (36h11, 36h10, 25h9, 16h5) of side\n"
-                    "SIZE m, only those ids when given, e.g. apriltag:36h11:0.048:10; corner k\n"
-                    "(0..3: top-left, top-right, bottom-right, bottom-left as printed) of tag t has\n"
-                    "the id 2000000 + 4 * t + k; tag frame: centre, x right, y down.\n"
-                    "apriltag-bundle:FILE.yaml: tags of known placement as one board (family: 36h11,\n"
-                    "tags: [{id: 0, size: 0.04, pose: [tx, ty, tz, tux, tuy, tuz]}, ...], the pose\n"
-                    "of each tag in the bundle's frame).\n"
-                    "Without a yardstick in the dataset, the ends of the board's first row (a\n"
-                    "ChArUco board's first row of corners, the first tag's top edge) are the yardstick")
-          ->type_name("SPEC")
-          ->check(CLI::Validator(
-              [](std::string &spec) -> std::string {
-                try {
-                  vpBoardDetector::parse(spec);
-                  return std::string();
-                } catch (const vpSelfCalibException &e) {
-                  return e.getStringMessage();
-                }
-              },
-              std::string()));
-  c->add_flag("--with-features", a.with_features, "with --board: natural features too")->needs(board)->excludes(no_features);
-  CLI::Option *mask_board = c->add_flag("--mask-board", a.mask_board,
-              "with --board: the board is found only to be masked out (its region, 15 px beyond its\n"
-              "outer points); the calibration uses the natural features around it, target-free")
-      ->needs(board)
-      ->excludes(no_features);
-  c->add_option("--mask", a.mask,
-                "an image of the camera's size: where it is black (0) no natural feature is looked\n"
-                "for in any view (the robot's own parts, a drawn overlay, a moving background)")
-      ->type_name("PNG")
-      ->check(CLI::ExistingFile);
-  CLI::Option *board_geometry =
-      c->add_flag("--board-geometry", a.board_geometry,
-                  "with --board: its layout is known (a prior of --board-sd on each point, the\n"
-                  "board's pose estimated); without it the board's points are unknown scene points.\n"
-                  "AprilTags: one tag (apriltag:FAMILY:SIZE:ID) or a bundle")
-          ->needs(board)
-          ->excludes(mask_board);
-  c->add_option("--board-sd", a.board_sd,
-                "with --board-geometry: sd (m) of each point's placement on the board (default 1e-5,\n"
-                "10 um: a printed or machined board's accuracy; the layout then holds the points)")
-      ->type_name("SD")
-      ->check(selfcalibCli::number(0, true, 0.01))
-      ->needs(board_geometry);
-}
 } // namespace
 
 void addCalibrate(CLI::App &app, CalibrateArgs &a)
@@ -237,43 +148,13 @@ void addCalibrate(CLI::App &app, CalibrateArgs &a)
             "('status: ...') says which and what to do.");
 }
 
-vpSelfCalibImageCorrespondences::Options frontEndOptions(const CalibrateArgs &a)
-{
-  vpSelfCalibImageCorrespondences::Options co;
-  // A board alone unless natural features are asked for too.
-  co.front_end.features = a.board.empty() ? !a.no_features : (a.with_features || a.mask_board);
-  if (!a.board.empty())
-    co.board = vpBoardDetector::parse(a.board);
-  co.mask_board = a.mask_board;
-  if (!a.mask.empty()) {
-    vpImage<unsigned char> mask;
-    try {
-      vpImageIo::read(mask, a.mask);
-    } catch (const vpException &e) {
-      throw vpSelfCalibException(vpSelfCalibException::ioError,
-                                 "--mask: cannot read the image '" + a.mask + "': " + e.getStringMessage());
-    }
-    co.front_end.masks.push_back(mask);
-  }
-  // C x R; grid g numbered from 1000000 + 1000 g (as simulate --target dots).
-  for (const std::string &item : a.dot_grids) {
-    vpFeatureFrontEnd::DotGrid g;
-    parseDotGrid(item, g);
-    g.first_id = vpDotGrid::kDefaultFirstId + 1000 * static_cast<int>(co.front_end.dot_grids.size());
-    co.front_end.dot_grids.push_back(g);
-  }
-  if (!a.method.empty())
-    co.method = vpRobotSelfCalibration::methodFromName(a.method);
-  return co;
-}
-
 vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
                                                    const vpSelfCalibImageCorrespondences::Options &co)
 {
   vpRobotSelfCalibration::Options po;
   po.focal_mode = vpRobotSelfCalibration::focalModeFromName(a.focal);
   if (a.pixel_sd == "auto")
-    po.noise.pixel_sd_origin = vpSelfCalibNoiseModel::MEASURED; // from 0.2 px
+    po.noise.measure_pixel_sd = true; // from 0.2 px
   else
     po.noise.pixel_sd = std::stod(a.pixel_sd);
   if (a.tolerance.size() == 1 || a.tolerance.size() == 3)
@@ -319,10 +200,17 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
     throw CLI::ValidationError("--pose-sd", "give two values, T,R (m, rad), or auto, or 0 (exact poses)");
   if (a.pose_sd.size() == 2 && !trusted && (std::stod(a.pose_sd[0]) == 0 || std::stod(a.pose_sd[1]) == 0))
     throw CLI::ValidationError("--pose-sd", "T and R are both positive (the error modelled) or both 0 (exact poses)");
-  po.trust_robot = trusted && !a.pose_sd.empty();
+  const bool joints_exact = std::count(a.joint_sd.begin(), a.joint_sd.end(), 0.0) > 0;
+  if (joints_exact && a.joint_sd.size() != 1)
+    throw CLI::ValidationError("--joint-sd", "0 (exact readings) comes alone; give positive values (rad), one for "
+                                             "every joint or one per joint");
+  if (joints_exact && !a.method.empty() && co.method != vpRobotSelfCalibration::BUNDLE_ADJUSTMENT)
+    throw CLI::ValidationError("--joint-sd", "the joint readings' error is the bundle method's (--method bundle); "
+                                             "hand-eye trusts the robot with --pose-sd 0");
+  po.trust_robot = (trusted && !a.pose_sd.empty()) || joints_exact;
   // Measured by default from the dataset's robot_error when it states one (below, once it is read).
   if (pose_auto || a.pose_sd.empty())
-    po.noise.pose_sd_origin = vpSelfCalibNoiseModel::MEASURED;
+    po.noise.measure_pose_sd = true;
   // --pose-sd T,R and --joint-sd go to the noise model once the method is known (stateRobotError).
   return po;
 }

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <filesystem>
 #include <iomanip>
+#include <set>
 #include <iostream>
 
 #include <yaml-cpp/yaml.h>
@@ -87,6 +88,29 @@ void printProtocol(const vpSelfCalibProtocol::Result &p)
                 << 1e3 * h.yardstick_error_calibrated << " mm";
     std::cout << std::defaultfloat << "\n";
   }
+}
+
+/*
+  One line when the data left parameters at nominal: the command that proposes the poses to add. N is
+  a first guess, one pose per joint the reasons ask to move (at least 2, at most 6); plan --from
+  says what each pose adds.
+*/
+void printAddPoses(const vpRobotSelfCalibration::Result &r, const std::string &dataset)
+{
+  std::set<std::string> joints;
+  bool any = false;
+  for (const auto &u : r.identifiability.unidentifiable)
+    if (u.cause == vpKinematicIdentification::CAUSE_DATA) {
+      any = true;
+      const size_t at = u.needs.find(" moves ");
+      if (at != std::string::npos && u.needs[0] == 'j')
+        joints.insert(u.needs.substr(0, at));
+    }
+  if (!any)
+    return;
+  const size_t n = std::min<size_t>(6, std::max<size_t>(2, joints.size()));
+  std::cout << "add these " << n << " poses: visp-selfcalib plan --from " << dataset << " --poses " << n
+            << " (they determine the parameters left at nominal)\n";
 }
 
 void printSummary(const vpRobotSelfCalibration::Result &r, unsigned int num_calibration)

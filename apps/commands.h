@@ -69,8 +69,9 @@ int verify(const ModelArgs &a);
 
 //! compare RESULT_DIR TRUTH.yaml: a result against the truth of a simulation.
 struct CompareArgs {
-  std::string result, truth;
+  std::string result, truth, joints, yaml;
   unsigned int pairs = 1000;
+  bool force = false;
 };
 void addCompare(CLI::App &app, CompareArgs &a);
 int compare(const CompareArgs &a);
@@ -81,16 +82,23 @@ int compare(const CompareArgs &a);
 struct PlanArgs {
   std::string out, robot = "viper850", method = "observability";
   vpSelfCalibSimulator::Options so;
-  unsigned int poses = 15, held_out = 10;
+  unsigned int poses = 0, held_out = 10; //!< poses 0: not given (15 planned; with --from, as many as needed)
   bool force = false;
+  bool out_given = false;               //!< OUT.txt on the command line (even empty)
+  std::string from, out_file;           //!< --from DATASET, --out FILE
+  std::vector<double> tolerance;        //!< --tolerance (with --from)
 };
 void addPlan(CLI::App &app, PlanArgs &a);
 int plan(const PlanArgs &a);
+//! plan --from DATASET: the poses to add to a dataset's views (planFromCommand.cpp).
+int planFrom(const PlanArgs &a);
 
 struct SimulateArgs {
   std::string out, robot = "viper850", focal = "known", target = "textured", joints_file, camera_mount = "effector";
   vpSelfCalibSimulator::Options so;
   double pose_sd = 0; //!< eye-to-hand: the controller poses' error (m and rad)
+  bool with_joints = false; //!< eye-to-hand: the target carried by --robot's arm, joint readings written
+  double joint_sd = 0;      //!< eye-to-hand with joints: the joint readings' error (rad)
   unsigned int poses = 25;
   bool force = false, controller = false, images = false;
 };

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <iomanip>
 #include <iostream>
 #include <random>
@@ -13,6 +15,7 @@
 #include <visp3/core/vpThetaUVector.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibFileWriter.h>
 #include <visp3/selfcalib/vpSelfCalibResultsFile.h>
 #include <yaml-cpp/yaml.h>
 
@@ -34,11 +37,24 @@ Truth readTruth(const std::string &file)
     throw vpSelfCalibException(vpSelfCalibException::parseError,
                                "truth '" + file + "': " + why + " (a file " + kProgram + " simulate writes, STEM-truth.yaml)");
   };
+  // A regular text file (not a device, a FIFO or a binary file), read whole, then parsed.
+  std::error_code ec;
+  const fs::file_status st = fs::status(file, ec);
+  if (!fs::exists(st))
+    throw vpSelfCalibException(vpSelfCalibException::ioError, "truth '" + file + "': cannot read it");
+  if (!fs::is_regular_file(st))
+    fail(fs::is_directory(st) ? "a directory, not a file" : "not a regular file (a device, a FIFO or a socket)");
+  if (fs::file_size(file, ec) > (size_t(64) << 20))
+    fail("larger than the 64 MiB read");
+  std::ifstream in(file, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.good() && !in.eof())
+    throw vpSelfCalibException(vpSelfCalibException::ioError, "truth '" + file + "': cannot read it");
+  if (text.find('\0') != std::string::npos)
+    fail("a NUL byte: not a text file");
   YAML::Node root;
   try {
-    root = YAML::LoadFile(file);
-  } catch (const YAML::BadFile &) {
-    throw vpSelfCalibException(vpSelfCalibException::ioError, "truth '" + file + "': cannot read it");
+    root = YAML::Load(text);
   } catch (const YAML::Exception &e) {
     fail("not YAML: " + e.msg);
   }
@@ -93,6 +109,34 @@ MotionError motionError(const vpKinematicChain &model, const vpKinematicChain &t
   return e;
 }
 
+/*
+  The main job's held-out pose error (vpCalibrationVerifier): the error of `model`'s relative camera
+  motions c_0 M c_k between the first configuration and each other, against the true model's;
+  the means over the k (m, rad).
+*/
+MotionError fromFirstError(const vpKinematicChain &model, const vpKinematicChain &truth, const std::vector<vpColVector> &qs)
+{
+  MotionError e;
+  for (size_t k = 1; k < qs.size(); ++k) {
+    const vpHomogeneousMatrix m = model.get_fMc(qs[0]).inverse() * model.get_fMc(qs[k]),
+                              t = truth.get_fMc(qs[0]).inverse() * truth.get_fMc(qs[k]), d = t.inverse() * m;
+    const double et = d.getTranslationVector().frobeniusNorm(), er = vpThetaUVector(d.getRotationMatrix()).getTheta();
+    e.rms_t += et / static_cast<double>(qs.size() - 1); // the mean, in the fields of the RMS
+    e.rms_r += er / static_cast<double>(qs.size() - 1);
+    e.max_t = std::max(e.max_t, et);
+    e.max_r = std::max(e.max_r, er);
+  }
+  return e;
+}
+
+void emitError(YAML::Emitter &y, const char *key, const MotionError &e, const char *mean_or_rms)
+{
+  y << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << (std::string(mean_or_rms) + "_m")
+    << YAML::Value << e.rms_t << YAML::Key << (std::string(mean_or_rms) + "_rad") << YAML::Value << e.rms_r
+    << YAML::Key << "max_m" << YAML::Value << e.max_t << YAML::Key << "max_rad" << YAML::Value << e.max_r
+    << YAML::EndMap;
+}
+
 std::ostream &operator<<(std::ostream &os, const MotionError &e)
 {
   return os << std::fixed << std::setprecision(3) << 1e3 * e.rms_t << " mm / " << 1e3 * e.rms_r << " mrad (largest "
@@ -113,12 +157,26 @@ void addCompare(CLI::App &app, CompareArgs &a)
   c->add_option("--pairs", a.pairs, "pairs of configurations drawn (default 1000)")
       ->type_name("N")
       ->check(selfcalibCli::wholeNumber(1, 1000000));
+  c->add_option("--joints", a.joints,
+                "configurations (one joint vector per line, as plan writes; e.g. its held-out poses):\n"
+                "also the error of the relative camera motions from the first to each other, mean\n"
+                "(the main job's 'relative pose error' on its held-out poses)")
+      ->type_name("FILE");
+  c->add_option("--yaml", a.yaml, "write the figures to OUT.yaml too (m, rad, px)")->type_name("OUT.yaml");
+  c->add_flag("--force", a.force, "replace an existing --yaml file");
 }
 
 int compare(const CompareArgs &a)
 {
   const Truth t = readTruth(a.truth);
   const fs::path dir(a.result);
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec) || !fs::exists(dir / "model.yaml", ec) || !fs::exists(dir / "results.yaml", ec)) {
+    std::cerr << "error: '" << a.result << "' is not a directory calibrate wrote (its --out: model.yaml and "
+              << "results.yaml): " << (fs::is_directory(dir, ec) ? "model.yaml or results.yaml is missing" : fs::exists(dir, ec) ? "not a directory" : "it is not there")
+              << "\n";
+    return 1;
+  }
   const vpKinematicChain model = vpKinematicChain::loadYaml((dir / "model.yaml").string());
   const vpSelfCalibResultsFile::Contents res = vpSelfCalibResultsFile::read((dir / "results.yaml").string());
   if (model.getNumJoints() != t.true_model.getNumJoints()) {
@@ -126,11 +184,62 @@ int compare(const CompareArgs &a)
               << t.true_model.getNumJoints() << ": not a result of this simulation's robot\n";
     return 1;
   }
-  std::cout << "relative camera motions, " << a.pairs << " pairs of random configurations: calibrated "
-            << motionError(model, t.true_model, a.pairs) << "; nominal " << motionError(t.nominal, t.true_model, a.pairs)
-            << "\n";
+  // A result of this robot starts from the truth's nominal model: the same nominal table.
+  for (unsigned int j = 0; j < model.getNumJoints(); ++j) {
+    const vpKinematicChain::Joint &m = model.getJoints()[j], &n = t.nominal.getJoints()[j];
+    const double diff = std::max({std::fabs(m.a - n.a), std::fabs(m.d - n.d), std::fabs(m.alpha - n.alpha),
+                                  std::fabs(m.theta_offset - n.theta_offset)});
+    if (diff > 1e-9 || model.getConvention() != t.nominal.getConvention()) {
+      std::cerr << "error: " << (dir / "model.yaml").string() << ": joint " << j + 1
+                << "'s nominal row differs from the truth's nominal model ('" << t.nominal.getName()
+                << "'): not a result of this simulation's robot\n";
+      return 1;
+    }
+  }
+  std::vector<vpColVector> qs;
+  if (!a.joints.empty()) {
+    qs = readJoints(a.joints, "joints file", t.true_model.getNumJoints());
+    if (qs.size() < 2) {
+      std::cerr << "error: " << a.joints << ": at least 2 configurations are needed (the first and one other)\n";
+      return 1;
+    }
+  }
+  if (!a.yaml.empty() && outputRefused(a.yaml, a.force))
+    return 1;
+  const MotionError cal = motionError(model, t.true_model, a.pairs), nom = motionError(t.nominal, t.true_model, a.pairs);
+  std::cout << "relative camera motions, " << a.pairs << " pairs of random configurations: calibrated " << cal
+            << "; nominal " << nom << "\n";
+  MotionError cal_q, nom_q;
+  if (!qs.empty()) {
+    cal_q = fromFirstError(model, t.true_model, qs);
+    nom_q = fromFirstError(t.nominal, t.true_model, qs);
+    std::cout << "relative camera motions from the first of the " << qs.size() << " configurations of " << a.joints
+              << " to each other, mean: calibrated " << cal_q << "; nominal " << nom_q << "\n";
+  }
   std::cout << std::fixed << std::setprecision(3) << "intrinsics: px " << res.camera.px - t.px << ", py "
             << res.camera.py - t.py << ", u0 " << res.camera.u0 - t.u0 << ", v0 " << res.camera.v0 - t.v0
             << " px off the truth (px " << t.px << ", py " << t.py << ", u0 " << t.u0 << ", v0 " << t.v0 << ")\n";
+  if (a.yaml.empty())
+    return 0;
+  YAML::Emitter y;
+  y << YAML::BeginMap << YAML::Key << "result" << YAML::Value << a.result << YAML::Key << "truth" << YAML::Value
+    << a.truth << YAML::Key << "random_pairs" << YAML::Value << YAML::BeginMap << YAML::Key << "pairs" << YAML::Value
+    << a.pairs;
+  emitError(y, "calibrated", cal, "rms");
+  emitError(y, "nominal", nom, "rms");
+  y << YAML::EndMap;
+  if (!qs.empty()) {
+    y << YAML::Key << "from_first" << YAML::Value << YAML::BeginMap << YAML::Key << "joints" << YAML::Value << a.joints
+      << YAML::Key << "configurations" << YAML::Value << qs.size();
+    emitError(y, "calibrated", cal_q, "mean");
+    emitError(y, "nominal", nom_q, "mean");
+    y << YAML::EndMap;
+  }
+  y << YAML::Key << "intrinsics_error" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "px"
+    << YAML::Value << res.camera.px - t.px << YAML::Key << "py" << YAML::Value << res.camera.py - t.py << YAML::Key
+    << "u0" << YAML::Value << res.camera.u0 - t.u0 << YAML::Key << "v0" << YAML::Value << res.camera.v0 - t.v0
+    << YAML::EndMap << YAML::EndMap;
+  vpSelfCalibFileWriter::write(a.yaml, std::string(y.c_str()) + "\n", "comparison");
+  std::cout << "wrote " << a.yaml << "\n";
   return 0;
 }

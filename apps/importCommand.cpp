@@ -3,6 +3,7 @@
  */
 #include "commands.h"
 
+#include <fstream>
 #include <iostream>
 
 #include <visp3/selfcalib/vpKinematicChain.h>
@@ -39,6 +40,20 @@ void addImport(CLI::App &app, ImportArgs &a)
   c->add_flag("--force", a.force, "replace an existing OUT.yaml (and OUT-robot.yaml)");
 }
 
+namespace
+{
+//! Whether `file` is a regular file whose whole content is `text`.
+bool holdsText(const std::string &file, const std::string &text)
+{
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec) || std::filesystem::file_size(file, ec) != text.size() || ec)
+    return false;
+  std::ifstream in(file, std::ios::binary);
+  std::string content(text.size(), '\0');
+  return in.read(&content[0], static_cast<std::streamsize>(content.size())) && content == text;
+}
+} // namespace
+
 int importData(const ImportArgs &a)
 {
   if (outputRefused(a.out, a.force))
@@ -61,7 +76,9 @@ int importData(const ImportArgs &a)
         std::cerr << "error: '" << f << "' is an input of this import; choose another --out\n";
         return 1;
       }
-    if (!a.force) {
+    // A model identical to the one to write is no conflict (an import stopped between the model and
+    // the dataset left it, or an import of the same folder): nothing is lost by writing it again.
+    if (!a.force && !(f != a.out && holdsText(f, res.robot_model.toYamlString()))) {
       std::cerr << "error: '" << f << "' exists; use --force to replace it\n";
       return 1;
     }
@@ -74,7 +91,9 @@ int importData(const ImportArgs &a)
             << "  camera: " << r.camera << "\n"
             << "  robot:  " << r.robot << "\n"
             << "  board:  " << (r.board.empty() ? "none described" : r.board)
-            << (r.board.empty() ? "" : "; used only with calibrate --board TYPE:RxC:SPACING (else natural features)")
+            << (r.board.empty()            ? ""
+                : r.board_option.empty() ? "; used only with calibrate --board TYPE:RxC:SPACING (else natural features)"
+                                         : "; used with calibrate --board " + r.board_option + " (else natural features)")
             << "\n"
             << "  robot error: " << r.robot_error << "\n";
   if (!r.unused.empty()) {
@@ -82,12 +101,17 @@ int importData(const ImportArgs &a)
     for (const vpSelfCalibImporter::Unused &u : r.unused)
       std::cout << "  " << u.what << ": " << u.reason << "\n";
   }
+  // cal_data.yaml's intrinsics are nominal values (fx = fy, the image centre, no distortion): with
+  // them a guess, the principal point and the distortion are estimated too.
+  const bool nominal_intrinsics =
+      r.layout == vpSelfCalibImporter::INDUSTRIAL_CALIBRATION && !res.dataset.focal_known;
   std::cout << "wrote " << a.out;
   if (res.has_robot_model)
     std::cout << " and " << vpSelfCalibImporter::robotModelFileFor(a.out);
   std::cout << ": " << r.num_views << " views\nnext: " << kProgram << " calibrate " << a.out << " --out DIR"
-            << (r.board_option.empty() ? "" : " --method hand-eye --board " + r.board_option) << "\n";
-  if (!r.board_option.empty())
+            << (r.board_option.empty() ? "" : " --method hand-eye --board " + r.board_option)
+            << (nominal_intrinsics ? " --estimate pp,distortion" : "") << "\n";
+  if (r.board_option.rfind("apriltag:", 0) == 0)
     std::cout << "  (the tag's pose eMo too: give its id and its geometry, --board " << r.board_option
               << ":ID --board-geometry)\n";
   return 0;

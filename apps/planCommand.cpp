@@ -17,15 +17,27 @@
 
 void addPlan(CLI::App &app, PlanArgs &a)
 {
-  CLI::App *c = app.add_subcommand("plan", "planned calibration poses of the reference scenario");
+  CLI::App *c = app.add_subcommand("plan", "planned calibration poses of the reference scenario, or the poses to add to a dataset");
   c->footer("Writes calibration poses planned on the reference scenario's nominal model, then random held-out\n"
-            "poses, one joint vector per line.");
-  c->add_option("OUT.txt", a.out, "the file to write")->type_name("FILE")->required();
+            "poses, one joint vector per line.\n"
+            "With --from DATASET: calibrates the dataset (method bundle) and proposes the next poses that\n"
+            "determine the parameters its views leave at nominal (results.yaml's estimated_set.left_by_data),\n"
+            "each with what it adds; written to --out FILE (else stdout) in the same joints format, for\n"
+            "simulate --joints or acquire --plan. Exit codes: 0 poses written, or nothing to add (said so);\n"
+            "1 bad input (a dataset without joint readings, a camera in the world); 2 bad usage; 3 the\n"
+            "calibration failed, or no candidate pose keeps the scene in view.");
+  c->add_option("OUT.txt", a.out, "the file to write (not with --from: use --out)")
+      ->type_name("FILE")
+      ->each([&a](const std::string &) { a.out_given = true; });
   addRobotOption(*c, a.robot);
-  c->add_option("--seed", a.so.seed, "scenario seed (default 1)")->type_name("N")->check(selfcalibCli::wholeNumber());
-  c->add_option("--poses", a.poses, "calibration poses, 6 to 1000 (default 15)")
+  c->add_option("--seed", a.so.seed, "scenario seed (default 1); with --from, of the candidate poses")
       ->type_name("N")
-      ->check(selfcalibCli::wholeNumber(6, 1000));
+      ->check(selfcalibCli::wholeNumber());
+  c->add_option("--poses", a.poses,
+                "calibration poses, 6 to 1000 (default 15); with --from: the poses to add, at most 100\n"
+                "(default: as many as determine the parameters left, up to 6)")
+      ->type_name("N")
+      ->check(selfcalibCli::wholeNumber(1, 1000));
   c->add_option("--held-out", a.held_out, "held-out poses after them, at most 10000 (default 10)")
       ->type_name("N")
       ->check(selfcalibCli::wholeNumber(0, 10000));
@@ -34,14 +46,31 @@ void addPlan(CLI::App &app, PlanArgs &a)
                 "optimal trajectory (eqs. 22-39)")
       ->type_name("M")
       ->check(CLI::IsMember({"observability", "paper"}));
-  c->add_flag("--force", a.force, "replace an existing OUT.txt");
+  c->add_option("--from", a.from, "the dataset whose views are taken: propose the poses to add")->type_name("DATASET");
+  c->add_option("--out", a.out_file, "with --from: the joints file to write (default: stdout)")->type_name("FILE");
+  c->add_option("--tolerance", a.tolerance,
+                "with --from: the nominal model's tolerance, as calibrate's (T,R[,TE,RE], m and rad)")
+      ->type_name("T,R[,TE,RE]")
+      ->delimiter(',')
+      ->check(selfcalibCli::number(0, true, 10));
+  c->add_flag("--force", a.force, "replace an existing output file");
 }
 
 int plan(const PlanArgs &a)
 {
+  if (!a.from.empty())
+    return planFrom(a);
+  if (!a.out_given)
+    throw CLI::ValidationError("OUT.txt", "give the file to write (or --from DATASET to plan the poses to add to a dataset)");
+  if (!a.out_file.empty() || !a.tolerance.empty())
+    throw CLI::ValidationError(!a.out_file.empty() ? "--out" : "--tolerance",
+                               "is for --from DATASET; the reference scenario's plan goes to OUT.txt");
+  if (a.poses != 0 && a.poses < 6)
+    throw CLI::ValidationError("--poses", "the reference scenario's plan needs 6 calibration poses or more, got " +
+                                              std::to_string(a.poses));
   const std::string &out = a.out, &robot = a.robot, &method = a.method;
   const vpSelfCalibSimulator::Options &so = a.so;
-  const unsigned int poses = a.poses, held_out = a.held_out;
+  const unsigned int poses = a.poses == 0 ? 15 : a.poses, held_out = a.held_out;
   if (outputRefused(out, a.force))
     return 1;
   const vpSelfCalibSimulator sim(vpKinematicChain::fromPresetOrFile(robot), so);

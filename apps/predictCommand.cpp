@@ -39,6 +39,12 @@ void addPredict(CLI::App &app, ModelArgs &a)
 int predict(const ModelArgs &a)
 {
   const vpKinematicChain chain = vpKinematicChain::fromPresetOrFile(a.model);
-  return predictFrom(chain, readJoints(a.second, "joints file", chain.getNumJoints()),
-                     a.second.empty() ? "<stdin>" : a.second);
+  const std::string source = a.second.empty() ? "<stdin>" : a.second;
+  const std::vector<vpColVector> qs = readJoints(a.second, "joints file", chain.getNumJoints());
+  if (qs.empty()) {
+    std::cerr << "error: " << source << ": no joint vector (one per line, " << chain.getNumJoints()
+              << " values in rad): nothing to predict\n";
+    return 1;
+  }
+  return predictFrom(chain, qs, source);
 }

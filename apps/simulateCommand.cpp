@@ -1,11 +1,14 @@
 /*
- * visp-selfcalib simulate: a dataset of the reference scenario (observations, or rendered images).
+ * visp-selfcalib simulate: a dataset of the reference scenario (observations, or rendered images) and
+ * the truth it was simulated from (see simulate.h).
  */
-#include "commands.h"
+#include "simulate.h"
 
 #include <algorithm>
+#include <functional>
 #include <fstream>
 #include <iomanip>
+#include <memory>
 #include <iostream>
 #include <random>
 #include <sstream>
@@ -25,116 +28,6 @@ namespace
 {
 //! simulate --poses: more would take hours (each pose is searched for by inverse kinematics).
 constexpr unsigned long long kMaxSimulatedPoses = 10000;
-//! 8 hex digits, new in every run (the name of a run's image directory).
-std::string runName()
-{
-  std::random_device rd;
-  std::ostringstream os;
-  os << std::hex << std::setw(8) << std::setfill('0') << (rd() & 0xffffffffu);
-  return os.str();
-}
-
-//! Whether `name` is STEM-images-XXXXXXXX (8 lower-case hex digits): a run's image directory.
-bool isRunImageDirectory(const std::string &name, const std::string &stem)
-{
-  const std::string prefix = stem + "-images-";
-  if (name.size() != prefix.size() + 8 || name.compare(0, prefix.size(), prefix) != 0)
-    return false;
-  return std::all_of(name.begin() + static_cast<long>(prefix.size()), name.end(),
-                     [](char c) { return std::isdigit(static_cast<unsigned char>(c)) || (c >= 'a' && c <= 'f'); });
-}
-
-/*
-  The image directory of the dataset at `out` that an earlier simulate --images wrote (one of
-  ours, beside it, every image in it), to be removed once the new dataset is in place; "" when
-  there is none. Also removes what killed runs left (their hidden staging directories): each is
-  opened as an output set, which removes the leftovers of its name unless a live run holds it.
-*/
-std::string earlierImageDirectory(const std::string &out)
-{
-  const fs::path parent = fs::absolute(out).lexically_normal().parent_path();
-  const std::string stem = fs::path(out).stem().string();
-  std::error_code ec;
-  for (const fs::directory_entry &e : fs::directory_iterator(parent, ec)) {
-    const std::string n = e.path().filename().string();
-    const size_t tmp = n.find(".tmp-");
-    if (n.size() > 1 && n[0] == '.' && tmp != std::string::npos && isRunImageDirectory(n.substr(1, tmp - 1), stem))
-      try {
-        const vpSelfCalibOutputDirectory leftovers((parent / n.substr(1, tmp - 1)).string());
-      } catch (const vpException &) {
-        // a live run's, or not ours to remove
-      }
-  }
-  if (canonical(out).empty())
-    return "";
-  std::string dir;
-  try {
-    for (const vpSelfCalibDataset::View &v : vpSelfCalibDataset::loadYaml(out).views) {
-      const fs::path d = fs::absolute(v.image).lexically_normal().parent_path();
-      if (v.image.empty() || d.parent_path() != parent || !isRunImageDirectory(d.filename().string(), stem) ||
-          (!dir.empty() && dir != d.string()))
-        return "";
-      dir = d.string();
-    }
-  } catch (const vpException &) {
-    return ""; // not a dataset: its images, if any, are not ours to remove
-  }
-  return dir;
-}
-
-//! simulate --target apriltags: the bundle's description (vpBoardDetector's apriltag-bundle file) beside the dataset.
-void writeTagBundle(const fs::path &dir, const vpSelfCalibRenderer::Options &ro)
-{
-  std::ostringstream yaml;
-  yaml << "family: " << ro.tag_family << "\ntags:\n";
-  for (const auto &t : vpSelfCalibRenderer::getTagBundle(ro))
-    yaml << "  - {id: " << t.first << ", size: " << ro.tag_size << ", pose: [" << t.second[0] << ", " << t.second[1]
-         << ", 0, 0, 0, 0]}\n";
-  const std::string file = ((dir.empty() ? fs::path(".") : dir) / "tags.yaml").string();
-  vpSelfCalibFileWriter::write(file, yaml.str(), "tag bundle");
-}
-
-/*
-  Renders the images into a directory of this run's own beside the dataset (STEM-images-XXXXXXXX),
-  written as a set (vpSelfCalibOutputDirectory: staged, then renamed into place) before the dataset
-  that points at them: a run killed at any moment leaves the earlier dataset with its own images.
-*/
-void renderImages(const vpSelfCalibSimulator &sim, const SimulateArgs &a, const std::vector<vpColVector> &qs,
-                  const std::string &out, vpSelfCalibDataset &ds)
-{
-  const fs::path parent = fs::path(out).parent_path(); // as given: the dataset then holds relative paths
-  const fs::path img_dir = (parent.empty() ? fs::path(".") : parent) / (fs::path(out).stem().string() + "-images-" + runName());
-  vpSelfCalibOutputDirectory set(img_dir.string());
-  vpSelfCalibRenderer::Options ro;
-  ro.seed = a.so.seed;
-  ro.scene = a.target == "dots"        ? vpSelfCalibRenderer::DOTS
-             : a.target == "charuco"   ? vpSelfCalibRenderer::CHARUCO
-             : a.target == "apriltags" ? vpSelfCalibRenderer::APRILTAGS
-                                       : vpSelfCalibRenderer::TEXTURED;
-  const vpSelfCalibRenderer renderer(sim, ro);
-  if (ro.scene == vpSelfCalibRenderer::APRILTAGS)
-    writeTagBundle(parent, ro);
-  for (size_t k = 0; k < ds.views.size(); ++k) {
-    std::ostringstream name;
-    name << std::setw(4) << std::setfill('0') << k + 1 << ".png";
-    // Encoded in memory and written atomically, every write checked (a full disk is an error
-    // naming the file and the reason, and the dataset that would point at it is not written).
-    try {
-      vpSelfCalibFileWriter::writeImage((fs::path(set.staging()) / name.str()).string(),
-                                        renderer.render(qs[k], static_cast<unsigned int>(k)));
-    } catch (...) {
-      std::cerr << "\n"; // after the progress line
-      throw;
-    }
-    ds.views[k].image = (img_dir / name.str()).string();
-    ds.views[k].points.clear();
-    std::cerr << "rendered " << k + 1 << "/" << ds.views.size() << "\r" << std::flush;
-  }
-  std::cerr << "\n";
-  set.commit();
-  ds.yardstick.length = renderer.getYardstickLength(); // 0 for the boards: their first row is the yardstick
-  ds.yardstick.id_a = ds.yardstick.id_b = -1;
-}
 /*
   The truth the dataset was simulated from, beside it (STEM-truth.yaml): the true and the nominal
   robot models (robot-model YAML, as text), the true camera and the scene points (id, x, y, z in
@@ -161,6 +54,7 @@ std::string writeTruth(const vpSelfCalibSimulator &sim, const std::string &out, 
   vpSelfCalibFileWriter::write(file.string(), std::string(y.c_str()) + "\n", "truth");
   return file.string();
 }
+
 } // namespace
 
 void addSimulate(CLI::App &app, SimulateArgs &a)
@@ -203,11 +97,19 @@ void addSimulate(CLI::App &app, SimulateArgs &a)
   c->add_option("--camera-mount", a.camera_mount,
                  "effector (default: the reference scenario) or world: a camera fixed in the world and a\n"
                  "6 x 5 board (2 cm, the layout of --board chessboard:5x6:0.02, rows x cols) on the tool, points data\n"
-                 "(calibrate --method hand-eye --board chessboard:5x6:0.02 --board-geometry)")
+                 "(calibrate --method hand-eye --board chessboard:5x6:0.02 --board-geometry); with --images\n"
+                 "--target charuco|apriltags: that board on the tool, its plate and last link textured, seen\n"
+                 "by a 1280 x 720 camera (calibrate --method hand-eye --board ... --board-geometry)")
       ->type_name("MOUNT")
       ->check(CLI::IsMember({"effector", "world"}));
   c->add_option("--pose-sd", a.pose_sd, "with --camera-mount world: the controller poses' error sd (m and rad, default 0)")
       ->type_name("SD")
+      ->check(CLI::Range(0.0, 0.1));
+  c->add_flag("--with-joints", a.with_joints,
+              "with --camera-mount world: the board is carried by --robot's simulated arm (seeded\n"
+              "errors), each view has its joint readings (data for --method bundle or hand-eye)");
+  c->add_option("--joint-sd", a.joint_sd, "with --with-joints: the joint readings' error sd (rad, default 0)")
+      ->type_name("RAD")
       ->check(CLI::Range(0.0, 0.1));
   c->add_flag("--force", a.force, "replace an existing OUT.yaml");
   c->final_callback([&a] {
@@ -223,22 +125,19 @@ int simulate(const SimulateArgs &a)
   unsigned int poses = a.poses;
   if (outputRefused(out, a.force))
     return 1;
-  if (a.camera_mount == "world") {
-    if (a.images || !a.joints_file.empty() || a.controller)
-      throw CLI::ValidationError("--camera-mount", "world simulates points data of its own poses: no --images, "
-                                                   "--joints or --controller-poses");
-    vpSelfCalibSimulator::EyeToHandOptions eo;
-    eo.seed = so.seed;
-    eo.num_views = poses;
-    eo.pixel_noise_sd = so.pixel_noise_sd;
-    eo.pose_sd_translation = eo.pose_sd_rotation = a.pose_sd;
-    vpSelfCalibSimulator::EyeToHandTruth truth;
-    vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(eo, truth);
-    ds.saveYaml(out);
-    std::cerr << "true bMc " << vpPoseVector(truth.bMc).t() << "\ntrue eMo " << vpPoseVector(truth.eMo).t() << "\n";
-    std::cout << "wrote " << out << ": " << ds.views.size() << " views (camera in the world)\n";
-    return 0;
+  std::error_code ec;
+  const fs::path out_dir = fs::path(out).parent_path();
+  if (!out_dir.empty() && !fs::is_directory(out_dir, ec)) {
+    std::cerr << "error: '" << out << "': its directory '" << out_dir.string() << "' is not there\n";
+    return 1;
   }
+  if (a.camera_mount != "world" && a.pose_sd > 0)
+    throw CLI::ValidationError("--pose-sd", "the controller poses' error is simulated with --camera-mount world only "
+                                            "(a camera on the effector: the robot's errors are in its true model)");
+  if (a.camera_mount == "world" && a.images)
+    return simulateEyeToHandImages(a);
+  if (a.camera_mount == "world")
+    return simulateEyeToHand(a);
   const vpSelfCalibSimulator sim(vpKinematicChain::fromPresetOrFile(a.robot), so);
   std::vector<vpColVector> configurations;
   if (!a.joints_file.empty()) {
@@ -280,21 +179,24 @@ int simulate(const SimulateArgs &a)
     ds.focal_known = false;
     ds.cam.initPersProjWithoutDistortion(0.93 * so.px, 0.93 * so.py, so.u0, so.v0);
   }
-  std::string earlier_images;
+  std::vector<std::string> earlier_images;
+  std::unique_ptr<vpSelfCalibOutputDirectory> images;
   if (a.images) {
     // Rendered acquisition: images beside the dataset, no points (the front end finds them), the
     // yardstick's length only (its dots are found in the images).
-    earlier_images = earlierImageDirectory(out);
-    renderImages(sim, a, qs, out, ds);
+    earlier_images = earlierImageDirectories(out);
+    images = renderImages(sim, a, qs, out, ds);
   }
-  // The one step from the earlier run to this one: the dataset renamed into place (its images,
-  // in a directory of their own, are already there). Then the earlier run's images go.
-  ds.saveYaml(out);
-  if (!earlier_images.empty()) {
-    std::error_code ec;
-    fs::remove_all(earlier_images, ec);
-  }
+  // The truth first: a dataset in place always has its truth beside it.
   const std::string truth = writeTruth(sim, out, ds);
+  // The one step from the earlier run to this one: the dataset renamed into place (its images,
+  // in a directory of their own, are already there). Then the earlier runs' images go.
+  ds.saveYaml(out);
+  images.reset();
+  for (const std::string &dir : earlier_images) {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
   if (a.images)
     std::cout << "wrote " << out << ": " << poses << " poses of " << a.robot << ", rendered images in "
               << fs::path(ds.views[0].image).parent_path().filename().string() << "/ beside it\n";

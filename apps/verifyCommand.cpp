@@ -46,7 +46,7 @@ int verify(const ModelArgs &a)
   // The same check of the inputs as calibrate's: joints of another robot, or outside the model's
   // limits, are refused (its findings on the data's geometry are calibrate's business).
   vpSelfCalibDataCheck::check(model, ds, static_cast<unsigned int>(ds.views.size()), true,
-                              vpSelfCalibDataCheck::Options());
+                              vpSelfCalibDataCheck::Options(), vpSelfCalibNoiseModel());
   const vpCalibrationVerifier::Result v = vpCalibrationVerifier::verify(model, ds.cam, ds.views, ds.yardstick);
   if (!v.has_yardstick) {
     std::cerr << "error: the yardstick's ends are not seen in two views of '" << dataset << "'\n";

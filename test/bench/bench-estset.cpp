@@ -26,9 +26,17 @@
  *                           propagated by relativePoseCovariance): 1 is efficient; the parameters
  *                           left at nominal keep their true error, a bias the bound does not hold.
  * Then the same-set check: D draws of one geometry per robot (12 views, 0.2 px, f known).
+ * Then (--tables add) the poses to add: per robot and seed (12 views, 0.2 px, f known), calibrate, the
+ * poses vpMeasurementPlanner::planAdditions proposes (as plan --from: as many as determine what was
+ * left), the true robot's views at them with the same noise, calibrate again: what is left before and
+ * after, the poses added, the held-out error before and after on held-out views of two kinds: A with the
+ * stuck joint within +-0.5 deg (as the calibration views: the parameters left have almost no effect
+ * there), B with it moving +-0.5 rad as the others (what a model of the whole workspace is for).
+ * Target: nothing left after and a lower held-out error on B in every run.
  * Targets (f known): ok in every run, the calibrated error below the nominal one in every run, gain
  * >= 3 with 12 views and >= 5 with 25, CRB ratio <= 1.3, one set per geometry.
  */
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -42,6 +50,7 @@
 
 #include <visp3/core/vpException.h>
 #include <visp3/selfcalib/vpKinematicBundleAdjustment.h>
+#include <visp3/selfcalib/vpMeasurementPlanner.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibDataCheck.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
@@ -81,14 +90,14 @@ vpSelfCalibSimulator makeSim(const std::string &robot, unsigned int seed)
   every scene point is in view.
 */
 bool drawConfiguration(const vpSelfCalibSimulator &sim, const vpColVector &q0, unsigned int stuck, std::mt19937_64 &rng,
-                       vpColVector &q)
+                       vpColVector &q, double stuck_range = kStuck)
 {
   const vpKinematicChain &chain = sim.getNominalChain();
   const unsigned int n = chain.getNumJoints();
   std::uniform_real_distribution<double> u(-1, 1);
   q = q0;
   for (unsigned int j = 0; j < n; ++j)
-    q[j] += j == stuck ? kStuck * u(rng) : 0.5 * u(rng);
+    q[j] += j == stuck ? stuck_range * u(rng) : 0.5 * u(rng);
   const vpColVector c = sim.getSceneCentre();
   const double dist = 0.6 + 0.2 * 0.5 * (u(rng) + 1);
   auto residual = [&](const vpColVector &x) {
@@ -126,13 +135,13 @@ bool drawConfiguration(const vpSelfCalibSimulator &sim, const vpColVector &q0, u
 }
 
 std::vector<vpColVector> configurations(const vpSelfCalibSimulator &sim, const vpColVector &q0, unsigned int stuck,
-                                        unsigned int count, unsigned int seed)
+                                        unsigned int count, unsigned int seed, double stuck_range = kStuck)
 {
   std::mt19937_64 rng(7919ULL * seed + 17);
   std::vector<vpColVector> out;
   for (unsigned int attempt = 0; out.size() < count && attempt < 200 * count; ++attempt) {
     vpColVector q;
-    if (drawConfiguration(sim, q0, stuck, rng, q))
+    if (drawConfiguration(sim, q0, stuck, rng, q, stuck_range))
       out.push_back(q);
   }
   if (out.size() < count)
@@ -153,8 +162,7 @@ vpSelfCalibDataset noisy(const vpSelfCalibDataset &ds0, double noise, uint64_t s
 
 double g_tolerance_t = 3e-3, g_tolerance_r = 5e-3; // --tolerance
 
-vpRobotSelfCalibration::Result calibrate(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds,
-                                         vpRobotSelfCalibration::FocalMode mode, double noise, unsigned int views)
+vpRobotSelfCalibration::Options optionsOf(vpRobotSelfCalibration::FocalMode mode, double noise, unsigned int views)
 {
   vpRobotSelfCalibration::Options po;
   po.tolerance_translation = g_tolerance_t;
@@ -162,7 +170,13 @@ vpRobotSelfCalibration::Result calibrate(const vpSelfCalibSimulator &sim, const 
   po.focal_mode = mode;
   po.num_calibration_poses = views;
   po.noise.pixel_sd = noise;
-  return vpRobotSelfCalibration::run(sim.getNominalChain(), ds, po);
+  return po;
+}
+
+vpRobotSelfCalibration::Result calibrate(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds,
+                                         vpRobotSelfCalibration::FocalMode mode, double noise, unsigned int views)
+{
+  return vpRobotSelfCalibration::run(sim.getNominalChain(), ds, optionsOf(mode, noise, views));
 }
 
 std::string leftByData(const vpRobotSelfCalibration::Result &r)
@@ -253,6 +267,154 @@ void runOnce(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, c
     csv.row() << tag << "," << vpRobotSelfCalibration::statusName(r.status) << "," << e_nom << "," << e_cal << ","
               << "\"" << leftByData(r) << "\"\n";
 }
+
+//! The poses to add table: one run per seed, before and after the poses plan --from proposes.
+struct AddRow {
+  unsigned int runs = 0, failed = 0, left_before = 0, left_after = 0, better = 0;
+  std::map<std::string, unsigned int> before;
+  bench::Stats added, gain_before, gain_after;
+  double sum_nominal2 = 0, sum_before2 = 0, sum_after2 = 0;
+  unsigned int pairs = 0;
+  // The held-out views where the stuck joint moves too (+-0.5 rad, as the others).
+  bench::Stats wide_gain_before, wide_gain_after;
+  double wide_nominal2 = 0, wide_before2 = 0, wide_after2 = 0;
+  unsigned int wide_pairs = 0;
+};
+
+//! Sums of squares of the held-out errors of the nominal model and of the two calibrations.
+void addErrors(const std::vector<double> &e_nom, const std::vector<double> &e1, const std::vector<double> &e2,
+               double &nominal2, double &before2, double &after2, unsigned int &pairs)
+{
+  for (size_t k = 0; k < e_nom.size() && k < e1.size() && k < e2.size(); ++k) {
+    nominal2 += e_nom[k] * e_nom[k];
+    before2 += e1[k] * e1[k];
+    after2 += e2[k] * e2[k];
+    ++pairs;
+  }
+}
+
+/*
+  One geometry (12 views, f known, the stuck joint): calibrate, plan the poses to add
+  (vpMeasurementPlanner::planAdditions on the calibration, as plan --from), simulate the true
+  robot's observations at them (the same noise), calibrate again on the views and the added poses;
+  the held-out error of both against the nominal model's.
+*/
+void addPosesRun(const std::string &robot, unsigned int seed, double noise, unsigned int views, AddRow &row)
+{
+  const vpSelfCalibSimulator clean = makeSim(robot, seed);
+  const unsigned int stuck = stuckJoint(robot);
+  const std::vector<vpColVector> q = configurations(clean, home(robot, clean.getNominalChain()), stuck, views + kHeldOut, seed);
+  const vpRobotSelfCalibration::FocalMode mode = vpRobotSelfCalibration::FOCAL_KNOWN;
+  const vpSelfCalibDataset ds1 = noisy(bench::pipelineDataset(clean, q, mode), noise, 1000003ULL * seed);
+  const auto r1 = calibrate(clean, ds1, mode, noise, views);
+  ++row.runs;
+  if (r1.status != vpRobotSelfCalibration::OK && r1.status != vpRobotSelfCalibration::DOUBTFUL) {
+    ++row.failed;
+    return;
+  }
+  const std::vector<vpSelfCalibDataset::View> cal(ds1.views.begin(), ds1.views.begin() + views);
+  vpPlannerScene scene;
+  for (const auto &p : r1.bundle.points)
+    scene.points.push_back(p.second);
+  scene.cam = r1.camera;
+  scene.width = ds1.width;
+  scene.height = ds1.height;
+  vpMeasurementPlanner::AdditionOptions ao;
+  ao.seed = seed;
+  for (const auto &u : r1.identifiability.unidentifiable)
+    if (u.cause == vpKinematicIdentification::CAUSE_DATA)
+      ao.left.push_back(u.name);
+  const auto plan = vpMeasurementPlanner(clean.getNominalChain(), scene)
+                        .planAdditions(cal, r1.camera, r1.bundle.points, ds1.yardstick,
+                                       vpRobotSelfCalibration::bundleOptions(optionsOf(mode, noise, views), ds1), r1.noise, ao);
+  if (plan.status != vpMeasurementPlanner::OK)
+    std::cerr << "\n" << robot << ", seed " << seed << ": planAdditions " << vpMeasurementPlanner::statusName(plan.status)
+              << ": " << plan.message << "\n";
+  std::vector<vpColVector> q2(q.begin(), q.begin() + views);
+  for (const auto &a : plan.additions)
+    q2.push_back(a.q);
+  q2.insert(q2.end(), q.begin() + views, q.end());
+  const unsigned int views2 = views + static_cast<unsigned int>(plan.additions.size());
+  const vpSelfCalibDataset ds2 = noisy(bench::pipelineDataset(clean, q2, mode), noise, 1000003ULL * seed + 1);
+  const auto r2 = calibrate(clean, ds2, mode, noise, views2);
+  if (r2.status != vpRobotSelfCalibration::OK && r2.status != vpRobotSelfCalibration::DOUBTFUL) {
+    ++row.failed;
+    return;
+  }
+  row.added.add(static_cast<double>(plan.additions.size()));
+  ++row.before[leftByData(r1)];
+  row.left_before += leftByData(r1) != "none";
+  row.left_after += leftByData(r2) != "none";
+  const std::vector<vpSelfCalibDataset::View> hv(ds1.views.begin() + views, ds1.views.end());
+  const std::vector<double> e_nom =
+      bench::verifyAgainstTruth(clean, clean.getNominalChain(), clean.getCamera(), hv).position_errors;
+  const std::vector<double> e1 = bench::verifyAgainstTruth(clean, r1.calibrated, r1.camera, hv).position_errors;
+  const std::vector<double> e2 = bench::verifyAgainstTruth(clean, r2.calibrated, r2.camera, hv).position_errors;
+  row.gain_before.add(rms(e_nom) / rms(e1));
+  row.gain_after.add(rms(e_nom) / rms(e2));
+  addErrors(e_nom, e1, e2, row.sum_nominal2, row.sum_before2, row.sum_after2, row.pairs);
+  const std::vector<vpColVector> qw =
+      configurations(clean, home(robot, clean.getNominalChain()), stuck, kHeldOut, seed + 5000, 0.5);
+  const vpSelfCalibDataset dw = bench::pipelineDataset(clean, qw, mode);
+  const std::vector<double> w_nom =
+      bench::verifyAgainstTruth(clean, clean.getNominalChain(), clean.getCamera(), dw.views).position_errors;
+  const std::vector<double> w1 = bench::verifyAgainstTruth(clean, r1.calibrated, r1.camera, dw.views).position_errors;
+  const std::vector<double> w2 = bench::verifyAgainstTruth(clean, r2.calibrated, r2.camera, dw.views).position_errors;
+  row.wide_gain_before.add(rms(w_nom) / rms(w1));
+  row.wide_gain_after.add(rms(w_nom) / rms(w2));
+  row.better += rms(w2) < rms(w1);
+  addErrors(w_nom, w1, w2, row.wide_nominal2, row.wide_before2, row.wide_after2, row.wide_pairs);
+}
+
+std::string mostFrequent(const std::map<std::string, unsigned int> &sets)
+{
+  std::string common = "-";
+  unsigned int most = 0;
+  for (const auto &s : sets)
+    if (s.second > most) {
+      most = s.second;
+      common = s.first;
+    }
+  return common;
+}
+
+//! The second table; true when every run estimates every parameter after the poses and its held-out error drops.
+bool addPosesTable(const std::vector<std::string> &robots, unsigned int seeds)
+{
+  const unsigned int views = 12;
+  const double noise = 0.2;
+  std::cout << "\n\nposes to add (plan --from): " << views << " views, f known, " << noise
+            << " px; the poses proposed simulated (true robot, same noise) and calibrated again, " << seeds
+            << " seeds\n\n"
+            << "held-out A: 10 views with the stuck joint within +-0.5 deg (as the calibration views); held-out B: 10 "
+               "views with the stuck joint moving +-0.5 rad as the others. RMS of the relative position error (mm), "
+               "nominal / calibrated before / after the poses; gain: nominal / calibrated, mean +- sd over the runs\n\n"
+            << "| robot | stuck | runs | failed | left at nominal before (most frequent) | poses added (mean) | "
+               "runs with parameters left after | A: nominal | A: before | A: after | B: nominal | B: before | B: after | "
+               "B: gain before | B: gain after | runs better on B | targets |\n"
+            << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  bool all = true;
+  for (const std::string &robot : robots) {
+    AddRow row;
+    for (unsigned int seed = 1; seed <= seeds; ++seed) {
+      std::cerr << robot << " poses to add, seed " << seed << "/" << seeds << "      \r" << std::flush;
+      addPosesRun(robot, seed, noise, views, row);
+    }
+    const bool met = row.failed == 0 && row.left_after == 0 && row.better == row.runs;
+    all = all && met;
+    const double n = std::max(1u, row.pairs), nw = std::max(1u, row.wide_pairs);
+    std::cout << std::fixed << "| " << robot << " | j" << stuckJoint(robot) + 1 << " | " << row.runs << " | " << row.failed
+              << " | " << mostFrequent(row.before) << " | " << std::setprecision(1) << row.added.mean() << " | "
+              << row.left_after << " | " << std::setprecision(3) << 1e3 * std::sqrt(row.sum_nominal2 / n) << " | "
+              << 1e3 * std::sqrt(row.sum_before2 / n) << " | " << 1e3 * std::sqrt(row.sum_after2 / n) << " | "
+              << 1e3 * std::sqrt(row.wide_nominal2 / nw) << " | " << 1e3 * std::sqrt(row.wide_before2 / nw) << " | "
+              << 1e3 * std::sqrt(row.wide_after2 / nw) << " | " << std::setprecision(2)
+              << bench::meanSd(row.wide_gain_before, 1, 1) << " | " << bench::meanSd(row.wide_gain_after, 1, 1) << " | "
+              << row.better << " | " << (met ? "met" : "NOT met") << " |\n"
+              << std::flush;
+  }
+  return all;
+}
 } // namespace
 
 int main(int argc, char **argv)
@@ -290,6 +452,13 @@ int main(int argc, char **argv)
         ->delimiter(',')
         ->expected(2);
     app.add_option("--csv", csv_path, "one row per run")->type_name("FILE");
+    std::vector<std::string> tables = {"main", "add"};
+    app.add_option("--tables", tables,
+                   "main: the set from the data and the same-set check; add: the poses plan --from proposes, "
+                   "added and calibrated again (12 views, 0.2 px, f known; its own seeds) (default main,add)")
+        ->type_name("T")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"main", "add"}));
     const int parsed = selfcalibCli::parse(app, argc, argv);
     if (parsed >= 0)
       return parsed;
@@ -298,13 +467,18 @@ int main(int argc, char **argv)
     g_tolerance_r = tolerance.at(1);
     bench::Csv csv(csv_path, "run,status,nominal_rms_m,calibrated_rms_m,left_at_nominal");
     std::cout << "bench-estset: " << seeds << " seeds x " << (draws + 1) << " noise draws, the stuck joint within +-0.5 deg, "
-              << kHeldOut << " held-out views\n\n"
-              << "| robot | stuck | views | focal | noise (px) | ok | doubtful | failed | left at nominal (most frequent) | sets over the seeds | "
+              << kHeldOut << " held-out views\n";
+    if (std::find(tables.begin(), tables.end(), "main") != tables.end())
+      std::cout << "\n| robot | stuck | views | focal | noise (px) | ok | doubtful | failed | left at nominal (most frequent) | sets over the seeds | "
                  "nominal RMS (mm) | calibrated RMS (mm) | CRB RMS (mm) | worst cal/nom | gain (mean) | gain the bound allows | CRB ratio | targets |\n"
               << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     const auto t_start = std::chrono::steady_clock::now();
     bool all_met = true;
+    const bool main_table = std::find(tables.begin(), tables.end(), "main") != tables.end();
+    const bool add_table = std::find(tables.begin(), tables.end(), "add") != tables.end();
     for (const std::string &robot : robots) {
+      if (!main_table)
+        break;
       const unsigned int stuck = stuckJoint(robot);
       for (unsigned int views : view_counts)
         for (const std::string &focal : focals) {
@@ -359,7 +533,7 @@ int main(int argc, char **argv)
     // The same set in repeated draws of one geometry.
     bool same = true;
     for (const std::string &robot : robots) {
-      if (stable == 0)
+      if (stable == 0 || !main_table)
         break;
       const unsigned int stuck = stuckJoint(robot), views = 12;
       const vpSelfCalibSimulator clean = makeSim(robot, 1);
@@ -379,11 +553,17 @@ int main(int argc, char **argv)
         std::cout << " [" << s.first << "] x" << s.second;
       same = same && sets.size() == 1;
     }
+    const bool added = !add_table || addPosesTable(robots, seeds);
     std::cerr << std::string(70, ' ') << "\r";
-    std::cout << "\n\ntargets (f known): ok in every run, calibrated below nominal in every run, gain >= 3 (12 views) "
-                 "/ 5 (25 views), CRB ratio <= 1.3: "
-              << (all_met ? "met" : "NOT met") << "; the same set in every draw: " << (same ? "met" : "NOT met")
-              << "\ndone in " << std::setprecision(0)
+    if (main_table)
+      std::cout << "\n\ntargets (f known): ok in every run, calibrated below nominal in every run, gain >= 3 (12 views) "
+                   "/ 5 (25 views), CRB ratio <= 1.3: "
+                << (all_met ? "met" : "NOT met") << "; the same set in every draw: " << (same ? "met" : "NOT met");
+    if (add_table)
+      std::cout << "\n\nposes to add: every parameter estimated after adding the poses and the held-out error (B) lower "
+                   "in every run: "
+                << (added ? "met" : "NOT met");
+    std::cout << "\ndone in " << std::setprecision(0)
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count() << " s\n";
     return EXIT_SUCCESS;
   } catch (const vpException &e) {

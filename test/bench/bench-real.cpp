@@ -15,6 +15,9 @@
  *   4. OpenCV on the same corners with the board's layout known: solvePnP per image with the XML
  *      intrinsics, then calibrateHandEye (Tsai, Park, Daniilidis);
  *   6. as 2 with nothing stated: the pose error measured from 1 mm / 1 mrad (the default).
+ * Then DIR/visp-franka-eye-to-hand (a fixed camera, one AprilTag on the gripper): ours (bMc, eMo)
+ * beside OpenCV's calibrateRobotWorldHandEye and calibrateHandEye on the inverted poses, and its
+ * simulated counterpart over --e2h-seeds seeds (are the reported sd honest on such a set?).
  * Each is compared with the reference of shared/data/README.md (ViSP's published eMc; the three
  * OpenCV methods agree with it within 0.6 mm and 0.9 mrad): translation difference per axis (mm),
  * rotation difference as the theta-u of R_ref^T R_est (mrad), and, for our rows, the largest
@@ -48,6 +51,7 @@
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
 #include <visp3/selfcalib/vpSelfCalibImageCorrespondences.h>
 #include <visp3/selfcalib/vpSelfCalibImporter.h>
+#include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
 #include "benchCommon.h"
 #include "selfcalibCli.h"
@@ -163,7 +167,7 @@ Row ours(const std::string &method, const vpKinematicChain &nominal, const vpSel
     return row;
   }
   row.ok = true;
-  if (po.noise.pose_sd_origin == vpSelfCalibNoiseModel::MEASURED)
+  if (po.noise.measure_pose_sd)
     row.method += " (measured: " + fixed(1e3 * r.noise.pose_sd_translation, 1) + " mm / " +
                   fixed(1e3 * r.noise.pose_sd_rotation, 1) + " mrad)";
   row.eMc = r.eMc;
@@ -201,6 +205,18 @@ cv::Mat toCv(const vpTranslationVector &t) { return (cv::Mat_<double>(3, 1) << t
 
 const char *metText(bool met) { return met ? "met" : "NOT met"; }
 
+//! The homogeneous matrix of OpenCV's rotation and translation.
+vpHomogeneousMatrix fromCv(const cv::Mat &R, const cv::Mat &t)
+{
+  vpHomogeneousMatrix M;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j)
+      M[i][j] = R.at<double>(i, j);
+    M[i][3] = t.at<double>(i, 0);
+  }
+  return M;
+}
+
 //! OpenCV's calibrateHandEye on the gripper and target poses, as a pose vector of eMc.
 vpPoseVector handEye(const std::vector<cv::Mat> &R_g2b, const std::vector<cv::Mat> &t_g2b,
                      const std::vector<cv::Mat> &R_t2c, const std::vector<cv::Mat> &t_t2c,
@@ -208,13 +224,7 @@ vpPoseVector handEye(const std::vector<cv::Mat> &R_g2b, const std::vector<cv::Ma
 {
   cv::Mat R, t;
   cv::calibrateHandEye(R_g2b, t_g2b, R_t2c, t_t2c, R, t, method);
-  vpHomogeneousMatrix eMc;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j)
-      eMc[i][j] = R.at<double>(i, j);
-    eMc[i][3] = t.at<double>(i, 0);
-  }
-  return vpPoseVector(eMc);
+  return vpPoseVector(fromCv(R, t));
 }
 /*
   The default protocol of `calibrate` on the Franka set (issue 20): every view calibrates and a
@@ -489,6 +499,286 @@ void industrialSection(const std::string &data)
             << intrinsic(i4, "v0", 1) << "): " << metText(i4_pp) << "\n";
 }
 
+/*
+  ViSP's eye-to-hand set (a camera fixed in the world, one AprilTag 36h11 id 10 of 0.048 m on the
+  Franka's gripper, 8 views): the tag's 4 corners found as `calibrate --board apriltag:36h11:0.048:10`
+  does; ours (HAND_EYE, the tag's layout known, bMc and eMo) beside OpenCV on the same corners (IPPE
+  planar PnP per view with the XML intrinsics): calibrateRobotWorldHandEye (SHAH, LI) with the tag
+  as OpenCV's "camera", the effector as its "gripper" and the fixed camera as its "world" (oMc =
+  oMe eMb bMc), and calibrateHandEye on the inverted poses (eMb for the gripper's, as OpenCV's
+  documentation says for eye-to-hand: its answer is bMc). All against the joint reprojection fit of
+  shared/data/README.md (+-1-2 cm, ~10 mrad by its own account).
+*/
+struct EyeToHandRow {
+  std::string method, status;
+  bool ok = false, has_eMo = false, has_sd = false;
+  vpPoseVector bMc, eMo;
+  vpColVector bMc_sd, eMo_sd;
+  double pose_t = NAN, pose_r = NAN; //!< ours: the robot pose error used (measured or stated)
+};
+
+EyeToHandRow oursEyeToHand(const std::string &method, const vpKinematicChain &nominal, const vpSelfCalibDataset &ds,
+                           const vpRobotSelfCalibration::Options &po)
+{
+  EyeToHandRow row;
+  row.method = method;
+  const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(nominal, ds, po);
+  row.status = vpRobotSelfCalibration::statusName(r.status);
+  if (!r.has_bMc)
+    return row;
+  row.ok = row.has_sd = row.has_eMo = true;
+  row.bMc = r.bMc;
+  row.eMo = r.eMo;
+  row.bMc_sd = r.bMc_sd;
+  row.eMo_sd = r.eMo_sd;
+  row.pose_t = r.noise.pose_sd_translation;
+  row.pose_r = r.noise.pose_sd_rotation;
+  return row;
+}
+
+//! The board's pose cMo in each view where it was found (solvePnP, `flags`, the dataset's
+//! intrinsics), and the matching controller poses fMe.
+void boardPoses(const vpSelfCalibImageCorrespondences::Result &cr, const vpSelfCalibDataset &imported,
+                const std::map<int, vpColVector> &layout, const vpCameraParameters &cam, int flags,
+                std::vector<vpHomogeneousMatrix> &cMo, std::vector<vpHomogeneousMatrix> &fMe)
+{
+  const cv::Mat K = (cv::Mat_<double>(3, 3) << cam.get_px(), 0, cam.get_u0(), 0, cam.get_py(), cam.get_v0(), 0, 0, 1);
+  for (size_t i = 0; i < cr.board.size() && i < imported.views.size(); ++i) {
+    if (!cr.board[i].found || !imported.views[i].has_fMe)
+      continue;
+    std::vector<cv::Point3d> object;
+    std::vector<cv::Point2d> image;
+    for (const auto &o : cr.board[i].corners) {
+      const auto it = layout.find(o.id);
+      if (it == layout.end())
+        continue;
+      object.emplace_back(it->second[0], it->second[1], it->second[2]);
+      image.emplace_back(o.ip.get_u(), o.ip.get_v());
+    }
+    cv::Mat rvec, tvec, R;
+    if (object.size() < 4 || !cv::solvePnP(object, image, K, cv::Mat(), rvec, tvec, false, flags))
+      continue;
+    cv::Rodrigues(rvec, R);
+    cMo.push_back(fromCv(R, tvec));
+    fMe.push_back(imported.views[i].fMe);
+  }
+}
+
+//! "(a, b, c)" in mm or mrad of components first..first+2 of a pose vector.
+std::string poseTriple(const vpPoseVector &p, unsigned int first, int precision)
+{
+  return "(" + fixed(1e3 * p[first], precision) + ", " + fixed(1e3 * p[first + 1], precision) + ", " +
+         fixed(1e3 * p[first + 2], precision) + ")";
+}
+
+void eyeToHandRowOut(const EyeToHandRow &row, const vpHomogeneousMatrix &ref_bMc, const vpHomogeneousMatrix &ref_eMo)
+{
+  std::cout << "| " << row.method << " | " << row.status << " | ";
+  if (!row.ok) {
+    std::cout << "– | – | – | – | – | – | – | – |\n";
+    return;
+  }
+  const vpPoseVector rb(ref_bMc), ro(ref_eMo);
+  const vpThetaUVector dtu(ref_bMc.getRotationMatrix().t() * vpHomogeneousMatrix(row.bMc).getRotationMatrix());
+  // Against ours alone, and against ours and the reference's own uncertainty (10 mm, 10 mrad: the
+  // low end of what shared/data/README.md says it is good to) combined.
+  double ratio = 0, combined = 0;
+  for (unsigned int k = 0; row.has_sd && k < 6; ++k) {
+    const double ref_sd = 0.010; // m or rad
+    ratio = std::max(ratio, std::fabs(row.bMc[k] - rb[k]) / row.bMc_sd[k]);
+    combined = std::max(combined, std::fabs(row.bMc[k] - rb[k]) / std::hypot(row.bMc_sd[k], ref_sd));
+  }
+  std::cout << poseTriple(row.bMc, 0, 1) << " | " << poseTriple(row.bMc, 3, 1) << " | ("
+            << fixed(1e3 * (row.bMc[0] - rb[0]), 1) << ", " << fixed(1e3 * (row.bMc[1] - rb[1]), 1) << ", "
+            << fixed(1e3 * (row.bMc[2] - rb[2]), 1) << ") | (" << fixed(1e3 * dtu[0], 1) << ", "
+            << fixed(1e3 * dtu[1], 1) << ", " << fixed(1e3 * dtu[2], 1) << ") | "
+            << (row.has_sd ? triple(row.bMc_sd, 0, 1e3, 1) + " / " + triple(row.bMc_sd, 3, 1e3, 1) : "–") << " | "
+            << (row.has_sd ? fixed(ratio, 2) + " (" + fixed(combined, 2) + ")" : "–") << " | "
+            << (row.has_eMo ? poseTriple(row.eMo, 0, 1) + " (" + fixed(1e3 * (vpHomogeneousMatrix(row.eMo).getTranslationVector() - ref_eMo.getTranslationVector()).frobeniusNorm(), 1) + ")" : "–")
+            << " | " << (std::isfinite(row.pose_t) ? fixed(1e3 * row.pose_t, 2) + " mm / " + fixed(1e3 * row.pose_r, 2) + " mrad" : "–")
+            << " |\n";
+  (void)ro;
+}
+
+//! OpenCV's rotations and translations of the poses M, each inverted first when `invert`.
+void splitPoses(const std::vector<vpHomogeneousMatrix> &M, bool invert, std::vector<cv::Mat> &R, std::vector<cv::Mat> &t)
+{
+  for (const vpHomogeneousMatrix &m : M) {
+    const vpHomogeneousMatrix x = invert ? m.inverse() : m;
+    R.push_back(toCv(x.getRotationMatrix()));
+    t.push_back(toCv(x.getTranslationVector()));
+  }
+}
+
+std::vector<EyeToHandRow> openCvEyeToHand(const std::vector<vpHomogeneousMatrix> &cMo,
+                                          const std::vector<vpHomogeneousMatrix> &bMe)
+{
+  const std::pair<const char *, cv::RobotWorldHandEyeCalibrationMethod> rw[2] = {
+      {"E4a. OpenCV PnP + calibrateRobotWorldHandEye SHAH", cv::CALIB_ROBOT_WORLD_HAND_EYE_SHAH},
+      {"E4b. OpenCV PnP + calibrateRobotWorldHandEye LI", cv::CALIB_ROBOT_WORLD_HAND_EYE_LI}};
+  const std::pair<const char *, cv::HandEyeCalibrationMethod> he[5] = {
+      {"E5a. OpenCV PnP + calibrateHandEye (inverted poses) Tsai", cv::CALIB_HAND_EYE_TSAI},
+      {"E5b. OpenCV PnP + calibrateHandEye (inverted poses) Park", cv::CALIB_HAND_EYE_PARK},
+      {"E5c. OpenCV PnP + calibrateHandEye (inverted poses) Horaud", cv::CALIB_HAND_EYE_HORAUD},
+      {"E5d. OpenCV PnP + calibrateHandEye (inverted poses) Andreff", cv::CALIB_HAND_EYE_ANDREFF},
+      {"E5e. OpenCV PnP + calibrateHandEye (inverted poses) Daniilidis", cv::CALIB_HAND_EYE_DANIILIDIS}};
+  std::vector<EyeToHandRow> rows(7);
+  for (int k = 0; k < 7; ++k) {
+    rows[k].method = k < 2 ? rw[k].first : he[k - 2].first;
+    rows[k].ok = cMo.size() >= 3;
+    rows[k].status = rows[k].ok ? "ok" : "failed: the tag's pose in fewer than 3 views";
+  }
+  if (cMo.size() < 3)
+    return rows;
+  // calibrateRobotWorldHandEye: the tag is OpenCV's camera, the effector its gripper, the fixed
+  // camera its world: cTw = oMc (the PnP pose inverted), gTb = eMb (the controller's inverted).
+  std::vector<cv::Mat> R_w2c, t_w2c, R_b2g, t_b2g, R_t2c, t_t2c;
+  splitPoses(cMo, true, R_w2c, t_w2c);
+  splitPoses(bMe, true, R_b2g, t_b2g);
+  splitPoses(cMo, false, R_t2c, t_t2c);
+  for (int k = 0; k < 2; ++k) {
+    cv::Mat R_b2w, t_b2w, R_g2c, t_g2c;
+    cv::calibrateRobotWorldHandEye(R_w2c, t_w2c, R_b2g, t_b2g, R_b2w, t_b2w, R_g2c, t_g2c, rw[k].second);
+    rows[k].has_eMo = true;
+    rows[k].bMc = vpPoseVector(fromCv(R_b2w, t_b2w).inverse()); // OpenCV's wTb: cMb
+    rows[k].eMo = vpPoseVector(fromCv(R_g2c, t_g2c).inverse()); // OpenCV's cTg: oMe
+  }
+  // calibrateHandEye, eye-to-hand: the gripper poses inverted (eMb), the target's as they are (cMo);
+  // the answer, OpenCV's cam2gripper, is then bMc.
+  for (int k = 0; k < 5; ++k)
+    rows[2 + k].bMc = handEye(R_b2g, t_b2g, R_t2c, t_t2c, he[k].second);
+  return rows;
+}
+
+/*
+  The real eye-to-hand set's simulated counterpart: its geometry as vpSelfCalibSimulator draws it
+  (8 views, one tag's 4 corners 0.048 m apart, 0.13 to 0.26 m from a 640 x 480 camera of f 607 px,
+  0.3 px of corner noise), with the controller poses off by 2 mm / 2 mrad (the import's
+  robot_error) or by 1.4 mm / 3.9 mrad (what row E2 measures on the real set: more rotation than
+  translation), calibrated as rows E1 (2 mm / 2 mrad stated) and E2 (measured) over `seeds`
+  seeds: are the reported sd of bMc honest on such a set? The share of |error| / sd within 3 over
+  the six components of bMc, and the 95th percentile and largest of that ratio.
+*/
+void eyeToHandSimulated(unsigned int seeds)
+{
+  if (seeds == 0)
+    return;
+  struct Stat {
+    std::vector<double> ratio;
+    unsigned int failed = 0;
+  } stats[4];
+  const double truth_sd[2][2] = {{0.002, 0.002}, {0.0014, 0.0039}};
+  for (unsigned int seed = 1; seed <= seeds; ++seed)
+    for (int error = 0; error < 2; ++error) {
+      vpSelfCalibSimulator::EyeToHandOptions so;
+      so.seed = seed;
+      so.num_views = 8;
+      so.board_cols = so.board_rows = 2;
+      so.board_spacing = 0.048;
+      so.px = so.py = 607.6;
+      so.u0 = 323.5;
+      so.v0 = 243.3;
+      so.distance_min = 0.13;
+      so.distance_max = 0.26;
+      so.lateral = 0.04;
+      so.pixel_noise_sd = 0.3;
+      so.pose_sd_translation = truth_sd[error][0];
+      so.pose_sd_rotation = truth_sd[error][1];
+      vpSelfCalibSimulator::EyeToHandTruth truth;
+      const vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(so, truth);
+      for (int variant = 0; variant < 2; ++variant) {
+        vpSelfCalibDataset d = ds;
+        d.pose_sd_translation = d.pose_sd_rotation = variant == 0 ? 0.002 : 0; // E1: stated; E2: measured
+        vpRobotSelfCalibration::Options po;
+        po.method = vpRobotSelfCalibration::HAND_EYE;
+        po.bundle.known_points = truth.layout;
+        const vpRobotSelfCalibration::Result r =
+            vpRobotSelfCalibration::run(vpKinematicChain::preset("viper850"), d, po);
+        Stat &st = stats[2 * error + variant];
+        if (!r.has_bMc) {
+          ++st.failed;
+          continue;
+        }
+        const vpPoseVector t(truth.bMc);
+        for (unsigned int k = 0; k < 6; ++k)
+          st.ratio.push_back(std::fabs(r.bMc[k] - t[k]) / r.bMc_sd[k]);
+      }
+    }
+  std::cout << "\nthe real eye-to-hand set's simulated counterpart (8 views, one 0.048 m tag at 0.13-0.26 m, f 607 px, "
+               "0.3 px; "
+            << seeds << " seeds): bMc's |error| / reported sd over its six components\n\n"
+            << "| controller pose error (truth) | calibrated with | runs without bMc | share within 3 sd | 95th percentile | "
+               "largest |\n|---|---|---|---|---|---|\n";
+  const char *truth_names[2] = {"2 mm / 2 mrad", "1.4 mm / 3.9 mrad (as measured on the real set)"};
+  const char *names[2] = {"2 mm / 2 mrad stated (as E1)", "measured (as E2)"};
+  for (int v = 0; v < 4; ++v) {
+    std::vector<double> x = stats[v].ratio;
+    std::sort(x.begin(), x.end());
+    const double within = x.empty() ? NAN
+                                    : static_cast<double>(std::count_if(x.begin(), x.end(), [](double e) { return e <= 3; })) /
+                                          static_cast<double>(x.size());
+    std::cout << "| " << truth_names[v / 2] << " | " << names[v % 2] << " | " << stats[v].failed << " | "
+              << fixed(100 * within, 1) << " % | "
+              << (x.empty() ? "–" : fixed(x[static_cast<size_t>(0.95 * (x.size() - 1))], 2)) << " | "
+              << (x.empty() ? "–" : fixed(x.back(), 2)) << " |\n";
+  }
+  std::cout << "\n(Gaussian: 99.7 % within 3 sd, 95th percentile 1.96.)\n";
+}
+
+void eyeToHandSection(const std::string &data)
+{
+  const std::string folder = data + "/visp-franka-eye-to-hand";
+  if (!std::filesystem::is_directory(folder)) {
+    std::cout << "\nSKIPPED: " << folder << " is absent\n";
+    return;
+  }
+  const vpSelfCalibImporter::Result imp = vpSelfCalibImporter::import(folder);
+  vpSelfCalibDataset ds = vpSelfCalibDataset::fromYamlString(imp.dataset.toYamlString());
+  const vpKinematicChain nominal = imp.has_robot_model ? imp.robot_model : vpKinematicChain::fromPresetOrFile(ds.robot);
+  const vpSelfCalibDataset imported = ds;
+  vpSelfCalibImageCorrespondences::Options co;
+  co.front_end.features = false;
+  co.board = vpBoardDetector::parse("apriltag:36h11:0.048:10");
+  co.method = vpRobotSelfCalibration::HAND_EYE;
+  const vpSelfCalibImageCorrespondences::Result cr = vpSelfCalibImageCorrespondences::fromDatasetImages(ds, co);
+  const std::map<int, vpColVector> layout = vpBoardDetector(*co.board).getLayout();
+  const vpHomogeneousMatrix ref_bMc(vpPoseVector(0.955, -0.048, 0.473, -1.102, -1.112, 1.305));
+  const vpHomogeneousMatrix ref_eMo(vpTranslationVector(0.023, -0.005, -0.056), vpRotationMatrix());
+  std::cout << "\nbench-real: " << folder << " (eye-to-hand)\n"
+            << imported.views.size() << " views, camera XML px " << fixed(ds.cam.get_px(), 2)
+            << "; board apriltag:36h11:0.048:10 found in " << cr.board_images << " of " << imported.views.size()
+            << " images (4 corners each)\n"
+            << "reference (shared/data/README.md, a joint reprojection fit, the controller poses trusted): bMc t "
+               "(955, -48, 473) mm, theta-u (-1102, -1112, 1305) mrad, eMo t (23, -5, -56) mm; good to +-1-2 cm "
+               "and ~10 mrad\n\n";
+  std::vector<EyeToHandRow> rows;
+  vpRobotSelfCalibration::Options po;
+  po.method = vpRobotSelfCalibration::HAND_EYE;
+  po.num_calibration_poses = static_cast<unsigned int>(ds.views.size());
+  po.bundle.known_points = layout;
+  rows.push_back(oursEyeToHand("E1. ours, layout known, robot_error of the import (2 mm / 2 mrad, stated)", nominal,
+                               ds, po));
+  vpSelfCalibDataset unstated = ds;
+  unstated.pose_sd_translation = unstated.pose_sd_rotation = 0;
+  rows.push_back(oursEyeToHand("E2. ours, layout known, pose error measured (from 1 mm / 1 mrad)", nominal, unstated,
+                               po));
+  po.trust_robot = true;
+  rows.push_back(oursEyeToHand("E3. ours, layout known, controller poses trusted", nominal, unstated, po));
+  std::vector<vpHomogeneousMatrix> cMo, bMe;
+  boardPoses(cr, imported, layout, ds.cam, cv::SOLVEPNP_IPPE, cMo, bMe);
+  for (const EyeToHandRow &row : openCvEyeToHand(cMo, bMe))
+    rows.push_back(row);
+  std::cout << "| method | status | bMc t (mm) | bMc theta-u (mrad) | dt (mm) | dtheta-u (mrad) | sd t / theta-u (mm, "
+               "mrad) | max \\|diff\\|/sd (with the reference's 10 mm / 10 mrad) | eMo t (mm) (\\|dt\\|) | robot pose error |\n"
+               "|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const EyeToHandRow &row : rows)
+    eyeToHandRowOut(row, ref_bMc, ref_eMo);
+  std::cout << "\nOpenCV's PnP: " << cMo.size() << " views (IPPE, the XML intrinsics). dt: bMc t_est - t_ref; "
+               "dtheta-u: theta-u of R_ref^T R_est; max |diff|/sd over bMc's six pose-vector components, in brackets over "
+               "sqrt(sd^2 + 10 mm^2 or 10 mrad^2), the reference's own uncertainty added; eMo: OpenCV's "
+               "calibrateHandEye gives bMc only.\n";
+}
+
 } // namespace
 
 int main(int argc, char **argv)
@@ -502,6 +792,10 @@ int main(int argc, char **argv)
                                        std::string(SELFCALIB_SHARED_DATA) + ")")
         ->type_name("DIR");
     app.add_option("--csv", csv_path, "one row per method")->type_name("FILE");
+    unsigned int e2h_seeds = 20;
+    app.add_option("--e2h-seeds", e2h_seeds,
+                   "seeds of the eye-to-hand set's simulated counterpart (default 20; 0: none)")
+        ->type_name("N");
     const int parsed = selfcalibCli::parse(app, argc, argv);
     if (parsed >= 0)
       return parsed;
@@ -572,32 +866,11 @@ int main(int argc, char **argv)
     // OpenCV: PnP on the same corners with the board's layout and the XML intrinsics, then calibrateHandEye.
     {
       const Clock::time_point t0 = Clock::now();
-      const vpBoardDetector detector(*co.board);
-      const std::map<int, vpColVector> layout = detector.getLayout();
-      const cv::Mat K = (cv::Mat_<double>(3, 3) << cam.get_px(), 0, cam.get_u0(), 0, cam.get_py(), cam.get_v0(), 0, 0, 1);
+      std::vector<vpHomogeneousMatrix> cMo, fMe;
+      boardPoses(cr, imported, vpBoardDetector(*co.board).getLayout(), cam, cv::SOLVEPNP_ITERATIVE, cMo, fMe);
       std::vector<cv::Mat> R_g2b, t_g2b, R_t2c, t_t2c;
-      for (size_t i = 0; i < cr.board.size() && i < imported.views.size(); ++i) {
-        if (!cr.board[i].found || !imported.views[i].has_fMe)
-          continue;
-        std::vector<cv::Point3d> object;
-        std::vector<cv::Point2d> image;
-        for (const auto &o : cr.board[i].corners) {
-          const auto it = layout.find(o.id);
-          if (it == layout.end())
-            continue;
-          object.emplace_back(it->second[0], it->second[1], it->second[2]);
-          image.emplace_back(o.ip.get_u(), o.ip.get_v());
-        }
-        cv::Mat rvec, tvec, R;
-        if (object.size() < 4 || !cv::solvePnP(object, image, K, cv::Mat(), rvec, tvec))
-          continue;
-        cv::Rodrigues(rvec, R);
-        R_t2c.push_back(R);
-        t_t2c.push_back(tvec);
-        const vpHomogeneousMatrix &fMe = imported.views[i].fMe;
-        R_g2b.push_back(toCv(fMe.getRotationMatrix()));
-        t_g2b.push_back(toCv(fMe.getTranslationVector()));
-      }
+      splitPoses(cMo, false, R_t2c, t_t2c);
+      splitPoses(fMe, false, R_g2b, t_g2b);
       const double pnp_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
       const std::pair<const char *, cv::HandEyeCalibrationMethod> methods[3] = {
           {"5a. OpenCV PnP + calibrateHandEye Tsai", cv::CALIB_HAND_EYE_TSAI},
@@ -736,6 +1009,8 @@ int main(int argc, char **argv)
     with_error.pose_sd_rotation = imp.dataset.pose_sd_rotation;
     crossValidationSection(nominal, with_error, cvo);
     industrialSection(data);
+    eyeToHandSection(data);
+    eyeToHandSimulated(e2h_seeds);
     return EXIT_SUCCESS;
   } catch (const vpException &e) {
     std::cerr << "bench-real: " << e.getStringMessage() << "\n";

@@ -315,7 +315,7 @@ int main(int argc, char **argv)
                   po.num_calibration_poses = kCalibration;
                   po.noise.pixel_sd = factor * noise;
                   if (auto_noise) // calibrate --pixel-sd auto, from the given value
-                    po.noise.pixel_sd_origin = vpSelfCalibNoiseModel::MEASURED;
+                    po.noise.measure_pixel_sd = true;
                   const auto r = vpRobotSelfCalibration::run(clean.getNominalChain(), dd, po);
                   ++row.runs;
                   ++row.statuses[vpRobotSelfCalibration::statusName(r.status)];

@@ -35,6 +35,7 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibImageCorrespondences.h>
 #include <visp3/selfcalib/vpSelfCalibRenderer.h>
+#include <visp3/selfcalib/vpSelfCalibResultsFile.h>
 #include <visp3/selfcalib/vpSelfCalibSimulatedGrabber.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 #include <visp3/selfcalib/vpSelfCalibSimulatorViper850.h>
@@ -134,6 +135,13 @@ int main(int argc, char **argv)
     po.method = cr.method;
     po.num_calibration_poses = poses;
     const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(model, ds, po);
+    // The run's results.yaml, in the schema visp-selfcalib calibrate writes (the split: the first
+    // poses calibrate, the others verify).
+    vpSelfCalibProtocol::Result split;
+    split.plan.calibration = poses;
+    split.plan.held_out = static_cast<unsigned int>(ds.views.size()) - poses;
+    vpSelfCalibResultsFile::write((fs::path(dir) / "results.yaml").string(),
+                                  vpSelfCalibResultsFile::fromRun(r, model, ao.dataset_file, split));
     std::cout << "== Calibration: " << vpRobotSelfCalibration::statusName(r.status) << ", "
               << r.identifiability.identified.size() << " of " << model.getNumParameters() << " parameters, "
               << cr.front_end.num_tracks << " tracks\n";

@@ -7,6 +7,9 @@
 #include <cstdint>
 #include <string>
 
+#include <visp3/core/vpPoseVector.h>
+#include <visp3/selfcalib/vpBoardDetector.h>
+#include <visp3/selfcalib/vpSelfCalibRenderer.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
 #include "core/vpSelfCalibMath.h"
@@ -49,6 +52,36 @@ inline void toControllerPoses(const vpSelfCalibSimulator &sim, vpSelfCalibDatase
     v.fMe = sim.getTrueChain().get_fMe(v.q) * vpSelfCalib::toVisp(vpSelfCalib::rigidFromVector(d));
     v.q = vpColVector();
   }
+}
+
+//! Per-axis errors (estimate - truth): translation (m) and theta u of truth^-1 estimate (rad).
+inline vpColVector poseError(const vpPoseVector &estimate, const vpHomogeneousMatrix &truth)
+{
+  const vpHomogeneousMatrix E(estimate);
+  const vpPoseVector d(truth.inverse() * E);
+  vpColVector e(6);
+  for (unsigned int i = 0; i < 3; ++i) {
+    e[i] = E[i][3] - truth[i][3];
+    e[3 + i] = d[3 + i];
+  }
+  return e;
+}
+
+//! The detector of the renderer's tag bundle (scene APRILTAGS: vpSelfCalibRenderer::getTagBundle()).
+inline vpBoardDetector::Options tagBundleDetector(const vpSelfCalibRenderer::Options &ro)
+{
+  vpBoardDetector::Options o;
+  o.type = vpBoardDetector::APRILTAG;
+  o.dictionary = ro.tag_family;
+  for (const auto &t : vpSelfCalibRenderer::getTagBundle(ro)) {
+    vpBoardDetector::Options::BundleTag b;
+    b.id = t.first;
+    b.size = ro.tag_size;
+    b.bMt = t.second;
+    o.bundle.push_back(b);
+    o.tag_ids.push_back(t.first);
+  }
+  return o;
 }
 } // namespace selfcalib_test
 

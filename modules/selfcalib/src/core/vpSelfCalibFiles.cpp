@@ -74,8 +74,13 @@ public:
     m_path = (directoryOf(file) / ("." + file.filename().string() + ".lock")).string();
     for (int attempt = 0;; ++attempt) {
       const int fd = ::open(m_path.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0666);
-      if (fd < 0)
-        fail(what, file.string(), "cannot create the lock file '" + m_path + "'", errno);
+      if (fd < 0) {
+        const int err = errno;
+        struct stat dir;
+        if (err == ENOENT && ::stat(directoryOf(file).c_str(), &dir) != 0)
+          fail(what, file.string(), "its directory '" + directoryOf(file).string() + "' is not there", errno);
+        fail(what, file.string(), "cannot create the lock file '" + m_path + "'", err);
+      }
       while (::flock(fd, LOCK_EX) != 0)
         if (errno != EINTR) {
           const int err = errno;

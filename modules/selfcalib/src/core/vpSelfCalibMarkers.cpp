@@ -144,11 +144,19 @@ vpImage<unsigned char> markerTexture(const std::function<double(double, double)>
 vpImage<unsigned char> renderQuad(vpImageSimulator &quad, const vpCameraParameters &cam, unsigned int height,
                                   unsigned int width)
 {
+  std::vector<vpImageSimulator> quads(1, quad);
+  return renderQuads(quads, cam, height, width);
+}
+
+vpImage<unsigned char> renderQuads(std::vector<vpImageSimulator> &quads, const vpCameraParameters &cam,
+                                   unsigned int height, unsigned int width)
+{
   const unsigned int n = 4;
   const vpCameraParameters fine(n * cam.get_px(), n * cam.get_py(), n * cam.get_u0() + 0.5 * (n - 1),
                                 n * cam.get_v0() + 0.5 * (n - 1));
   vpImage<unsigned char> F(n * height, n * width, 128);
-  quad.getImage(F, fine);
+  for (vpImageSimulator &quad : quads)
+    quad.getImage(F, fine);
   vpImage<unsigned char> I(height, width);
   for (unsigned int i = 0; i < height; ++i)
     for (unsigned int j = 0; j < width; ++j) {

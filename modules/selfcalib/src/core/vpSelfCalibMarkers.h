@@ -76,6 +76,12 @@ vpImage<unsigned char> markerTexture(const std::function<double(double, double)>
 */
 vpImage<unsigned char> renderQuad(vpImageSimulator &quad, const vpCameraParameters &cam, unsigned int height,
                                   unsigned int width);
+/*!
+  As renderQuad(), several quads painted in the order given (the farthest first: each covers what
+  is behind it), each only over its own area.
+*/
+vpImage<unsigned char> renderQuads(std::vector<vpImageSimulator> &quads, const vpCameraParameters &cam,
+                                   unsigned int height, unsigned int width);
 } // namespace vpSelfCalib
 
 #endif

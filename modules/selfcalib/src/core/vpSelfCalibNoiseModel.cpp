@@ -34,7 +34,7 @@ vpSelfCalibNoiseModel vpSelfCalibNoiseModel::unmeasured()
 {
   vpSelfCalibNoiseModel n;
   n.pixel_sd = 0;
-  n.pixel_sd_origin = n.pose_sd_origin = MEASURED;
+  n.pixel_sd_origin = n.pose_sd_origin = n.joint_sd_origin = n.model_sd_origin = MEASURED;
   return n;
 }
 
@@ -52,6 +52,23 @@ vpSelfCalibNoiseModel vpSelfCalibNoiseModel::withPoseError(double t, double r, O
   n.pose_sd_translation = t;
   n.pose_sd_rotation = r;
   n.pose_sd_origin = origin;
+  return n;
+}
+
+vpSelfCalibNoiseModel vpSelfCalibNoiseModel::withJointError(const std::vector<double> &sd, Origin origin) const
+{
+  vpSelfCalibNoiseModel n = *this;
+  n.joint_sd = sd;
+  n.joint_sd_origin = origin;
+  return n;
+}
+
+vpSelfCalibNoiseModel vpSelfCalibNoiseModel::withModelError(double t, double r, Origin origin) const
+{
+  vpSelfCalibNoiseModel n = *this;
+  n.model_sd_translation = t;
+  n.model_sd_rotation = r;
+  n.model_sd_origin = origin;
   return n;
 }
 
@@ -73,7 +90,7 @@ void vpSelfCalibNoiseModel::check(const std::string &who) const
                                      "outlier_threshold non-negative and finite");
   if (loss != LOSS_NONE && loss != LOSS_HUBER && loss != LOSS_CAUCHY)
     throw vpSelfCalibException(vpSelfCalibException::badValue, who + ": the noise model's loss is unknown");
-  for (Origin o : {pixel_sd_origin, pose_sd_origin})
+  for (Origin o : {pixel_sd_origin, pose_sd_origin, joint_sd_origin, model_sd_origin})
     if (o != STATED && o != MEASURED)
       throw vpSelfCalibException(vpSelfCalibException::badValue, who + ": the noise model's origin is unknown");
   if (!pairValid(pose_sd_translation, pose_sd_rotation))

@@ -246,6 +246,18 @@ std::vector<vpImage<unsigned char>> vpFeatureFrontEnd::viewMasks(const vpSelfCal
   return out;
 }
 
+vpImage<unsigned char> vpFeatureFrontEnd::readImage(const std::string &file, const std::string &context)
+{
+  vpSelfCalib::checkImageFile(file, context);
+  vpImage<unsigned char> image;
+  try {
+    vpImageIo::read(image, file);
+  } catch (const vpException &e) {
+    throw vpSelfCalibException(vpSelfCalibException::ioError, context + ": " + e.getStringMessage());
+  }
+  return image;
+}
+
 vpFeatureFrontEnd::Result vpFeatureFrontEnd::fillDataset(vpSelfCalibDataset &ds, const Options &opt)
 {
   const std::vector<vpImage<unsigned char>> images = readImages(ds);

@@ -18,6 +18,7 @@
 #include <visp3/core/vpHomogeneousMatrix.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
+#include "../core/vpSelfCalibFiles.h" // readTextFileBounded
 #include "../core/vpSelfCalibMarkers.h"
 
 namespace
@@ -426,11 +427,17 @@ vpBoardDetector::Result detectTags(const cv::Mat &img, const Options &o)
 // parse(): the YAML bundle file.
 Options readBundle(const std::string &file, const std::string &where)
 {
+  // Read as every input text is (a directory, a device, a stream without end or a binary file is
+  // refused with the reason), then parsed.
+  std::string text;
+  try {
+    text = vpSelfCalib::readTextFileBounded(file, "tag bundle", size_t(1) << 20);
+  } catch (const vpSelfCalibException &e) {
+    throw vpSelfCalibException(vpSelfCalibException::ioError, where + e.getStringMessage());
+  }
   YAML::Node root;
   try {
-    root = YAML::LoadFile(file);
-  } catch (const YAML::BadFile &) {
-    throw vpSelfCalibException(vpSelfCalibException::ioError, where + "cannot read the bundle file '" + file + "'");
+    root = YAML::Load(text);
   } catch (const YAML::Exception &e) {
     throw vpSelfCalibException(vpSelfCalibException::parseError, where + file + ": " + e.what());
   }

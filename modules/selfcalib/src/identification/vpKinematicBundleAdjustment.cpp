@@ -8,6 +8,7 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -376,6 +377,7 @@ vpKinematicIdentification::Identifiability setOf(const vpKinematicChain &start, 
     const std::vector<double> joint_sd = fullModeSd(start, opt, noise, n_joint, camera_delta);
     Adjustment a(X0, start, set.identified, q, fMe, false, joint_sd, n_joint, camera_delta);
     a.noise = noise;
+    a.state.eye_to_hand = opt.eye_to_hand;
     a.P = static_cast<int>(set.identified.size());
     fillAdjustment(a, views, camera, opt);
     if (a.P > 0 && 2 * a.obs.size() > a.P + a.free_in.size() + 3 * a.X.size()) {
@@ -426,6 +428,34 @@ std::string rankDeficientMessage(const KBA::Result &res, const KBA::Options &opt
   return message;
 }
 
+//! What run() and estimatedSet() start from: each view's joints and end-effector pose, the points
+//! the views see, and their start values.
+struct Inputs {
+  std::vector<vpColVector> q;
+  std::vector<Rigid> fMe;
+  std::map<int, unsigned int> seen;
+  std::map<int, Eigen::Vector3d> X0;
+};
+
+//! The caller's inputs checked (options, noise, camera, model, views, robot error), then Inputs;
+//! `where` names the function in the messages.
+Inputs checkedInputs(const vpKinematicChain &start, const vpCameraParameters &camera,
+                     const std::vector<vpSelfCalibDataset::View> &views, const std::map<int, vpColVector> &points0,
+                     const KBA::Options &opt, const vpSelfCalibNoiseModel &noise,
+                     const std::string &where = "vpKinematicBundleAdjustment")
+{
+  opt.check();
+  noise.check(where);
+  vpSelfCalib::checkCamera(camera, where + ": the camera");
+  vpSelfCalib::checkChain(start, where + ": the model '" + start.getName() + "'");
+  checkViewsAndCamera(camera, static_cast<unsigned int>(views.size()), opt);
+  Inputs in;
+  collectViews(start, views, opt, in.q, in.fMe, in.seen);
+  in.X0 = startPoints(points0, in.seen);
+  checkRobotError(start, opt, noise);
+  return in;
+}
+
 //! The adjustment (solve) or only its information at the start state (!solve); see the header.
 vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpCameraParameters &camera,
                                         const std::vector<vpSelfCalibDataset::View> &views,
@@ -434,24 +464,17 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
                                         const vpKinematicBundleAdjustment::Options &opt,
                                         const vpSelfCalibNoiseModel &noise, bool solve)
 {
-  opt.check();
-  noise.check("vpKinematicBundleAdjustment");
-  vpSelfCalib::checkCamera(camera, "vpKinematicBundleAdjustment: the camera");
-  vpSelfCalib::checkChain(start, "vpKinematicBundleAdjustment: the model '" + start.getName() + "'");
   const QuietCeres quiet;
   const auto t0 = std::chrono::steady_clock::now();
-  checkViewsAndCamera(camera, static_cast<unsigned int>(views.size()), opt);
-  std::vector<vpColVector> q;
-  std::vector<Rigid> fMe;
-  std::map<int, unsigned int> seen;
-  collectViews(start, views, opt, q, fMe, seen);
-  const std::map<int, Eigen::Vector3d> X0 = startPoints(points0, seen);
+  const Inputs in = checkedInputs(start, camera, views, points0, opt, noise);
+  const std::vector<vpColVector> &q = in.q;
+  const std::vector<Rigid> &fMe = in.fMe;
+  const std::map<int, Eigen::Vector3d> &X0 = in.X0;
 
   KBA::Result res;
   res.chain = start;
   res.camera = camera;
   res.sd.resize(start.getNumParameters());
-  checkRobotError(start, opt, noise);
   std::string refused;
   res.identifiability = setOf(start, camera, views, yardstick, X0, q, fMe, opt, noise, refused);
   if (!refused.empty()) {
@@ -466,6 +489,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
                n_joint, camera_delta);
   a.noise = noise;
   a.state.inverted = opt.hand_eye_only && opt.controller_poses_inverted;
+  a.state.eye_to_hand = opt.eye_to_hand;
   a.P = static_cast<int>(res.identifiability.identified.size());
   fillAdjustment(a, views, camera, opt);
   const bool distortion = (opt.intrinsics & KBA::DISTORTION) || a.in[4] != 0;
@@ -522,6 +546,8 @@ const char *vpKinematicBundleAdjustment::scaleSourceName(ScaleSource s)
     return "the yardstick";
   case SCALE_ROBOT_MOTION:
     return "the robot's metric motion (and the yardstick when seen)";
+  case SCALE_KNOWN_POINTS:
+    return "the target's known layout";
   default:
     return "the start model (nominal scale: no yardstick)";
   }
@@ -542,7 +568,7 @@ const char *vpKinematicBundleAdjustment::statusName(Status s)
   return "unknown";
 }
 
-void vpKinematicBundleAdjustment::Options::check() const
+void vpKinematicBundleAdjustment::Settings::check() const
 {
   if (intrinsics > (FX | ASPECT | PRINCIPAL_POINT | DISTORTION | DISTORTION_K3))
     throw vpSelfCalibException(vpSelfCalibException::badValue, "vpKinematicBundleAdjustment: unknown intrinsics flag");
@@ -575,6 +601,15 @@ void vpKinematicBundleAdjustment::Options::check() const
                                "vpKinematicBundleAdjustment: max_iterations and num_threads must be at least 1");
 }
 
+void vpKinematicBundleAdjustment::Options::check() const
+{
+  Settings::check();
+  if (eye_to_hand && hand_eye_only)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment: eye_to_hand is the full kinematic mode's camera in the "
+                               "world; in hand-eye-only mode the eye-to-hand set-up is controller_poses_inverted");
+}
+
 vpKinematicBundleAdjustment::Result vpKinematicBundleAdjustment::adjust(const vpKinematicChain &start,
                                                                        const vpCameraParameters &camera,
                                                                        const std::vector<vpSelfCalibDataset::View> &views,
@@ -591,20 +626,52 @@ vpKinematicIdentification::Identifiability vpKinematicBundleAdjustment::estimate
     const vpSelfCalibDataset::Yardstick &yardstick, const std::map<int, vpColVector> &points, const Options &options,
     const vpSelfCalibNoiseModel &noise)
 {
-  options.check();
-  noise.check("vpKinematicBundleAdjustment");
-  vpSelfCalib::checkCamera(camera, "vpKinematicBundleAdjustment: the camera");
-  vpSelfCalib::checkChain(start, "vpKinematicBundleAdjustment: the model '" + start.getName() + "'");
   const QuietCeres quiet;
-  checkViewsAndCamera(camera, static_cast<unsigned int>(views.size()), options);
-  std::vector<vpColVector> q;
-  std::vector<Rigid> fMe;
-  std::map<int, unsigned int> seen;
-  collectViews(start, views, options, q, fMe, seen);
-  const std::map<int, Eigen::Vector3d> X0 = startPoints(points, seen);
-  checkRobotError(start, options, noise);
+  const Inputs in = checkedInputs(start, camera, views, points, options, noise);
   std::string refused;
-  return setOf(start, camera, views, yardstick, X0, q, fMe, options, noise, refused);
+  return setOf(start, camera, views, yardstick, in.X0, in.q, in.fMe, options, noise, refused);
+}
+
+vpColVector vpKinematicBundleAdjustment::predictedSd(const vpKinematicChain &start, const vpCameraParameters &camera,
+                                                     const std::vector<vpSelfCalibDataset::View> &views,
+                                                     const vpSelfCalibDataset::Yardstick &yardstick,
+                                                     const std::map<int, vpColVector> &points,
+                                                     const std::vector<unsigned int> &parameters, const Options &options,
+                                                     const vpSelfCalibNoiseModel &noise)
+{
+  const QuietCeres quiet;
+  const Inputs in = checkedInputs(start, camera, views, points, options, noise, "vpKinematicBundleAdjustment::predictedSd");
+  const std::vector<vpColVector> &q = in.q;
+  if (options.hand_eye_only)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment::predictedSd: for the full kinematic mode (hand_eye_only "
+                               "estimates eMc whatever the data)");
+  const vpKinematicIdentification::Identifiability set = vpKinematicBundle::estimatedSet(start, q, options);
+  std::vector<int> columns;
+  for (unsigned int i : parameters) {
+    const auto it = std::lower_bound(set.identified.begin(), set.identified.end(), i);
+    if (it == set.identified.end() || *it != i)
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpKinematicBundleAdjustment::predictedSd: parameter " + std::to_string(i) +
+                                     " is not among the candidates of the model's rule for these views "
+                                     "(a redundant twin of another, or fixed); ask for the rule's set only");
+    columns.push_back(static_cast<int>(it - set.identified.begin()));
+  }
+  vpColVector out(static_cast<unsigned int>(parameters.size()), std::numeric_limits<double>::infinity());
+  int n_joint = 0;
+  bool camera_delta = false;
+  const std::vector<double> joint_sd = fullModeSd(start, options, noise, n_joint, camera_delta);
+  Adjustment a(in.X0, start, set.identified, q, in.fMe, false, joint_sd, n_joint, camera_delta);
+  a.noise = noise;
+  a.P = static_cast<int>(set.identified.size());
+  fillAdjustment(a, views, camera, options);
+  if (columns.empty() || !(2 * a.obs.size() > a.P + a.free_in.size() + 3 * a.X.size()))
+    return out;
+  prepareStart(a, yardstick, options);
+  const Eigen::VectorXd sd = vpKinematicBundle::predictedSd(a, columns, yardstick, options);
+  for (unsigned int k = 0; k < out.size(); ++k)
+    out[k] = sd(k);
+  return out;
 }
 
 vpKinematicBundleAdjustment::Result vpKinematicBundleAdjustment::information(

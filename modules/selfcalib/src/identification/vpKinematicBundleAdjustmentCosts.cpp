@@ -24,6 +24,24 @@ const char *intrinsicName(Distortion model, int i)
   return model == Distortion::OPENCV ? kOpenCvNames[i] : kVispNames[i];
 }
 
+namespace
+{
+//! The chain's identification Jacobian columns of the corrections id at q: camera origin (Jt) and rotation (Jr) in f.
+void chainColumns(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const vpColVector &q,
+                  Eigen::Matrix<double, 3, Eigen::Dynamic> &Jt, Eigen::Matrix<double, 3, Eigen::Dynamic> &Jr)
+{
+  const vpMatrix J = chain.getJacobian(q);
+  const int P = static_cast<int>(id.size());
+  Jt.resize(3, P);
+  Jr.resize(3, P);
+  for (int c = 0; c < P; ++c)
+    for (int a = 0; a < 3; ++a) {
+      Jt(a, c) = J[a][id[c]];
+      Jr(a, c) = J[a + 3][id[c]];
+    }
+}
+} // namespace
+
 void computeView(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const vpColVector &q,
                  bool with_jacobian, ViewState &v)
 {
@@ -32,14 +50,70 @@ void computeView(const vpKinematicChain &chain, const std::vector<unsigned int> 
   v.tf = M.t;
   if (!with_jacobian)
     return;
-  const vpMatrix J = chain.getJacobian(q);
-  const int P = static_cast<int>(id.size());
-  Eigen::Matrix<double, 3, Eigen::Dynamic> Jt(3, P), Jr(3, P);
-  for (int c = 0; c < P; ++c)
-    for (int a = 0; a < 3; ++a) {
-      Jt(a, c) = J[a][id[c]];
-      Jr(a, c) = J[a + 3][id[c]];
-    }
+  Eigen::Matrix<double, 3, Eigen::Dynamic> Jt, Jr;
+  chainColumns(chain, id, q, Jt, Jr);
+  v.A = v.RT * Jt;
+  v.C = v.RT * Jr;
+}
+
+namespace
+{
+/*
+  Eye-to-hand: the e-frame columns of the camera pose G = T^-1 X (T = fMe(q), X = bMc the chain's
+  corrected hand-eye slot) from the chain's f-frame columns (jt, jr) of fMc = T X, p_c its origin,
+  x = X's origin. A correction of X (on_X): dt_X = R_T^T jt, dphi_X = R_T^T jr, so
+  dg = R_T^T dt_X, dphi_G = R_T^T dphi_X. Any other (T's, a joint): T' = exp(xi) T with
+  dphi = jr and dp_T = jt + [p_c - p_T]x jr, so dg = -R_T^T (jt + [p_c - x]x jr), dphi_G = -R_T^T jr.
+*/
+void eyeToHandColumns(const Eigen::Matrix3d &RTT, const Eigen::Vector3d &pc_minus_x, bool on_X,
+                      Eigen::Ref<Eigen::Matrix<double, 3, Eigen::Dynamic>> jt,
+                      Eigen::Ref<Eigen::Matrix<double, 3, Eigen::Dynamic>> jr, int c)
+{
+  if (on_X) {
+    jt.col(c) = RTT * (RTT * jt.col(c)).eval();
+    jr.col(c) = RTT * (RTT * jr.col(c)).eval();
+    return;
+  }
+  jt.col(c) = -RTT * (jt.col(c) + skew(pc_minus_x) * jr.col(c));
+  jr.col(c) = -RTT * jr.col(c);
+}
+
+/*
+  Eye-to-hand: the columns (f-frame columns of the chain's fMc, in place) turned into those of the
+  camera pose in e; eMc_block: the chain index of the hand-eye slot's first component, ids the
+  column's chain indices (empty: joints, never on X).
+*/
+void toEyeToHand(const vpKinematicChain &chain, const vpColVector &q, const std::vector<unsigned int> &ids,
+                 Eigen::Matrix<double, 3, Eigen::Dynamic> &jt, Eigen::Matrix<double, 3, Eigen::Dynamic> &jr)
+{
+  const Rigid T = rigidFromVisp(chain.get_fMe(q));
+  const Rigid X = rigidFromVisp(chain.get_eMc_corrected());
+  const Eigen::Vector3d pc = T.R * X.t + T.t;
+  const unsigned int first = chain.getNumParameters() - vpKinematicChain::kBlockSize;
+  const Eigen::Matrix3d RTT = T.R.transpose();
+  for (int c = 0; c < static_cast<int>(jt.cols()); ++c)
+    eyeToHandColumns(RTT, pc - X.t, !ids.empty() && ids[static_cast<size_t>(c)] >= first, jt, jr, c);
+}
+} // namespace
+
+/*
+  Eye-to-hand (Options::eye_to_hand): the camera fixed in f at X = bMc (the chain's corrected
+  hand-eye slot), the points in e: the view's pose G = fMe(q)^-1 X, origin g = R_T^T (x - p_T),
+  orientation R_T^T R_X; its columns from the chain's (eyeToHandColumns).
+*/
+void computeEyeToHandView(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const vpColVector &q,
+                          bool with_jacobian, ViewState &v)
+{
+  const Rigid T = rigidFromVisp(chain.get_fMe(q));
+  const Rigid X = rigidFromVisp(chain.get_eMc_corrected());
+  const Rigid G = T.inverse() * X;
+  v.RT = G.R.transpose();
+  v.tf = G.t;
+  if (!with_jacobian)
+    return;
+  Eigen::Matrix<double, 3, Eigen::Dynamic> Jt, Jr;
+  chainColumns(chain, id, q, Jt, Jr);
+  toEyeToHand(chain, q, id, Jt, Jr);
   v.A = v.RT * Jt;
   v.C = v.RT * Jr;
 }
@@ -52,12 +126,16 @@ void computeView(const vpKinematicChain &chain, const std::vector<unsigned int> 
   dp'/d(rho, dq) = J_t - [R t]x J_phi, dphi'/d(rho, dq) = J_phi, dp'/dt = R, dphi'/dr = R J_l(r).
 */
 void computeNoisyView(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const vpColVector &q,
-                      const double *c, int n_joint, bool camera_delta, bool with_jacobian, ViewState &v)
+                      const double *c, int n_joint, bool camera_delta, bool with_jacobian, ViewState &v,
+                      bool eye_to_hand)
 {
   vpColVector qe = q;
   for (int i = 0; i < n_joint; ++i)
     qe[static_cast<unsigned int>(i)] += c[i];
-  computeView(chain, id, qe, with_jacobian, v);
+  if (eye_to_hand)
+    computeEyeToHandView(chain, id, qe, with_jacobian, v);
+  else
+    computeView(chain, id, qe, with_jacobian, v);
   const int S = n_joint + (camera_delta ? 6 : 0);
   const Eigen::Matrix3d R = v.RT.transpose();
   if (with_jacobian) {
@@ -70,6 +148,12 @@ void computeNoisyView(const vpKinematicChain &chain, const std::vector<unsigned 
           v.Ad(a, k) = J[a][k];     // in f for now
           v.Cd(a, k) = J[a + 3][k];
         }
+      if (eye_to_hand) { // in e for now
+        Eigen::Matrix<double, 3, Eigen::Dynamic> jt = v.Ad.leftCols(n_joint), jr = v.Cd.leftCols(n_joint);
+        toEyeToHand(chain, qe, {}, jt, jr);
+        v.Ad.leftCols(n_joint) = jt;
+        v.Cd.leftCols(n_joint) = jr;
+      }
     }
   }
   if (!camera_delta) {

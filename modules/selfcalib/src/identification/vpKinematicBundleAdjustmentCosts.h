@@ -45,10 +45,15 @@ struct ViewState {
 //! Full kinematic mode: the view at joints q; with_jacobian: also A, C for the corrections id.
 void computeView(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const vpColVector &q,
                  bool with_jacobian, ViewState &v);
+//! Full kinematic mode, eye-to-hand (Options::eye_to_hand): the camera pose fMe(q)^-1 bMc in e, bMc
+//! the chain's corrected hand-eye slot; with_jacobian: also A, C for the corrections id.
+void computeEyeToHandView(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const vpColVector &q,
+                          bool with_jacobian, ViewState &v);
 //! Full kinematic mode with robot error: the view at q with its own correction c (joints, then the
-//! camera pose when camera_delta).
+//! camera pose when camera_delta); eye_to_hand: the view of computeEyeToHandView().
 void computeNoisyView(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const vpColVector &q,
-                      const double *c, int n_joint, bool camera_delta, bool with_jacobian, ViewState &v);
+                      const double *c, int n_joint, bool camera_delta, bool with_jacobian, ViewState &v,
+                      bool eye_to_hand = false);
 //! Hand-eye-only mode: the view of the trusted end-effector pose fMe; id: the estimated eMc components.
 void computeHandEyeView(const vpKinematicChain &chain, const std::vector<unsigned int> &id, const Rigid &fMe,
                         bool with_jacobian, ViewState &v);
@@ -97,7 +102,9 @@ public:
     chain.setParameters(p);
     for (size_t k = 0; k < q.size(); ++k)
       if (fMe.empty() && !dq.empty())
-        computeNoisyView(chain, id, q[k], dq[k].data(), n_joint, camera_delta, with_jacobians, views[k]);
+        computeNoisyView(chain, id, q[k], dq[k].data(), n_joint, camera_delta, with_jacobians, views[k], eye_to_hand);
+      else if (fMe.empty() && eye_to_hand)
+        computeEyeToHandView(chain, id, q[k], with_jacobians, views[k]);
       else if (fMe.empty())
         computeView(chain, id, q[k], with_jacobians, views[k]);
       else if (delta.empty())
@@ -124,6 +131,7 @@ public:
   int n_joint = 0;           //!< joint corrections per view
   bool camera_delta = false; //!< a camera pose correction per view (the model's own residual)
   bool inverted = false;     //!< the fMe are inverted controller poses (Options::controller_poses_inverted)
+  bool eye_to_hand = false;  //!< full mode, the camera in the world (Options::eye_to_hand)
   Distortion model = Distortion::VISP; //!< the lens model of the intrinsics block
   //! The size of a view's own correction block (6, the number of joints, or 0).
   int correctionSize() const { return !delta.empty() ? 6 : (!dq.empty() ? static_cast<int>(dq[0].size()) : 0); }

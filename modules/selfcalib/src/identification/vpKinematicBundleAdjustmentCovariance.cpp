@@ -16,6 +16,47 @@ using namespace vpSelfCalib;
 
 namespace vpKinematicBundle
 {
+namespace
+{
+/*
+  The full mode's robot error measured by variance component estimation, as the controller poses'
+  in hand-eye mode: per part (the joint readings, the model residual's translations, its
+  rotations), the sum of the squared whitened corrections over their redundancy, sum (1 - posterior
+  variance / prior variance), the posterior variances from `full` (the covariance at the stated
+  weights, the dq blocks from row `first`). The joints share one factor (the stated per-joint ratios
+  kept). A part whose redundancy is below 1 (the images do not separate its corrections from the
+  rest, or its prior is below what they can see) is not measured: it stays 0 in res.measured.
+*/
+void measureFullModeError(const Adjustment &a, const Eigen::MatrixXd &full, int first, KBA::Result &res)
+{
+  if (a.state.dq.empty())
+    return;
+  const int nj = a.state.n_joint, size = static_cast<int>(a.state.dq[0].size());
+  double sum[3] = {0, 0, 0}, redundancy[3] = {0, 0, 0};
+  for (size_t k = 0; k < a.state.dq.size(); ++k)
+    for (int i = 0; i < size; ++i) {
+      const int part = i < nj ? 0 : (i < nj + 3 ? 1 : 2), r = first + size * static_cast<int>(k) + i;
+      const double prior = a.joint_sd[i] * a.joint_sd[i];
+      sum[part] += a.state.dq[k][i] * a.state.dq[k][i] / prior;
+      redundancy[part] += 1.0 - full(r, r) / prior;
+    }
+  if (nj > 0 && redundancy[0] >= 1) {
+    const double factor = std::sqrt(sum[0] / redundancy[0]);
+    res.measured.joint_sd.assign(a.joint_sd.begin(), a.joint_sd.begin() + nj);
+    for (double &sd : res.measured.joint_sd)
+      sd *= factor;
+  }
+  // The model residual's parts apart: a part whose redundancy is below 1 while the other's is not
+  // is one its prior holds, not the images (a level the images cannot see): measured 0.
+  if (a.state.camera_delta && (redundancy[1] >= 1 || redundancy[2] >= 1)) {
+    if (redundancy[1] >= 1)
+      res.measured.model_sd_translation = a.noise.model_sd_translation * std::sqrt(sum[1] / redundancy[1]);
+    if (redundancy[2] >= 1)
+      res.measured.model_sd_rotation = a.noise.model_sd_rotation * std::sqrt(sum[2] / redundancy[2]);
+  }
+}
+} // namespace
+
 /*
   Stage 6, the covariance of the corrections and the estimated intrinsics with the points
   marginalized (core marginalCovariance); the yardstick's ends, linked by their residual, stay in
@@ -25,29 +66,11 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
                     const std::vector<std::string> &names, KBA::Result &res)
 {
   const std::vector<unsigned int> &id = res.identifiability.identified;
-  std::vector<double *> kept = {a.state.rho.data()}, eliminated;
-  if (!a.free_in.empty())
-    kept.push_back(a.in);
-  std::set<const double *> ends;
-  if (a.has_yardstick && problem.HasParameterBlock(a.X[yardstick.id_a].data()) &&
-      problem.HasParameterBlock(a.X[yardstick.id_b].data()))
-    for (int e : {yardstick.id_a, yardstick.id_b}) {
-      kept.push_back(a.X[e].data());
-      ends.insert(a.X[e].data());
-    }
-  for (auto &d : a.state.delta)
-    kept.push_back(d.data());
-  for (auto &d : a.state.dq)
-    kept.push_back(d.data());
-  if (a.has_object && problem.HasParameterBlock(a.object.data()))
-    kept.push_back(a.object.data());
-  for (const auto &e : a.X.index())
-    if (!ends.count(a.X[e.first].data()) && problem.HasParameterBlock(a.X[e.first].data()))
-      eliminated.push_back(a.X[e.first].data());
+  const MarginalBlocks blocks = marginalBlocks(a, problem, yardstick);
   const int P = a.P, N = P + static_cast<int>(a.free_in.size());
   Eigen::MatrixXd full;
   Eigen::MatrixXd undetermined;
-  if (!marginalCovariance(problem, kept, eliminated, full, &undetermined)) {
+  if (!marginalCovariance(problem, blocks.kept, blocks.eliminated, full, &undetermined)) {
     // Name the estimated parameters in the undetermined directions (a component of 0.3 or more in
     // one of them; the pose corrections and the yardstick's ends, also kept, are not named).
     std::vector<std::pair<double, std::string>> named;
@@ -66,7 +89,7 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
   // sigma0 scaling); the corrections follow the kept blocks before them.
   const double stated_pose_sd[2] = {a.noise.pose_sd_translation, a.noise.pose_sd_rotation};
   if (!a.state.delta.empty() && stated_pose_sd[0] > 0 && stated_pose_sd[1] > 0) {
-    const int first = N + 3 * static_cast<int>(ends.size());
+    const int first = N + 3 * blocks.num_ends;
     double sum[2] = {0, 0}, redundancy[2] = {0, 0};
     for (size_t k = 0; k < a.state.delta.size(); ++k)
       for (int i = 0; i < 6; ++i) {
@@ -80,6 +103,7 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
       res.measured.pose_sd_rotation = std::sqrt(sum[1] / redundancy[1]);
     }
   }
+  measureFullModeError(a, full, N + 3 * blocks.num_ends + 6 * static_cast<int>(a.state.delta.size()), res);
   // The a posteriori variance factor: the stated noise is too small for the residuals.
   // With robot pose corrections the pose priors take up what the pixels do not: a sigma0 below 1
   // then says the priors were loose, not that the estimate is better, and is not used to shrink.

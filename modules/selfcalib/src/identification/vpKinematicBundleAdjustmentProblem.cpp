@@ -118,6 +118,41 @@ std::map<int, Eigen::Vector3d> startPoints(const std::map<int, vpColVector> &poi
   return X0;
 }
 
+namespace
+{
+/*
+  Eye-to-hand (Options::eye_to_hand), the module's rule mirrored. The target's motion relative to its
+  first view, o_0Mo_k = eMo^-1 fMe(q_0)^-1 fMe(q_k) eMo, does not involve the camera: it has the
+  form of the eye-in-hand relative poses with the target's pose eMo in the hand-eye slot, so the
+  rule on the views' joints gives the joint placements it determines (the base and joint 1's
+  placement cancel in it; the last joint's offset and slide act as a change of eMo). The absolute
+  views cMo_k = bMc^-1 fMe(q_k) eMo then add bMc's six, which the base and joint 1's placement
+  would only duplicate. Same set, the reasons said for this set-up.
+*/
+vpKinematicIdentification::Identifiability eyeToHandSet(const vpKinematicChain &start, const std::vector<vpColVector> &q,
+                                                        const vpKinematicIdentification::Options &io)
+{
+  vpKinematicIdentification::Identifiability set = vpKinematicIdentification::analyseConfigurations(start, q, io);
+  const unsigned int B = vpKinematicChain::kBlockSize;
+  for (auto &u : set.unidentifiable) {
+    if (u.cause != vpKinematicIdentification::CAUSE_MODEL)
+      continue;
+    if (u.index < 2 * B) {
+      u.reason = "eye-to-hand: a change of the base or of joint 1's placement moves the whole arm rigidly "
+                 "before its first rotation, which a change of bMc (the camera in the base frame, estimated) "
+                 "makes in its place";
+      continue;
+    }
+    std::string r = u.reason;
+    for (size_t at = r.find("eMc."); at != std::string::npos; at = r.find("eMc.", at + 4))
+      r.replace(at, 4, "eMo.");
+    u.reason = "eye-to-hand, in the target's motion relative to its first view (the target's pose eMo, "
+               "estimated, in the hand-eye slot's place): " + r;
+  }
+  return set;
+}
+} // namespace
+
 /*
   Stage 2, the estimated corrections: hand-eye-only, the eMc correction but for the components the
   caller fixes (the kinematics are trusted; a degenerate motion is a status, not a smaller set); else
@@ -134,7 +169,7 @@ vpKinematicIdentification::Identifiability estimatedSet(const vpKinematicChain &
     vpKinematicIdentification::Options io;
     io.rank_tolerance = opt.rank_tolerance;
     io.fixed = fixed_names;
-    return vpKinematicIdentification::analyseConfigurations(start, q, io);
+    return opt.eye_to_hand ? eyeToHandSet(start, q, io) : vpKinematicIdentification::analyseConfigurations(start, q, io);
   }
   vpKinematicIdentification::Identifiability ident;
   const unsigned int first = start.getNumParameters() - vpKinematicChain::kBlockSize;
@@ -245,13 +280,19 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
     return nullptr;
   const bool use_yardstick = a.has_yardstick && problem->HasParameterBlock(a.X[yardstick.id_a].data()) &&
                              problem->HasParameterBlock(a.X[yardstick.id_b].data());
-  scale_source =
-      opt.hand_eye_only ? KBA::SCALE_ROBOT_MOTION : (use_yardstick ? KBA::SCALE_YARDSTICK : KBA::SCALE_NOMINAL);
+  // Eye-to-hand with a target of known points: its layout fixes the scale.
+  bool known = false;
+  for (const auto &e : opt.known_points)
+    known = known || (a.has_object && a.X.count(e.first) && problem->HasParameterBlock(a.X[e.first].data()));
+  scale_source = opt.hand_eye_only ? KBA::SCALE_ROBOT_MOTION
+                 : use_yardstick  ? KBA::SCALE_YARDSTICK
+                 : (opt.eye_to_hand && known) ? KBA::SCALE_KNOWN_POINTS
+                                              : KBA::SCALE_NOMINAL;
   if (use_yardstick)
     problem->AddResidualBlock(new ceres::AutoDiffCostFunction<YardstickCost, 1, 3, 3>(
                                   new YardstickCost(yardstick.length, opt.yardstick_sd)),
                               nullptr, a.X[yardstick.id_a].data(), a.X[yardstick.id_b].data());
-  else if (!opt.hand_eye_only && gauge)
+  else if (scale_source == KBA::SCALE_NOMINAL && gauge)
     problem->AddResidualBlock(new ScaleCost(a.scale_dir, a.rho0), nullptr, a.state.rho.data());
   // One group per block: within a group Ceres orders blocks by address, and the address order of
   // separately allocated blocks changes from run to run (and so would the last digits).
@@ -285,6 +326,32 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
   else if (a.subset)
     problem->SetManifold(a.in, a.subset.get());
   return problem;
+}
+
+MarginalBlocks marginalBlocks(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDataset::Yardstick &yardstick)
+{
+  MarginalBlocks b;
+  b.kept.push_back(a.state.rho.data());
+  if (!a.free_in.empty())
+    b.kept.push_back(a.in);
+  std::set<const double *> ends;
+  if (a.has_yardstick && problem.HasParameterBlock(a.X[yardstick.id_a].data()) &&
+      problem.HasParameterBlock(a.X[yardstick.id_b].data()))
+    for (int e : {yardstick.id_a, yardstick.id_b}) {
+      b.kept.push_back(a.X[e].data());
+      ends.insert(a.X[e].data());
+    }
+  b.num_ends = static_cast<int>(ends.size());
+  for (auto &d : a.state.delta)
+    b.kept.push_back(d.data());
+  for (auto &d : a.state.dq)
+    b.kept.push_back(d.data());
+  if (a.has_object && problem.HasParameterBlock(a.object.data()))
+    b.kept.push_back(a.object.data());
+  for (const auto &e : a.X.index())
+    if (!ends.count(a.X[e.first].data()) && problem.HasParameterBlock(a.X[e.first].data()))
+      b.eliminated.push_back(a.X[e.first].data());
+  return b;
 }
 
 } // namespace vpKinematicBundle

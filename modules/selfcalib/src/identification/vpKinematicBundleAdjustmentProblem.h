@@ -156,6 +156,37 @@ decideSet(Adjustment &a, const vpKinematicChain &start, const vpKinematicIdentif
           const std::vector<vpColVector> &q, const vpSelfCalibDataset::Yardstick &yardstick, const KBA::Options &opt);
 
 /*!
+  The predicted sd of the corrections `columns` (columns of the candidates a is built on) estimated
+  together, the other candidates held: decideSet's test of one subset (the same information, the
+  scale direction held without a yardstick). Infinite when the data do not determine them.
+*/
+Eigen::VectorXd predictedSd(Adjustment &a, const std::vector<int> &columns, const vpSelfCalibDataset::Yardstick &yardstick,
+                            const KBA::Options &opt);
+
+/*!
+  The parameter blocks of the corrections' marginal information (decideSet) and covariance (stage
+  6), listed once for both: kept, in this order, the corrections rho, the estimated intrinsics, the
+  yardstick's two ends (linked by their residual), every view's robot-error correction (the
+  controller pose corrections delta, then the joint and model-residual corrections dq), the known
+  object's pose; eliminated, every other point in the problem (their 3 x 3 Schur complements).
+*/
+struct MarginalBlocks {
+  std::vector<double *> kept, eliminated;
+  int num_ends = 0; //!< the yardstick's ends among kept (0 or 2)
+};
+MarginalBlocks marginalBlocks(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDataset::Yardstick &yardstick);
+
+/*!
+  The information of the corrections (the first a.P rows of marginalBlocks()'s kept blocks) with
+  every other block eliminated: the points by marginalInformation, then the intrinsics, the
+  yardstick's ends, the robot-error corrections and the object's pose by a Schur complement (a
+  pseudo-inverse: a nuisance direction the data leave free carries no information to the
+  corrections). Empty when the Jacobian cannot be evaluated. Its inverse is the corrections' block of
+  the covariance stage 6 computes at the same state (without the scale gauge).
+*/
+Eigen::MatrixXd correctionInformation(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDataset::Yardstick &yardstick);
+
+/*!
   Stage 6, the covariance of the corrections and the estimated intrinsics with the points
   marginalized, into res. False when the information is singular (res.undetermined then names the
   parameters of the undetermined directions).

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -21,35 +22,12 @@ using namespace vpSelfCalib;
 
 namespace vpKinematicBundle
 {
-namespace
-{
 using Ident = vpKinematicIdentification;
 
-/*
-  The information of the corrections (the first a.P rows of the problem's kept blocks) with every
-  other block eliminated: the points by marginalInformation, then the intrinsics, the yardstick's
-  ends, the robot-error corrections and the object's pose by a Schur complement (a pseudo-inverse:
-  a nuisance direction the data leave free carries no information to the corrections). Empty when
-  the Jacobian cannot be evaluated.
-*/
 Eigen::MatrixXd correctionInformation(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDataset::Yardstick &y)
 {
-  std::vector<double *> kept = {a.state.rho.data()}, eliminated;
-  if (!a.free_in.empty())
-    kept.push_back(a.in);
-  std::set<const double *> ends;
-  if (a.has_yardstick && problem.HasParameterBlock(a.X[y.id_a].data()) && problem.HasParameterBlock(a.X[y.id_b].data()))
-    for (int e : {y.id_a, y.id_b}) {
-      kept.push_back(a.X[e].data());
-      ends.insert(a.X[e].data());
-    }
-  for (auto &d : a.state.dq)
-    kept.push_back(d.data());
-  if (a.has_object && problem.HasParameterBlock(a.object.data()))
-    kept.push_back(a.object.data());
-  for (const auto &e : a.X.index())
-    if (!ends.count(a.X[e.first].data()) && problem.HasParameterBlock(a.X[e.first].data()))
-      eliminated.push_back(a.X[e.first].data());
+  const MarginalBlocks blocks = marginalBlocks(a, problem, y);
+  const std::vector<double *> &kept = blocks.kept, &eliminated = blocks.eliminated;
   Eigen::MatrixXd H;
   Eigen::VectorXd own;
   if (!marginalInformation(problem, kept, eliminated, H, own))
@@ -69,6 +47,9 @@ Eigen::MatrixXd correctionInformation(Adjustment &a, ceres::Problem &problem, co
   const Eigen::MatrixXd Hpn = H.topRightCorner(P, Q);
   return H.topLeftCorner(P, P) - Hpn * Hnn_pinv * Hpn.transpose();
 }
+
+namespace
+{
 
 //! The walk's test of one subset: the sds (m, rad) and the fraction of each one's own information left.
 struct Trial {
@@ -288,5 +269,22 @@ vpKinematicIdentification::Identifiability decideSet(Adjustment &a, const vpKine
   std::sort(out.unidentifiable.begin(), out.unidentifiable.end(),
             [](const Ident::Unidentifiable &x, const Ident::Unidentifiable &y) { return x.index < y.index; });
   return out;
+}
+
+Eigen::VectorXd predictedSd(Adjustment &a, const std::vector<int> &columns, const vpSelfCalibDataset::Yardstick &yardstick,
+                            const KBA::Options &opt)
+{
+  Eigen::VectorXd sd = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(columns.size()),
+                                                 std::numeric_limits<double>::infinity());
+  std::shared_ptr<ceres::ParameterBlockOrdering> order;
+  KBA::ScaleSource source;
+  const std::unique_ptr<ceres::Problem> problem = buildProblem(a, yardstick, opt, 0, order, source, false);
+  if (!problem)
+    return sd;
+  const Eigen::MatrixXd M = correctionInformation(a, *problem, yardstick);
+  if (M.rows() != a.P || !M.allFinite())
+    return sd;
+  const Trial t = trial(M, columns, a, source == KBA::SCALE_NOMINAL);
+  return t.finite ? t.sd : sd;
 }
 } // namespace vpKinematicBundle

@@ -17,24 +17,12 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include "../core/vpSelfCalibFiles.h" // readTextFileBounded, specialFileKind
+#include "../core/vpSelfCalibSilentCout.h"
 
 namespace vpSelfCalib
 {
 namespace
 {
-//! std::cout writes nothing while this lives (its buffer is restored, and its state cleared, after).
-class SilentCout
-{
-public:
-  SilentCout() : m_saved(std::cout.rdbuf(nullptr)) {}
-  ~SilentCout() { std::cout.rdbuf(m_saved); }
-  SilentCout(const SilentCout &) = delete;
-  SilentCout &operator=(const SilentCout &) = delete;
-
-private:
-  std::streambuf *m_saved;
-};
-
 std::mutex g_parse_mutex;
 
 //! Bytes of a camera XML file (a few cameras take a few kB).

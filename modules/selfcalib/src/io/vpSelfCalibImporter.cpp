@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <iomanip>
@@ -23,6 +24,7 @@
 #include <visp3/io/vpImageIo.h>
 #include <yaml-cpp/yaml.h>
 
+#include "../core/vpSelfCalibFiles.h"
 #include "vpSelfCalibCameraXml.h"
 #include "vpSelfCalibYaml.h"
 
@@ -398,12 +400,13 @@ struct NumberLess {
 // ViSP's hand-eye folder
 
 //! "9 x 6" and "square size: 0.0236 m" of chessboard-data.txt, as text; "" when not understood.
-std::string chessboardText(const std::string &text)
+std::string chessboardText(const std::string &text, std::string &board_option)
 {
   std::smatch size, square;
   if (!std::regex_search(text, size, std::regex("([0-9]+)\\s*x\\s*([0-9]+)")) ||
       !std::regex_search(text, square, std::regex("square size\\s*:\\s*([0-9.eE+-]+)")))
     return "";
+  board_option = "chessboard:" + size[1].str() + "x" + size[2].str() + ":" + square[1].str();
   return "chessboard, " + size[1].str() + " x " + size[2].str() + " inner corners, squares " + square[1].str() +
          " m (chessboard-data.txt)";
 }
@@ -530,7 +533,7 @@ vpSelfCalibImporter::Result importVisp(const fs::path &dir, const vpSelfCalibImp
       xmls.push_back(f);
     else if (name == "chessboard-data.txt") {
       im.input(f);
-      rep.board = chessboardText(readTextFile(f.string(), "board description"));
+      rep.board = chessboardText(readTextFile(f.string(), "board description"), rep.board_option);
       if (rep.board.empty())
         im.unused(name, "not understood (expected 'C x R' and 'square size: S m')");
     } else if (name == "apriltag-data.txt")
@@ -591,14 +594,24 @@ vpSelfCalibImporter::Result importVisp(const fs::path &dir, const vpSelfCalibImp
 // ---------------------------------------------------------------------------------------------
 // industrial_calibration's cal_data.yaml
 
-std::string targetFinderText(const Reader &r, const YAML::Node &t)
+std::string targetFinderText(const Reader &r, const YAML::Node &t, std::string &board_option)
 {
   if (!t.IsMap())
     r.fail("target_finder", "expected a map {type, rows, cols, spacing}, got " + Reader::show(t));
+  const std::string type = r.text(t["type"], "target_finder.type");
+  const double rows = r.number(t["rows"], "target_finder.rows"), cols = r.number(t["cols"], "target_finder.cols");
+  const double spacing = r.number(t["spacing"], "target_finder.spacing");
   std::ostringstream os;
-  os << r.text(t["type"], "target_finder.type") << ", " << r.number(t["rows"], "target_finder.rows") << " x "
-     << r.number(t["cols"], "target_finder.cols") << ", spacing " << r.number(t["spacing"], "target_finder.spacing")
-     << " m (cal_data.yaml target_finder)";
+  os << type << ", " << rows << " x " << cols << ", spacing " << spacing << " m (cal_data.yaml target_finder)";
+  // The circle grids calibrate --board reads (industrial_calibration's names for them).
+  const std::string board = type == "ModifiedCircleGridTargetFinder" ? "modified-circles"
+                            : type == "CircleGridTargetFinder"       ? "circles"
+                                                                     : "";
+  if (!board.empty() && rows >= 1 && cols >= 1 && rows == std::floor(rows) && cols == std::floor(cols) && spacing > 0) {
+    std::ostringstream opt;
+    opt << board << ":" << rows << "x" << cols << ":" << spacing;
+    board_option = opt.str();
+  }
   return os.str();
 }
 
@@ -644,7 +657,7 @@ vpSelfCalibImporter::Result importCalData(const fs::path &file, const vpSelfCali
     }
     if (root["target_finder"]) {
       try {
-        rep.board = targetFinderText(r, root["target_finder"]);
+        rep.board = targetFinderText(r, root["target_finder"], rep.board_option);
       } catch (const vpSelfCalibException &e) {
         im.unused("target_finder", "not understood: " + e.getStringMessage());
       }
@@ -737,11 +750,32 @@ void vpSelfCalibImporter::Result::save(const std::string &dataset_file) const
   // Absolute, so that the writer finds the paths under the dataset's directory and writes them relative.
   const std::string out = absolutePath(dataset_file);
   vpSelfCalibDataset ds = dataset;
-  if (has_robot_model) {
-    ds.robot = robotModelFileFor(out);
-    robot_model.saveYaml(ds.robot);
+  if (!has_robot_model) {
+    ds.saveYaml(out);
+    return;
   }
-  ds.saveYaml(out);
+  // The pair: the robot model first, then the dataset that names it, so that a dataset is never
+  // there without its model. A dataset that cannot be written takes the new model back (the
+  // earlier one, or none), so that a failed import leaves the files as they were.
+  ds.robot = robotModelFileFor(out);
+  std::error_code ec;
+  const bool had_model = fs::is_regular_file(ds.robot, ec);
+  const std::string earlier_model =
+      had_model ? vpSelfCalib::readTextFileBounded(ds.robot, "robot model", size_t(1) << 24) : std::string();
+  robot_model.saveYaml(ds.robot);
+  try {
+    ds.saveYaml(out);
+  } catch (...) {
+    try {
+      if (had_model)
+        vpSelfCalib::writeFileAtomically(ds.robot, earlier_model, "robot model");
+      else
+        fs::remove(ds.robot, ec);
+    } catch (const vpException &) {
+      // the dataset's error is the one to report
+    }
+    throw;
+  }
 }
 
 vpHomogeneousMatrix vpSelfCalibImporter::readPose(const std::string &filename) { return readPoseFile(filename).M; }

@@ -58,11 +58,21 @@ RF::BundleAdjustment bundleOf(const vpRobotSelfCalibration::Result &r)
   const bool controller = r.method == vpRobotSelfCalibration::HAND_EYE;
   a.robot_pose_sd_m = controller ? r.noise.pose_sd_translation : r.noise.model_sd_translation;
   a.robot_pose_sd_rad = controller ? r.noise.pose_sd_rotation : r.noise.model_sd_rotation;
-  a.has_robot_pose_sd_measured = b.measured.pose_sd_translation > 0;
-  a.robot_pose_sd_measured_m = b.measured.pose_sd_translation;
-  a.robot_pose_sd_measured_rad = b.measured.pose_sd_rotation;
+  a.robot_pose_sd_measured_m = controller ? b.measured.pose_sd_translation : b.measured.model_sd_translation;
+  a.robot_pose_sd_measured_rad = controller ? b.measured.pose_sd_rotation : b.measured.model_sd_rotation;
+  a.has_robot_pose_sd_measured = a.robot_pose_sd_measured_m > 0;
   a.has_joint_corrections = !b.joint_corrections.empty();
   a.joint_correction_rms_rad = b.joint_rms;
+  if (a.has_joint_corrections) {
+    a.joint_sd = r.noise.joint_sd;
+    a.joint_sd_measured = b.measured.joint_sd;
+  }
+  // Where the robot's error used comes from: measured by the run's rounds, or stated.
+  const vpSelfCalibNoiseModel::Origin origin =
+      controller ? r.noise.pose_sd_origin
+                 : (r.noise.joint_sd.empty() ? r.noise.model_sd_origin : r.noise.joint_sd_origin);
+  if (r.noise.hasRobotError())
+    a.robot_error = vpSelfCalibNoiseModel::originName(origin);
   a.has_repose = b.reposed_views > 0; // robot error not modelled: each camera re-posed alone
   a.reposed_rms_px = b.reposed_rms;
   a.repose_f = b.repose_f;
@@ -234,8 +244,14 @@ void emitBundle(YAML::Emitter &out, const RF::BundleAdjustment &b)
       out << YAML::Key << "robot_pose_sd_measured" << YAML::Value << YAML::Flow << YAML::BeginSeq
           << b.robot_pose_sd_measured_m << b.robot_pose_sd_measured_rad << YAML::EndSeq;
   }
-  if (b.has_joint_corrections)
+  if (b.has_joint_corrections) {
     out << YAML::Key << "joint_correction_rms_rad" << YAML::Value << b.joint_correction_rms_rad;
+    out << YAML::Key << "joint_sd" << YAML::Value << YAML::Flow << b.joint_sd;
+    if (!b.joint_sd_measured.empty())
+      out << YAML::Key << "joint_sd_measured" << YAML::Value << YAML::Flow << b.joint_sd_measured;
+  }
+  if (!b.robot_error.empty())
+    out << YAML::Key << "robot_error" << YAML::Value << b.robot_error;
   if (b.has_repose)
     out << YAML::Key << "reposed_rms_px" << YAML::Value << b.reposed_rms_px << YAML::Key << "repose_f" << YAML::Value
         << b.repose_f << YAML::Key << "repose_f_limit" << YAML::Value << b.repose_f_limit;
@@ -483,8 +499,17 @@ RF::BundleAdjustment readBundle(const In &in, const YAML::Node &n)
     }
   }
   b.has_joint_corrections = static_cast<bool>(n["joint_correction_rms_rad"]);
-  if (b.has_joint_corrections)
+  if (b.has_joint_corrections) {
     b.joint_correction_rms_rad = in.get<double>(n, "joint_correction_rms_rad");
+    b.joint_sd = in.list<double>(n, "joint_sd");
+    if (n["joint_sd_measured"])
+      b.joint_sd_measured = in.list<double>(n, "joint_sd_measured");
+  }
+  if (n["robot_error"]) {
+    b.robot_error = in.get<std::string>(n, "robot_error");
+    if (b.robot_error != "measured" && b.robot_error != "stated")
+      in.fail("robot_error", "expected measured or stated");
+  }
   b.has_repose = static_cast<bool>(n["reposed_rms_px"]);
   if (b.has_repose) {
     b.reposed_rms_px = in.get<double>(n, "reposed_rms_px");

@@ -20,33 +20,6 @@
 namespace
 {
 /*
-  A field that a builder derives from another setting: accepted when the caller left it at its
-  default or set it to the derived value (a builder's output put back), a conflict otherwise.
-  Returns the derived value.
-*/
-template <typename T>
-T derived(const T &set, const T &default_value, const T &value, const char *field, const char *source)
-{
-  if (set == default_value || set == value)
-    return value;
-  std::ostringstream os;
-  os << std::boolalpha << "vpRobotSelfCalibration: " << field << " (" << set << ") is derived from " << source
-     << " (" << value << ") and not read: set " << source << " instead, or leave " << field << " at its default";
-  throw vpSelfCalibException(vpSelfCalibException::badValue, os.str());
-}
-
-// Every field of two two-view options equal (the option structs have no operator==): a field added
-// to vpTwoViewEstimator::Options or vpFundamentalMatrix::Options belongs here too.
-bool same(const vpTwoViewEstimator::Options &a, const vpTwoViewEstimator::Options &b)
-{
-  return a.focal_mode == b.focal_mode && a.fx == b.fx && a.u0 == b.u0 && a.v0 == b.v0 && a.mu == b.mu &&
-         a.ransac.inlier_threshold == b.ransac.inlier_threshold && a.ransac.confidence == b.ransac.confidence &&
-         a.ransac.max_iterations == b.ransac.max_iterations && a.ransac.seed == b.ransac.seed &&
-         a.refine == b.refine && a.huber == b.huber && a.planar_ratio == b.planar_ratio &&
-         a.min_coplanarity == b.min_coplanarity && a.rotation_tolerance == b.rotation_tolerance &&
-         a.max_fx_relative_sd == b.max_fx_relative_sd;
-}
-/*
   The options' noise model with, where it leaves the robot's error at 0, the dataset's robot_error
   in the method's form: controller poses (hand-eye) or joint readings (full kinematics).
 */
@@ -59,9 +32,13 @@ vpSelfCalibNoiseModel withDatasetRobotError(const vpRobotSelfCalibration::Option
   }
   if (opt.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT && noise.joint_sd.empty() && !ds.joint_sd.empty())
     noise.joint_sd = ds.joint_sd;
-  // Nothing states the controller poses' error: a real arm has one, so it is modelled and measured.
-  if (opt.method == vpRobotSelfCalibration::HAND_EYE && !noise.hasPoseError() && !opt.trust_robot)
-    noise = vpRobotSelfCalibration::robotErrorPrior(noise);
+  // Nothing states the robot's error: a real arm has one, so it is modelled and measured (hand-eye
+  // by default; the full kinematics when the caller asks for its joint or model error measured).
+  const bool full_measured = noise.measure_joint_sd || noise.measure_model_sd;
+  if ((opt.method == vpRobotSelfCalibration::HAND_EYE ||
+       (opt.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT && full_measured)) &&
+      !noise.hasRobotError() && !opt.trust_robot)
+    noise = vpRobotSelfCalibration::robotErrorPrior(noise, opt.method);
   return noise;
 }
 } // namespace
@@ -136,9 +113,6 @@ void vpRobotSelfCalibration::Options::check() const
   identification.check();
   bundle.check();
   data_check.check();
-  // The derived fields that conflict whatever the dataset (the builders find the others).
-  const vpKinematicBundleAdjustment::Options bundle_default;
-  derived(bundle.hand_eye_only, bundle_default.hand_eye_only, method == HAND_EYE, "bundle.hand_eye_only", "method");
 }
 
 vpRobotSelfCalibration::FocalMode vpRobotSelfCalibration::resolveFocalMode(const Options &opt,
@@ -155,32 +129,23 @@ vpRobotSelfCalibration::FocalMode vpRobotSelfCalibration::resolveFocalMode(const
 vpTwoViewEstimator::Options vpRobotSelfCalibration::twoViewOptions(const Options &opt, const vpSelfCalibDataset &ds)
 {
   const bool known = resolveFocalMode(opt, ds) == FOCAL_KNOWN;
-  const vpTwoViewEstimator::Options def;
-  const char *camera = "the dataset's camera";
-  vpTwoViewEstimator::Options to = opt.twoview;
-  to.fx = derived(opt.twoview.fx, def.fx, ds.cam.get_px(), "twoview.fx", camera);
-  to.u0 = derived(opt.twoview.u0, def.u0, ds.cam.get_u0(), "twoview.u0", camera);
-  to.v0 = derived(opt.twoview.v0, def.v0, ds.cam.get_v0(), "twoview.v0", camera);
-  to.mu = derived(opt.twoview.mu, def.mu, ds.cam.get_py() / ds.cam.get_px(), "twoview.mu", camera);
-  to.focal_mode = derived(opt.twoview.focal_mode, def.focal_mode,
-                          known ? vpRefinedFactorMethod::KNOWN : vpRefinedFactorMethod::PER_PAIR,
-                          "twoview.focal_mode", "focal_mode");
+  vpTwoViewEstimator::Options to;
+  static_cast<vpTwoViewEstimator::Settings &>(to) = opt.twoview;
+  to.fx = ds.cam.get_px();
+  to.u0 = ds.cam.get_u0();
+  to.v0 = ds.cam.get_v0();
+  to.mu = ds.cam.get_py() / ds.cam.get_px();
+  to.focal_mode = known ? vpRefinedFactorMethod::KNOWN : vpRefinedFactorMethod::PER_PAIR;
   return to;
 }
 
 vpMultiViewReconstruction::Options vpRobotSelfCalibration::multiViewOptions(const Options &opt,
                                                                              const vpSelfCalibDataset &ds)
 {
-  const vpMultiViewReconstruction::Options def;
-  vpMultiViewReconstruction::Options mo = opt.multiview;
+  vpMultiViewReconstruction::Options mo;
+  static_cast<vpMultiViewReconstruction::Settings &>(mo) = opt.multiview;
   mo.twoview = twoViewOptions(opt, ds);
-  if (!same(opt.multiview.twoview, def.twoview) && !same(opt.multiview.twoview, mo.twoview))
-    throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpRobotSelfCalibration: multiview.twoview is derived from twoview and the dataset "
-                               "(twoViewOptions()) and not read: set twoview instead, or leave multiview.twoview "
-                               "at its default");
-  mo.focal_known = derived(opt.multiview.focal_known, def.focal_known, resolveFocalMode(opt, ds) == FOCAL_KNOWN,
-                           "multiview.focal_known", "focal_mode");
+  mo.focal_known = resolveFocalMode(opt, ds) == FOCAL_KNOWN;
   return mo;
 }
 
@@ -188,22 +153,20 @@ vpKinematicBundleAdjustment::Options vpRobotSelfCalibration::bundleOptions(const
                                                                             const vpSelfCalibDataset &ds)
 {
   const unsigned int FX = vpKinematicBundleAdjustment::FX;
-  const vpKinematicBundleAdjustment::Options def;
-  vpKinematicBundleAdjustment::Options bo = opt.bundle;
-  const bool fx = derived((opt.bundle.intrinsics & FX) != 0, (def.intrinsics & FX) != 0,
-                          resolveFocalMode(opt, ds) != FOCAL_KNOWN, "the FX flag of bundle.intrinsics", "focal_mode");
-  if (fx)
+  vpKinematicBundleAdjustment::Options bo;
+  static_cast<vpKinematicBundleAdjustment::Settings &>(bo) = opt.bundle;
+  if (resolveFocalMode(opt, ds) != FOCAL_KNOWN)
     bo.intrinsics |= FX;
   else
     bo.intrinsics &= ~FX;
-  bo.hand_eye_only =
-      derived(opt.bundle.hand_eye_only, def.hand_eye_only, opt.method == HAND_EYE, "bundle.hand_eye_only", "method");
+  bo.hand_eye_only = opt.method == HAND_EYE;
   // The standard deviations follow the residuals when they contradict the stated noise (either way).
   bo.scale_covariance_chi2 = true;
   // The robot's error as the dataset states it (noiseModel()), with the sd widened by sigma0 when
   // the residuals say the noise is larger.
   const vpSelfCalibNoiseModel noise = withDatasetRobotError(opt, ds);
-  if (noise.hasPoseError() != opt.noise.hasPoseError() || noise.joint_sd != opt.noise.joint_sd)
+  if (noise.hasPoseError() != opt.noise.hasPoseError() || noise.joint_sd != opt.noise.joint_sd ||
+      noise.hasModelError() != opt.noise.hasModelError())
     bo.scale_covariance = true;
   // The dataset's OpenCV lens model: the model of the estimate, its coefficients the start (unless
   // the caller gives other start coefficients).
@@ -215,9 +178,21 @@ vpKinematicBundleAdjustment::Options vpRobotSelfCalibration::bundleOptions(const
   return bo;
 }
 
-vpSelfCalibNoiseModel vpRobotSelfCalibration::robotErrorPrior(const vpSelfCalibNoiseModel &noise)
+vpSelfCalibNoiseModel vpRobotSelfCalibration::robotErrorPrior(const vpSelfCalibNoiseModel &noise, Method method)
 {
-  return noise.withPoseError(1e-3, 1e-3, vpSelfCalibNoiseModel::MEASURED);
+  const vpSelfCalibNoiseModel::Origin stated = vpSelfCalibNoiseModel::STATED;
+  vpSelfCalibNoiseModel prior;
+  if (method == BUNDLE_ADJUSTMENT) {
+    prior = noise.withJointError({kJointErrorPrior}, stated).withModelError(kModelErrorPrior, kModelErrorPrior, stated);
+    prior.measure_joint_sd = prior.measure_model_sd = true;
+    return prior;
+  }
+  if (method != HAND_EYE)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpRobotSelfCalibration::robotErrorPrior: PAPER models no robot error");
+  prior = noise.withPoseError(1e-3, 1e-3, stated);
+  prior.measure_pose_sd = true;
+  return prior;
 }
 
 vpSelfCalibDataCheck::Options vpRobotSelfCalibration::dataCheckOptions(const Options &opt) { return opt.data_check; }
@@ -258,12 +233,18 @@ unsigned int checkInputs(const vpKinematicChain &nominal, const vpSelfCalibDatas
                          const vpRobotSelfCalibration::Options &opt)
 {
   opt.check();
-  if (ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD && opt.method != vpRobotSelfCalibration::HAND_EYE)
+  if (ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD && opt.method == vpRobotSelfCalibration::PAPER)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpRobotSelfCalibration: camera_mount: world is calibrated with --method hand-eye; the " +
-                                   std::string(vpRobotSelfCalibration::methodName(opt.method)) +
-                                   " method models a camera on the end-effector only (its kinematics are calibrated "
-                                   "from a scene fixed in the base frame)");
+                               "vpRobotSelfCalibration: camera_mount: world is calibrated with --method bundle or "
+                               "hand-eye; the paper method measures the camera's motion between views of a scene "
+                               "fixed in the base frame (two-view geometry, eq. 21's scale), and a fixed camera does "
+                               "not move");
+  if (ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD && opt.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT &&
+      opt.bundle.known_points.size() < 4)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpRobotSelfCalibration: camera_mount: world with the bundle method needs the layout of "
+                               "the target on the tool (a board: calibrate --board, or bundle.known_points, 4 points "
+                               "or more): the target's start pose and the scale come from it");
   // A camera or a model built in code is held to the files' plausibility bounds (beyond them the
   // solvers overflow and Ceres aborts on a CHECK instead of returning).
   vpSelfCalib::checkCamera(ds.cam, "vpRobotSelfCalibration: the dataset's camera");
@@ -303,7 +284,10 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
   if (input.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD) {
     // Eye-to-hand: the eye-in-hand problem of the inverted controller poses, its eMc (bMc here)
     // started where the target's known points say (else at the identity), the result renamed.
-    const vpSelfCalibDataset inverted = vpSelfCalibPipeline::eyeToHandAsEyeInHand(input_model, input);
+    // The bundle method: the joints' kinematics are calibrated (the controller poses are not used).
+    const bool joints = opt.method == BUNDLE_ADJUSTMENT;
+    const vpSelfCalibDataset inverted = vpSelfCalibPipeline::eyeToHandAsEyeInHand(
+        input_model, joints ? vpSelfCalibPipeline::eyeToHandJointsOnly(input, input_model.getNumJoints()) : input);
     vpKinematicChain model = input_model;
     vpHomogeneousMatrix bMc, eMo;
     double median_px = 0;
@@ -316,8 +300,9 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
       p[i] = 0;
     model.setParameters(p);
     Options o = opt;
-    o.bundle.controller_poses_inverted = true;
-    Result res = runMounted(model, inverted, o, progress);
+    o.bundle.controller_poses_inverted = !joints;
+    o.bundle.eye_to_hand = joints;
+    Result res = runMounted(model, joints ? input : inverted, o, progress);
     vpSelfCalibPipeline::eyeToHandResult(res);
     std::ostringstream start;
     start << "eye-to-hand, bMc started "
@@ -360,8 +345,11 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
     const vpSelfCalib::Rigid eMc = vpSelfCalib::rigidFromVisp(nominal.get_eMc_corrected());
     for (unsigned int k = 0; k < N; ++k) {
       const vpSelfCalibDataset::View &v = data0.views[k];
-      fMc.push_back(opt.method == HAND_EYE && v.has_fMe ? vpSelfCalib::rigidFromVisp(v.fMe) * eMc
-                                                          : vpSelfCalib::rigidFromVisp(nominal.get_fMc(v.q)));
+      if (opt.bundle.eye_to_hand) // the camera (the hand-eye slot) in the effector frame
+        fMc.push_back(vpSelfCalib::rigidFromVisp(nominal.get_fMe(v.q)).inverse() * eMc);
+      else
+        fMc.push_back(opt.method == HAND_EYE && v.has_fMe ? vpSelfCalib::rigidFromVisp(v.fMe) * eMc
+                                                            : vpSelfCalib::rigidFromVisp(nominal.get_fMc(v.q)));
     }
     const std::vector<vpSelfCalibDataset::View> cal(data0.views.begin(), data0.views.begin() + N);
     const vpSelfCalibPipeline::PredictedStart p =
@@ -414,8 +402,7 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
     const bool usable = res.status == OK || res.status == IDENTIFICATION_FAILED;
     const vpSelfCalibNoiseModel first_measured = res.measured;
     std::vector<vpSelfCalibDataCheck::Finding> notes;
-    vpSelfCalibPipeline::measureNoise(context.noise, first_measured, res.status == OK, usable, opt.method == HAND_EYE,
-                                      attempt, notes);
+    vpSelfCalibPipeline::measureNoise(context.noise, first_measured, res.status == OK, usable, true, attempt, notes);
     res.findings.insert(res.findings.end(), notes.begin(), notes.end());
   }
   const vpSelfCalibPipeline::Context &used = current ? *current : context;

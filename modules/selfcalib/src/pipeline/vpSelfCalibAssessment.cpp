@@ -176,16 +176,23 @@ void checkFit(const Context &c, Result &res)
     return;
   const bool opencv = !res.bundle.opencv_distortion.empty();
   const bool lens = !c.dataset.opencv_distortion.empty();
+  // Eye-to-hand with joints: each model's views as camera poses in the effector frame.
+  const bool e2h = c.bundle.eye_to_hand;
+  const std::vector<View> &cal = c.calibration;
   const vpCalibrationVerifier::Result nominal = vpCalibrationVerifier::verify(
-      c.nominal, c.dataset.cam, lens ? undistorted(c.calibration, lensOf(c.dataset)) : c.calibration,
+      c.nominal, c.dataset.cam,
+      e2h ? eyeToHandViews(c.nominal, lens ? undistorted(cal, lensOf(c.dataset)) : cal)
+          : (lens ? undistorted(cal, lensOf(c.dataset)) : cal),
       c.dataset.yardstick);
+  const std::vector<View> cal_calibrated =
+      opencv ? undistorted(cal, lensOf(res.camera, res.bundle.opencv_distortion)) : cal;
   const vpCalibrationVerifier::Result calibrated = vpCalibrationVerifier::verify(
-      res.calibrated, res.camera,
-      opencv ? undistorted(c.calibration, lensOf(res.camera, res.bundle.opencv_distortion)) : c.calibration,
+      res.calibrated, res.camera, e2h ? eyeToHandViews(res.calibrated, cal_calibrated) : cal_calibrated,
       c.dataset.yardstick);
   res.fit_nominal_rms = nominal.reprojection_rms;
   res.fit_calibrated_rms = calibrated.reprojection_rms;
-  if (c.options.method != vpRobotSelfCalibration::HAND_EYE && c.calibration.front().q.size() > 0)
+  // (eye-to-hand: the predicted error is the eye-in-hand relative poses', not this set-up's)
+  if (c.options.method != vpRobotSelfCalibration::HAND_EYE && !e2h && c.calibration.front().q.size() > 0)
     checkPredicted(c, res, calibrated.points);
   if (worse(calibrated, nominal, noiseOf(c, res)))
     add(res, vpSelfCalibDataCheck::DOUBT, "fit-worse-than-nominal",
@@ -224,7 +231,7 @@ void checkNoise(const Context &c, Result &res)
   if (c.options.method == vpRobotSelfCalibration::PAPER)
     return;
   const vpKinematicBundleAdjustment::Result &b = res.bundle;
-  const bool measured_pixel = c.noise.pixel_sd_origin == vpSelfCalibNoiseModel::MEASURED;
+  const bool measured_pixel = c.noise.measure_pixel_sd;
   if (res.measured.pixel_sd > c.options.max_pixel_noise)
     add(res, vpSelfCalibDataCheck::DOUBT, "residuals-too-large",
         "the residuals measure an image noise of " + fixed(res.measured.pixel_sd, 2) + " px, above " +
@@ -271,9 +278,8 @@ void checkUnmodelledRobotError(const Context &c, Result &res)
                ? "; state the robot's pose error (calibrate --pose-sd T,R or the dataset's robot_error; a serial "
                  "arm's absolute accuracy is a few mm and mrad; the camera corrections above overstate it where a "
                  "rotation and a translation of the camera look alike)"
-               : "; state the joint readings' error (calibrate --joint-sd or the dataset's robot_error joint_sd) "
-                 "and, for what no parameter of the model explains, the model's own residual (calibrate --pose-sd "
-                 "T,R)"));
+               : "; model the joint readings' error and the model's own residual (calibrate's default measures "
+                 "them; or state them: --joint-sd, the dataset's robot_error joint_sd, --pose-sd T,R)"));
 }
 
 /*

@@ -14,6 +14,10 @@ namespace vpSelfCalibPipeline
 {
 void runBundle(const Context &c, Result &res)
 {
+  if (c.bundle.eye_to_hand) {
+    runBundleEyeToHand(c, res);
+    return;
+  }
   auto ts = std::chrono::steady_clock::now();
   const unsigned int N = c.num_calibration;
   const std::vector<View> &cal = c.calibration;

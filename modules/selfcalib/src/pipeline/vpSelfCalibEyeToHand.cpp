@@ -164,6 +164,54 @@ bool eyeToHandStart(const vpSelfCalibDataset &inv, unsigned int num_views, const
   return std::isfinite(median_px);
 }
 
+vpSelfCalibDataset eyeToHandJointsOnly(const vpSelfCalibDataset &ds, unsigned int num_joints)
+{
+  vpSelfCalibDataset out = ds;
+  for (View &v : out.views)
+    if (v.q.size() == num_joints)
+      v.has_fMe = false;
+  return out;
+}
+
+std::vector<View> eyeToHandViews(const vpKinematicChain &model, const std::vector<View> &views)
+{
+  std::vector<View> out = views;
+  for (View &v : out) {
+    if (v.q.size() != model.getNumJoints())
+      continue;
+    v.fMe = model.get_fMe(v.q).inverse();
+    v.has_fMe = true;
+    v.q = vpColVector();
+  }
+  return out;
+}
+
+void runBundleEyeToHand(const Context &c, Result &res)
+{
+  const auto ts = std::chrono::steady_clock::now();
+  const std::string label = "kinematic bundle adjustment (eye-to-hand)";
+  const vpSelfCalibDataset inv =
+      eyeToHandAsEyeInHand(c.nominal, eyeToHandJointsOnly(c.dataset, c.nominal.getNumJoints()));
+  vpHomogeneousMatrix bMc, eMo;
+  double median_px = 0;
+  if (c.bundle.known_points.size() < 4 || !eyeToHandStart(inv, c.num_calibration, c.bundle.known_points, bMc, eMo, median_px)) {
+    res.status = vpRobotSelfCalibration::IDENTIFICATION_FAILED;
+    res.message = label + ": no start pose of the target: fewer than 3 views show 4 of its known points with a "
+                          "pose OpenCV's PnP and hand-eye closed forms can solve";
+    return;
+  }
+  const Rigid E = rigidFromVisp(eMo);
+  std::map<int, vpColVector> points;
+  for (const auto &l : c.bundle.known_points) {
+    const Eigen::Vector3d x = E * Eigen::Vector3d(l.second[0], l.second[1], l.second[2]);
+    points[l.first] = vpColVector({x(0), x(1), x(2)});
+  }
+  res.stage_seconds.push_back({"eye-to-hand start", seconds(ts)});
+  if (!bundleFrom(c, c.nominal, points, c.dataset.cam.get_px(), c.calibration, c.bundle, label, res))
+    return;
+  res.message = label + " " + res.bundle.message;
+}
+
 void eyeToHandResult(Result &res)
 {
   res.camera_mount = vpSelfCalibDataset::CAMERA_IN_WORLD;

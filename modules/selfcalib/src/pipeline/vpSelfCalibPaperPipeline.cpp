@@ -109,7 +109,7 @@ bool measurePoses(const Context &c, Result &res)
       vpMultiViewReconstruction::Options mo = c.multiview;
       mo.twoview.fx = sr.fx;
       res.multiview = vpMultiViewReconstruction::reconstruct(c.calibration, c.dataset.yardstick, mo, c.noise);
-      // The image noise measured (the noise model's pixel_sd of origin MEASURED): when the residuals
+      // The image noise measured (the noise model's measure_pixel_sd): when the residuals
       // give another level, the reconstruction again at it (a pixel sd too small rejects good
       // observations as outliers, one too large lets wrong matches in).
       const auto attempt = [&](const vpSelfCalibNoiseModel &noise, bool) {
@@ -123,7 +123,7 @@ bool measurePoses(const Context &c, Result &res)
       };
       const bool ok = res.multiview.status == vpMultiViewReconstruction::OK;
       res.noise = measureNoise(c.noise, res.multiview.measured, ok, ok, false, attempt, res.findings);
-      const bool measured = c.noise.pixel_sd_origin == vpSelfCalibNoiseModel::MEASURED;
+      const bool measured = c.noise.measure_pixel_sd;
       const vpMultiViewReconstruction::Result &mv = res.multiview;
       if (mv.status == vpMultiViewReconstruction::OK && mv.fx > 0 && std::isfinite(mv.fx) && std::isfinite(mv.fx_sd)) {
         res.fx = mv.fx;
@@ -202,7 +202,7 @@ bool scalePoses(const Context &c, Result &res)
   }
   if (res.fx > 0) {
     vpPoseScale::YardstickOptions yo;
-    // The image noise of the focal length's reconstruction (measured when its origin is MEASURED).
+    // The image noise of the focal length's reconstruction (measured when measure_pixel_sd asks it).
     const vpSelfCalibNoiseModel &noise = res.noise.pixel_sd > 0 ? res.noise : c.noise;
     if (c.mode == vpRobotSelfCalibration::FOCAL_SHARED && std::isfinite(res.fx_sd))
       yo.fx_sd = res.fx_sd;

@@ -185,8 +185,11 @@ vpKinematicIdentification::Measurement poseMeasurement(const vpColVector &q, con
 
 bool checkData(const Context &c, Result &res)
 {
+  vpSelfCalibDataCheck::Options check = c.data_check;
+  if (check.known_points.empty())
+    check.known_points = c.options.bundle.known_points;
   res.findings = vpSelfCalibDataCheck::check(c.nominal, c.dataset, c.num_calibration,
-                                             c.options.method == vpRobotSelfCalibration::HAND_EYE, c.data_check, c.noise);
+                                             c.options.method == vpRobotSelfCalibration::HAND_EYE, check, c.noise);
   if (!vpSelfCalibDataCheck::degenerate(res.findings))
     return true;
   res.status = vpRobotSelfCalibration::DEGENERATE_DATA;
@@ -500,13 +503,16 @@ void verify(const Context &c, Result &res)
   // An estimated OpenCV lens model (which vpCameraParameters cannot hold): the held-out pixels
   // through the inverse of the start one (before) and of the estimated one (after).
   const bool opencv = !res.bundle.opencv_distortion.empty();
+  // Eye-to-hand with joints: each model's views as camera poses in the effector frame.
+  const std::vector<View> before = opencv ? undistorted(c.verification, lensOf(c.dataset)) : c.verification;
+  const std::vector<View> after =
+      opencv ? undistorted(c.verification, lensOf(res.camera, res.bundle.opencv_distortion)) : c.verification;
   res.before = vpCalibrationVerifier::verify(c.nominal, c.dataset.cam,
-                                             opencv ? undistorted(c.verification, lensOf(c.dataset)) : c.verification,
+                                             c.bundle.eye_to_hand ? eyeToHandViews(c.nominal, before) : before,
                                              c.dataset.yardstick);
-  res.after = vpCalibrationVerifier::verify(
-      res.calibrated, res.camera,
-      opencv ? undistorted(c.verification, lensOf(res.camera, res.bundle.opencv_distortion)) : c.verification,
-      c.dataset.yardstick);
+  res.after = vpCalibrationVerifier::verify(res.calibrated, res.camera,
+                                            c.bundle.eye_to_hand ? eyeToHandViews(res.calibrated, after) : after,
+                                            c.dataset.yardstick);
   res.verified = true;
   res.stage_seconds.push_back({"verification", seconds(tv)});
 }

@@ -163,16 +163,19 @@ using NoiseAttemptFunction = std::function<NoiseAttempt(const vpSelfCalibNoiseMo
   The measure-and-run-again step of every method. After a first run at `start` whose residuals
   measure `measured` (ok: it stands and is OK; usable: its residuals can be trusted for the image
   noise, an OK run or one that failed on rejected observations):
-  - start.pixel_sd measured (origin MEASURED): one more run at the measured image noise when it
+  - start.pixel_sd to be measured (measure_pixel_sd): one more run at the measured image noise when it
     differs by more than 25 % (measuredNoiseDiffers());
-  - pose_rounds and start's controller pose error measured: from a run that stands, rounds at the
-    measured pose error (and image noise) until both parts settle within 10 %, 5 at most; a warning
-    "robot-error-not-settled" in findings when it does not settle, cannot be measured, or a round
-    is not ok (the last ok run stands).
+  - robot_rounds and a form of start's robot error measured (the controller poses' pose_sd_*, the
+    joint readings' joint_sd, the model residual's model_sd_*, each with its measure_* field): from a
+    run that stands, rounds at the measured levels (and image noise) until every part settles
+    (within 10 %, the full mode's joint and model forms within 25 %), 5 at most, no part below the floor (2e-5 m and rad, a serial arm's
+    repeatability); a form measured below twice the floor in every part is dropped (exact); a warning "robot-error-not-settled" in
+    findings when a form does not settle, cannot be measured, or a round is not ok (the last ok run
+    stands).
   Returns the noise model of the run that stands.
 */
 vpSelfCalibNoiseModel measureNoise(const vpSelfCalibNoiseModel &start, const vpSelfCalibNoiseModel &measured,
-                                   bool ok, bool usable, bool pose_rounds, const NoiseAttemptFunction &attempt,
+                                   bool ok, bool usable, bool robot_rounds, const NoiseAttemptFunction &attempt,
                                    std::vector<vpSelfCalibDataCheck::Finding> &findings);
 /*!
   The 99.9 % bound of the robot corrections' chi-square (bundle.robot_chi2) for their number, and
@@ -207,6 +210,24 @@ bool eyeToHandStart(const vpSelfCalibDataset &inverted, unsigned int num_views, 
                     vpHomogeneousMatrix &bMc, vpHomogeneousMatrix &eMo, double &median_px);
 //! The result in eye-to-hand terms: eMc -> bMc, the known object's pose -> eMo (has_eMc false).
 void eyeToHandResult(Result &result);
+/*!
+  The dataset's views for their joints where they have them (their controller poses dropped), so
+  that eyeToHandAsEyeInHand() inverts the model's end-effector poses: the full kinematics method's.
+*/
+vpSelfCalibDataset eyeToHandJointsOnly(const vpSelfCalibDataset &ds, unsigned int num_joints);
+/*!
+  Eye-to-hand with joints (Options::eye_to_hand of the bundle adjustment): every view as a controller
+  pose view, fMe = model.fMe(q)^-1 (q cleared), so that the model's hand-eye slot (bMc) gives the
+  camera pose in the effector frame where an eye-in-hand check expects fMc (vpCalibrationVerifier).
+*/
+std::vector<View> eyeToHandViews(const vpKinematicChain &model, const std::vector<View> &views);
+/*!
+  The full kinematics method with the camera in the world (the context's bundle options
+  eye_to_hand, its nominal model's hand-eye slot the start bMc): the target's start pose eMo from
+  the same start as run(), its known points placed in e through it, then the kinematic bundle
+  adjustment of the chain, bMc, eMo and the intrinsics.
+*/
+void runBundleEyeToHand(const Context &context, Result &result);
 } // namespace vpSelfCalibPipeline
 
 #endif

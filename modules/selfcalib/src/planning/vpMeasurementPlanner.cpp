@@ -126,6 +126,8 @@ const char *vpMeasurementPlanner::statusName(Status s)
     return "infeasible";
   case FAILED:
     return "failed";
+  case UNDETERMINED:
+    return "undetermined";
   }
   return "unknown";
 }

@@ -178,10 +178,16 @@ vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinem
     fold.held_out = held[f];
     fold.status = r.status;
     fold.message = r.message;
-    fold.nominal =
-        reprojection(nominal, ds.cam, ds.opencv_distortion, controller_poses, train, test, ds.width, ds.height);
+    // A camera fixed in the world: the held-out reprojection below places a camera on the flange
+    // (fMe eMc), which this set-up does not have; its figures would mean nothing.
+    const bool world = ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD;
+    if (!world)
+      fold.nominal = reprojection(nominal, ds.cam, ds.opencv_distortion, controller_poses, train, test,
+                                    ds.width, ds.height);
+    if (world && (r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL))
+      fold.message += "; not measured: the held-out reprojection needs a camera on the flange";
     // A doubtful fold has a model (the one calibrate would write, marked): it is cross-validated too.
-    if (r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL) {
+    else if (r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL) {
       fold.fx = r.camera.get_px();
       fold.calibrated =
           reprojection(r.calibrated, r.camera, calibratedDistortion(r, ds), controller_poses, train, test, ds.width,
@@ -212,7 +218,10 @@ vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinem
   res.nominal_median = spread(nom_median);
   std::ostringstream os;
   os << std::setprecision(3);
-  if (res.num_ok == 0 && res.num_failed == 0)
+  if (res.num_ok == 0 && res.num_failed == 0 && ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD)
+    os << "no fold measured (every fold calibrated, but the held-out reprojection is not implemented for a camera "
+          "fixed in the world: the calibration's residuals and sd are its measure)";
+  else if (res.num_ok == 0 && res.num_failed == 0)
     os << "no fold measured (every fold calibrated, but no held-out view observes a point its training views "
           "triangulate: too few points shared between views, e.g. one small tag)";
   else if (res.num_ok == 0)

@@ -100,7 +100,7 @@ const char *vpMultiViewReconstruction::statusName(Status s)
   return "unknown";
 }
 
-void vpMultiViewReconstruction::Options::check() const
+void vpMultiViewReconstruction::Settings::check() const
 {
   if (!(init_tolerance > 0))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
@@ -109,6 +109,11 @@ void vpMultiViewReconstruction::Options::check() const
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpMultiViewReconstruction: min_points must be at least 5, max_pair_points 0 or at least "
                                "8, max_iterations and num_threads at least 1");
+}
+
+void vpMultiViewReconstruction::Options::check() const
+{
+  Settings::check();
   if (!(twoview.fx > 0) || !(twoview.mu > 0))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpMultiViewReconstruction: twoview.fx and twoview.mu must be positive");

@@ -433,12 +433,6 @@ std::vector<double> vpPoseScale::nominalRatios(const vpKinematicChain &model, co
   return r;
 }
 
-vpPoseScale::Result vpPoseScale::yardstick(const std::vector<YardstickView> &views, double length, double fx,
-                                           double u0, double v0, double mu)
-{
-  return yardstick(views, length, fx, u0, v0, mu, YardstickOptions());
-}
-
 namespace
 {
 using YardstickView = vpPoseScale::YardstickView;

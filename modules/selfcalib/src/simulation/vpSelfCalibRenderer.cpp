@@ -16,9 +16,11 @@
 #include <visp3/io/vpImageIo.h>
 #include <visp3/robot/vpImageSimulator.h>
 
+#include "../core/vpSelfCalibFiles.h" // checkImageFile
 #include "../core/vpSelfCalibMarkers.h"
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibRandom.h"
+#include "vpSelfCalibBoardPrint.h"
 
 using namespace vpSelfCalib;
 
@@ -101,15 +103,12 @@ std::map<int, vpPoseVector> vpSelfCalibRenderer::getTagBundle(const Options &o)
   return tags;
 }
 
-// The board scenes: one quad, its texture the board's printed side (vpSelfCalibMarkers), its frame
-// fMb: centred on the scene centre, z (into the board) away from the home camera, x along the home
-// camera's x.
-void vpSelfCalibRenderer::addBoard(const vpHomogeneousMatrix &fMc_home, const vpColVector &centre)
+BoardPrint vpSelfCalib::boardPrint(const vpSelfCalibRenderer::Options &o)
 {
-  const Options &o = m_opt;
   std::function<double(double, double)> at;
   double x0, y0, x1, y1, texel;
-  if (o.scene == CHARUCO) {
+  BoardPrint print;
+  if (o.scene == vpSelfCalibRenderer::CHARUCO) {
     auto board = std::make_shared<vpCharucoPrint>(static_cast<int>(o.charuco_cols), static_cast<int>(o.charuco_rows),
                                                   o.charuco_square, o.charuco_marker,
                                                   arucoDictionary(o.charuco_dictionary));
@@ -118,10 +117,12 @@ void vpSelfCalibRenderer::addBoard(const vpHomogeneousMatrix &fMc_home, const vp
     x1 = (o.charuco_cols + 0.5) * o.charuco_square;
     y1 = (o.charuco_rows + 0.5) * o.charuco_square;
     texel = o.charuco_square / 48;
+    print.cx = 0.5 * o.charuco_cols * o.charuco_square;
+    print.cy = 0.5 * o.charuco_rows * o.charuco_square;
   } else {
     const int dict = arucoDictionary("DICT_APRILTAG_" + aprilTagFamily(o.tag_family));
     std::vector<std::pair<vpPoseVector, std::shared_ptr<vpTagPrint>>> tags;
-    for (const auto &t : getTagBundle(o))
+    for (const auto &t : vpSelfCalibRenderer::getTagBundle(o))
       tags.emplace_back(t.second, std::make_shared<vpTagPrint>(dict, t.first, o.tag_size));
     at = [tags](double x, double y) {
       for (const auto &t : tags) {
@@ -135,25 +136,52 @@ void vpSelfCalibRenderer::addBoard(const vpHomogeneousMatrix &fMc_home, const vp
     x1 = y1 = 0.5 * o.tag_spacing + o.tag_size;
     texel = o.tag_size / 96;
   }
+  print.texture = markerTexture(at, x0, y0, x1, y1, texel);
+  print.x0 = x0;
+  print.y0 = y0;
+  print.x1 = x0 + (print.texture.getWidth() - 1.0) * texel;
+  print.y1 = y0 + (print.texture.getHeight() - 1.0) * texel;
+  return print;
+}
+
+vpImageSimulator vpSelfCalib::quadSimulator(const vpImage<unsigned char> &texture, const vpColVector X[4],
+                                            const vpHomogeneousMatrix &cMa)
+{
+  vpImageSimulator s;
+  s.setInterpolationType(vpImageSimulator::BILINEAR_INTERPOLATION);
+  const Eigen::Vector3d c0 = vec3(X[0]), c1 = vec3(X[1]), c3 = vec3(X[3]);
+  const Eigen::Vector3d n = (c1 - c0).cross(c3 - c0), cam = rigidFromVisp(cMa).inverse().t;
+  vpColVector Y[4] = {X[0], X[1], X[2], X[3]};
+  if (!(n.dot(cam - c0) < 0)) {
+    std::swap(Y[0], Y[1]);
+    std::swap(Y[2], Y[3]);
+  }
+  s.init(texture, Y);
+  s.setCameraPosition(cMa);
+  return s;
+}
+
+// The board scenes: one quad, its texture the board's printed side, its frame fMb: centred on the
+// scene centre, z (into the board) away from the home camera, x along the home camera's x.
+void vpSelfCalibRenderer::addBoard(const vpHomogeneousMatrix &fMc_home, const vpColVector &centre)
+{
+  const BoardPrint print = boardPrint(m_opt);
   Quad q;
-  q.texture = markerTexture(at, x0, y0, x1, y1, texel);
-  const double xe = x0 + (q.texture.getWidth() - 1.0) * texel, ye = y0 + (q.texture.getHeight() - 1.0) * texel;
+  q.texture = print.texture;
   // The board's frame: its centre (the print's) on the scene centre.
   const Eigen::Vector3d c = vec3(centre), cam = rigidFromVisp(fMc_home).t;
   const Eigen::Vector3d z = (c - cam).normalized();
   Eigen::Vector3d x = rigidFromVisp(fMc_home).R.col(0);
   x = (x - x.dot(z) * z).normalized();
   const Eigen::Vector3d y = z.cross(x);
-  const double mx = o.scene == CHARUCO ? 0.5 * o.charuco_cols * o.charuco_square : 0.0;
-  const double my = o.scene == CHARUCO ? 0.5 * o.charuco_rows * o.charuco_square : 0.0;
-  const Eigen::Vector3d origin = c - mx * x - my * y;
+  const Eigen::Vector3d origin = c - print.cx * x - print.cy * y;
   for (unsigned int i = 0; i < 3; ++i) {
     m_fMb[i][0] = x(i);
     m_fMb[i][1] = y(i);
     m_fMb[i][2] = z(i);
     m_fMb[i][3] = origin(i);
   }
-  const double corners[4][2] = {{x0, y0}, {xe, y0}, {xe, ye}, {x0, ye}};
+  const double corners[4][2] = {{print.x0, print.y0}, {print.x1, print.y0}, {print.x1, print.y1}, {print.x0, print.y1}};
   for (int k = 0; k < 4; ++k)
     q.corners[k] = toCol(origin + corners[k][0] * x + corners[k][1] * y);
   m_quads.push_back(q);
@@ -224,7 +252,11 @@ vpSelfCalibRenderer::vpSelfCalibRenderer(const vpSelfCalibSimulator &sim, const 
       m_grids.push_back(g);
     } else
       try {
+        // The file and its header checked before decoding, as the dataset's images are.
+        vpSelfCalib::checkImageFile(files[side], "vpSelfCalibRenderer: cannot read the texture '" + files[side] + "'");
         vpImageIo::read(q.texture, files[side]);
+      } catch (const vpSelfCalibException &) {
+        throw;
       } catch (const vpException &e) {
         throw vpSelfCalibException(vpSelfCalibException::ioError,
                                    "vpSelfCalibRenderer: cannot read the texture '" + files[side] +
@@ -275,25 +307,10 @@ double vpSelfCalibRenderer::getYardstickLength() const { return (m_end_a - m_end
 vpImage<unsigned char> vpSelfCalibRenderer::render(const vpColVector &q, unsigned int view_index) const
 {
   const vpHomogeneousMatrix cMf = m_sim.getTrueChain().get_fMc(q).inverse();
+  // vpImageSimulator takes the corners in the frame of the quad and its pose; the quad frame here is f.
   std::list<vpImageSimulator> list;
-  for (const Quad &quad : m_quads) {
-    vpImageSimulator s;
-    s.setInterpolationType(vpImageSimulator::BILINEAR_INTERPOLATION);
-    // vpImageSimulator takes the corners in the frame of the quad and its pose; the quad frame here is f.
-    // vpImageSimulator draws a quad from the side its corner order makes the front only: the
-    // texture is mirrored (corners swapped left-right) when the camera is on the other side.
-    const Eigen::Vector3d c0 = vec3(quad.corners[0]), c1 = vec3(quad.corners[1]), c3 = vec3(quad.corners[3]);
-    const Eigen::Vector3d n = (c1 - c0).cross(c3 - c0), cam = rigidFromVisp(cMf).inverse().t;
-    const bool front = n.dot(cam - c0) < 0;
-    vpColVector X[4] = {quad.corners[0], quad.corners[1], quad.corners[2], quad.corners[3]};
-    if (!front) {
-      std::swap(X[0], X[1]);
-      std::swap(X[2], X[3]);
-    }
-    s.init(quad.texture, X);
-    s.setCameraPosition(cMf);
-    list.push_back(s);
-  }
+  for (const Quad &quad : m_quads)
+    list.push_back(quadSimulator(quad.texture, quad.corners, cMf));
   const vpSelfCalibSimulator::Options &so = m_sim.getOptions();
   vpImage<unsigned char> I(so.height, so.width, 128);
   if (m_opt.scene == CHARUCO || m_opt.scene == APRILTAGS)

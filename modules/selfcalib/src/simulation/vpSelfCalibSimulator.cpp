@@ -440,6 +440,8 @@ vpSelfCalib::Rigid lookAt(const Eigen::Vector3d &from, const Eigen::Vector3d &to
 //! The target's points in o: a grid on z = 0 from o (vpBoardDetector's chessboard layout), or natural features in a box about o.
 std::map<int, vpColVector> eyeToHandLayout(const vpSelfCalibSimulator::EyeToHandOptions &o)
 {
+  if (!o.layout.empty())
+    return o.layout;
   std::map<int, vpColVector> layout;
   vpSelfCalib::Random rng(o.seed, 11);
   if (o.board) {
@@ -451,6 +453,82 @@ std::map<int, vpColVector> eyeToHandLayout(const vpSelfCalibSimulator::EyeToHand
       layout[static_cast<int>(i)] = vpColVector({rng.uniform(-0.5, 0.5) * o.box_size, rng.uniform(-0.5, 0.5) * o.box_size,
                                                  rng.uniform(-0.5, 0.5) * o.box_size});
   return layout;
+}
+
+//! The target's points projected through cMo with image noise; false unless every point is in the image.
+bool observeTarget(const vpSelfCalibSimulator::EyeToHandOptions &o, const std::map<int, vpColVector> &layout,
+                   const vpSelfCalib::Rigid &cMo, vpSelfCalib::Random &noise_rng, vpSelfCalibDataset::View &v)
+{
+  for (const auto &p : layout) {
+    const Eigen::Vector3d X = cMo.R * Eigen::Vector3d(p.second[0], p.second[1], p.second[2]) + cMo.t;
+    const double u = o.u0 + o.px * X(0) / X(2) + noise_rng.normal(o.pixel_noise_sd);
+    const double w = o.v0 + o.py * X(1) / X(2) + noise_rng.normal(o.pixel_noise_sd);
+    if (X(2) > 0 && u >= 0 && w >= 0 && u < o.width && w < o.height)
+      v.points.push_back({p.first, vpImagePoint(w, u)});
+  }
+  return v.points.size() == layout.size();
+}
+
+/*
+  Eye-to-hand with joint readings (EyeToHandOptions::robot): the true robot, the camera facing the
+  target at home, the views drawn about home; each view's joint readings and controller pose.
+*/
+void simulateEyeToHandJoints(const vpSelfCalibSimulator::EyeToHandOptions &o, vpSelfCalibSimulator::EyeToHandTruth &truth,
+                             vpSelfCalibDataset &ds)
+{
+  using namespace vpSelfCalib;
+  const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(o.robot).nominal();
+  const unsigned int n = nominal.getNumJoints();
+  const vpColVector home = o.home.size() ? o.home : vpSelfCalibSimulator::homeConfiguration(nominal);
+  if (home.size() != n || !nominal.isInJointLimits(home) || !(o.joint_spread > 0) || o.joint_sd < 0 ||
+      o.robot_translation_sd < 0 || o.robot_rotation_sd < 0)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpSelfCalibSimulator::simulateEyeToHand: the robot '" + o.robot + "' needs a home of " +
+                                   std::to_string(n) + " joint values inside its limits, a positive joint_spread "
+                                   "and non-negative robot errors");
+  truth.chain = nominal;
+  Random err(o.seed, 15);
+  vpColVector p(nominal.getNumParameters(), 0.0);
+  for (unsigned int i = 0; i < p.size() - vpKinematicChain::kBlockSize; ++i) // the base and every joint
+    p[i] = err.normal(i % vpKinematicChain::kBlockSize < 3 ? o.robot_translation_sd : o.robot_rotation_sd);
+  truth.chain.setParameters(p);
+  const Rigid eMo = rigidFromVisp(truth.eMo);
+  // The camera facing the target's centre at home, on the target's z axis.
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const auto &l : truth.layout)
+    centre += Eigen::Vector3d(l.second[0], l.second[1], l.second[2]) / static_cast<double>(truth.layout.size());
+  Rigid oMc;
+  oMc.R = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  oMc.t = centre + Eigen::Vector3d(0, 0, 0.5 * (o.distance_min + o.distance_max));
+  const Rigid bMc = rigidFromVisp(truth.chain.get_fMe(home)) * eMo * oMc;
+  truth.bMc = toVisp(bMc);
+  ds.robot = o.robot;
+  if (o.joint_sd > 0)
+    ds.joint_sd = {o.joint_sd};
+  const uint64_t noise = o.noise_seed ? (static_cast<uint64_t>(o.noise_seed) << 32) ^ o.seed : o.seed;
+  Random pose_rng(o.seed, 12), noise_rng(noise, 13), error_rng(noise, 14), joint_rng(noise, 16);
+  const vpColVector qmin = nominal.getJointMin(), qmax = nominal.getJointMax();
+  for (unsigned int attempt = 0; ds.views.size() < o.num_views && attempt < 200 * o.num_views; ++attempt) {
+    vpColVector q(n);
+    for (unsigned int j = 0; j < n; ++j)
+      q[j] = std::min(qmax[j], std::max(qmin[j], home[j] + pose_rng.uniform(-o.joint_spread, o.joint_spread)));
+    const Rigid bMe = rigidFromVisp(truth.chain.get_fMe(q));
+    const Rigid cMo = bMc.inverse() * bMe * eMo;
+    vpSelfCalibDataset::View v;
+    if (!(cMo.R(2, 2) < -0.3) || !observeTarget(o, truth.layout, cMo, noise_rng, v))
+      continue;
+    v.q = q;
+    for (unsigned int j = 0; j < n; ++j)
+      v.q[j] -= joint_rng.normal(o.joint_sd);
+    const double d[6] = {error_rng.normal(o.pose_sd_translation), error_rng.normal(o.pose_sd_translation),
+                         error_rng.normal(o.pose_sd_translation), error_rng.normal(o.pose_sd_rotation),
+                         error_rng.normal(o.pose_sd_rotation),    error_rng.normal(o.pose_sd_rotation)};
+    v.has_fMe = true;
+    v.fMe = toVisp(bMe * rigidFromVector(d).inverse());
+    truth.bMe.push_back(toVisp(bMe));
+    truth.q.push_back(q);
+    ds.views.push_back(v);
+  }
 }
 } // namespace
 
@@ -479,11 +557,15 @@ vpSelfCalibDataset vpSelfCalibSimulator::simulateEyeToHand(const EyeToHandOption
   ds.cam.initPersProjWithoutDistortion(o.px, o.py, o.u0, o.v0);
   ds.pose_sd_translation = o.pose_sd_translation;
   ds.pose_sd_rotation = o.pose_sd_rotation;
+  if (!o.robot.empty())
+    simulateEyeToHandJoints(o, truth, ds);
   const uint64_t noise = o.noise_seed ? (static_cast<uint64_t>(o.noise_seed) << 32) ^ o.seed : o.seed;
   Random pose_rng(o.seed, 12), noise_rng(noise, 13), error_rng(noise, 14);
   Rigid facing;
-  facing.R = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix(); // the target's z towards the camera
-  for (unsigned int attempt = 0; ds.views.size() < o.num_views && attempt < 100 * o.num_views; ++attempt) {
+  if (o.layout.empty()) // the target's z towards the camera
+    facing.R = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  for (unsigned int attempt = 0; o.robot.empty() && ds.views.size() < o.num_views && attempt < 100 * o.num_views;
+       ++attempt) {
     const Eigen::Vector3d axis =
         Eigen::Vector3d(pose_rng.normal(), pose_rng.normal(), pose_rng.normal()).normalized();
     Rigid cMo;
@@ -491,14 +573,7 @@ vpSelfCalibDataset vpSelfCalibSimulator::simulateEyeToHand(const EyeToHandOption
     cMo.t = Eigen::Vector3d(pose_rng.uniform(-o.lateral, o.lateral), pose_rng.uniform(-o.lateral, o.lateral),
                             pose_rng.uniform(o.distance_min, o.distance_max));
     vpSelfCalibDataset::View v;
-    for (const auto &p : truth.layout) {
-      const Eigen::Vector3d X = cMo.R * Eigen::Vector3d(p.second[0], p.second[1], p.second[2]) + cMo.t;
-      const double u = o.u0 + o.px * X(0) / X(2) + noise_rng.normal(o.pixel_noise_sd);
-      const double w = o.v0 + o.py * X(1) / X(2) + noise_rng.normal(o.pixel_noise_sd);
-      if (X(2) > 0 && u >= 0 && w >= 0 && u < o.width && w < o.height)
-        v.points.push_back({p.first, vpImagePoint(w, u)});
-    }
-    if (o.board ? v.points.size() != truth.layout.size() : v.points.size() < 6)
+    if (!observeTarget(o, truth.layout, cMo, noise_rng, v) && (o.board || !o.layout.empty() || v.points.size() < 6))
       continue;
     const Rigid bMe = bMc * cMo * eMo.inverse();
     const double d[6] = {error_rng.normal(o.pose_sd_translation), error_rng.normal(o.pose_sd_translation),
@@ -511,7 +586,10 @@ vpSelfCalibDataset vpSelfCalibSimulator::simulateEyeToHand(const EyeToHandOption
   }
   if (ds.views.size() < o.num_views)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpSelfCalibSimulator::simulateEyeToHand: the target leaves the image in most poses; "
-                               "bring it nearer the camera's axis (lateral, tilt) or further away");
+                               "vpSelfCalibSimulator::simulateEyeToHand: the target leaves the image in most poses; " +
+                                   std::string(o.robot.empty() ? "bring it nearer the camera's axis (lateral, tilt) or "
+                                                                 "further away"
+                                                               : "narrow joint_spread or move the camera further away "
+                                                                 "(distance_min, distance_max)"));
   return ds;
 }

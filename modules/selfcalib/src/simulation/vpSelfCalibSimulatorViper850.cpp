@@ -5,12 +5,46 @@
 #include <visp3/selfcalib/vpSelfCalibSimulatorViper850.h>
 
 #include <cmath>
+#include <mutex>
+#include <optional>
 
-vpSelfCalibSimulatorViper850::vpSelfCalibSimulatorViper850() : vpSimulatorViper850(false)
+#include "../core/vpSelfCalibSilentCout.h"
+
+namespace
 {
+std::mutex g_quiet_mutex;
+std::optional<vpSelfCalib::SilentCout> g_quiet;
+
+/*
+  vpSimulatorViper850's constructor prints its default camera ("Get default camera parameters for
+  camera ...") on std::cout, a text no caller asked for. std::cout is silent from this call
+  (evaluated before the base class is constructed) to restoreCout(), in the constructor's body or
+  when the base's constructor throws. Returns `display`.
+*/
+bool quietCout(bool display)
+{
+  g_quiet_mutex.lock();
+  g_quiet.emplace();
+  return display;
+}
+
+void restoreCout()
+{
+  g_quiet.reset();
+  g_quiet_mutex.unlock();
+}
+} // namespace
+
+vpSelfCalibSimulatorViper850::vpSelfCalibSimulatorViper850()
+try : vpSimulatorViper850(quietCout(false)) {
+  restoreCout();
   // In constant-sampling mode the simulator thread integrates joint velocities only after a
   // setVelocity() call; without one it never writes the joint coordinates we set.
   setConstantSamplingTimeMode(true);
+} catch (...) {
+  if (g_quiet)
+    restoreCout();
+  throw;
 }
 
 void vpSelfCalibSimulatorViper850::setPosition(const vpRobot::vpControlFrameType frame, const vpColVector &q)

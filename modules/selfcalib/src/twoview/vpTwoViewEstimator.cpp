@@ -212,9 +212,18 @@ const char *vpTwoViewEstimator::statusName(Status s)
   return "?";
 }
 
-void vpTwoViewEstimator::Options::check() const
+void vpTwoViewEstimator::Settings::check() const
 {
   ransac.check();
+  if (!(planar_ratio > 0 && planar_ratio <= 1) || !(min_coplanarity >= 0) || !(rotation_tolerance > 0) ||
+      !(huber >= 0 && std::isfinite(huber)) || !(max_fx_relative_sd > 0))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpTwoViewEstimator: planar_ratio in (0, 1], min_coplanarity >= 0, "
+                               "rotation_tolerance > 0, huber >= 0, max_fx_relative_sd > 0");
+}
+
+void vpTwoViewEstimator::Options::check() const
+{
   if (focal_mode == vpRefinedFactorMethod::SHARED)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpTwoViewEstimator: use estimateShared() for a focal length shared by many pairs");
@@ -222,11 +231,7 @@ void vpTwoViewEstimator::Options::check() const
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpTwoViewEstimator: fx and mu must be positive, u0 and v0 finite");
   vpSelfCalib::checkIntrinsics(fx, mu * fx, u0, v0, "vpTwoViewEstimator: the camera (fx, mu fx, u0, v0)");
-  if (!(planar_ratio > 0 && planar_ratio <= 1) || !(min_coplanarity >= 0) || !(rotation_tolerance > 0) ||
-      !(huber >= 0 && std::isfinite(huber)) || !(max_fx_relative_sd > 0))
-    throw vpSelfCalibException(vpSelfCalibException::badValue,
-                               "vpTwoViewEstimator: planar_ratio in (0, 1], min_coplanarity >= 0, "
-                               "rotation_tolerance > 0, huber >= 0, max_fx_relative_sd > 0");
+  Settings::check();
 }
 
 vpTwoViewEstimator::Result vpTwoViewEstimator::estimate(const std::vector<vpImagePoint> &p1,

@@ -114,16 +114,28 @@ void checkInputs(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, 
 
 }
 
-//! Points: too few in a view, outside the image.
+//! PnP's minimum: 4 coplanar points of a known layout place a view.
+constexpr unsigned int kMinKnownPoints = 4;
+
+//! Whether every point of a view is one of the known layout's (and it sees one at least).
+bool onlyKnownPoints(const View &v, const vpSelfCalibDataCheck::Options &opt)
+{
+  return !v.points.empty() && std::all_of(v.points.begin(), v.points.end(), [&](const vpSelfCalibDataset::Observation &o) {
+    return opt.known_points.count(o.id) > 0;
+  });
+}
+
+//! Points: too few in a view (min_points, or 4 for a view of a known layout's points only), outside the image.
 void checkPoints(const vpSelfCalibDataset &ds, const std::vector<View> &cal, const vpSelfCalibDataCheck::Options &opt,
                  std::vector<Finding> &out)
 {
-  std::vector<std::string> few;
+  std::vector<std::string> few, few_known;
   unsigned int outside = 0;
   std::string example;
   for (size_t k = 0; k < cal.size(); ++k) {
-    if (cal[k].points.size() < opt.min_points)
-      few.push_back(std::to_string(k) + " (" + std::to_string(cal[k].points.size()) + ")");
+    const bool known = onlyKnownPoints(cal[k], opt);
+    if (cal[k].points.size() < (known ? kMinKnownPoints : opt.min_points))
+      (known ? few_known : few).push_back(std::to_string(k) + " (" + std::to_string(cal[k].points.size()) + ")");
     for (const auto &o : cal[k].points)
       if (ds.width > 0 && (o.ip.get_u() < -1 || o.ip.get_v() < -1 || o.ip.get_u() > ds.width ||
                            o.ip.get_v() > ds.height)) {
@@ -132,15 +144,21 @@ void checkPoints(const vpSelfCalibDataset &ds, const std::vector<View> &cal, con
                     fmt(o.ip.get_u(), 1) + ", " + fmt(o.ip.get_v(), 1) + ")";
       }
   }
-  if (!few.empty()) {
+  auto join = [](const std::vector<std::string> &items) {
     std::string list;
-    for (const auto &f : few)
+    for (const auto &f : items)
       list += (list.empty() ? "" : ", ") + f;
+    return list;
+  };
+  if (!few.empty())
     add(out, vpSelfCalibDataCheck::WARNING, "few-points",
-        "calibration poses with fewer than " + std::to_string(opt.min_points) + " image points: " + list +
+        "calibration poses with fewer than " + std::to_string(opt.min_points) + " image points: " + join(few) +
             "; such a pose cannot be placed by the reconstruction and adds little: aim the camera so that it sees "
             "more of the scene");
-  }
+  if (!few_known.empty())
+    add(out, vpSelfCalibDataCheck::WARNING, "few-points",
+        "calibration poses with fewer than " + std::to_string(kMinKnownPoints) + " points of the known layout: " +
+            join(few_known) + "; PnP needs 4 to place such a pose: aim the camera so that it sees more of the board");
   if (outside > 0)
     add(out, vpSelfCalibDataCheck::WARNING, "points-outside-image",
         std::to_string(outside) + " image points lie outside the " + std::to_string(ds.width) + " x " +
@@ -278,6 +296,10 @@ constexpr unsigned int kMinHomographyPoints = 15; //!< correspondences of a pair
 void checkParallax(const vpKinematicChain &nominal, const std::vector<View> &cal,
                    const vpSelfCalibDataCheck::Options &opt, double pixel_sd, std::vector<Finding> &out)
 {
+  // A known layout gives its points' depth: the parallax between views has nothing to add, and
+  // one small tag's 4 corners are what it should be, not too few correspondences.
+  if (std::all_of(cal.begin(), cal.end(), [&](const View &v) { return onlyKnownPoints(v, opt); }))
+    return;
   const double threshold = std::max(1.0, 3.0 * pixel_sd);
   unsigned int pairs = 0, flat = 0, weak = 0;
   size_t most_shared = 0;

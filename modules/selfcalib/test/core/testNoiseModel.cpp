@@ -15,6 +15,8 @@ TEST(NoiseModel, DefaultsAreAStatedImageNoiseAndAnExactRobot)
   EXPECT_NO_THROW(n.check());
   EXPECT_EQ(n.pixel_sd, 0.2);
   EXPECT_EQ(n.pixel_sd_origin, vpSelfCalibNoiseModel::STATED);
+  EXPECT_FALSE(n.measure_pixel_sd);
+  EXPECT_FALSE(n.measure_pose_sd);
   EXPECT_EQ(n.loss, vpSelfCalibNoiseModel::LOSS_CAUCHY);
   EXPECT_DOUBLE_EQ(n.lossScalePixels(), 0.6);
   EXPECT_FALSE(n.hasRobotError());
@@ -37,10 +39,47 @@ TEST(NoiseModel, LevelsChangeWithTheirOrigin)
   EXPECT_NO_THROW(r.check());
   const vpSelfCalibNoiseModel u = vpSelfCalibNoiseModel::unmeasured();
   EXPECT_EQ(u.pixel_sd, 0);
+  EXPECT_EQ(u.pixel_sd_origin, vpSelfCalibNoiseModel::MEASURED);
+  EXPECT_FALSE(u.measure_pixel_sd || u.measure_pose_sd); // a measurement asks for none
   EXPECT_THROW(u.check(), vpSelfCalibException);
   vpSelfCalibNoiseModel j;
   j.joint_sd = {1e-4};
   EXPECT_TRUE(j.hasRobotError());
+  // The full mode's forms, each with its own origin.
+  const vpSelfCalibNoiseModel f = n.withJointError({3e-4, 2e-4, 2e-4, 1e-4, 1e-4, 1e-4}, vpSelfCalibNoiseModel::MEASURED)
+                                      .withModelError(2e-4, 3e-4, vpSelfCalibNoiseModel::MEASURED);
+  EXPECT_EQ(f.joint_sd.size(), 6u);
+  EXPECT_EQ(f.joint_sd_origin, vpSelfCalibNoiseModel::MEASURED);
+  EXPECT_TRUE(f.hasModelError());
+  EXPECT_EQ(f.model_sd_rotation, 3e-4);
+  EXPECT_EQ(f.model_sd_origin, vpSelfCalibNoiseModel::MEASURED);
+  EXPECT_EQ(f.pose_sd_origin, vpSelfCalibNoiseModel::STATED); // the others untouched
+  EXPECT_NO_THROW(f.check());
+  const vpSelfCalibNoiseModel exact = f.withJointError({}, vpSelfCalibNoiseModel::MEASURED)
+                                          .withModelError(0, 0, vpSelfCalibNoiseModel::MEASURED);
+  EXPECT_FALSE(exact.hasRobotError());
+  EXPECT_EQ(u.joint_sd_origin, vpSelfCalibNoiseModel::MEASURED);
+  EXPECT_EQ(u.model_sd_origin, vpSelfCalibNoiseModel::MEASURED);
+}
+
+// What a run does with a level and where the level comes from are two fields: a level to measure
+// keeps its request through the copies that set a measured value, and a stated level never
+// becomes a request.
+TEST(NoiseModel, TheRequestToMeasureAndTheOriginAreSeparate)
+{
+  vpSelfCalibNoiseModel n;
+  n.measure_pixel_sd = true;
+  const vpSelfCalibNoiseModel m = n.withPixelNoise(0.4, vpSelfCalibNoiseModel::MEASURED);
+  EXPECT_TRUE(m.measure_pixel_sd);
+  EXPECT_EQ(m.pixel_sd_origin, vpSelfCalibNoiseModel::MEASURED);
+  const vpSelfCalibNoiseModel s = vpSelfCalibNoiseModel().withPixelNoise(0.4, vpSelfCalibNoiseModel::MEASURED);
+  EXPECT_FALSE(s.measure_pixel_sd); // a measured level given: used as it is
+  vpSelfCalibNoiseModel p;
+  p.measure_pose_sd = true;
+  const vpSelfCalibNoiseModel q = p.withPoseError(1e-3, 1e-3, vpSelfCalibNoiseModel::STATED);
+  EXPECT_TRUE(q.measure_pose_sd);
+  EXPECT_EQ(q.pose_sd_origin, vpSelfCalibNoiseModel::STATED);
+  EXPECT_FALSE(q.measure_pixel_sd);
 }
 
 TEST(NoiseModel, NonsenseIsRefusedWithTheCallersName)
@@ -74,6 +113,12 @@ TEST(NoiseModel, NonsenseIsRefusedWithTheCallersName)
   }
   n = vpSelfCalibNoiseModel();
   n.loss = static_cast<vpSelfCalibNoiseModel::Loss>(7);
+  EXPECT_THROW(n.check(), vpSelfCalibException);
+  n = vpSelfCalibNoiseModel();
+  n.joint_sd_origin = static_cast<vpSelfCalibNoiseModel::Origin>(5);
+  EXPECT_THROW(n.check(), vpSelfCalibException);
+  n = vpSelfCalibNoiseModel();
+  n.model_sd_origin = static_cast<vpSelfCalibNoiseModel::Origin>(5);
   EXPECT_THROW(n.check(), vpSelfCalibException);
   try {
     vpSelfCalibNoiseModel m;

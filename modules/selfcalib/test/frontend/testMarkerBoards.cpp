@@ -22,6 +22,7 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
+#include "../testCommon.h"
 #include "boardSpecTest.h"
 #include "markerTestImages.h"
 
@@ -286,7 +287,10 @@ TEST(MarkerBoards, BadDescriptionsAreRefusedWithTheReason)
   expectParseError("apriltag:36h11:0.04:-1", "expected the tag ids as whole numbers");
   expectParseError("apriltag:16h5:0.04:30", "tag id 30 is not in family 16h5 (ids 0 to 29)");
   expectParseError("apriltag-bundle:", "expected apriltag-bundle:FILE.yaml");
-  expectParseError("apriltag-bundle:/nonexistent/b.yaml", "cannot read the bundle file '/nonexistent/b.yaml'");
+  expectParseError("apriltag-bundle:/nonexistent/b.yaml", "tag bundle '/nonexistent/b.yaml': cannot read: No such file or directory");
+  // Read as every input text is: a directory, a device or a binary file is refused with the reason.
+  expectParseError("apriltag-bundle:/", "tag bundle '/': cannot read: Is a directory");
+  expectParseError("apriltag-bundle:/dev/zero", "tag bundle '/dev/zero': a NUL byte at offset 0: not a text file");
   const std::string no_tags = writeBundle("no-tags.yaml", "family: 36h11\n");
   expectParseError("apriltag-bundle:" + no_tags, "expected 'family' and a list 'tags' of {id, size, pose}");
   fs::remove(no_tags);
@@ -342,18 +346,8 @@ TEST(MarkerBoards, RenderedScenarioBoardsAreWhereTheTruthSays)
     vpBoardDetector::Options o;
     if (scene == vpSelfCalibRenderer::CHARUCO)
       o = vpBoardDetector::parse("charuco:7x5:0.02:0.015:DICT_6X6_250");
-    else {
-      o.type = vpBoardDetector::APRILTAG;
-      o.dictionary = ro.tag_family;
-      for (const auto &t : vpSelfCalibRenderer::getTagBundle(ro)) {
-        vpBoardDetector::Options::BundleTag b;
-        b.id = t.first;
-        b.size = ro.tag_size;
-        b.bMt = t.second;
-        o.bundle.push_back(b);
-        o.tag_ids.push_back(t.first);
-      }
-    }
+    else
+      o = selfcalib_test::tagBundleDetector(ro);
     const vpBoardDetector det(o);
     const std::map<int, vpColVector> layout = det.getLayout();
     double worst = 0;

@@ -226,7 +226,7 @@ TEST(KinematicBundleAdjustment, NoiseFreeRecoveryOfAllIntrinsicsWithDistortion)
                  vpKinematicBundleAdjustment::PRINCIPAL_POINT | vpKinematicBundleAdjustment::DISTORTION;
   o.tight = true;
   const auto cal = slice(ds, 0, 15);
-  const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam, cal, ds.yardstick, start_points, o);
+  const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam, cal, ds.yardstick, start_points, o, vpSelfCalibNoiseModel());
   ASSERT_EQ(r.status, vpKinematicBundleAdjustment::OK) << r.message;
   ASSERT_EQ(r.intrinsic_names.size(), 5u);
   EXPECT_NEAR(r.camera.get_px(), c0.get_px(), 1e-6);
@@ -398,30 +398,30 @@ TEST(KinematicBundleAdjustment, DegenerateAndBadInput)
   const vpKinematicBundleAdjustment::Options o;
   // The same configuration three times: nothing to estimate.
   std::vector<vpSelfCalibDataset::View> same(3, ds.views[0]);
-  auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, same, ds.yardstick, X, o);
+  auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, same, ds.yardstick, X, o, vpSelfCalibNoiseModel());
   EXPECT_EQ(r.status, vpKinematicBundleAdjustment::TOO_FEW_OBSERVATIONS);
   // Caller mistakes.
-  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, {ds.views[0]}, ds.yardstick, X, o),
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, {ds.views[0]}, ds.yardstick, X, o, vpSelfCalibNoiseModel()),
                vpSelfCalibException);
   std::vector<vpSelfCalibDataset::View> bad = ds.views;
   bad[2].q.resize(5);
-  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, bad, ds.yardstick, X, o),
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, bad, ds.yardstick, X, o, vpSelfCalibNoiseModel()),
                vpSelfCalibException);
   bad = ds.views;
   bad[1].points[0].ip.set_v(std::numeric_limits<double>::infinity());
-  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, bad, ds.yardstick, X, o),
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, bad, ds.yardstick, X, o, vpSelfCalibNoiseModel()),
                vpSelfCalibException);
   bad = ds.views;
   bad[1].points.push_back(bad[1].points[2]);
-  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, bad, ds.yardstick, X, o),
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, bad, ds.yardstick, X, o, vpSelfCalibNoiseModel()),
                vpSelfCalibException);
   std::map<int, vpColVector> badX = X;
   badX[3] = vpColVector(2);
-  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, ds.views, ds.yardstick, badX, o),
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, ds.views, ds.yardstick, badX, o, vpSelfCalibNoiseModel()),
                vpSelfCalibException);
   vpKinematicBundleAdjustment::Options bo;
   bo.fixed = {"j9.tx"};
-  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, ds.views, ds.yardstick, X, bo),
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), ds.cam, ds.views, ds.yardstick, X, bo, vpSelfCalibNoiseModel()),
                vpSelfCalibException);
   bo = o;
   bo.intrinsics = 64;
@@ -496,7 +496,7 @@ TEST(HandEye, RotationsAboutOneAxisAreRankDeficient)
   o.hand_eye_only = true;
   o.intrinsics = 0;
   const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam, views, vpSelfCalibDataset::Yardstick(),
-                                                     sim.getScenePointsById(), o);
+                                                     sim.getScenePointsById(), o, vpSelfCalibNoiseModel());
   EXPECT_EQ(r.status, vpKinematicBundleAdjustment::RANK_DEFICIENT) << r.message;
   EXPECT_NE(r.message.find("another axis"), std::string::npos) << r.message;
 }
@@ -532,7 +532,7 @@ HandEyeRun handEyeWithPoseError(uint64_t seed, double sd_t, double sd_r, double 
   o.noise.pose_sd_rotation = model_r;
   o.trust_robot = !(model_t > 0); // 0: the poses trusted (not the default's measured error)
   if (measure_pose_sd)
-    o.noise.pose_sd_origin = vpSelfCalibNoiseModel::MEASURED;
+    o.noise.measure_pose_sd = true;
   const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
   HandEyeRun out;
   out.ok = r.status == vpRobotSelfCalibration::OK;
@@ -749,14 +749,14 @@ TEST(HandEye, OnePlaneAtOneTiltLeavesFUndeterminedAndNamesIt)
   vpCameraParameters start;
   start.initPersProjWithoutDistortion(1400, 1400, cam.get_u0(), cam.get_v0());
   const auto r = vpKinematicBundleAdjustment::adjust(chain, start, planeViews(chain, cam, flat, X),
-                                                     vpSelfCalibDataset::Yardstick(), X, o);
+                                                     vpSelfCalibDataset::Yardstick(), X, o, vpSelfCalibNoiseModel());
   EXPECT_EQ(r.status, vpKinematicBundleAdjustment::RANK_DEFICIENT) << r.message;
   ASSERT_FALSE(r.undetermined.empty()) << r.message;
   EXPECT_NE(std::find(r.undetermined.begin(), r.undetermined.end(), "fx"), r.undetermined.end()) << r.message;
   EXPECT_NE(r.message.find("not determined: "), std::string::npos) << r.message;
   EXPECT_NE(r.message.find(" observations kept of "), std::string::npos) << r.message; // the causes, counts first
   const auto t = vpKinematicBundleAdjustment::adjust(chain, start, planeViews(chain, cam, tilted, X),
-                                                     vpSelfCalibDataset::Yardstick(), X, o);
+                                                     vpSelfCalibDataset::Yardstick(), X, o, vpSelfCalibNoiseModel());
   ASSERT_EQ(t.status, vpKinematicBundleAdjustment::OK) << t.message;
   EXPECT_NEAR(t.camera.get_px(), cam.get_px(), 1e-6);
 }
@@ -791,7 +791,7 @@ TEST(HandEye, KnownBoardLayoutIsAPriorOnItsPoints)
   for (auto &e : X0)
     e.second[2] += 0.01;
   const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam, views,
-                                                     vpSelfCalibDataset::Yardstick(), X0, o);
+                                                     vpSelfCalibDataset::Yardstick(), X0, o, vpSelfCalibNoiseModel());
   ASSERT_EQ(r.status, vpKinematicBundleAdjustment::OK) << r.message;
   EXPECT_LT(translationDistance(r.chain.get_eMc_corrected(), truth.get_eMc_corrected()), 1e-7);
   EXPECT_LT(rotationDistance(r.chain.get_eMc_corrected(), truth.get_eMc_corrected()), 1e-7);
@@ -802,7 +802,7 @@ TEST(HandEye, KnownBoardLayoutIsAPriorOnItsPoints)
   }
   o.known_points = {{0, layout[0]}, {1, layout[1]}, {900, layout[2]}};
   EXPECT_THROW(vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam, views, vpSelfCalibDataset::Yardstick(),
-                                                   X0, o),
+                                                   X0, o, vpSelfCalibNoiseModel()),
                vpSelfCalibException);
 }
 
@@ -947,7 +947,7 @@ TEST(HandEye, OpenCvDistortionAndPrincipalPointFromATiltedPlane)
                  vpKinematicBundleAdjustment::PRINCIPAL_POINT | vpKinematicBundleAdjustment::DISTORTION;
   o.distortion_model = vpKinematicBundleAdjustment::DISTORTION_OPENCV;
   o.tight = true;
-  const auto r = vpKinematicBundleAdjustment::adjust(truth, start, views, vpSelfCalibDataset::Yardstick(), X, o);
+  const auto r = vpKinematicBundleAdjustment::adjust(truth, start, views, vpSelfCalibDataset::Yardstick(), X, o, vpSelfCalibNoiseModel());
   ASSERT_EQ(r.status, vpKinematicBundleAdjustment::OK) << r.message;
   const std::vector<std::string> names = {"fx", "mu", "u0", "v0", "k1", "k2", "p1", "p2"};
   EXPECT_EQ(r.intrinsic_names, names);
@@ -975,7 +975,7 @@ TEST(HandEye, OpenCvDistortionAndPrincipalPointFromATiltedPlane)
   EXPECT_THROW(bad.check(), vpSelfCalibException);
   vpCameraParameters kud;
   kud.initPersProjWithDistortion(760, 760, 320, 246, -0.1, 0.1);
-  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(truth, kud, views, vpSelfCalibDataset::Yardstick(), X, o),
+  EXPECT_THROW(vpKinematicBundleAdjustment::adjust(truth, kud, views, vpSelfCalibDataset::Yardstick(), X, o, vpSelfCalibNoiseModel()),
                vpSelfCalibException);
 }
 
@@ -1042,7 +1042,7 @@ TEST(KinematicBundleAdjustment, JointReadingNoiseIsModelledAndTheSdAreHonest)
   o.fixed = ref.fixed;
   auto nees = [&](const vpKinematicBundleAdjustment::Result &r) { return ref.nees(r); };
   Random rng(46, 7);
-  double n_model = 0, n_trust = 0, sigma0 = 0, joint_rms = 0;
+  double n_model = 0, n_trust = 0, sigma0 = 0, joint_rms = 0, measured = 0;
   const unsigned int trials = 16;
   unsigned int used = 0, skipped = 0;
   vpSelfCalibNoiseModel nm = noise;
@@ -1068,6 +1068,13 @@ TEST(KinematicBundleAdjustment, JointReadingNoiseIsModelledAndTheSdAreHonest)
     n_model += nees(m);
     sigma0 += m.sigma0;
     joint_rms += m.joint_rms;
+    // Variance components at the true sd give it back, one factor on every joint.
+    ASSERT_EQ(m.measured.joint_sd.size(), ds.views[0].q.size());
+    EXPECT_EQ(m.measured.joint_sd[0], m.measured.joint_sd.back());
+    EXPECT_GT(m.measured.joint_sd[0], 0.6 * joint_sd);
+    EXPECT_LT(m.measured.joint_sd[0], 1.6 * joint_sd);
+    measured += m.measured.joint_sd[0];
+    EXPECT_FALSE(m.measured.hasModelError()); // not modelled, not measured
     n_trust += nees(r);
   }
   ASSERT_GE(used, trials / 2) << skipped << " draws with another estimated set";
@@ -1078,6 +1085,7 @@ TEST(KinematicBundleAdjustment, JointReadingNoiseIsModelledAndTheSdAreHonest)
   EXPECT_NEAR(sigma0 / used, 1.0, 0.25);
   EXPECT_GT(joint_rms / used, 0.3 * joint_sd);
   EXPECT_LT(joint_rms / used, joint_sd);
+  EXPECT_NEAR(measured / used / joint_sd, 1.0, 0.2);
   EXPECT_GT(n_trust, 2 * n_model);
 
   vpSelfCalibNoiseModel bad = noise;
@@ -1121,7 +1129,7 @@ TEST(KinematicBundleAdjustment, ModelResidualIsModelledInTheFullMode)
   nm.model_sd_rotation = sd_r;
   Random rng(47, 7);
   const unsigned int trials = 12;
-  double n_model = 0, n_trust = 0, sigma0 = 0, pose_rms = 0;
+  double n_model = 0, n_trust = 0, sigma0 = 0, pose_rms = 0, measured_t = 0, measured_r = 0;
   unsigned int trusted_ok = 0;
   for (unsigned int t = 0; t < trials; ++t) {
     vpSelfCalibDataset ds = clean;
@@ -1149,7 +1157,13 @@ TEST(KinematicBundleAdjustment, ModelResidualIsModelledInTheFullMode)
     }
     sigma0 += m.sigma0;
     pose_rms += m.pose_rms_translation;
+    // Variance components at the true sd give it back.
+    measured_t += m.measured.model_sd_translation;
+    measured_r += m.measured.model_sd_rotation;
+    EXPECT_TRUE(m.measured.joint_sd.empty());
   }
+  EXPECT_NEAR(measured_t / trials / sd_t, 1.0, 0.2);
+  EXPECT_NEAR(measured_r / trials / sd_r, 1.0, 0.2);
   n_model /= trials;
   EXPECT_GT(n_model, 0.4);
   EXPECT_LT(n_model, 2.0);

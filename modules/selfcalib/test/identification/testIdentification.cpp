@@ -297,10 +297,10 @@ TEST(Scale, NominalRatiosAndYardstickAreExactOnExactData)
     }
     views.push_back(v);
   }
-  const auto one = vpPoseScale::yardstick({views[0]}, ys.length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1.0);
+  const auto one = vpPoseScale::yardstick({views[0]}, ys.length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1.0, vpPoseScale::YardstickOptions(), vpSelfCalibNoiseModel());
   ASSERT_EQ(one.status, vpPoseScale::OK) << one.message;
   EXPECT_NEAR(one.scale, T1, 1e-9);
-  const auto all = vpPoseScale::yardstick(views, ys.length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1.0);
+  const auto all = vpPoseScale::yardstick(views, ys.length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1.0, vpPoseScale::YardstickOptions(), vpSelfCalibNoiseModel());
   ASSERT_EQ(all.status, vpPoseScale::OK) << all.message;
   EXPECT_NEAR(all.scale, T1, 1e-9);
   // Weighted (default): the sd is predicted from the stated pixel noise, not from the (zero) residuals.
@@ -309,11 +309,11 @@ TEST(Scale, NominalRatiosAndYardstickAreExactOnExactData)
   // The paper's plain least squares: sd from the residuals, zero here.
   vpPoseScale::YardstickOptions plain;
   plain.weighted = false;
-  const auto unweighted = vpPoseScale::yardstick(views, ys.length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1.0, plain);
+  const auto unweighted = vpPoseScale::yardstick(views, ys.length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1.0, plain, vpSelfCalibNoiseModel());
   EXPECT_NEAR(unweighted.scale, T1, 1e-9);
   EXPECT_LT(unweighted.sd, 1e-9);
   // No view: a status; nonsense: an exception.
-  EXPECT_EQ(vpPoseScale::yardstick({}, 0.1, 1500, 320, 240, 1).status, vpPoseScale::TOO_FEW_VIEWS);
-  EXPECT_THROW(vpPoseScale::yardstick(views, -1, 1500, 320, 240, 1), vpSelfCalibException);
+  EXPECT_EQ(vpPoseScale::yardstick({}, 0.1, 1500, 320, 240, 1, vpPoseScale::YardstickOptions(), vpSelfCalibNoiseModel()).status, vpPoseScale::TOO_FEW_VIEWS);
+  EXPECT_THROW(vpPoseScale::yardstick(views, -1, 1500, 320, 240, 1, vpPoseScale::YardstickOptions(), vpSelfCalibNoiseModel()), vpSelfCalibException);
   EXPECT_THROW(vpPoseScale::nominalRatios(truth, {q[0]}), vpSelfCalibException);
 }

@@ -304,6 +304,7 @@ TEST(Importer, VispFolder)
   EXPECT_EQ(ds.height, 48u);
   EXPECT_NE(r.camera.find("test_camera.xml, camera 'Camera'"), std::string::npos) << r.camera;
   EXPECT_NE(r.board.find("chessboard, 9 x 6 inner corners, squares 0.0236 m"), std::string::npos) << r.board;
+  EXPECT_EQ(r.board_option, "chessboard:9x6:0.0236"); // calibrate's --board for it
   // Not a franka folder, no --robot: the generic hand-eye model, to be written beside the dataset.
   EXPECT_TRUE(res.has_robot_model);
   EXPECT_EQ(res.robot_model.getName(), "hand-eye");
@@ -558,7 +559,8 @@ TEST(Importer, VispEyeToHandFolder)
   write(e / "apriltag-data.txt", "a tag\n");
   const vpSelfCalibImporter::Result bad = vpSelfCalibImporter::import(e.path().string());
   EXPECT_EQ(bad.dataset.camera_mount, vpSelfCalibDataset::CAMERA_IN_WORLD);
-  EXPECT_TRUE(bad.report.board_option.empty());
+  // No tag option from a description not understood (the folder's chessboard-data.txt gives its own).
+  EXPECT_EQ(bad.report.board_option.rfind("apriltag:", 0), std::string::npos) << bad.report.board_option;
   bool listed = false;
   for (const auto &u : bad.report.unused)
     listed = listed || u.what == "apriltag-data.txt";

@@ -45,6 +45,9 @@ RF::Contents everything()
   b.robot_pose_sd_measured_m = 3.5e-3;
   b.robot_pose_sd_measured_rad = 4.25e-3;
   b.joint_correction_rms_rad = 1e-4;
+  b.joint_sd = {3e-4, 2.5e-4, 2.5e-4, 1e-4, 1e-4, 1e-4};
+  b.joint_sd_measured = {2.75e-4, 2.5e-4, 2.5e-4, 1e-4, 1e-4, 1e-4};
+  b.robot_error = "measured";
   b.reposed_rms_px = 0.5;
   b.repose_f = 3.25;
   b.repose_f_limit = 1.75;
@@ -109,6 +112,9 @@ TEST(ResultsFile, ReaderGivesBackWhatTheWriterWrote)
   EXPECT_EQ(back.bundle_adjustment->rms_px, c.bundle_adjustment->rms_px);
   EXPECT_TRUE(back.bundle_adjustment->has_repose);
   EXPECT_EQ(back.bundle_adjustment->robot_pose_sd_measured_rad, 4.25e-3);
+  EXPECT_EQ(back.bundle_adjustment->joint_sd, c.bundle_adjustment->joint_sd);
+  EXPECT_EQ(back.bundle_adjustment->joint_sd_measured, c.bundle_adjustment->joint_sd_measured);
+  EXPECT_EQ(back.bundle_adjustment->robot_error, "measured");
   ASSERT_EQ(back.estimated.size(), 2u);
   EXPECT_EQ(back.estimated[1].name, "j2.rz");
   EXPECT_EQ(back.estimated[1].value, c.estimated[1].value);

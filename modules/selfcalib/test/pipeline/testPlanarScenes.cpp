@@ -118,7 +118,7 @@ TEST(PlanarScene, HandEyeFocalSelfCalibratedWithAKnownLensWithinItsBound)
   bo.hand_eye_only = true;
   bo.intrinsics = vpKinematicBundleAdjustment::FX;
   const auto crb = vpKinematicBundleAdjustment::information(sim.getTrueChain(), clean.ds.cam, clean.ds.views,
-                                                            clean.ds.yardstick, clean.X, bo);
+                                                            clean.ds.yardstick, clean.X, bo, vpSelfCalibNoiseModel());
   ASSERT_TRUE(crb.has_covariance) << crb.message;
   const unsigned int first = sim.getTrueChain().getNumParameters() - vpKinematicChain::kBlockSize;
   double nsq = 0;

@@ -125,7 +125,7 @@ TEST(RangeChecks, KinematicChainRejectsAbsurdLengthsBuiltInCode)
   // The other entry points that take a chain.
   const vpKinematicBundleAdjustment::Options bo;
   EXPECT_NE(thrown([&] {
-              vpKinematicBundleAdjustment::adjust(corr, s.ds.cam, s.ds.views, s.ds.yardstick, {}, bo);
+              vpKinematicBundleAdjustment::adjust(corr, s.ds.cam, s.ds.views, s.ds.yardstick, {}, bo, vpSelfCalibNoiseModel());
             }).find("vpKinematicBundleAdjustment: the model"),
             std::string::npos);
   std::vector<vpKinematicIdentification::Measurement> ms(1);
@@ -154,12 +154,12 @@ TEST(RangeChecks, EveryEntryPointTakingACameraRejectsAbsurdIntrinsics)
     const vpCameraParameters cam = camera(a);
     EXPECT_NE(thrown([&] {
                 vpKinematicBundleAdjustment::adjust(chain, cam, s.ds.views, s.ds.yardstick, {},
-                                                    vpKinematicBundleAdjustment::Options());
+                                                    vpKinematicBundleAdjustment::Options(), vpSelfCalibNoiseModel());
               }).find("vpKinematicBundleAdjustment: the camera: the " + what),
               std::string::npos);
     EXPECT_NE(thrown([&] {
                 vpKinematicBundleAdjustment::information(chain, cam, s.ds.views, s.ds.yardstick, {},
-                                                         vpKinematicBundleAdjustment::Options());
+                                                         vpKinematicBundleAdjustment::Options(), vpSelfCalibNoiseModel());
               }).find("the camera: the " + what),
               std::string::npos);
     EXPECT_NE(thrown([&] { vpCalibrationVerifier::triangulate(chain, cam, s.ds.views); }).find("the " + what),
@@ -179,12 +179,12 @@ TEST(RangeChecks, EveryEntryPointTakingACameraRejectsAbsurdIntrinsics)
     EXPECT_NE(m2.find("vpTwoViewEstimator"), std::string::npos) << m2;
     vpMultiViewReconstruction::Options mo;
     mo.twoview = to;
-    const std::string mm = thrown([&] { vpMultiViewReconstruction::reconstruct(s.ds.views, s.ds.yardstick, mo); });
+    const std::string mm = thrown([&] { vpMultiViewReconstruction::reconstruct(s.ds.views, s.ds.yardstick, mo, vpSelfCalibNoiseModel()); });
     EXPECT_TRUE(mm.find("vpMultiViewReconstruction") != std::string::npos ||
                 mm.find("vpTwoViewEstimator") != std::string::npos)
         << mm;
     if (std::isfinite(to.mu) && to.mu > 0) {
-      const std::string ms = thrown([&] { vpPoseScale::yardstick({}, 0.1, a.px, a.u0, a.v0, to.mu); });
+      const std::string ms = thrown([&] { vpPoseScale::yardstick({}, 0.1, a.px, a.u0, a.v0, to.mu, vpPoseScale::YardstickOptions(), vpSelfCalibNoiseModel()); });
       EXPECT_NE(ms.find("vpPoseScale::yardstick"), std::string::npos) << ms;
     }
   }

@@ -41,7 +41,7 @@ vpRobotSelfCalibration::Options options(unsigned int N, bool auto_noise = true)
   vpRobotSelfCalibration::Options po;
   po.num_calibration_poses = N;
   if (auto_noise)
-    po.noise.pixel_sd_origin = vpSelfCalibNoiseModel::MEASURED;
+    po.noise.measure_pixel_sd = true;
   return po;
 }
 

@@ -429,3 +429,27 @@ TEST(CrossValidation, PointsOutsideTheImageAndItsMarginAreNotSeen)
   EXPECT_EQ(pinhole.outside, 0u);
   EXPECT_EQ(pinhole.observations, scene.size());
 }
+
+// A camera fixed in the world (eye-to-hand): the held-out reprojection would place a camera on the
+// flange, which the set-up does not have; every fold calibrates, none is measured, and the summary
+// says that, not that the views share too few points (a 6 x 5 board seen whole in every view).
+TEST(CrossValidation, EyeToHandSaysWhyNoFoldIsMeasured)
+{
+  vpSelfCalibSimulator::EyeToHandOptions so;
+  so.num_views = 10;
+  vpSelfCalibSimulator::EyeToHandTruth truth;
+  const vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(so, truth);
+  vpRobotSelfCalibration::Options o;
+  o.method = vpRobotSelfCalibration::HAND_EYE;
+  o.bundle.known_points = truth.layout;
+  const vpSelfCalibCrossValidation::Result r =
+      vpSelfCalibCrossValidation::run(vpKinematicChain::preset("viper850"), ds, o, vpSelfCalibCrossValidation::Options());
+  EXPECT_EQ(r.num_ok, 0u);
+  EXPECT_EQ(r.num_failed, 0u);
+  ASSERT_EQ(r.fold.size(), 5u);
+  for (const auto &f : r.fold)
+    EXPECT_NE(f.message.find("not measured: the held-out reprojection needs a camera on the flange"), std::string::npos)
+        << f.message;
+  EXPECT_EQ(r.message, "no fold measured (every fold calibrated, but the held-out reprojection is not implemented for "
+                       "a camera fixed in the world: the calibration's residuals and sd are its measure)");
+}

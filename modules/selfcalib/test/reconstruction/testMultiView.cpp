@@ -301,7 +301,7 @@ TEST(MultiViewReconstruction, PointsBehindACameraAreRejected)
   o.twoview.u0 = u0;
   o.twoview.v0 = v0;
   const vpMultiViewReconstruction::Result r =
-      vpMultiViewReconstruction::reconstruct(views, vpSelfCalibDataset::Yardstick(), o);
+      vpMultiViewReconstruction::reconstruct(views, vpSelfCalibDataset::Yardstick(), o, vpSelfCalibNoiseModel());
   ASSERT_EQ(r.status, vpMultiViewReconstruction::OK) << r.message;
   for (size_t k = 0; k < m; ++k) {
     ASSERT_TRUE(r.posed[k]) << k;

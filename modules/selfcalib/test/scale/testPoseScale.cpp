@@ -86,7 +86,7 @@ TEST(PoseScale, WeightedYardstickIsExactWithoutNoise)
   for (bool weighted : {true, false}) {
     vpPoseScale::YardstickOptions o;
     o.weighted = weighted;
-    const auto r = vpPoseScale::yardstick(v, sim.getYardstick().length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1, o);
+    const auto r = vpPoseScale::yardstick(v, sim.getYardstick().length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1, o, vpSelfCalibNoiseModel());
     ASSERT_EQ(r.status, vpPoseScale::OK);
     EXPECT_NEAR(r.scale / truth, 1, 1e-8) << (weighted ? "weighted" : "plain");
   }
@@ -107,12 +107,12 @@ TEST(PoseScale, WeightedYardstickIsUnbiasedWithAnHonestSd)
     double truth = 0;
     const auto v = views(sim, q, t, 0.2, truth);
     vpPoseScale::YardstickOptions o;
-    const auto w = vpPoseScale::yardstick(v, sim.getYardstick().length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1, o);
+    const auto w = vpPoseScale::yardstick(v, sim.getYardstick().length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1, o, vpSelfCalibNoiseModel());
     o.joint = false;
-    const auto pw = vpPoseScale::yardstick(v, sim.getYardstick().length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1, o);
+    const auto pw = vpPoseScale::yardstick(v, sim.getYardstick().length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1, o, vpSelfCalibNoiseModel());
     sq_pairs += std::pow(pw.scale / truth - 1, 2);
     o.weighted = false;
-    const auto p = vpPoseScale::yardstick(v, sim.getYardstick().length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1, o);
+    const auto p = vpPoseScale::yardstick(v, sim.getYardstick().length, cam.get_px(), cam.get_u0(), cam.get_v0(), 1, o, vpSelfCalibNoiseModel());
     ASSERT_EQ(w.status, vpPoseScale::OK);
     ASSERT_GT(w.sd, 0);
     ASSERT_EQ(w.relative_sd.size(), v.size());
@@ -220,18 +220,18 @@ TEST(PoseScale, BadInputsThrowOrGiveAStatus)
   v.a2.set_uv(290, 200);
   v.b2.set_uv(330, 200);
   v.p1 = {v.a1};
-  EXPECT_THROW(vpPoseScale::yardstick({v}, 0.1, 300, 320, 240, 1), vpSelfCalibException); // p1, p2 sizes
+  EXPECT_THROW(vpPoseScale::yardstick({v}, 0.1, 300, 320, 240, 1, vpPoseScale::YardstickOptions(), vpSelfCalibNoiseModel()), vpSelfCalibException); // p1, p2 sizes
   v.p1.clear();
   v.ratio_sd = -1;
-  EXPECT_THROW(vpPoseScale::yardstick({v}, 0.1, 300, 320, 240, 1), vpSelfCalibException);
+  EXPECT_THROW(vpPoseScale::yardstick({v}, 0.1, 300, 320, 240, 1, vpPoseScale::YardstickOptions(), vpSelfCalibNoiseModel()), vpSelfCalibException);
   v.ratio_sd = 0;
   vpPoseScale::YardstickOptions o;
   vpSelfCalibNoiseModel noise;
   noise.pixel_sd = 0;
   EXPECT_THROW(vpPoseScale::yardstick({v}, 0.1, 300, 320, 240, 1, o, noise), vpSelfCalibException);
   o.fx_sd = -1;
-  EXPECT_THROW(vpPoseScale::yardstick({v}, 0.1, 300, 320, 240, 1, o), vpSelfCalibException);
-  EXPECT_EQ(vpPoseScale::yardstick({}, 0.1, 300, 320, 240, 1).status, vpPoseScale::TOO_FEW_VIEWS);
+  EXPECT_THROW(vpPoseScale::yardstick({v}, 0.1, 300, 320, 240, 1, o, vpSelfCalibNoiseModel()), vpSelfCalibException);
+  EXPECT_EQ(vpPoseScale::yardstick({}, 0.1, 300, 320, 240, 1, vpPoseScale::YardstickOptions(), vpSelfCalibNoiseModel()).status, vpPoseScale::TOO_FEW_VIEWS);
   EXPECT_EQ(vpPoseScale::twoViewCovariance(v.c2Mc1, {v.a1}, {v.a2}, 300, 320, 240, 1, 0.2).getRows(), 0u);
   EXPECT_THROW(vpPoseScale::twoViewCovariance(v.c2Mc1, {v.a1}, {}, 300, 320, 240, 1, 0.2), vpSelfCalibException);
 }

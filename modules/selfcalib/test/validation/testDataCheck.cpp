@@ -114,7 +114,7 @@ TEST(DataCheck, ReferenceScenarioHasNoFinding)
     for (uint64_t seed : {1, 2, 3}) {
       const vpSelfCalibSimulator sim = makeSim(robot, seed);
       const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(25));
-      EXPECT_TRUE(vpSelfCalibDataCheck::check(sim.getNominalChain(), ds, 15, false, vpSelfCalibDataCheck::Options())
+      EXPECT_TRUE(vpSelfCalibDataCheck::check(sim.getNominalChain(), ds, 15, false, vpSelfCalibDataCheck::Options(), vpSelfCalibNoiseModel())
                       .empty())
           << robot << " seed " << seed;
     }
@@ -137,7 +137,7 @@ TEST(DataCheck, CallerMistakesThrowWithWhatToFix)
   EXPECT_NE(msg.find("outside the model's limits"), std::string::npos) << msg;
   // Within the tolerance (encoder noise at a limit): accepted.
   ds.views[3].q[1] = max2 + 1e-4;
-  EXPECT_EQ(vpSelfCalibDataCheck::check(sim.getNominalChain(), ds, 15, false, vpSelfCalibDataCheck::Options()).size(),
+  EXPECT_EQ(vpSelfCalibDataCheck::check(sim.getNominalChain(), ds, 15, false, vpSelfCalibDataCheck::Options(), vpSelfCalibNoiseModel()).size(),
             0u);
 
   ds = good;
@@ -286,7 +286,7 @@ TEST(DataCheck, PlanarSceneWithFocalKnownCalibrates)
     EXPECT_LT(e_plane, 2 * e_relief + 1e-4) << "seed " << seed;
     EXPECT_LT(e_plane, 0.5 * e_nominal) << "seed " << seed;
     // 1 cm of relief at 0.7 m: no finding at all.
-    const auto f = vpSelfCalibDataCheck::check(sim.getNominalChain(), relief, 15, false, vpSelfCalibDataCheck::Options());
+    const auto f = vpSelfCalibDataCheck::check(sim.getNominalChain(), relief, 15, false, vpSelfCalibDataCheck::Options(), vpSelfCalibNoiseModel());
     EXPECT_TRUE(f.empty()) << (f.empty() ? "" : f[0].message);
   }
 }
@@ -400,7 +400,7 @@ TEST(DataCheck, PointsOutsideTheImageWarn)
   const vpSelfCalibSimulator sim = makeSim("viper850", 16);
   vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(16));
   ds.width = 320; // the camera says 320 x 480, the observations span 640 columns
-  const auto f = vpSelfCalibDataCheck::check(sim.getNominalChain(), ds, 15, false, vpSelfCalibDataCheck::Options());
+  const auto f = vpSelfCalibDataCheck::check(sim.getNominalChain(), ds, 15, false, vpSelfCalibDataCheck::Options(), vpSelfCalibNoiseModel());
   ASSERT_FALSE(f.empty());
   EXPECT_EQ(f[0].code, "points-outside-image");
   EXPECT_NE(f[0].message.find("check that the camera size matches the images"), std::string::npos);
@@ -434,7 +434,7 @@ TEST(DataCheck, FewRandomMatchesAreNotAPlane)
   const vpSelfCalibSimulator sim = makeSim("viper850", 10);
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(15));
   const auto check = [&](const vpSelfCalibDataset &d) {
-    return vpSelfCalibDataCheck::check(sim.getNominalChain(), d, 15, false, vpSelfCalibDataCheck::Options());
+    return vpSelfCalibDataCheck::check(sim.getNominalChain(), d, 15, false, vpSelfCalibDataCheck::Options(), vpSelfCalibNoiseModel());
   };
   const auto has = [](const std::vector<vpSelfCalibDataCheck::Finding> &f, const std::string &code) {
     return std::any_of(f.begin(), f.end(), [&](const vpSelfCalibDataCheck::Finding &x) { return x.code == code; });
@@ -473,4 +473,45 @@ TEST(DataCheck, FewRandomMatchesAreNotAPlane)
   const std::vector<vpSelfCalibDataCheck::Finding> f = check(ten);
   EXPECT_FALSE(has(f, "planar-scene"));
   EXPECT_TRUE(has(f, "few-correspondences"));
+}
+
+// One small tag of a known layout (4 corners per view, as ViSP's eye-to-hand set): PnP places each
+// view from its 4 coplanar points and the layout gives their depth, so neither "fewer than 6 image
+// points" nor "no view shares 15 points" is said; without the layout (unknown scene points) both
+// are. A view with 3 of the tag's corners is named with PnP's minimum, 4. Through
+// vpRobotSelfCalibration the bundle adjustment's known_points are the layout.
+TEST(DataCheck, OneSmallTagOfAKnownLayoutIsEnough)
+{
+  vpSelfCalibSimulator::EyeToHandOptions so;
+  so.board_cols = so.board_rows = 2;
+  so.board_spacing = 0.048;
+  so.num_views = 8;
+  vpSelfCalibSimulator::EyeToHandTruth truth;
+  vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(so, truth);
+  const vpKinematicChain nominal = vpKinematicChain::preset("viper850");
+  const auto has = [](const std::vector<vpSelfCalibDataCheck::Finding> &f, const std::string &code) {
+    return std::any_of(f.begin(), f.end(), [&](const vpSelfCalibDataCheck::Finding &x) { return x.code == code; });
+  };
+  vpSelfCalibDataCheck::Options known;
+  known.known_points = truth.layout;
+  std::vector<vpSelfCalibDataCheck::Finding> f = vpSelfCalibDataCheck::check(nominal, ds, 8, true, known, vpSelfCalibNoiseModel());
+  EXPECT_FALSE(has(f, "few-points"));
+  EXPECT_FALSE(has(f, "few-correspondences"));
+  f = vpSelfCalibDataCheck::check(nominal, ds, 8, true, vpSelfCalibDataCheck::Options(), vpSelfCalibNoiseModel());
+  EXPECT_TRUE(has(f, "few-points"));
+  EXPECT_TRUE(has(f, "few-correspondences"));
+
+  vpRobotSelfCalibration::Options o;
+  o.method = vpRobotSelfCalibration::HAND_EYE;
+  o.bundle.known_points = truth.layout;
+  const Result r = vpRobotSelfCalibration::run(nominal, ds, o);
+  EXPECT_EQ(finding(r, "few-points"), nullptr) << codes(r);
+  EXPECT_EQ(finding(r, "few-correspondences"), nullptr) << codes(r);
+
+  ds.views[2].points.pop_back();
+  f = vpSelfCalibDataCheck::check(nominal, ds, 8, true, known, vpSelfCalibNoiseModel());
+  const auto it = std::find_if(f.begin(), f.end(), [](const vpSelfCalibDataCheck::Finding &x) { return x.code == "few-points"; });
+  ASSERT_NE(it, f.end());
+  EXPECT_EQ(it->message, "calibration poses with fewer than 4 points of the known layout: 2 (3); PnP needs 4 to place "
+                         "such a pose: aim the camera so that it sees more of the board");
 }

@@ -229,6 +229,14 @@ public:
   static std::vector<vpImage<unsigned char>> viewMasks(const vpSelfCalibDataset &dataset,
                                                        const std::vector<vpImage<unsigned char>> &masks,
                                                        const std::string &who = "vpFeatureFrontEnd");
+
+  /*!
+    One image file read as grey (a mask, a texture), checked as the dataset's images are before it
+    is decoded: a regular file of at most 256 MiB whose header gives a size that is decoded (not a
+    directory, a device, a FIFO or a decompression bomb). Throws vpSelfCalibException (ioError)
+    whose message is `context`, ": " and the reason.
+  */
+  static vpImage<unsigned char> readImage(const std::string &file, const std::string &context);
 };
 
 #endif

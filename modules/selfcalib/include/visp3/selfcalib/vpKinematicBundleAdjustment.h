@@ -109,8 +109,13 @@ public:
   //! Lens distortion model of the estimate.
   enum DistortionModel { DISTORTION_VISP, DISTORTION_OPENCV };
 
-  //! Settings of vpKinematicBundleAdjustment (the defaults are the member initialisers).
-  struct Options {
+  /*!
+    The caller's settings of vpKinematicBundleAdjustment (the defaults are the member initialisers).
+    vpRobotSelfCalibration::Options holds these; the mode (hand_eye_only), which follows from the
+    method, is added by vpRobotSelfCalibration::bundleOptions(), which also sets the FX flag of
+    intrinsics from the focal mode.
+  */
+  struct Settings {
     unsigned int intrinsics = FX;      //!< estimated intrinsics; 0: the camera is known
     /*!
       DISTORTION_VISP (default): the camera's own model (vpCameraParameters' k_ud, or none).
@@ -163,20 +168,26 @@ public:
     bool tight = false;                //!< tolerances 1e-15 (exact recovery on noise-free data)
     bool covariance = true;            //!< compute the covariance
     /*!
-      Hand-eye-only mode: the robot's kinematics are trusted and only the hand-eye correction
-      eMc.* (minus `fixed`) and the intrinsics are estimated, with each view's end-effector pose
-      fMe (View::fMe when has_fMe, else the chain's forward kinematics at View::q). The metric
-      end-effector motion fixes the scale (SCALE_ROBOT_MOTION); a yardstick seen in two views adds
-      its residual. Rotations about a single axis leave part of eMc unobservable: RANK_DEFICIENT.
-    */
-    bool hand_eye_only = false;
-    /*!
       Hand-eye-only mode, eye-to-hand: each view's fMe is the inverse of a controller pose bMe (the
       effector frame plays f, the camera's base pose bMc plays eMc, the target's points are in the
       effector frame). The controller pose's error stays modelled where it is made, on bMe's right:
       the view's pose is (bMe E(delta))^-1 = E(delta)^-1 fMe, delta's prior the noise model's pose_sd.
     */
     bool controller_poses_inverted = false;
+    /*!
+      Full kinematic mode, eye-to-hand: the camera is fixed in the world and the points (a target
+      carried by the tool) are fixed in the end-effector frame e, which plays f for the points and
+      the known object (whose pose is then eMo). The chain's hand-eye slot (its nominal eMc and
+      correction eMc.*) holds bMc, the camera in the chain's reference frame; view k's camera pose
+      in e is fMe(q_k; rho)^-1 bMc, the joint-reading corrections dq_k on q_k as in eye-in-hand.
+      The estimated set mirrors the eye-in-hand one: the base and the placement of joint 1 act as a
+      change of bMc (estimated in their place), and the components of the last joint's placement
+      that commute with its rotation (its offset rz and slide tz) act as a change of the target's
+      pose eMo; both are left out with that reason. With known points the target's layout fixes the
+      scale (SCALE_KNOWN_POINTS). Not with hand_eye_only (controller_poses_inverted is that mode's
+      eye-to-hand).
+    */
+    bool eye_to_hand = false;
     /*!
       Scale the covariance by sigma0^2 when sigma0 > 1: the residuals say the stated noise (pixel
       and robot) is too small, and the standard deviations are widened accordingly (the a
@@ -209,10 +220,28 @@ public:
     */
     double known_points_sd = 1e-5;
     unsigned int num_threads = 1;       //!< more is faster on large problems, but not bit-reproducible
+    void check() const; //!< throws vpSelfCalibException on a setting out of range
+  };
+
+  //! What vpKinematicBundleAdjustment runs with: the settings and the mode.
+  struct Options : Settings {
+    /*!
+      Hand-eye-only mode: the robot's kinematics are trusted and only the hand-eye correction
+      eMc.* (minus `fixed`) and the intrinsics are estimated, with each view's end-effector pose
+      fMe (View::fMe when has_fMe, else the chain's forward kinematics at View::q). The metric
+      end-effector motion fixes the scale (SCALE_ROBOT_MOTION); a yardstick seen in two views adds
+      its residual. Rotations about a single axis leave part of eMc unobservable: RANK_DEFICIENT.
+    */
+    bool hand_eye_only = false;
+    //! Settings::check(), then the mode against the settings (eye_to_hand is the full mode's).
     void check() const;
   };
 
-  enum ScaleSource { SCALE_YARDSTICK, SCALE_NOMINAL, SCALE_ROBOT_MOTION };
+  /*!
+    What fixes the scale: the yardstick, the start model's scale held (no yardstick), the robot's
+    metric motion (hand-eye-only mode), or the target's known layout (eye-to-hand, known points).
+  */
+  enum ScaleSource { SCALE_YARDSTICK, SCALE_NOMINAL, SCALE_ROBOT_MOTION, SCALE_KNOWN_POINTS };
   static const char *scaleSourceName(ScaleSource s);
   enum Status { OK, TOO_FEW_OBSERVATIONS, RANK_DEFICIENT, NO_CONVERGENCE };
   static const char *statusName(Status s);
@@ -329,7 +358,7 @@ public:
   static Result adjust(const vpKinematicChain &start, const vpCameraParameters &camera,
                        const std::vector<vpSelfCalibDataset::View> &views,
                        const vpSelfCalibDataset::Yardstick &yardstick, const std::map<int, vpColVector> &points,
-                       const Options &options, const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
+                       const Options &options, const vpSelfCalibNoiseModel &noise);
 
   /*!
     The estimated set adjust() decides for these data (see "The estimated set from the data"), at the
@@ -342,7 +371,22 @@ public:
                                                                  const vpSelfCalibDataset::Yardstick &yardstick,
                                                                  const std::map<int, vpColVector> &points,
                                                                  const Options &options,
-                                                                 const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
+                                                                 const vpSelfCalibNoiseModel &noise);
+
+  /*!
+    The predicted sd (m, rad) of the corrections `parameters` (chain indices, among the candidates of
+    the model's rule for these views: vpKinematicIdentification's set at the nominal model) estimated
+    together, the other corrections held at their start values: the test estimatedSet() applies to a
+    subset (the information of the adjustment at the start values, the points, intrinsics and robot
+    error marginalized, the scale direction held without a yardstick). Infinite when the data do not
+    determine them. Full kinematic mode only. Throws as adjust(), and on a parameter that is not a
+    candidate.
+  */
+  static vpColVector predictedSd(const vpKinematicChain &start, const vpCameraParameters &camera,
+                                 const std::vector<vpSelfCalibDataset::View> &views,
+                                 const vpSelfCalibDataset::Yardstick &yardstick, const std::map<int, vpColVector> &points,
+                                 const std::vector<unsigned int> &parameters, const Options &options,
+                                 const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
 
   /*!
     The covariance of the same problem at the given state, without solving and without robust loss
@@ -352,7 +396,7 @@ public:
   static Result information(const vpKinematicChain &state, const vpCameraParameters &camera,
                             const std::vector<vpSelfCalibDataset::View> &views,
                             const vpSelfCalibDataset::Yardstick &yardstick, const std::map<int, vpColVector> &points,
-                            const Options &options, const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
+                            const Options &options, const vpSelfCalibNoiseModel &noise);
 
   /*!
     First-order covariance (6 x 6: position in m, then rotation in rad, both in the frame of c_ref)

@@ -14,11 +14,13 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
 #include <visp3/core/vpCameraParameters.h>
 #include <visp3/core/vpColVector.h>
+#include <visp3/selfcalib/vpKinematicBundleAdjustment.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpObservabilityIndices.h>
 #include <visp3/selfcalib/vpPlannerScene.h>
@@ -70,6 +72,21 @@
   from a pool (the first one is the reference and always kept), maximizing an observability index
   of J (O1, the D-optimal criterion, by default): greedy addition, then exchanges of one selected
   with one unselected configuration while the index improves.
+
+  <b>Poses to add (planAdditions).</b> After a calibration whose data left parameters at nominal
+  (vpKinematicBundleAdjustment::estimatedSet: a joint that barely moves, say), the next poses that
+  determine them. Candidates are drawn around the views taken: one joint moved by up to
+  AdditionOptions::step, the others re-aimed (damped Gauss-Newton) so that the optical axis passes
+  through the scene's centroid at the view's distance; a candidate is kept when within the joint
+  limits, min_joint_distance from every view, and when at least min_visible scene points are in view
+  (scene margin) through the nominal model and through every model sampled from its tolerance. Its
+  simulated observations are the scene points it sees, projected through the nominal model. Score of
+  a set of added poses: the estimated set's own walk over the parameters left at nominal (in the
+  preference order, each tested with those estimated and those already admitted,
+  vpKinematicBundleAdjustment::predictedSd), the sum of log(max(sd / tolerance, 0.1)), lower is
+  better. Greedy, until every one is within AdditionOptions::target of its tolerance: the best candidate of the pool, refined by NLopt (LN_BOBYQA, joints within
+  +-refine_step of it; a configuration that is not valid scores as undetermined), then the next.
+  Finally the estimated set of the views with the proposed poses says what is still left.
 
   Library code: no printing; caller mistakes throw vpSelfCalibException; failures are statuses.
 */
@@ -144,7 +161,8 @@ public:
     OK,
     TOO_FEW_CONFIGURATIONS, //!< 6 (m - 1) <= number of identifiable parameters
     INFEASIBLE,             //!< some scene point outside the image / behind the camera, or configurations too close
-    FAILED                  //!< the optimizer failed on every start
+    FAILED,                 //!< the optimizer failed on every start
+    UNDETERMINED            //!< planAdditions: parameters still left at nominal after the poses proposed
   };
   static const char *statusName(Status s);
 
@@ -171,6 +189,60 @@ public:
     double direction_sd = 5e-3, rotation_sd = 5e-3; //!< rad, row weights of J
     double min_joint_distance = 0.05;               //!< rad: closer candidates are not both taken
     void check() const;
+  };
+
+  //! Settings of planAdditions(): how many poses, the candidates, the nominal model's tolerance.
+  struct AdditionOptions {
+    //! Poses to propose; 0 (default): as many as determine every parameter left, up to max_poses.
+    unsigned int poses = 0;
+    unsigned int max_poses = 6;
+    /*!
+      The parameters to determine (names, e.g. a calibration's left_by_data); empty (default): those
+      vpKinematicBundleAdjustment::estimatedSet() leaves at nominal for these views.
+    */
+    std::vector<std::string> left;
+    /*!
+      Poses are added until every parameter to determine has a predicted sd of at most target times
+      its tolerance: below 1, a margin over the estimated set's own test (whose prediction moves with
+      the start values a calibration decides it at) and an estimate that improves on the nominal value.
+    */
+    double target = 0.5;
+    unsigned int pool = 64;            //!< candidates drawn per pose (feasible ones kept)
+    unsigned int max_evaluations = 30; //!< NLopt refinement of each chosen pose (0: none)
+    double step = 0.8;                 //!< rad, largest move of the drawn joint from a view's value
+    double refine_step = 0.1;          //!< rad, the refinement's box around the chosen candidate
+    double min_joint_distance = 0.05;  //!< rad, from every view and every pose proposed
+    //! Scene points a proposed view must see; 0 (default): half the median number the views observe (at least 6).
+    unsigned int min_visible = 0;
+    uint64_t seed = 1;
+    /*!
+      The nominal model's tolerance (sd of the 6-D error of the joint placements and eMc) and the
+      number of models sampled from it that must see the scene too (TrajectoryOptions' fields of the
+      same names; only these are read).
+    */
+    TrajectoryOptions robust;
+    void check() const;
+  };
+
+  //! One proposed pose and what it adds.
+  struct Addition {
+    vpColVector q;
+    unsigned int visible = 0;            //!< scene points in view through the nominal model
+    std::vector<double> ratio;           //!< per parameter left: predicted sd / tolerance with this pose and those before it
+    std::vector<std::string> determined; //!< parameters it brings within target times their tolerance
+  };
+
+  //! The result of planAdditions().
+  struct AdditionResult {
+    Status status = FAILED;  //!< OK: every parameter left is determined with the poses proposed
+    std::string message;
+    std::vector<std::string> left;     //!< parameters the views leave at nominal (none: nothing to add)
+    std::vector<unsigned int> left_index;
+    std::vector<double> ratio_before;  //!< their predicted sd / tolerance with the views alone (1e6: undetermined)
+    std::vector<Addition> additions;
+    std::vector<std::string> still_left; //!< left at nominal by the views and the poses proposed (estimatedSet)
+    unsigned int candidates = 0;       //!< feasible candidates scored
+    double seconds = 0;
   };
 
   //! Progress of long runs: stage, done, total.
@@ -246,6 +318,18 @@ public:
   Result selectObservable(const std::vector<vpColVector> &pool, unsigned int m, const SelectionOptions &options,
                           const Progress &progress = Progress()) const;
   Result selectObservable(const std::vector<vpColVector> &pool, unsigned int m) const;
+
+  /*!
+    The poses to add to `views` (joints; the scene `points` in f, by id, as reconstructed from them;
+    the camera, yardstick, bundle options and noise of the calibration) so that the parameters they
+    leave at nominal are determined (see "Poses to add" above). Throws vpSelfCalibException on a view
+    without joints of the chain's size, on hand-eye-only bundle options, and as
+    vpKinematicBundleAdjustment::estimatedSet().
+  */
+  AdditionResult planAdditions(const std::vector<vpSelfCalibDataset::View> &views, const vpCameraParameters &camera,
+                               const std::map<int, vpColVector> &points, const vpSelfCalibDataset::Yardstick &yardstick,
+                               const vpKinematicBundleAdjustment::Options &bundle, const vpSelfCalibNoiseModel &noise,
+                               const AdditionOptions &options, const Progress &progress = Progress()) const;
 
 private:
   double evaluate(const std::vector<vpColVector> &q, const TrajectoryOptions &o, CostTerms *terms,

@@ -61,10 +61,12 @@
 class VISP_SELFCALIB_EXPORT vpMultiViewReconstruction
 {
 public:
-  //! Settings of vpMultiViewReconstruction (the defaults are the member initialisers).
-  struct Options {
-    bool focal_known = true;        //!< false: one f for all views, self-calibrated
-    vpTwoViewEstimator::Options twoview; //!< fx (known value or first guess), u0, v0, mu: the camera
+  /*!
+    The caller's settings of vpMultiViewReconstruction (the defaults are the member initialisers).
+    vpRobotSelfCalibration::Options holds these; the two-view options (with the camera) and the
+    focal mode, the run's inputs, are added by vpRobotSelfCalibration::multiViewOptions().
+  */
+  struct Settings {
     unsigned int min_points = 8;    //!< triangulated points a pair needs to be chained
     unsigned int max_pair_points = 300; //!< correspondences per pair for the two-view step (0: all)
     unsigned int max_bundle_points = 400; //!< points in the bundle adjustment (0: all; see step 3)
@@ -72,7 +74,14 @@ public:
     unsigned int max_iterations = 100;
     bool tight = false;             //!< tolerances 1e-15 (exact recovery on noise-free data)
     unsigned int num_threads = 1;       //!< more is faster on large problems, but not bit-reproducible
-    void check() const;
+    void check() const; //!< throws vpSelfCalibException on a setting out of range
+  };
+
+  //! What vpMultiViewReconstruction runs with: the settings, the camera and the focal mode.
+  struct Options : Settings {
+    bool focal_known = true;        //!< false: one f for all views, self-calibrated
+    vpTwoViewEstimator::Options twoview; //!< fx (known value or first guess), u0, v0, mu: the camera
+    void check() const; //!< Settings::check() and the two-view options'
   };
 
   enum Status { OK, TOO_FEW_VIEWS, TWO_VIEW_FAILED, NO_CONVERGENCE };
@@ -116,7 +125,7 @@ public:
   */
   static Result reconstruct(const std::vector<vpSelfCalibDataset::View> &views,
                             const vpSelfCalibDataset::Yardstick &yardstick, const Options &options,
-                            const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
+                            const vpSelfCalibNoiseModel &noise);
 };
 
 #endif

@@ -156,10 +156,7 @@ public:
   */
   static Result yardstick(const std::vector<YardstickView> &views, double length, double fx, double u0, double v0,
                           double mu, const YardstickOptions &options,
-                          const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
-  //! yardstick() with the default options (weighted, 0.2 px).
-  static Result yardstick(const std::vector<YardstickView> &views, double length, double fx, double u0, double v0,
-                          double mu);
+                          const vpSelfCalibNoiseModel &noise);
 };
 
 #endif

@@ -74,14 +74,12 @@
   every step that weighs a residual (noiseModel() gives the one a run starts from); the dataset's
   camera gives the camera (the known focal length, or the first guess of a self-calibrated one),
   focal_mode and method give the flags that follow from them; the nested structs (twoview,
-  multiview, bundle, data_check) carry the caller's other settings of each step. The options each
-  step runs with are built from these by twoViewOptions(), multiViewOptions(), bundleOptions() and
-  dataCheckOptions(), public so that a caller can see exactly what will run; run() uses them and
-  never changes the caller's Options. A field that a builder derives (listed with each builder and
-  on the Options field) is not read: left at its default, or set to the value the builder gives it
-  (so that a builder's output can be put back into Options), it is accepted; any other value is a
-  caller mistake and throws vpSelfCalibException naming the setting to change instead, rather than
-  being silently ignored.
+  multiview, bundle, data_check) carry the caller's other settings of each step: they are the
+  steps' Settings types, without the camera, the focal mode or the mode the run gives them. The
+  options each step runs with are built from these by twoViewOptions(), multiViewOptions(),
+  bundleOptions() and dataCheckOptions(), public so that a caller can see exactly what will run;
+  run() uses them and never changes the caller's Options. A builder's output put back into
+  Options keeps its settings (the assignment takes the Settings part).
 */
 class VISP_SELFCALIB_EXPORT vpRobotSelfCalibration
 {
@@ -111,18 +109,17 @@ public:
     Method method = BUNDLE_ADJUSTMENT;
     unsigned int num_calibration_poses = 15; //!< the paper's 15 of 25
     FocalMode focal_mode = FOCAL_AUTO;
-    //! The two-view step of every method (PAPER's pairs, the multi-view step's pairs). Derived, not
-    //! read: fx, u0, v0, mu (the dataset's camera) and focal_mode (focal_mode above); see twoViewOptions().
-    vpTwoViewEstimator::Options twoview;
+    //! The two-view step of every method (PAPER's pairs, the multi-view step's pairs); the camera
+    //! and the focal mode are the dataset's and focal_mode above (twoViewOptions()).
+    vpTwoViewEstimator::Settings twoview;
     //! PAPER: the expected error of a two-view pose measurement (rad), rotation and translation
     //! direction: the weights of its pose-based identification (not the robot's error, which is in noise).
     double twoview_rotation_sd = 5e-3;
     double twoview_direction_sd = 5e-3;
     vpKinematicIdentification::Options identification;
-    //! BUNDLE_ADJUSTMENT, HAND_EYE, and PAPER's shared focal length (paper_focal_all_views). Derived,
-    //! not read: focal_known and twoview (the whole struct, from twoview above); see
-    //! multiViewOptions().
-    vpMultiViewReconstruction::Options multiview;
+    //! BUNDLE_ADJUSTMENT, HAND_EYE, and PAPER's shared focal length (paper_focal_all_views); its
+    //! two-view options are twoview above with the camera, its focal mode focal_mode's (multiViewOptions()).
+    vpMultiViewReconstruction::Settings multiview;
     /*!
       PAPER with FOCAL_SHARED (beyond the paper): true (default) takes the focal length from every
       calibration view jointly (vpMultiViewReconstruction's bundle adjustment, its points shared by
@@ -134,8 +131,9 @@ public:
     */
     bool paper_focal_all_views = true;
     //! BUNDLE_ADJUSTMENT, HAND_EYE (`fixed` also counts in the identifiability finding of every method).
-    //! Derived, not read: the FX flag of intrinsics and hand_eye_only; see bundleOptions().
-    vpKinematicBundleAdjustment::Options bundle;
+    //! The mode is the method's; whether the focal length is estimated is focal_mode's, and the FX
+    //! flag of intrinsics is not read (the other flags are); see bundleOptions().
+    vpKinematicBundleAdjustment::Settings bundle;
     /*!
       THE noise of the data, passed to every step (residual weights, robust loss, outlier tests, the
       data check's homography threshold, the robot's error in the bundle adjustment). Its robot
@@ -154,24 +152,30 @@ public:
         level, the rest of the method has none. In every mode the covariance (PAPER: f's sd) is
         scaled by sigma0 when sigma0 is outside its 99.9 % chi-square interval, with a
         "noise-mismatch" finding naming both values.
-      - pose_sd_* (calibrate --pose-sd auto). HAND_EYE with the controller poses' error modelled:
-        after the run, when the pose error its corrections measure (variance component estimation)
-        differs from the one used by more than 10 % in either part, the method runs again with the
-        measured values (and the measured image noise when pixel_sd is measured too), up to 5
-        times; a run that is not ok ends the rounds and the last ok one stands, with the warning
+      - the robot's error: pose_sd_* (HAND_EYE, calibrate --pose-sd auto), joint_sd and
+        model_sd_* (BUNDLE_ADJUSTMENT, calibrate's default without --joint-sd / --pose-sd), each
+        with its own origin field. After the run, when the error its corrections measure
+        (variance component estimation; the joints with one factor on every joint's sd) differs
+        from the one used by more than 10 % in a part (25 % for the joint readings and the model
+        residual, which the images separate only weakly), the method runs again with the measured
+        values (and the measured image noise when pixel_sd is measured too), up to 5 times; a form
+        measured below 4e-5 m and rad (twice a serial arm's repeatability) in every part is dropped
+        (exact). A run that is not ok ends the rounds and the last ok one stands, with the warning
         "robot-error-not-settled" (also when the level does not settle in 5 rounds or cannot be
-        measured). The start: pose_sd_*, else the dataset's robot_error, else (trust_robot false,
-        the default) the prior robotErrorPrior() measured from there. Other methods: no effect.
+        measured). The start: the stated level, else the dataset's robot_error, else (trust_robot
+        false, the default) the prior robotErrorPrior() measured from there. PAPER: no effect.
       Result::noise says which levels were used.
     */
     vpSelfCalibNoiseModel noise;
     /*!
-      HAND_EYE: whether the controller poses are exact when neither noise nor the dataset states
-      their error. false (default): every real arm's poses are off by millimetres, so the error is
-      modelled from robotErrorPrior() and measured (variance components, then the method runs again
-      at the measured level; data without pose error measure it near 0 and end as if exact). true:
-      the poses are trusted, no error modelled (calibrate --pose-sd 0). A stated error (noise or the
-      dataset's robot_error) is used whatever this says. Other methods: not read.
+      HAND_EYE and BUNDLE_ADJUSTMENT: whether the robot is exact when neither noise nor the dataset
+      states its error (HAND_EYE: the controller poses; BUNDLE_ADJUSTMENT: the joint readings and
+      the kinematic model's residual). false (default): every real arm is off by a fraction of a
+      millimetre to millimetres, so the error is modelled from robotErrorPrior() and measured
+      (variance components, then the method runs again at the measured level; data without that
+      error measure it near 0 and end as if exact). true: the robot is trusted, no error modelled
+      (calibrate --pose-sd 0 or --joint-sd 0). A stated error (noise or the dataset's robot_error)
+      is used whatever this says. PAPER: not read.
     */
     bool trust_robot = false;
     //! The checks run before calibrating (its noise: the noise above).
@@ -198,12 +202,8 @@ public:
     double tolerance_hand_eye_rotation = 0.5;
     //! px: a calibration whose residuals measure more image noise than this does not explain its images (DOUBTFUL).
     double max_pixel_noise = 3.0;
-    /*!
-      Throws vpSelfCalibException on nonsense values (the noise model's included, and a robot error
-      the method does not use), and on a derived field that conflicts with its source without the
-      dataset: bundle.hand_eye_only set with another method than HAND_EYE. The conflicts that depend on the dataset are found by the builders (run() calls them
-      before any work).
-    */
+    //! Throws vpSelfCalibException on nonsense values (the noise model's included, and a robot
+    //! error the method does not use).
     void check() const;
   };
 
@@ -310,8 +310,7 @@ public:
     Throws vpSelfCalibException on caller mistakes: fewer than 3 calibration views, a view without
     joints of the model's size or without any image point, non-finite values, joints outside the
     model's limits, no yardstick in the dataset (PAPER only: the bundle adjustment then keeps the
-    nominal scale), an unknown focal length with FOCAL_KNOWN, an Options field that a builder
-    derives set against its source (see "Options of the steps" above); all before any work.
+    nominal scale), an unknown focal length with FOCAL_KNOWN; all before any work.
     Degenerate data is DEGENERATE_DATA or a finding; numerical failures are statuses. The method's
     pipeline runs with the options the builders make; `options` is not changed.
   */
@@ -327,48 +326,63 @@ public:
 
   /*!
     The two-view options a run uses (PAPER's pairs; BUNDLE_ADJUSTMENT's and HAND_EYE's through
-    multiViewOptions()): options.twoview with, derived,
+    multiViewOptions()): the settings options.twoview with the run's inputs,
     - fx, u0, v0 the dataset camera's px, u0, v0 (fx: the known focal length, or the first guess
       when it is self-calibrated) and mu = py / px;
     - focal_mode KNOWN when resolveFocalMode() is FOCAL_KNOWN, else PER_PAIR (FOCAL_SHARED runs
       vpTwoViewEstimator::estimateShared, which sets its own).
 
-    Throws vpSelfCalibException when options.twoview sets one of these fields to a value other than
-    its default and the derived one, and as resolveFocalMode().
+    Throws vpSelfCalibException as resolveFocalMode().
   */
   static vpTwoViewEstimator::Options twoViewOptions(const Options &options, const vpSelfCalibDataset &dataset);
 
   /*!
     The noise model a run starts from: options.noise with, where it leaves the robot's error at 0,
     the dataset's robot_error in the method's form (HAND_EYE: the controller poses' pose_sd_*;
-    BUNDLE_ADJUSTMENT: joint_sd), else for HAND_EYE robotErrorPrior() unless options.trust_robot. Throws vpSelfCalibException on a robot error the method does not
+    BUNDLE_ADJUSTMENT: joint_sd), else robotErrorPrior() (HAND_EYE, BUNDLE_ADJUSTMENT) unless
+    options.trust_robot. Throws vpSelfCalibException on a robot error the method does not
     use (pose_sd_* with BUNDLE_ADJUSTMENT, model_sd_* or joint_sd with HAND_EYE, any with PAPER).
   */
   static vpSelfCalibNoiseModel noiseModel(const Options &options, const vpSelfCalibDataset &dataset);
 
   /*!
-    The controller poses' error a HAND_EYE run starts from when nothing states it (Options::trust_robot
-    false): 1 mm and 1 mrad, MEASURED. Between a serial arm's repeatability (0.02 to 0.1 mm) and its
+    The robot's error a run starts from when nothing states it (Options::trust_robot false), every
+    level MEASURED. BUNDLE_ADJUSTMENT: the joint readings' kJointErrorPrior and the model residual's
+    kModelErrorPrior (both parts). HAND_EYE: the controller poses' error, 1 mm and 1 mrad. Between a serial arm's repeatability (0.02 to 0.1 mm) and its
     absolute accuracy (1 to 5 mm, a few mrad): loose enough that the images, not the prior, decide
     where the poses are wrong, tight enough that the first run is not an unconstrained per-view
     fit. It is a start, not a claim: the run measures the level and runs again at it.
   */
-  static vpSelfCalibNoiseModel robotErrorPrior(const vpSelfCalibNoiseModel &noise);
+  static vpSelfCalibNoiseModel robotErrorPrior(const vpSelfCalibNoiseModel &noise, Method method = HAND_EYE);
+  /*!
+    rad: the joint reading error a BUNDLE_ADJUSTMENT run starts from when nothing states it, 3e-4
+    rad (0.017 deg). A 17 to 20 bit encoder reads a joint to 1e-5 rad, but what the model sees is
+    the joint's angle at the link, after the gear's lost motion and the joint's compliance under
+    the arm's own weight: 1e-4 to 1e-3 rad on serial arms (harmonic drives: about 1 arc-minute,
+    3e-4 rad). It is a start, not a claim: the run measures the level and runs again at it.
+  */
+  static constexpr double kJointErrorPrior = 3e-4;
+  /*!
+    m and rad: the kinematic model's residual a BUNDLE_ADJUSTMENT run starts from when nothing
+    states the robot's error, 0.2 mm and 0.2 mrad per view: what a geometric model leaves on a
+    serial arm after calibration (link and gear compliance, gear eccentricity: 0.1 to 0.5 mm),
+    above its repeatability (0.02 to 0.1 mm). Measured from there, as kJointErrorPrior.
+  */
+  static constexpr double kModelErrorPrior = 2e-4;
 
   /*!
-    The multi-view reconstruction options a run uses (BUNDLE_ADJUSTMENT, HAND_EYE): options.multiview
-    with, derived,
+    The multi-view reconstruction options a run uses (BUNDLE_ADJUSTMENT, HAND_EYE): the settings
+    options.multiview with the run's inputs,
     - focal_known true when resolveFocalMode() is FOCAL_KNOWN;
     - twoview = twoViewOptions(options, dataset).
 
-    Throws vpSelfCalibException when options.multiview sets one of these fields to a value other
-    than its default and the derived one, and as twoViewOptions().
+    Throws vpSelfCalibException as twoViewOptions().
   */
   static vpMultiViewReconstruction::Options multiViewOptions(const Options &options, const vpSelfCalibDataset &dataset);
 
   /*!
-    The kinematic bundle adjustment options a run uses (BUNDLE_ADJUSTMENT, HAND_EYE): options.bundle
-    with, derived,
+    The kinematic bundle adjustment options a run uses (BUNDLE_ADJUSTMENT, HAND_EYE): the settings
+    options.bundle with the run's inputs,
     - the FX flag of intrinsics cleared when resolveFocalMode() is FOCAL_KNOWN, set otherwise (the
       other flags are the caller's);
     - hand_eye_only true for HAND_EYE.
@@ -376,10 +390,8 @@ public:
     Every method estimates the set vpKinematicIdentification::analyseConfigurations() selects from the
     calibration views' joint configurations at the nominal model (PAPER passes it to its
     identification; BUNDLE_ADJUSTMENT's start identification estimates a subset of it, the bundle
-    adjustment all of it), so it does not depend on the noise. Throws
-    vpSelfCalibException when options.bundle sets a derived field to a value other than its default
-    and the derived one (FX cleared while the focal length is estimated; hand_eye_only with another
-    method), and as resolveFocalMode().
+    adjustment all of it), so it does not depend on the noise. Throws vpSelfCalibException as
+    resolveFocalMode().
   */
   static vpKinematicBundleAdjustment::Options bundleOptions(const Options &options, const vpSelfCalibDataset &dataset);
 

@@ -12,9 +12,11 @@
 
 #include <visp3/selfcalib/vpSelfCalibExport.h>
 
+#include <map>
 #include <string>
 #include <vector>
 
+#include <visp3/core/vpColVector.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
 #include <visp3/selfcalib/vpSelfCalibNoiseModel.h>
@@ -69,6 +71,14 @@ public:
     //! parallax. Measured on the reference scenario at 0.2 px: 0.95-1 for a plane, 0-0.1 for the
     //! 8 cm deep scene, 0.05-0.4 with 1 cm of relief.
     double homography_inliers = 0.9;
+    /*!
+      Points of a known layout (a board's, the bundle adjustment's known_points; vpRobotSelfCalibration
+      fills it from its options when empty): a view that sees only such points is placed by PnP from
+      4 coplanar ones (the few-points warning asks it for 4, not min_points), and the layout, not
+      the parallax between views, gives their depth (no parallax finding when every calibration
+      view sees only such points).
+    */
+    std::map<int, vpColVector> known_points;
     void check() const;
   };
 
@@ -80,7 +90,7 @@ public:
   */
   static std::vector<Finding> check(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
                                     unsigned int num_calibration, bool hand_eye, const Options &options,
-                                    const vpSelfCalibNoiseModel &noise = vpSelfCalibNoiseModel());
+                                    const vpSelfCalibNoiseModel &noise);
 
   //! True when a finding is DEGENERATE.
   static bool degenerate(const std::vector<Finding> &findings);

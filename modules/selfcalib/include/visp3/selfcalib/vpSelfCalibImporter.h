@@ -106,7 +106,7 @@ public:
     std::string camera;              //!< where the intrinsics come from, their values and how they are taken
     std::string robot;               //!< the robot model used and where its eMc guess comes from
     std::string board;               //!< the calibration board described by the data, "" when none
-    std::string board_option;        //!< calibrate's --board for it when the importer knows one (an AprilTag)
+    std::string board_option;        //!< calibrate's --board for it when the importer knows one (chessboard, circle grid, AprilTag)
     std::string robot_error;         //!< the robot pose error the dataset states, and why
     std::vector<Unused> unused;
   };
@@ -125,8 +125,9 @@ public:
 
     /*!
       Writes the dataset (and robot_model, when has_robot_model, as robotModelFileFor(dataset_file)),
-      each atomically; image and robot paths under the dataset's directory are written relative to
-      it, the others absolute.
+      each atomically, the model first: a dataset is never there without its model, and when the
+      dataset cannot be written the model written for it is taken back. Image and robot paths under
+      the dataset's directory are written relative to it, the others absolute.
     */
     void save(const std::string &dataset_file) const;
   };

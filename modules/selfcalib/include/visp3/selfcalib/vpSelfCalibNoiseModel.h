@@ -35,12 +35,16 @@
       eccentricity), a correction of each camera pose in its own frame.
     Zero (empty for joint_sd) means exact: no correction is estimated.
 
-  Each level is stated (given by the caller or the dataset) or measured (from the residuals of an
-  earlier run: variance components for the robot's error, a robust spread for the image noise); the
-  origin fields say which. In the options of a run (vpRobotSelfCalibration::Options::noise) MEASURED
-  asks for the level to be measured, starting from the value given; in its result it says the level
-  was measured (the value used is the measured one, or the start when the measurement agreed with
-  it). An estimator that measures the noise returns its measurement in a noise model of its own
+  Two things are said of the image noise and of the controller poses' error, each by its own field:
+  - what a run does with the level (measure_pixel_sd, measure_pose_sd): true asks the run to
+    measure it from the residuals (a robust spread for the image noise, variance components for the
+    poses' error) and to run again at the measured level, the value given being the start; false
+    uses it as given. Copies made by withPixelNoise() and withPoseError() keep it.
+  - where the level held comes from (pixel_sd_origin, pose_sd_origin): STATED, given by the caller
+    or the dataset (or the start of a measurement not made); MEASURED, the residuals of a run gave
+    it (the measured value, or the value used when the measurement agreed with it).
+  In the options of a run the caller sets the first; the noise a run used (its result) says both.
+  An estimator that measures the noise returns its measurement in a noise model of its own
   (unmeasured() filled with what was measured; a level left at 0 was not measured, and its loss and
   outlier fields carry no meaning), so the level used and the level measured are never confused.
 */
@@ -54,7 +58,7 @@ public:
   //! "none", "huber" or "cauchy"; throws vpSelfCalibException otherwise.
   static Loss lossFromName(const std::string &name);
 
-  //! Where a level comes from.
+  //! Where a level held comes from (not what a run does with it: the measure_* fields).
   enum Origin {
     STATED,  //!< given by the caller or the dataset
     MEASURED //!< measured from the residuals of a run
@@ -63,7 +67,9 @@ public:
   static const char *originName(Origin origin);
 
   double pixel_sd = 0.2;            //!< px, the image noise sd per image coordinate
-  Origin pixel_sd_origin = STATED;
+  Origin pixel_sd_origin = STATED;  //!< where pixel_sd comes from
+  //! A run measures the image noise from its residuals and runs again at it (pixel_sd the start).
+  bool measure_pixel_sd = false;
   Loss loss = LOSS_CAUCHY;          //!< the robust loss of the robust stages
   double loss_scale = 3;            //!< in units of pixel_sd
   //! In noise sds (pixel_sd, or the residuals' robust sd when larger): an observation beyond it is
@@ -72,13 +78,22 @@ public:
 
   double pose_sd_translation = 0;   //!< m, controller pose error (hand-eye); 0: exact poses
   double pose_sd_rotation = 0;      //!< rad, controller pose error (hand-eye); 0: exact poses
-  Origin pose_sd_origin = STATED;
+  Origin pose_sd_origin = STATED;   //!< where pose_sd_* come from
+  //! A run (hand-eye) measures the controller poses' error and runs again at it (pose_sd_* the start).
+  bool measure_pose_sd = false;
   //! rad, joint reading error (full kinematics), one value for every joint or one per joint; empty: exact.
   std::vector<double> joint_sd;
+  Origin joint_sd_origin = STATED;  //!< where joint_sd comes from
+  //! A run (full kinematics) measures the joint reading error and runs again at it (joint_sd the start).
+  bool measure_joint_sd = false;
   double model_sd_translation = 0;  //!< m, the kinematic model's residual (full kinematics); 0: none
   double model_sd_rotation = 0;     //!< rad, the kinematic model's residual (full kinematics); 0: none
+  Origin model_sd_origin = STATED;  //!< where model_sd_* come from
+  //! A run (full kinematics) measures the model's residual and runs again at it (model_sd_* the start).
+  bool measure_model_sd = false;
 
-  //! A model for measurements not made yet: every level 0, origin MEASURED (check() refuses it).
+  //! A model for measurements not made yet: every level 0, origin MEASURED, nothing to measure
+  //! (check() refuses it).
   static vpSelfCalibNoiseModel unmeasured();
 
   //! px, the robust loss's scale: loss_scale * pixel_sd.
@@ -90,10 +105,16 @@ public:
   //! True when any robot error is modelled (controller poses, joint readings or the model's residual).
   bool hasRobotError() const { return hasPoseError() || hasModelError() || !joint_sd.empty(); }
 
-  //! This model with the image noise `sd`, its origin `origin`.
+  //! This model with the image noise `sd`, its origin `origin` (measure_pixel_sd kept).
   vpSelfCalibNoiseModel withPixelNoise(double sd, Origin origin) const;
-  //! This model with the controller pose error (t m, r rad), its origin `origin`.
+  //! This model with the controller pose error (t m, r rad), its origin `origin` (measure_pose_sd kept).
   vpSelfCalibNoiseModel withPoseError(double t, double r, Origin origin) const;
+  //! This model with the joint reading error `sd` (rad; empty: exact readings), its origin `origin`
+  //! (measure_joint_sd kept).
+  vpSelfCalibNoiseModel withJointError(const std::vector<double> &sd, Origin origin) const;
+  //! This model with the kinematic model's residual (t m, r rad; both 0: none), its origin `origin`
+  //! (measure_model_sd kept).
+  vpSelfCalibNoiseModel withModelError(double t, double r, Origin origin) const;
 
   /*!
     Throws vpSelfCalibException on nonsense: pixel_sd or loss_scale not positive or not finite, a

@@ -41,8 +41,11 @@
     the end-effector frame, in the form of `eMc`.
   - `bundle_adjustment` (opt., methods bundle and hand-eye): `{observations, dropped, rms_px,
     sigma0, scale_from}`, then with robot pose corrections `robot_pose_rms_m`, `robot_pose_rms_rad`,
-    `robot_pose_sd: [T, R]` and, when measured, `robot_pose_sd_measured: [T, R]`; with joint
-    corrections `joint_correction_rms_rad`; with re-posed views `reposed_rms_px`, `repose_f`,
+    `robot_pose_sd: [T, R]` and, when measured, `robot_pose_sd_measured: [T, R]` (hand-eye: the
+    controller poses' error; bundle: the kinematic model's residual); with joint corrections
+    `joint_correction_rms_rad`, `joint_sd: [rad...]` (used) and, when measured, `joint_sd_measured`;
+    with a robot error modelled `robot_error: measured` (the rounds measured the level used) or
+    `stated`; with re-posed views `reposed_rms_px`, `repose_f`,
     `repose_f_limit`; `sd_scaled_by_sigma0: true` when the covariance was scaled.
   - `noise` (opt., not the paper's method): `{pixel_sd, measured}`; `fit` (same): `{nominal,
     calibrated}`, the reprojection RMS of the calibration views.
@@ -103,6 +106,8 @@ public:
     double robot_pose_sd_measured_m = 0, robot_pose_sd_measured_rad = 0;
     bool has_joint_corrections = false;
     double joint_correction_rms_rad = 0;
+    std::vector<double> joint_sd, joint_sd_measured; //!< rad, with joint corrections: used, measured (empty: not)
+    std::string robot_error; //!< "measured" or "stated" (the origin of the robot error used); empty: none modelled
     bool has_repose = false;
     double reposed_rms_px = 0, repose_f = 0, repose_f_limit = 0;
     bool sd_scaled_by_sigma0 = false;

@@ -178,16 +178,43 @@ public:
     unsigned int num_points = 40;
     double box_size = 0.08;
     vpPoseVector eMo = vpPoseVector(0.02, -0.01, 0.06, 0.1, -0.15, 0.3);
+    /*!
+      Not empty: the target's points in o instead (a printed board's outline, for rendered images):
+      every one must be in the image, and o's z points away from the camera (vpBoardDetector's
+      frame, z into the board: the printed side faces the camera); empty: the grid or the features
+      above, o's z towards the camera.
+    */
+    std::map<int, vpColVector> layout;
     //! Target poses: distance from the camera (m), lateral range (m), tilt range (rad) about the facing pose.
     double distance_min = 0.35, distance_max = 0.6, lateral = 0.08, tilt = 30 * M_PI / 180.0;
     double pixel_noise_sd = 0.2;                 //!< px, Gaussian, on u and v
     double pose_sd_translation = 0, pose_sd_rotation = 0; //!< the controller poses' error (m, rad)
+    /*!
+      Joint readings, for the full kinematics method: a robot (a preset name or a model file) whose
+      true model (nominal plus seeded 6-D errors of robot_translation_sd / robot_rotation_sd on the
+      base and every joint placement) carries the target. The views are configurations drawn about
+      `home` (empty: vpSelfCalibSimulator::homeConfiguration()) within +-joint_spread (rad) per joint
+      and the joint limits, kept when every target point is in the image and the target faces the
+      camera; the camera is placed facing the target's centre at home, (distance_min +
+      distance_max) / 2 away (camera_position, look_at, lateral and tilt are then unused). Each view
+      has the joint readings q_true - dq (dq ~ N(0, joint_sd) per joint) and the controller pose
+      bMe_true E(delta)^-1 (pose_sd_*). Empty (default): controller poses only, no robot model.
+    */
+    std::string robot;
+    vpColVector home;
+    double joint_spread = 0.35;
+    double robot_translation_sd = 1e-3, robot_rotation_sd = 1e-3;
+    double joint_sd = 0; //!< rad, the joint readings' error
   };
   //! What the eye-to-hand simulation draws: the truth the calibration should recover.
   struct EyeToHandTruth {
     vpHomogeneousMatrix bMc, eMo;
     std::vector<vpHomogeneousMatrix> bMe;   //!< the true end-effector poses (the dataset's are measured)
     std::map<int, vpColVector> layout;      //!< the target's points in o, by id
+    //! With EyeToHandOptions::robot: the true robot (nominal model plus its errors, bMc in its
+    //! hand-eye slot's place not set: the slot keeps the nominal's) and the true joints of the views.
+    vpKinematicChain chain;
+    std::vector<vpColVector> q;
   };
   /*!
     Points data of an eye-to-hand set-up (dataset camera_mount world, robot `viper850`, every view a

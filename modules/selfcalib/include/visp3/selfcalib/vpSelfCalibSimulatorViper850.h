@@ -26,6 +26,10 @@
   is put in constant-sampling mode, in which it only integrates after a setVelocity() call, so it
   never races with these moves. Velocity control is not used by the self-calibration.
 
+  vpSimulatorViper850's constructor prints its default camera on std::cout; this class's
+  constructor discards that text (std::cout writes nowhere while the base class is constructed, so
+  another thread's output to std::cout in that moment is lost too).
+
   ViSP 3.5 limits: construct at most one instance at a time (two alive at once crash at exit).
 */
 class VISP_SELFCALIB_EXPORT vpSelfCalibSimulatorViper850 : public vpSimulatorViper850

@@ -49,11 +49,12 @@ public:
   enum Status { OK, TOO_FEW_POINTS, PURE_ROTATION, PLANAR, FOCAL_UNOBSERVABLE, NO_CONVERGENCE };
   static const char *statusName(Status s);
 
-  //! Settings of vpTwoViewEstimator (the defaults are the member initialisers).
-  struct Options {
-    vpRefinedFactorMethod::FocalMode focal_mode = vpRefinedFactorMethod::PER_PAIR; //!< PER_PAIR or KNOWN here
-    double fx = 1000;   //!< known value (KNOWN) or initial guess (px)
-    double u0 = 320, v0 = 240, mu = 1;
+  /*!
+    The caller's settings of vpTwoViewEstimator (the defaults are the member initialisers): how the
+    pair is estimated, whatever the camera. vpRobotSelfCalibration::Options holds these; the camera
+    and the focal mode, the run's inputs, are added by vpRobotSelfCalibration::twoViewOptions().
+  */
+  struct Settings {
     //! The fundamental matrix's RANSAC; its seed also seeds, in vpMultiViewReconstruction, the
     //! PnP resection's USAC.
     vpFundamentalMatrix::Options ransac;
@@ -66,7 +67,15 @@ public:
     //! FOCAL_UNOBSERVABLE (pose and f_x are kept for information). Near-meeting optical axes give
     //! sd of hundreds of pixels while the closed form still returns a number.
     double max_fx_relative_sd = 0.05;
-    void check() const;
+    void check() const; //!< throws vpSelfCalibException on a setting out of range
+  };
+
+  //! What vpTwoViewEstimator runs with: the settings and the camera (the defaults are the member initialisers).
+  struct Options : Settings {
+    vpRefinedFactorMethod::FocalMode focal_mode = vpRefinedFactorMethod::PER_PAIR; //!< PER_PAIR or KNOWN here
+    double fx = 1000;   //!< known value (KNOWN) or initial guess (px)
+    double u0 = 320, v0 = 240, mu = 1;
+    void check() const; //!< Settings::check() and the camera's
   };
 
   //! The result of vpTwoViewEstimator: what it computed, and what the caller needs to judge it.
