@@ -338,7 +338,8 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
   }
   vpSelfCalibDataset started;
   const vpSelfCalibDataset &data0 = pinhole.views.empty() ? ds : pinhole;
-  if (opt.method != PAPER && resolveFocalMode(opt, data0) != FOCAL_KNOWN) {
+  const bool warm = opt.method == HAND_EYE && opt.start.set; // the earlier run's f is the start
+  if (opt.method != PAPER && !warm && resolveFocalMode(opt, data0) != FOCAL_KNOWN) {
     // A self-calibrated focal length starts from where the rays of the robot's predicted camera
     // poses meet best, not from the image width (a start twice the truth does not converge).
     std::vector<vpSelfCalib::Rigid> fMc;

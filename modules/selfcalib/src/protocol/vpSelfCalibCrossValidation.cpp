@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <iomanip>
 #include <sstream>
 
@@ -140,15 +141,70 @@ std::vector<double> vpSelfCalibCrossValidation::calibratedDistortion(const vpRob
   return result.bundle.opencv_distortion.empty() ? dataset.opencv_distortion : result.bundle.opencv_distortion;
 }
 
-vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinematicChain &nominal,
-                                                                   const vpSelfCalibDataset &ds,
-                                                                   const vpRobotSelfCalibration::Options &options,
-                                                                   const Options &cv, const Progress &progress)
+namespace
 {
+//! One fold's calibration: the fold's dataset (training views first), its options, its progress.
+using FoldCalibration = std::function<vpRobotSelfCalibration::Result(
+    const vpSelfCalibDataset &, const vpRobotSelfCalibration::Options &, const vpRobotSelfCalibration::Progress &)>;
+
+bool gaveModel(const vpRobotSelfCalibration::Result &r)
+{
+  return r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL;
+}
+
+/*
+  A bundle adjustment's residuals contradict the noise it was given: sigma0 above its 99.9 %
+  interval (the pixels noisier than stated), or the robot corrections beyond their chi-square bound.
+*/
+bool contradictsNoise(const vpKinematicBundleAdjustment::Result &b)
+{
+  return b.sigma0 > b.sigma0_high || !vpSelfCalibPipeline::robotCorrectionsWithinStated(b);
+}
+
+/*
+  A fold started from the run on every view (vpSelfCalibCrossValidation::run with `full`): its eMc,
+  points and focal length the start (Options::start), its noise held (the levels it measured, not
+  measured again); the fold measures them again, as full did, only when its residuals contradict
+  them while full's did not.
+*/
+vpRobotSelfCalibration::Result warmFold(const vpKinematicChain &nominal, const vpSelfCalibDataset &sub,
+                                        vpRobotSelfCalibration::Options o, const vpRobotSelfCalibration::Result &full,
+                                        const vpRobotSelfCalibration::Progress &progress)
+{
+  o.start.set = true;
+  o.start.model = full.calibrated;
+  o.start.points = full.bundle.points;
+  o.start.fx = full.camera.get_px();
+  if (!full.bundle.opencv_distortion.empty())
+    o.bundle.opencv_distortion = full.bundle.opencv_distortion;
+  vpSelfCalibDataset data = sub;
+  if (!full.noise.hasRobotError()) {
+    // full measured the robot exact (or trusted it): so does the fold, not the prior again.
+    o.trust_robot = true;
+    data.pose_sd_translation = data.pose_sd_rotation = 0;
+  }
+  o.noise = full.noise;
+  o.noise.measure_pixel_sd = o.noise.measure_pose_sd = o.noise.measure_joint_sd = o.noise.measure_model_sd = false;
+  const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(nominal, data, o, progress);
+  if (!gaveModel(r) || !contradictsNoise(r.bundle) || contradictsNoise(full.bundle))
+    return r;
+  o.noise = full.noise; // measured again from the held levels
+  return vpRobotSelfCalibration::run(nominal, data, o, progress);
+}
+
+vpSelfCalibCrossValidation::Result runFolds(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds,
+                                            const vpRobotSelfCalibration::Options &options,
+                                            const vpSelfCalibCrossValidation::Options &cv,
+                                            const vpSelfCalibCrossValidation::Progress &progress,
+                                            const FoldCalibration &calibrate)
+{
+  using CV = vpSelfCalibCrossValidation;
+  using Result = CV::Result;
+  using Fold = CV::Fold;
   const auto t0 = std::chrono::steady_clock::now();
   cv.check();
   const unsigned int n = static_cast<unsigned int>(ds.views.size());
-  const std::vector<std::vector<unsigned int>> held = folds(n, cv.folds);
+  const std::vector<std::vector<unsigned int>> held = CV::folds(n, cv.folds);
   const bool controller_poses = options.method == vpRobotSelfCalibration::HAND_EYE;
   Result res;
   res.views = n;
@@ -173,7 +229,7 @@ vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinem
           progress(label + ": " + stage, f, cv.folds);
         })
                  : vpRobotSelfCalibration::Progress();
-    const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(nominal, sub, o, inner);
+    const vpRobotSelfCalibration::Result r = calibrate(sub, o, inner);
     Fold fold;
     fold.held_out = held[f];
     fold.status = r.status;
@@ -182,7 +238,7 @@ vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinem
     // (fMe eMc), which this set-up does not have; its figures would mean nothing.
     const bool world = ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD;
     if (!world)
-      fold.nominal = reprojection(nominal, ds.cam, ds.opencv_distortion, controller_poses, train, test,
+      fold.nominal = CV::reprojection(nominal, ds.cam, ds.opencv_distortion, controller_poses, train, test,
                                     ds.width, ds.height);
     if (world && (r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL))
       fold.message += "; not measured: the held-out reprojection needs a camera on the flange";
@@ -190,7 +246,7 @@ vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinem
     else if (r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL) {
       fold.fx = r.camera.get_px();
       fold.calibrated =
-          reprojection(r.calibrated, r.camera, calibratedDistortion(r, ds), controller_poses, train, test, ds.width,
+          CV::reprojection(r.calibrated, r.camera, CV::calibratedDistortion(r, ds), controller_poses, train, test, ds.width,
                        ds.height);
       if (r.verified && r.before.has_yardstick && r.after.has_yardstick) {
         fold.verified = true;
@@ -237,6 +293,38 @@ vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinem
   res.message = os.str();
   res.seconds = vpSelfCalibPipeline::seconds(t0);
   return res;
+}
+} // namespace
+
+vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinematicChain &nominal,
+                                                                   const vpSelfCalibDataset &ds,
+                                                                   const vpRobotSelfCalibration::Options &options,
+                                                                   const Options &cv, const Progress &progress)
+{
+  return runFolds(nominal, ds, options, cv, progress,
+                  [&nominal](const vpSelfCalibDataset &sub, const vpRobotSelfCalibration::Options &o,
+                             const vpRobotSelfCalibration::Progress &inner) {
+                    return vpRobotSelfCalibration::run(nominal, sub, o, inner);
+                  });
+}
+
+vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinematicChain &nominal,
+                                                                   const vpSelfCalibDataset &ds,
+                                                                   const vpRobotSelfCalibration::Options &options,
+                                                                   const Options &cv,
+                                                                   const vpRobotSelfCalibration::Result &full,
+                                                                   const Progress &progress)
+{
+  const bool warm = options.method == vpRobotSelfCalibration::HAND_EYE &&
+                    ds.camera_mount == vpSelfCalibDataset::CAMERA_ON_EFFECTOR && gaveModel(full) &&
+                    !full.bundle.points.empty() && full.camera.get_px() > 0;
+  if (!warm)
+    return run(nominal, ds, options, cv, progress);
+  return runFolds(nominal, ds, options, cv, progress,
+                  [&nominal, &full](const vpSelfCalibDataset &sub, const vpRobotSelfCalibration::Options &o,
+                                    const vpRobotSelfCalibration::Progress &inner) {
+                    return warmFold(nominal, sub, o, full, inner);
+                  });
 }
 
 vpSelfCalibCrossValidation::HeldOut vpSelfCalibCrossValidation::verifyHeldOut(

@@ -130,6 +130,21 @@ public:
                     const Progress &progress = Progress());
 
   /*!
+    The same cross-validation, each fold started from `full`, the run of the same options on every
+    view of `dataset` (what vpSelfCalibProtocol calibrates first). HAND_EYE with the camera on the
+    effector and `full` ok or doubtful: a fold is one hand-eye bundle adjustment on its training
+    views' observations (the held-out views' left out) from full's eMc, scene points and focal
+    length (vpRobotSelfCalibration::Options::start), at the noise full used (its measured levels,
+    held); only when the fold's residuals contradict those levels (its sigma0 above its 99.9 %
+    interval, or its robot corrections beyond their chi-square bound, where full's were not) does
+    the fold measure the noise again as full did. Otherwise, and for other methods or a camera in
+    the world, run() above. Throws as run().
+  */
+  static Result run(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
+                    const vpRobotSelfCalibration::Options &options, const Options &cv_options,
+                    const vpRobotSelfCalibration::Result &full, const Progress &progress = Progress());
+
+  /*!
     The reprojection error of test_views on the scene triangulated from scene_views (the two may be
     the same views), both through `model` and the camera `cam` with OpenCV's lens coefficients
     `opencv_distortion` (empty: cam's own model). A view's camera pose: with controller_poses and a
