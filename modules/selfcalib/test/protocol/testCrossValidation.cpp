@@ -353,6 +353,21 @@ TEST(CrossValidation, PointsOutsideTheLensModelAreNotSeen)
   ASSERT_TRUE(std::isfinite(both.rms));
   EXPECT_LT(both.rms, 2 * seen.rms);
   EXPECT_LT(both.median, 2 * seen.median);
+
+  // As the folds call it (the image's size given, so its margin applies too), through the model
+  // and through one whose eMc is 1 mm and 0.2 deg off (a nominal model): both figures finite and
+  // within 2x of their in-image figures.
+  vpKinematicChain off = model;
+  off.set_eMc(vpPoseVector(eMc * vpHomogeneousMatrix(1e-3, 0, 0, 0, 0.2 * M_PI / 180, 0)));
+  for (const vpKinematicChain *m : std::vector<const vpKinematicChain *>{&model, &off}) {
+    const CV::Reprojection in_image = CV::reprojection(*m, cam, lens, true, train, {inside}, 1280, 720);
+    const CV::Reprojection with_far = CV::reprojection(*m, cam, lens, true, train, {inside, turned}, 1280, 720);
+    ASSERT_GT(in_image.observations, 0u);
+    EXPECT_GT(with_far.outside, scene.size() / 2);
+    ASSERT_TRUE(std::isfinite(with_far.rms) && std::isfinite(with_far.median));
+    EXPECT_LT(with_far.rms, 2 * in_image.rms) << (m == &off ? "nominal" : "calibrated");
+    EXPECT_LT(with_far.median, 2 * in_image.median) << (m == &off ? "nominal" : "calibrated");
+  }
 }
 
 // The image and its margin (k1 = -0.3, 1280 x 720, p_x 1600): a point inside the polynomial's
