@@ -46,6 +46,22 @@ vpSelfCalibDataset withControllerPoses(const vpSelfCalibSimulator &sim, vpSelfCa
   }
   return ds;
 }
+
+// A view whose camera is at fMc (its controller pose fMc eMc^-1) seeing `scene` through `camera`, 0.2 px of noise.
+vpSelfCalibDataset::View lensView(const vpHomogeneousMatrix &fMc, const vpHomogeneousMatrix &eMc,
+                                  const std::vector<Eigen::Vector3d> &scene, const vpSelfCalib::CameraModel &camera,
+                                  vpSelfCalib::Random &rng)
+{
+  vpSelfCalibDataset::View v;
+  v.has_fMe = true;
+  v.fMe = fMc * eMc.inverse();
+  const vpSelfCalib::Rigid cMf = vpSelfCalib::rigidFromVisp(fMc).inverse();
+  for (size_t p = 0; p < scene.size(); ++p) {
+    const Eigen::Vector2d uv = camera.project(cMf * scene[p]);
+    v.points.push_back({static_cast<int>(p), vpImagePoint(uv(1) + rng.normal(0.2), uv(0) + rng.normal(0.2))});
+  }
+  return v;
+}
 } // namespace
 
 // View i in fold i mod k: every view held out exactly once, the same folds every call, the
@@ -323,17 +339,7 @@ TEST(CrossValidation, PointsOutsideTheLensModelAreNotSeen)
   for (int i = -4; i <= 4; ++i)
     for (int j = -3; j <= 3; ++j)
       scene.emplace_back(0.1 * i, 0.1 * j, 2.0);
-  const auto view = [&](const vpHomogeneousMatrix &fMc) {
-    vpSelfCalibDataset::View v;
-    v.has_fMe = true;
-    v.fMe = fMc * eMc.inverse();
-    const vpSelfCalib::Rigid cMf = vpSelfCalib::rigidFromVisp(fMc).inverse();
-    for (size_t p = 0; p < scene.size(); ++p) {
-      const Eigen::Vector2d uv = camera.project(cMf * scene[p]);
-      v.points.push_back({static_cast<int>(p), vpImagePoint(uv(1) + rng.normal(0.2), uv(0) + rng.normal(0.2))});
-    }
-    return v;
-  };
+  const auto view = [&](const vpHomogeneousMatrix &fMc) { return lensView(fMc, eMc, scene, camera, rng); };
   const std::vector<vpSelfCalibDataset::View> train = {view(vpHomogeneousMatrix(-0.2, 0, 0, 0, 0, 0)),
                                                        view(vpHomogeneousMatrix(0.2, 0, 0, 0, 0, 0)),
                                                        view(vpHomogeneousMatrix(0, 0.2, 0, 0, 0, 0))};
@@ -404,17 +410,7 @@ TEST(CrossValidation, PointsOutsideTheImageAndItsMarginAreNotSeen)
     for (int j = -3; j <= 3; ++j)
       scene.emplace_back(0.05 * i, 0.05 * j, 2.0);
   vpSelfCalib::Random rng(11, 1);
-  const auto view = [&](const vpHomogeneousMatrix &fMc) {
-    vpSelfCalibDataset::View v;
-    v.has_fMe = true;
-    v.fMe = fMc * eMc.inverse();
-    const vpSelfCalib::Rigid cMf = vpSelfCalib::rigidFromVisp(fMc).inverse();
-    for (size_t p = 0; p < scene.size(); ++p) {
-      const Eigen::Vector2d uv = lens.project(cMf * scene[p]);
-      v.points.push_back({static_cast<int>(p), vpImagePoint(uv(1) + rng.normal(0.2), uv(0) + rng.normal(0.2))});
-    }
-    return v;
-  };
+  const auto view = [&](const vpHomogeneousMatrix &fMc) { return lensView(fMc, eMc, scene, lens, rng); };
   const std::vector<vpSelfCalibDataset::View> train = {view(vpHomogeneousMatrix(-0.2, 0, 0, 0, 0, 0)),
                                                        view(vpHomogeneousMatrix(0.2, 0, 0, 0, 0, 0)),
                                                        view(vpHomogeneousMatrix(0, 0.2, 0, 0, 0, 0))};
