@@ -80,6 +80,12 @@ BENCHES = [
      "exact joint readings, readings off by 0.02 deg, and readings off by 0.05 deg with a 0.1 mm / "
      "0.1 mrad model residual: the levels measured against the simulated ones, the held-out error "
      "against the run's own predicted error, and the NEES of the corrections."),
+    ("bench-hd", [],
+     "HD images in bounded time: `visp-selfcalib calibrate --method hand-eye --folds 5` on 12 rendered "
+     "views of 1280 x 720 (simulated Viper850, controller poses, textured scene, f scaled with the "
+     "height), its progress stamped stage by stage (image front end, the calibration on every view, "
+     "each fold of the cross-validation, the report), wall and CPU time, and what it gives: eMc against "
+     "the truth, f, the calibration's and the held-out RMS. Target: under 30 s on 2 cores."),
     ("bench-eye-to-hand", [],
      "A camera fixed in the world and a board on the tool of a 6-axis (UR5) and a 7-axis (Panda) arm "
      "(simulated points data, a 1280 x 720 camera), calibrated by the hand-eye method (controller poses, "

@@ -5,6 +5,7 @@
 
 #include <limits>
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/LU>
@@ -90,12 +91,28 @@ double CameraModel::validRadius2() const
   return std::numeric_limits<double>::infinity();
 }
 
+CameraModel CameraModel::withImage(unsigned int width, unsigned int height, double margin) const
+{
+  CameraModel c = *this;
+  if (m_distortion == Distortion::NONE || width == 0 || height == 0)
+    return c;
+  const double m = margin < 0 ? kImageMarginFraction * std::max(width, height) : margin;
+  c.m_u_min = -m;
+  c.m_v_min = -m;
+  c.m_u_max = width + m;
+  c.m_v_max = height + m;
+  return c;
+}
+
 bool CameraModel::sees(const Eigen::Vector3d &Xc) const
 {
   if (!inFront(Xc))
     return false;
   const double x = Xc(0) / Xc(2), y = Xc(1) / Xc(2);
-  return x * x + y * y < validRadius2();
+  if (!(x * x + y * y < validRadius2()))
+    return false;
+  const double u = u0() + px() * x, v = v0() + py() * y;
+  return u >= m_u_min && u <= m_u_max && v >= m_v_min && v <= m_v_max;
 }
 
 Eigen::Matrix2d CameraModel::distortionJacobian(Distortion model, const double *k, double x, double y, double *J_k)

@@ -5,6 +5,7 @@
 #define VP_SELFCALIB_CAMERA_H
 
 #include <array>
+#include <limits>
 
 #include <Eigen/Core>
 
@@ -119,10 +120,21 @@ public:
     grows up to r = 100 (a field of view beyond any lens).
   */
   double validRadius2() const;
+  //! The image margin of withImage() by default, as a fraction of the image's larger side.
+  static constexpr double kImageMarginFraction = 0.25;
   /*!
-    Whether the camera sees Xc through its model: in front (inFront()) and inside validRadius2().
-    A point outside is not seen: a figure over projected points leaves it out, never counts the
-    polynomial's value there.
+    The same model, told the image it was fitted on (width x height px): a lens model with
+    distortion then also sees only the points whose undistorted pinhole pixel (u0 + p_x x,
+    v0 + p_y y) lies in the image widened by `margin` px on every side (negative: the default,
+    kImageMarginFraction of the larger side). A distortion polynomial is measured inside the image;
+    beyond it, even where validRadius2() still holds, its value is an extrapolation that no
+    observation supported. Without distortion the pinhole is exact everywhere and nothing changes.
+  */
+  CameraModel withImage(unsigned int width, unsigned int height, double margin = -1) const;
+  /*!
+    Whether the camera sees Xc through its model: in front (inFront()), inside validRadius2() and,
+    after withImage() with distortion, within the image and its margin. A point outside is not
+    seen: a figure over projected points leaves it out, never counts the polynomial's value there.
   */
   bool sees(const Eigen::Vector3d &Xc) const;
   /*!
@@ -152,6 +164,9 @@ public:
 private:
   Distortion m_distortion = Distortion::NONE;
   std::array<double, kMaxIntrinsics> m_in;
+  //! withImage(): the undistorted pixels seen, [u_min, u_max] x [v_min, v_max] (none by default).
+  double m_u_min = -std::numeric_limits<double>::infinity(), m_u_max = std::numeric_limits<double>::infinity();
+  double m_v_min = -std::numeric_limits<double>::infinity(), m_v_max = std::numeric_limits<double>::infinity();
 };
 } // namespace vpSelfCalib
 

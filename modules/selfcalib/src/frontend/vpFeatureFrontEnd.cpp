@@ -165,34 +165,85 @@ vpFeatureFrontEnd::Result vpFeatureFrontEnd::process(const std::vector<vpImage<u
   return res;
 }
 
+namespace
+{
+/*
+  One image file of a dataset, checked before and after decoding: the file and its header's size
+  (a directory, a device, a size that is not the camera's, or a decompression bomb are refused
+  without reading the pixels), then the decoded size. `view` names the view ("who: view 3"),
+  `kind` the file ("image", "mask").
+*/
+vpImage<unsigned char> readChecked(const std::string &file, const std::string &view, const std::string &kind,
+                                   const vpSelfCalibDataset &ds)
+{
+  const std::string what = view + ": " + kind;
+  auto wrongSize = [&](unsigned long long w, unsigned long long h) {
+    return vpSelfCalibException(vpSelfCalibException::dimensionError,
+                                what + " '" + file + "' is " + std::to_string(w) + " x " + std::to_string(h) +
+                                    ", the camera says " + std::to_string(ds.width) + " x " +
+                                    std::to_string(ds.height));
+  };
+  const vpSelfCalib::ImageHeader h = vpSelfCalib::checkImageFile(file, view + ": cannot read " + kind + " '" + file + "'");
+  if (h.known && (h.width != ds.width || h.height != ds.height))
+    throw wrongSize(h.width, h.height);
+  vpImage<unsigned char> I;
+  try {
+    vpImageIo::read(I, file);
+  } catch (const vpException &e) {
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               view + ": cannot read " + kind + " '" + file + "': " + e.getStringMessage());
+  }
+  if (I.getWidth() != ds.width || I.getHeight() != ds.height)
+    throw wrongSize(I.getWidth(), I.getHeight());
+  return I;
+}
+} // namespace
+
 std::vector<vpImage<unsigned char>> vpFeatureFrontEnd::readImages(const vpSelfCalibDataset &ds, const std::string &who)
 {
   std::vector<vpImage<unsigned char>> images(ds.views.size());
   for (size_t k = 0; k < ds.views.size(); ++k) {
-    const std::string &file = ds.views[k].image, view = who + ": view " + std::to_string(k);
-    if (file.empty())
+    const std::string view = who + ": view " + std::to_string(k);
+    if (ds.views[k].image.empty())
       throw vpSelfCalibException(vpSelfCalibException::badValue, view + " has no image");
-    // The file and its header's size checked before decoding (a directory, a device, a size that
-    // is not the camera's, or a decompression bomb are refused without reading the pixels).
-    const vpSelfCalib::ImageHeader h = vpSelfCalib::checkImageFile(file, view + ": cannot read image '" + file + "'");
-    if (h.known && (h.width != ds.width || h.height != ds.height))
-      throw vpSelfCalibException(vpSelfCalibException::dimensionError,
-                                 view + ": image '" + file + "' is " + std::to_string(h.width) + " x " +
-                                     std::to_string(h.height) + ", the camera says " + std::to_string(ds.width) +
-                                     " x " + std::to_string(ds.height));
-    try {
-      vpImageIo::read(images[k], file);
-    } catch (const vpException &e) {
-      throw vpSelfCalibException(vpSelfCalibException::ioError,
-                                 view + ": cannot read image '" + file + "': " + e.getStringMessage());
-    }
-    if (images[k].getWidth() != ds.width || images[k].getHeight() != ds.height)
-      throw vpSelfCalibException(vpSelfCalibException::dimensionError,
-                                 view + ": image '" + file + "' is " + std::to_string(images[k].getWidth()) + " x " +
-                                     std::to_string(images[k].getHeight()) + ", the camera says " +
-                                     std::to_string(ds.width) + " x " + std::to_string(ds.height));
+    images[k] = readChecked(ds.views[k].image, view, "image", ds);
   }
   return images;
+}
+
+std::vector<vpImage<unsigned char>> vpFeatureFrontEnd::viewMasks(const vpSelfCalibDataset &ds,
+                                                                 const std::vector<vpImage<unsigned char>> &masks,
+                                                                 const std::string &who)
+{
+  bool any = false;
+  for (const vpSelfCalibDataset::View &v : ds.views)
+    any = any || !v.mask.empty();
+  if (!any)
+    return masks;
+  const size_t m = ds.views.size();
+  if (masks.size() > 1 && masks.size() != m)
+    throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                               who + ": " + std::to_string(masks.size()) + " masks for " + std::to_string(m) +
+                                   " views (give none, one, or one per view)");
+  std::vector<vpImage<unsigned char>> out(m);
+  for (size_t k = 0; k < m; ++k) {
+    const vpImage<unsigned char> *other = masks.empty() ? nullptr : &masks[masks.size() == 1 ? 0 : k];
+    if (other && (other->getWidth() != ds.width || other->getHeight() != ds.height))
+      throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                                 who + ": the mask for view " + std::to_string(k) + " is " +
+                                     std::to_string(other->getWidth()) + " x " + std::to_string(other->getHeight()) +
+                                     ", the camera says " + std::to_string(ds.width) + " x " +
+                                     std::to_string(ds.height));
+    if (ds.views[k].mask.empty()) {
+      out[k] = other ? *other : vpImage<unsigned char>(ds.height, ds.width, 255);
+      continue;
+    }
+    out[k] = readChecked(ds.views[k].mask, who + ": view " + std::to_string(k), "mask", ds);
+    if (other) // both: a pixel is searched where both allow it
+      for (unsigned int i = 0; i < out[k].getSize(); ++i)
+        out[k].bitmap[i] = other->bitmap[i] ? out[k].bitmap[i] : 0;
+  }
+  return out;
 }
 
 vpImage<unsigned char> vpFeatureFrontEnd::readImage(const std::string &file, const std::string &context)
@@ -210,7 +261,9 @@ vpImage<unsigned char> vpFeatureFrontEnd::readImage(const std::string &file, con
 vpFeatureFrontEnd::Result vpFeatureFrontEnd::fillDataset(vpSelfCalibDataset &ds, const Options &opt)
 {
   const std::vector<vpImage<unsigned char>> images = readImages(ds);
-  const Result r = process(images, opt);
+  Options with_masks = opt;
+  with_masks.masks = viewMasks(ds, opt.masks);
+  const Result r = process(images, with_masks);
   for (size_t k = 0; k < ds.views.size(); ++k)
     ds.views[k].points = r.observations[k];
   ds.yardstick.id_a = r.yardstick_a;

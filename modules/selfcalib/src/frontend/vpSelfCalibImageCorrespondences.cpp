@@ -117,9 +117,10 @@ void vpSelfCalibImageCorrespondences::runOnImages(vpSelfCalibDataset &dataset,
 {
   // The board only masked: found in every image, its region out of the front end's masks.
   vpFeatureFrontEnd::Options front_end = withPrior(options, dataset);
+  front_end.masks = vpFeatureFrontEnd::viewMasks(dataset, front_end.masks, "vpSelfCalibImageCorrespondences");
   if (options.board && options.mask_board) {
     const vpBoardDetector detector(*options.board);
-    const std::vector<vpImage<unsigned char>> user = options.front_end.masks;
+    const std::vector<vpImage<unsigned char>> user = front_end.masks;
     front_end.masks.clear();
     result.board_ran = true;
     for (size_t k = 0; k < images.size(); ++k) {

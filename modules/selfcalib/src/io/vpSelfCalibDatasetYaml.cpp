@@ -373,7 +373,7 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
     const YAML::Node p = poses[k];
     if (!p.IsMap())
       r.fail(key, "expected a map {joints or fMe, image, points}, got " + Reader::show(p));
-    r.onlyKeys(p, {"joints", "fMe", "image", "points"}, key);
+    r.onlyKeys(p, {"joints", "fMe", "image", "mask", "points"}, key);
     vpSelfCalibDataset::View v;
     parseRobotPose(r, p, key, num_joints, v);
     if (p["image"]) {
@@ -381,6 +381,13 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
       // Image readers choose the format by the extension (ViSP's throws a bare substr error without one).
       if (std::filesystem::path(v.image).extension().string().size() < 2)
         r.fail(key + ".image", "'" + v.image + "' has no extension: expected an image file (.png, .jpg, .pgm...)");
+    }
+    if (p["mask"]) {
+      v.mask = resolve(base_dir, r.text(p["mask"], key + ".mask"));
+      if (std::filesystem::path(v.mask).extension().string().size() < 2)
+        r.fail(key + ".mask", "'" + v.mask + "' has no extension: expected an image file (.png, .pgm...)");
+      if (!p["image"])
+        r.fail(key + ".mask", "a mask without an image: the mask says where this view's image has no features");
     }
     if (p["points"])
       parsePoints(r, p["points"], key, has_distortion, camera, v);
@@ -502,6 +509,8 @@ std::string vpSelfCalibDataset::toYamlString(const std::string &base_dir) const
     }
     if (!v.image.empty())
       out << YAML::Key << "image" << YAML::Value << imagePathFor(base_dir, v.image);
+    if (!v.mask.empty())
+      out << YAML::Key << "mask" << YAML::Value << imagePathFor(base_dir, v.mask);
     out << YAML::Key << "points" << YAML::Value << YAML::BeginSeq;
     for (const Observation &o : v.points)
       out << YAML::Flow << YAML::BeginSeq << o.id << o.ip.get_u() << o.ip.get_v() << YAML::EndSeq;

@@ -27,15 +27,20 @@ using namespace vpSelfCalib;
 
 namespace
 {
-// Reprojection residual norms (px) of every observation of the views, points triangulated from them.
+/*
+  Reprojection residual norms (px) of every observation of the views, points triangulated from them;
+  a point the camera does not see through its lens model (CameraModel::withImage() on the
+  width x height image) is left out.
+*/
 std::vector<std::vector<double>> residuals(const vpKinematicChain &model, const vpCameraParameters &cam,
-                                           const std::vector<vpSelfCalibDataset::View> &views)
+                                           const std::vector<vpSelfCalibDataset::View> &views, unsigned int width,
+                                           unsigned int height)
 {
   std::vector<std::vector<double>> out(views.size());
   if (views.size() < 2)
     return out;
   const std::map<int, vpColVector> X = vpCalibrationVerifier::triangulate(model, cam, views);
-  const vpSelfCalib::CameraModel camera = vpSelfCalib::CameraModel::fromVisp(cam);
+  const vpSelfCalib::CameraModel camera = vpSelfCalib::CameraModel::fromVisp(cam).withImage(width, height);
   for (size_t k = 0; k < views.size(); ++k) {
     const vpHomogeneousMatrix cMf = vpCalibrationVerifier::cameraPose(model, views[k]).inverse();
     for (const auto &o : views[k].points) {
@@ -368,7 +373,7 @@ ReportData reportData(const vpSelfCalibReport::Record &run, const Views &views, 
     norms << k + 1 << " "
           << (vpCalibrationVerifier::cameraPose(model, cal[k]).inverse() * fMc1).getTranslationVector().frobeniusNorm()
           << "\n";
-  const auto rc = residuals(model, r.camera, cal);
+  const auto rc = residuals(model, r.camera, cal, ds.width, ds.height);
   resid << std::setprecision(6) << "# reprojection residual (px), calibration views\n";
   for (const auto &v : rc)
     for (double e : v) {
@@ -376,7 +381,7 @@ ReportData reportData(const vpSelfCalibReport::Record &run, const Views &views, 
       out.sum2 += e * e;
       ++out.count;
     }
-  const auto rv = residuals(model, r.camera, ver);
+  const auto rv = residuals(model, r.camera, ver, ds.width, ds.height);
   verif << std::setprecision(6) << "# held-out view, reprojection RMS (px)\n";
   for (size_t k = 0; k < rv.size(); ++k) {
     double s = 0;
@@ -390,7 +395,7 @@ ReportData reportData(const vpSelfCalibReport::Record &run, const Views &views, 
     for (const vpSelfCalibPoseStudy::Point &p : run.errors_vs_poses->points)
       curve << p.poses << " " << 1e3 * p.yardstick_error << " " << 1e3 * run.errors_vs_poses->nominal_error << "\n";
   // Each calibration view's reprojection RMS, calibrated and nominal: where a user looks for a bad view.
-  const auto rn = residuals(run.nominal, ds.cam, cal);
+  const auto rn = residuals(run.nominal, ds.cam, cal, ds.width, ds.height);
   const auto rms = [](const std::vector<double> &e) {
     double s = 0;
     for (double x : e)

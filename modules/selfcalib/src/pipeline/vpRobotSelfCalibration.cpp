@@ -342,8 +342,12 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
     pinhole.opencv_distortion.clear();
   }
   const vpSelfCalibDataset &data0 = pinhole.views.empty() ? ds : pinhole;
-  // eMc and a self-calibrated focal length started from what the data measure, not from the guesses.
-  const vpSelfCalibPipeline::DataStart start = vpSelfCalibPipeline::startFromData(nominal, data0, N, opt);
+  // eMc and a self-calibrated focal length started from what the data measure, not from the guesses;
+  // a hand-eye run started from an earlier run's model, points and f (opt.start: a cross-validation
+  // fold) starts from those.
+  const bool warm = opt.method == HAND_EYE && opt.start.set;
+  const vpSelfCalibPipeline::DataStart start = warm ? vpSelfCalibPipeline::DataStart{nominal, data0, {}, std::string()}
+                                                    : vpSelfCalibPipeline::startFromData(nominal, data0, N, opt);
   const vpSelfCalibDataset &data = start.dataset;
   const vpKinematicChain &model = start.model;
   // Resolves the focal mode and builds every step's options: the remaining caller mistakes throw here.

@@ -122,6 +122,13 @@ void runHandEye(const Context &c, Result &res)
       views[k].has_fMe = true;
       views[k].fMe = toVisp(fMe[k]);
     }
+  // From an earlier run (Options::start): one adjustment from its eMc, points and focal length.
+  if (c.options.start.set) {
+    const vpRobotSelfCalibration::Options::Start &s = c.options.start;
+    if (bundleFrom(c, s.model, s.points, s.fx, views, c.bundle, "hand-eye bundle adjustment", res))
+      res.message = "start from an earlier run; " + res.message;
+    return;
+  }
   const Result before = res;
 
   // (1) From the robot's predicted poses.

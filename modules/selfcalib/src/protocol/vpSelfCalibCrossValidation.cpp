@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <iomanip>
 #include <sstream>
 
@@ -53,7 +54,6 @@ vpSelfCalibCrossValidation::Reprojection reprojectionThrough(const CameraModel &
   vpSelfCalibCrossValidation::Reprojection r;
   r.points = static_cast<unsigned int>(X.size());
   std::vector<double> errors;
-  const double valid_r2 = camera.validRadius2();
   for (size_t k = 0; k < test_views.size(); ++k)
     for (const auto &o : test_views[k].points) {
       const auto it = X.find(o.id);
@@ -64,8 +64,9 @@ vpSelfCalibCrossValidation::Reprojection reprojectionThrough(const CameraModel &
         ++r.behind;
         continue;
       }
-      // Outside the lens model's valid region the polynomial's pixel is no prediction: not seen.
-      if (Xc.head<2>().squaredNorm() / (Xc(2) * Xc(2)) >= valid_r2) {
+      // Outside the lens model's valid region (its polynomial's monotonic range, the image and its
+      // margin) the polynomial's pixel is no prediction: not seen.
+      if (!camera.sees(Xc)) {
         ++r.outside;
         continue;
       }
@@ -121,7 +122,8 @@ vpSelfCalibCrossValidation::Reprojection worldReprojection(const vpKinematicChai
                                                            const vpCameraParameters &cam,
                                                            const std::vector<double> &opencv_distortion,
                                                            bool controller_poses, const std::vector<View> &scene_views,
-                                                           const std::vector<View> &test_views)
+                                                           const std::vector<View> &test_views, unsigned int width,
+                                                           unsigned int height)
 {
   if (!r.has_bMc) // no camera pose to place: nothing compared
     return vpSelfCalibCrossValidation::Reprojection();
@@ -131,8 +133,8 @@ vpSelfCalibCrossValidation::Reprojection worldReprojection(const vpKinematicChai
     oMc.push_back(cameraInTarget(kinematics, scene_views[k], controller_poses, bMc, eMo, k));
   for (size_t k = 0; k < test_views.size(); ++k)
     test_oMc.push_back(cameraInTarget(kinematics, test_views[k], controller_poses, bMc, eMo, k));
-  return reprojectionThrough(vpSelfCalibPipeline::lensOf(cam, opencv_distortion), scene_views, oMc, test_views,
-                             test_oMc);
+  return reprojectionThrough(vpSelfCalibPipeline::lensOf(cam, opencv_distortion).withImage(width, height), scene_views,
+                             oMc, test_views, test_oMc);
 }
 
 vpSelfCalibCrossValidation::Spread spread(const std::vector<double> &x)
@@ -187,14 +189,16 @@ std::vector<std::vector<unsigned int>> vpSelfCalibCrossValidation::folds(unsigne
 vpSelfCalibCrossValidation::Reprojection
 vpSelfCalibCrossValidation::reprojection(const vpKinematicChain &model, const vpCameraParameters &cam,
                                          const std::vector<double> &opencv_distortion, bool controller_poses,
-                                         const std::vector<View> &scene_views, const std::vector<View> &test_views)
+                                         const std::vector<View> &scene_views, const std::vector<View> &test_views,
+                                         unsigned int width, unsigned int height)
 {
+  const CameraModel camera = vpSelfCalibPipeline::lensOf(cam, opencv_distortion).withImage(width, height);
   std::vector<Rigid> fMc, test_fMc;
   for (size_t k = 0; k < scene_views.size(); ++k)
     fMc.push_back(predictedCamera(model, scene_views[k], controller_poses, k));
   for (size_t k = 0; k < test_views.size(); ++k)
     test_fMc.push_back(predictedCamera(model, test_views[k], controller_poses, k));
-  return reprojectionThrough(vpSelfCalibPipeline::lensOf(cam, opencv_distortion), scene_views, fMc, test_views, test_fMc);
+  return reprojectionThrough(camera, scene_views, fMc, test_views, test_fMc);
 }
 
 std::vector<double> vpSelfCalibCrossValidation::calibratedDistortion(const vpRobotSelfCalibration::Result &result,
@@ -203,15 +207,70 @@ std::vector<double> vpSelfCalibCrossValidation::calibratedDistortion(const vpRob
   return result.bundle.opencv_distortion.empty() ? dataset.opencv_distortion : result.bundle.opencv_distortion;
 }
 
-vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinematicChain &nominal,
-                                                                   const vpSelfCalibDataset &ds,
-                                                                   const vpRobotSelfCalibration::Options &options,
-                                                                   const Options &cv, const Progress &progress)
+namespace
 {
+//! One fold's calibration: the fold's dataset (training views first), its options, its progress.
+using FoldCalibration = std::function<vpRobotSelfCalibration::Result(
+    const vpSelfCalibDataset &, const vpRobotSelfCalibration::Options &, const vpRobotSelfCalibration::Progress &)>;
+
+bool gaveModel(const vpRobotSelfCalibration::Result &r)
+{
+  return r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL;
+}
+
+/*
+  A bundle adjustment's residuals contradict the noise it was given: sigma0 above its 99.9 %
+  interval (the pixels noisier than stated), or the robot corrections beyond their chi-square bound.
+*/
+bool contradictsNoise(const vpKinematicBundleAdjustment::Result &b)
+{
+  return b.sigma0 > b.sigma0_high || !vpSelfCalibPipeline::robotCorrectionsWithinStated(b);
+}
+
+/*
+  A fold started from the run on every view (vpSelfCalibCrossValidation::run with `full`): its eMc,
+  points and focal length the start (Options::start), its noise held (the levels it measured, not
+  measured again); the fold measures them again, as full did, only when its residuals contradict
+  them while full's did not.
+*/
+vpRobotSelfCalibration::Result warmFold(const vpKinematicChain &nominal, const vpSelfCalibDataset &sub,
+                                        vpRobotSelfCalibration::Options o, const vpRobotSelfCalibration::Result &full,
+                                        const vpRobotSelfCalibration::Progress &progress)
+{
+  o.start.set = true;
+  o.start.model = full.calibrated;
+  o.start.points = full.bundle.points;
+  o.start.fx = full.camera.get_px();
+  if (!full.bundle.opencv_distortion.empty())
+    o.bundle.opencv_distortion = full.bundle.opencv_distortion;
+  vpSelfCalibDataset data = sub;
+  if (!full.noise.hasRobotError()) {
+    // full measured the robot exact (or trusted it): so does the fold, not the prior again.
+    o.trust_robot = true;
+    data.pose_sd_translation = data.pose_sd_rotation = 0;
+  }
+  o.noise = full.noise;
+  o.noise.measure_pixel_sd = o.noise.measure_pose_sd = o.noise.measure_joint_sd = o.noise.measure_model_sd = false;
+  const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(nominal, data, o, progress);
+  if (!gaveModel(r) || !contradictsNoise(r.bundle) || contradictsNoise(full.bundle))
+    return r;
+  o.noise = full.noise; // measured again from the held levels
+  return vpRobotSelfCalibration::run(nominal, data, o, progress);
+}
+
+vpSelfCalibCrossValidation::Result runFolds(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds,
+                                            const vpRobotSelfCalibration::Options &options,
+                                            const vpSelfCalibCrossValidation::Options &cv,
+                                            const vpSelfCalibCrossValidation::Progress &progress,
+                                            const FoldCalibration &calibrate)
+{
+  using CV = vpSelfCalibCrossValidation;
+  using Result = CV::Result;
+  using Fold = CV::Fold;
   const auto t0 = std::chrono::steady_clock::now();
   cv.check();
   const unsigned int n = static_cast<unsigned int>(ds.views.size());
-  const std::vector<std::vector<unsigned int>> held = folds(n, cv.folds);
+  const std::vector<std::vector<unsigned int>> held = CV::folds(n, cv.folds);
   const bool controller_poses = options.method == vpRobotSelfCalibration::HAND_EYE;
   Result res;
   res.views = n;
@@ -236,7 +295,7 @@ vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinem
           progress(label + ": " + stage, f, cv.folds);
         })
                  : vpRobotSelfCalibration::Progress();
-    const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(nominal, sub, o, inner);
+    const vpRobotSelfCalibration::Result r = calibrate(sub, o, inner);
     Fold fold;
     fold.held_out = held[f];
     fold.status = r.status;
@@ -244,15 +303,19 @@ vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinem
     // A camera fixed in the world: the target's frame is the one the scene is fixed in (worldReprojection()).
     const bool world = ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD;
     if (!world)
-      fold.nominal = reprojection(nominal, ds.cam, ds.opencv_distortion, controller_poses, train, test);
+      fold.nominal = CV::reprojection(nominal, ds.cam, ds.opencv_distortion, controller_poses, train, test,
+                                      ds.width, ds.height);
     // A doubtful fold has a model (the one calibrate would write, marked): it is cross-validated too.
     if (r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL) {
       fold.fx = r.camera.get_px();
       if (world)
-        fold.nominal = worldReprojection(nominal, r, ds.cam, ds.opencv_distortion, controller_poses, train, test);
+        fold.nominal = worldReprojection(nominal, r, ds.cam, ds.opencv_distortion, controller_poses, train, test,
+                                         ds.width, ds.height);
       fold.calibrated =
-          world ? worldReprojection(r.calibrated, r, r.camera, calibratedDistortion(r, ds), controller_poses, train, test)
-                : reprojection(r.calibrated, r.camera, calibratedDistortion(r, ds), controller_poses, train, test);
+          world ? worldReprojection(r.calibrated, r, r.camera, CV::calibratedDistortion(r, ds), controller_poses, train,
+                                    test, ds.width, ds.height)
+                : CV::reprojection(r.calibrated, r.camera, CV::calibratedDistortion(r, ds), controller_poses, train, test,
+                                   ds.width, ds.height);
       if (r.verified && r.before.has_yardstick && r.after.has_yardstick) {
         fold.verified = true;
         fold.yardstick_error_nominal = r.before.yardstick_error;
@@ -296,6 +359,38 @@ vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinem
   res.seconds = vpSelfCalibPipeline::seconds(t0);
   return res;
 }
+} // namespace
+
+vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinematicChain &nominal,
+                                                                   const vpSelfCalibDataset &ds,
+                                                                   const vpRobotSelfCalibration::Options &options,
+                                                                   const Options &cv, const Progress &progress)
+{
+  return runFolds(nominal, ds, options, cv, progress,
+                  [&nominal](const vpSelfCalibDataset &sub, const vpRobotSelfCalibration::Options &o,
+                             const vpRobotSelfCalibration::Progress &inner) {
+                    return vpRobotSelfCalibration::run(nominal, sub, o, inner);
+                  });
+}
+
+vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinematicChain &nominal,
+                                                                   const vpSelfCalibDataset &ds,
+                                                                   const vpRobotSelfCalibration::Options &options,
+                                                                   const Options &cv,
+                                                                   const vpRobotSelfCalibration::Result &full,
+                                                                   const Progress &progress)
+{
+  const bool warm = options.method == vpRobotSelfCalibration::HAND_EYE &&
+                    ds.camera_mount == vpSelfCalibDataset::CAMERA_ON_EFFECTOR && gaveModel(full) &&
+                    !full.bundle.points.empty() && full.camera.get_px() > 0;
+  if (!warm)
+    return run(nominal, ds, options, cv, progress);
+  return runFolds(nominal, ds, options, cv, progress,
+                  [&nominal, &full](const vpSelfCalibDataset &sub, const vpRobotSelfCalibration::Options &o,
+                                    const vpRobotSelfCalibration::Progress &inner) {
+                    return warmFold(nominal, sub, o, full, inner);
+                  });
+}
 
 vpSelfCalibCrossValidation::HeldOut vpSelfCalibCrossValidation::verifyHeldOut(
     const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, const vpRobotSelfCalibration::Options &options,
@@ -309,8 +404,9 @@ vpSelfCalibCrossValidation::HeldOut vpSelfCalibCrossValidation::verifyHeldOut(
   HeldOut out;
   out.views = static_cast<unsigned int>(h.views.size());
   const std::vector<double> lens = calibratedDistortion(r, ds);
-  out.calibrated = reprojection(r.calibrated, r.camera, lens, controller_poses, h.views, h.views);
-  out.nominal = reprojection(nominal, h.cam, h.opencv_distortion, controller_poses, h.views, h.views);
+  out.calibrated = reprojection(r.calibrated, r.camera, lens, controller_poses, h.views, h.views, h.width, h.height);
+  out.nominal =
+      reprojection(nominal, h.cam, h.opencv_distortion, controller_poses, h.views, h.views, h.width, h.height);
   if (h.yardstick.isSet()) {
     // vpCalibrationVerifier's camera holds no OpenCV lens: the pixels through its inverse first.
     auto pinhole = [&h](const vpCameraParameters &cam, const std::vector<double> &opencv) {

@@ -113,7 +113,7 @@ vpSelfCalibProtocol::Result vpSelfCalibProtocol::run(const vpKinematicChain &nom
     cal.views.resize(plan.calibration);
     vpSelfCalibCrossValidation::Options cvo;
     cvo.folds = plan.folds;
-    p.cv = vpSelfCalibCrossValidation::run(nominal, cal, p.options, cvo, stage);
+    p.cv = vpSelfCalibCrossValidation::run(nominal, cal, p.options, cvo, p.run, stage); // folds from p.run
     for (size_t f = 0; f < p.cv->fold.size(); ++f)
       if (!gaveModel(p.cv->fold[f].status))
         tell(WARNING, "cross-validation fold " + std::to_string(f + 1) + " failed: " +

@@ -47,6 +47,22 @@ vpSelfCalibDataset withControllerPoses(const vpSelfCalibSimulator &sim, vpSelfCa
   }
   return ds;
 }
+
+// A view whose camera is at fMc (its controller pose fMc eMc^-1) seeing `scene` through `camera`, 0.2 px of noise.
+vpSelfCalibDataset::View lensView(const vpHomogeneousMatrix &fMc, const vpHomogeneousMatrix &eMc,
+                                  const std::vector<Eigen::Vector3d> &scene, const vpSelfCalib::CameraModel &camera,
+                                  vpSelfCalib::Random &rng)
+{
+  vpSelfCalibDataset::View v;
+  v.has_fMe = true;
+  v.fMe = fMc * eMc.inverse();
+  const vpSelfCalib::Rigid cMf = vpSelfCalib::rigidFromVisp(fMc).inverse();
+  for (size_t p = 0; p < scene.size(); ++p) {
+    const Eigen::Vector2d uv = camera.project(cMf * scene[p]);
+    v.points.push_back({static_cast<int>(p), vpImagePoint(uv(1) + rng.normal(0.2), uv(0) + rng.normal(0.2))});
+  }
+  return v;
+}
 } // namespace
 
 // View i in fold i mod k: every view held out exactly once, the same folds every call, the
@@ -324,17 +340,7 @@ TEST(CrossValidation, PointsOutsideTheLensModelAreNotSeen)
   for (int i = -4; i <= 4; ++i)
     for (int j = -3; j <= 3; ++j)
       scene.emplace_back(0.1 * i, 0.1 * j, 2.0);
-  const auto view = [&](const vpHomogeneousMatrix &fMc) {
-    vpSelfCalibDataset::View v;
-    v.has_fMe = true;
-    v.fMe = fMc * eMc.inverse();
-    const vpSelfCalib::Rigid cMf = vpSelfCalib::rigidFromVisp(fMc).inverse();
-    for (size_t p = 0; p < scene.size(); ++p) {
-      const Eigen::Vector2d uv = camera.project(cMf * scene[p]);
-      v.points.push_back({static_cast<int>(p), vpImagePoint(uv(1) + rng.normal(0.2), uv(0) + rng.normal(0.2))});
-    }
-    return v;
-  };
+  const auto view = [&](const vpHomogeneousMatrix &fMc) { return lensView(fMc, eMc, scene, camera, rng); };
   const std::vector<vpSelfCalibDataset::View> train = {view(vpHomogeneousMatrix(-0.2, 0, 0, 0, 0, 0)),
                                                        view(vpHomogeneousMatrix(0.2, 0, 0, 0, 0, 0)),
                                                        view(vpHomogeneousMatrix(0, 0.2, 0, 0, 0, 0))};
@@ -354,6 +360,86 @@ TEST(CrossValidation, PointsOutsideTheLensModelAreNotSeen)
   ASSERT_TRUE(std::isfinite(both.rms));
   EXPECT_LT(both.rms, 2 * seen.rms);
   EXPECT_LT(both.median, 2 * seen.median);
+
+  // As the folds call it (the image's size given, so its margin applies too), through the model
+  // and through one whose eMc is 1 mm and 0.2 deg off (a nominal model): both figures finite and
+  // within 2x of their in-image figures.
+  vpKinematicChain off = model;
+  off.set_eMc(vpPoseVector(eMc * vpHomogeneousMatrix(1e-3, 0, 0, 0, 0.2 * M_PI / 180, 0)));
+  for (const vpKinematicChain *m : std::vector<const vpKinematicChain *>{&model, &off}) {
+    const CV::Reprojection in_image = CV::reprojection(*m, cam, lens, true, train, {inside}, 1280, 720);
+    const CV::Reprojection with_far = CV::reprojection(*m, cam, lens, true, train, {inside, turned}, 1280, 720);
+    ASSERT_GT(in_image.observations, 0u);
+    EXPECT_GT(with_far.outside, scene.size() / 2);
+    ASSERT_TRUE(std::isfinite(with_far.rms) && std::isfinite(with_far.median));
+    EXPECT_LT(with_far.rms, 2 * in_image.rms) << (m == &off ? "nominal" : "calibrated");
+    EXPECT_LT(with_far.median, 2 * in_image.median) << (m == &off ? "nominal" : "calibrated");
+  }
+}
+
+// The image and its margin (k1 = -0.3, 1280 x 720, p_x 1600): a point inside the polynomial's
+// monotonic range (r^2 < 1 / 0.9) whose undistorted pixel lies more than the margin outside the
+// image is not seen once the camera is told its image; a pinhole camera still sees it (its model
+// holds everywhere). In the cross-validation, exactly the held-out observations whose predicted
+// undistorted pixel lies beyond the image and its margin are counted outside, not compared.
+TEST(CrossValidation, PointsOutsideTheImageAndItsMarginAreNotSeen)
+{
+  const double in[9] = {1600, 1, 640, 360, -0.3, 0, 0, 0, 0};
+  const vpSelfCalib::CameraModel lens(vpSelfCalib::Distortion::OPENCV, in);
+  const vpSelfCalib::CameraModel framed = lens.withImage(1280, 720); // margin 320 px
+  ASSERT_NEAR(lens.validRadius2(), 1 / 0.9, 1e-9);
+  const Eigen::Vector3d near_edge(0.59, 0.42, 1), beyond_u(0.61, 0, 1), beyond_v(0, 0.43, 1), left(-0.61, 0, 1);
+  for (const Eigen::Vector3d &X : {near_edge, beyond_u, beyond_v, left})
+    EXPECT_TRUE(lens.sees(X)); // inside the polynomial's range: the old rule sees them all
+  EXPECT_TRUE(framed.sees(near_edge)); // u = 1584, v = 1032: within 1600 and 1040
+  EXPECT_FALSE(framed.sees(beyond_u)); // u = 1616
+  EXPECT_FALSE(framed.sees(beyond_v)); // v = 1048
+  EXPECT_FALSE(framed.sees(left));     // u = -336
+  EXPECT_FALSE(framed.sees(Eigen::Vector3d(0.1, 0, -1))); // behind
+  const vpSelfCalib::CameraModel tight = lens.withImage(1280, 720, 0);
+  EXPECT_TRUE(tight.sees(Eigen::Vector3d(0.39, 0, 1)));  // u = 1264
+  EXPECT_FALSE(tight.sees(Eigen::Vector3d(0.41, 0, 1))); // u = 1296
+  const vpSelfCalib::CameraModel pin = vpSelfCalib::CameraModel::pinhole(1600, 1600, 640, 360).withImage(1280, 720);
+  EXPECT_TRUE(pin.sees(Eigen::Vector3d(5, 3, 1)));
+
+  const vpKinematicChain model = vpKinematicChain::fromPresetOrFile("viper850");
+  const vpHomogeneousMatrix eMc = model.get_eMc_corrected();
+  const std::vector<double> coefficients = {-0.3, 0, 0, 0, 0};
+  const vpCameraParameters cam(1600, 1600, 640, 360);
+  std::vector<Eigen::Vector3d> scene;
+  for (int i = -4; i <= 4; ++i)
+    for (int j = -3; j <= 3; ++j)
+      scene.emplace_back(0.05 * i, 0.05 * j, 2.0);
+  vpSelfCalib::Random rng(11, 1);
+  const auto view = [&](const vpHomogeneousMatrix &fMc) { return lensView(fMc, eMc, scene, lens, rng); };
+  const std::vector<vpSelfCalibDataset::View> train = {view(vpHomogeneousMatrix(-0.2, 0, 0, 0, 0, 0)),
+                                                       view(vpHomogeneousMatrix(0.2, 0, 0, 0, 0, 0)),
+                                                       view(vpHomogeneousMatrix(0, 0.2, 0, 0, 0, 0))};
+  // A camera turned 28 degrees about y: the grid at |x / z| from about 0.43 to 0.65, part of it
+  // beyond u = 1600; its pixels observed wrongly (anywhere in the image).
+  const vpHomogeneousMatrix fMc_turned(0, 0, 0, 0, -28 * M_PI / 180, 0);
+  vpSelfCalibDataset::View turned = view(fMc_turned);
+  for (auto &o : turned.points)
+    o.ip = vpImagePoint(rng.uniform(0, 720), rng.uniform(0, 1280));
+  const vpSelfCalib::Rigid cMf = vpSelfCalib::rigidFromVisp(fMc_turned).inverse();
+  unsigned int beyond = 0;
+  for (const Eigen::Vector3d &X : scene) {
+    const Eigen::Vector3d Xc = cMf * X;
+    const double u = 640 + 1600 * Xc(0) / Xc(2), v = 360 + 1600 * Xc(1) / Xc(2);
+    ASSERT_LT(Xc.head<2>().squaredNorm() / (Xc(2) * Xc(2)), 1 / 0.9);
+    beyond += u < -320 || u > 1600 || v < -320 || v > 1040;
+  }
+  ASSERT_GT(beyond, 5u);
+  ASSERT_LT(beyond, scene.size() - 5);
+  const CV::Reprojection unframed = CV::reprojection(model, cam, coefficients, true, train, {turned});
+  const CV::Reprojection image = CV::reprojection(model, cam, coefficients, true, train, {turned}, 1280, 720);
+  EXPECT_EQ(unframed.outside, 0u);
+  EXPECT_EQ(image.outside, beyond);
+  EXPECT_EQ(image.observations + beyond, unframed.observations);
+  // Without distortion the image's size changes nothing.
+  const CV::Reprojection pinhole = CV::reprojection(model, cam, {}, true, train, {turned}, 1280, 720);
+  EXPECT_EQ(pinhole.outside, 0u);
+  EXPECT_EQ(pinhole.observations, scene.size());
 }
 
 // A camera fixed in the world (eye-to-hand), the hand-eye method, noise-free: the target's points
@@ -412,6 +498,63 @@ TEST(CrossValidation, EyeToHandHeldOutErrorIsTheNoiseLevel)
       EXPECT_GT(f.calibrated.rms, 0.9 * rms_noise) << "seed " << seed;
       EXPECT_LT(f.calibrated.rms, 1.6 * rms_noise) << "seed " << seed;
       EXPECT_GT(f.nominal.rms, 3 * f.calibrated.rms) << "seed " << seed;
+    }
+  }
+}
+
+/*
+  Folds started from the run on every view (its eMc, points, focal length and measured noise) give
+  the folds from scratch: noise-free, the held-out views exactly; at 0.2 px with 0.5 mm / 0.5 mrad
+  of controller pose error, over two seeds, every fold's held-out RMS within 3 of its own sampling
+  sd (RMS / sqrt(2 x observations)) of the fold from scratch and its focal length within 3 of the
+  full run's sd of it; each fold says it started from the earlier run.
+*/
+TEST(CrossValidation, FoldsFromTheFullRunGiveTheFoldsFromScratch)
+{
+  vpRobotSelfCalibration::Options o;
+  o.method = vpRobotSelfCalibration::HAND_EYE;
+  CV::Options cvo;
+  cvo.folds = 3;
+  {
+    const vpSelfCalibSimulator sim = makeSim("viper850", 22, 0.0);
+    vpSelfCalibDataset ds = withControllerPoses(sim, simulated(sim, 9));
+    ds.focal_known = false;
+    vpRobotSelfCalibration::Options all = o;
+    all.num_calibration_poses = 9;
+    const vpRobotSelfCalibration::Result full = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, all);
+    ASSERT_EQ(full.status, vpRobotSelfCalibration::OK) << full.message;
+    const CV::Result warm = CV::run(sim.getNominalChain(), ds, o, cvo, full);
+    ASSERT_EQ(warm.num_ok, 3u) << warm.message;
+    for (const auto &f : warm.fold) {
+      EXPECT_NE(f.message.find("start from an earlier run"), std::string::npos) << f.message;
+      EXPECT_NEAR(f.fx, 1500, 1e-6);
+      EXPECT_LT(f.calibrated.rms, 1e-6);
+      EXPECT_GT(f.nominal.rms, 0.5); // the nominal eMc: 1 mm and 0.2 deg off
+    }
+  }
+  for (uint64_t seed : {41u, 42u}) {
+    const vpSelfCalibSimulator sim = makeSim("viper850", seed, 0.2);
+    vpSelfCalibDataset ds = simulated(sim, 12);
+    toControllerPoses(sim, ds, 5e-4, 5e-4, seed, 7);
+    ds.focal_known = false;
+    vpRobotSelfCalibration::Options all = o;
+    all.num_calibration_poses = 12;
+    const vpRobotSelfCalibration::Result full = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, all);
+    ASSERT_EQ(full.status, vpRobotSelfCalibration::OK) << full.message;
+    const CV::Result scratch = CV::run(sim.getNominalChain(), ds, o, cvo);
+    const CV::Result warm = CV::run(sim.getNominalChain(), ds, o, cvo, full);
+    ASSERT_EQ(scratch.num_ok, 3u) << "seed " << seed << ": " << scratch.message;
+    ASSERT_EQ(warm.num_ok, 3u) << "seed " << seed << ": " << warm.message;
+    for (unsigned int f = 0; f < 3; ++f) {
+      const CV::Fold &a = warm.fold[f], &b = scratch.fold[f];
+      EXPECT_NE(a.message.find("start from an earlier run"), std::string::npos) << a.message;
+      EXPECT_EQ(a.calibrated.observations + a.calibrated.behind + a.calibrated.outside,
+                b.calibrated.observations + b.calibrated.behind + b.calibrated.outside);
+      const double sampling = b.calibrated.rms / std::sqrt(2.0 * b.calibrated.observations);
+      EXPECT_LE(std::abs(a.calibrated.rms - b.calibrated.rms), 3 * sampling)
+          << "seed " << seed << ", fold " << f << ": " << a.calibrated.rms << " vs " << b.calibrated.rms;
+      EXPECT_EQ(a.nominal.rms, b.nominal.rms);
+      EXPECT_LE(std::abs(a.fx - full.fx), 3 * full.fx_sd) << "seed " << seed << ", fold " << f;
     }
   }
 }

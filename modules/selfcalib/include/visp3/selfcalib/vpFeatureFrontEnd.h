@@ -201,7 +201,8 @@ public:
 
   /*!
     A dataset whose views have images but no points: reads every view's image (vpImageIo), checks
-    its size against the dataset's camera, runs process() and fills the observations; the
+    its size against the dataset's camera, adds the views' own masks (viewMasks()), runs process()
+    and fills the observations; the
     yardstick's ends get the ids of the dots found (its length stays the dataset's). Throws
     vpSelfCalibException naming the view and the file when an image is missing, unreadable or of
     another size, or when a view has no image.
@@ -215,6 +216,19 @@ public:
   */
   static std::vector<vpImage<unsigned char>> readImages(const vpSelfCalibDataset &dataset,
                                                         const std::string &who = "vpFeatureFrontEnd");
+
+  /*!
+    The masks the front end runs with on a dataset's views: `masks` (none, one for every view, or
+    one per view: Options::masks) and each view's own mask file (vpSelfCalibDataset::View::mask)
+    combined: a pixel is searched where both allow it (non-zero in both). Without any view mask,
+    `masks` unchanged; else one mask per view (all 255 for a view with neither). Each mask file is
+    checked as the images are (the file, its header, its size against the camera's): a missing,
+    unreadable or wrongly sized one throws vpSelfCalibException starting with `who`, naming the
+    view and the file.
+  */
+  static std::vector<vpImage<unsigned char>> viewMasks(const vpSelfCalibDataset &dataset,
+                                                       const std::vector<vpImage<unsigned char>> &masks,
+                                                       const std::string &who = "vpFeatureFrontEnd");
 
   /*!
     One image file read as grey (a mask, a texture), checked as the dataset's images are before it

@@ -13,6 +13,7 @@
 #include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -180,6 +181,23 @@ public:
     bool trust_robot = false;
     //! The checks run before calibrating (its noise: the noise above).
     vpSelfCalibDataCheck::Options data_check;
+    /*!
+      A start taken from an earlier run on the same views or a superset of them (the folds of
+      vpSelfCalibCrossValidation start from the run on every view). HAND_EYE with the camera on the
+      effector, when `set`: the method's start steps (the points triangulated from the controller
+      poses, the multi-view reconstruction and the closed form, the focal length where the
+      predicted rays meet best) are not run; one hand-eye bundle adjustment starts from `model`'s
+      eMc, the scene `points` (frame f, by id; ids the views do not observe are ignored) and the
+      focal length `fx` (px). The noise rounds, checks and assessment run as without it. Other
+      methods and set-ups: not read.
+    */
+    struct Start {
+      bool set = false;
+      vpKinematicChain model;
+      std::map<int, vpColVector> points;
+      double fx = 0;
+    };
+    Start start;
     //! After a run: a warning when more than this fraction of the calibration observations was not
     //! used (rejected as wrong matches, or on points the reconstruction could not place).
     double outlier_warning = 0.25;

@@ -74,7 +74,9 @@ public:
     unsigned int observations = 0; //!< test-view observations compared (their point triangulated and in front)
     unsigned int behind = 0;       //!< test-view observations whose point the predicted camera sees behind it (left out)
     //! Test-view observations whose point the predicted camera has outside its lens model's valid
-    //! region (beyond where the distortion polynomial stays monotonic in radius): not seen, left out.
+    //! region: beyond where the distortion polynomial stays monotonic in radius or, with a lens
+    //! distortion and the image's size given, undistorted more than a margin (a quarter of the
+    //! image's larger side) outside the image the polynomial was fitted on: not seen, left out.
     unsigned int outside = 0;
     double rms = 0;                //!< px, sqrt of the mean squared 2-D error (0 when no observation)
     double median = 0;             //!< px, median 2-D error
@@ -133,16 +135,34 @@ public:
                     const Progress &progress = Progress());
 
   /*!
+    The same cross-validation, each fold started from `full`, the run of the same options on every
+    view of `dataset` (what vpSelfCalibProtocol calibrates first). HAND_EYE with the camera on the
+    effector and `full` ok or doubtful: a fold is one hand-eye bundle adjustment on its training
+    views' observations (the held-out views' left out) from full's eMc, scene points and focal
+    length (vpRobotSelfCalibration::Options::start), at the noise full used (its measured levels,
+    held); only when the fold's residuals contradict those levels (its sigma0 above its 99.9 %
+    interval, or its robot corrections beyond their chi-square bound, where full's were not) does
+    the fold measure the noise again as full did. Otherwise, and for other methods or a camera in
+    the world, run() above. Throws as run().
+  */
+  static Result run(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
+                    const vpRobotSelfCalibration::Options &options, const Options &cv_options,
+                    const vpRobotSelfCalibration::Result &full, const Progress &progress = Progress());
+
+  /*!
     The reprojection error of test_views on the scene triangulated from scene_views (the two may be
     the same views), both through `model` and the camera `cam` with OpenCV's lens coefficients
     `opencv_distortion` (empty: cam's own model). A view's camera pose: with controller_poses and a
     controller pose fMe, fMe eMc (the model's eMc); else fMc(q) through the model; else (no joints)
-    fMe eMc. Throws vpSelfCalibException when a view has neither joints of the model's size nor fMe.
+    fMe eMc. `width` x `height`: the image the lens was fitted on (0: not given; see
+    Reprojection::outside). Throws vpSelfCalibException when a view has neither joints of the
+    model's size nor fMe.
   */
   static Reprojection reprojection(const vpKinematicChain &model, const vpCameraParameters &cam,
                                    const std::vector<double> &opencv_distortion, bool controller_poses,
                                    const std::vector<vpSelfCalibDataset::View> &scene_views,
-                                   const std::vector<vpSelfCalibDataset::View> &test_views);
+                                   const std::vector<vpSelfCalibDataset::View> &test_views,
+                                   unsigned int width = 0, unsigned int height = 0);
 
   /*!
     The camera of a calibration result for reprojection(): result.camera with the estimated OpenCV

@@ -50,6 +50,9 @@
   poses:
     - joints: [q1, q2, q3, q4, q5, q6]   # or fMe: [tx, ty, tz, tux, tuy, tuz]
       image: images/0001.png           # optional, relative to this file
+      mask: masks/0001.png             # optional, relative to this file: where this view's image is
+                                       # black (0), no natural feature is looked for (the gripper, an
+                                       # overlay, something that moves); combined with a global mask
       points: [[id, u, v], ...]        # optional
   yardstick: {length: 0.1, ends: [80, 81]}   # optional; without ends: dots found in the images
   fix: [j3.*, base.*]             # optional: parameters kept nominal (names or glob patterns)
@@ -69,6 +72,12 @@ struct VISP_SELFCALIB_EXPORT vpSelfCalibDataset {
     bool has_fMe = false;     //!< true when the controller pose fMe is given
     vpHomogeneousMatrix fMe;  //!< controller pose, when has_fMe
     std::string image;        //!< image path, may be empty
+    /*!
+      Mask of this view's image, may be empty: an image of the camera's size, where it is black (0)
+      no natural feature is looked for. A global mask (vpFeatureFrontEnd::Options::masks with one
+      image) applies too: a pixel is searched only where both allow it.
+    */
+    std::string mask;
     std::vector<Observation> points;
   };
 
