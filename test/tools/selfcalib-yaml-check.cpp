@@ -3,7 +3,7 @@
   \brief Checks keys of a YAML file (results.yaml, a dataset, an exported model) for the integration
   tests, so that they assert on the parsed file rather than on numbers printed on stdout.
 
-  Usage: selfcalib-yaml-check FILE CHECK [CHECK ...], each CHECK one of
+  Usage: selfcalib-yaml-check [--line REGEX] FILE CHECK [CHECK ...], each CHECK one of
     PATH exists          the key is there
     PATH missing         the key is not there
     PATH eq VALUE        the scalar equals VALUE (as numbers when both are numbers, else as text)
@@ -11,6 +11,10 @@
     PATH size N          the sequence or map has N entries
   PATH is a dotted key path (`cross_validation.rms_px.calibrated.mean`); a number indexes a sequence
   (`eMc.pose.0`); a map key that holds dots (`j1.tx`) is found as well. FILE `-` reads stdin.
+  With --line, FILE is text (a command's output) and is not parsed: the first line REGEX (ECMAScript,
+  searched in the line) matches is read, and its capture groups are the entries 0, 1, ... of the
+  sequence the checks see. For the few figures a command prints and writes to no YAML file; no
+  matching line is a failed check.
   Every check is made; each failure is one line on stdout naming the file, the key, the value and
   what was expected. Exit 0 and "yaml-check ok: FILE (N checks)" when all pass, 1 when one fails,
   2 on a usage error or a file that cannot be read.
@@ -19,7 +23,9 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -93,30 +99,84 @@ std::string show(const YAML::Node &node)
 int usage(const std::string &why)
 {
   std::cerr << "selfcalib-yaml-check: " << why << "\n"
-            << "usage: selfcalib-yaml-check FILE PATH exists|missing|eq VALUE|range LO HI|size N ...\n";
+            << "usage: selfcalib-yaml-check [--line REGEX] FILE PATH exists|missing|eq VALUE|range LO HI|size N ...\n";
   return 2;
+}
+
+/*!
+  The capture groups of the first line of `in` that `pattern` matches, as a YAML sequence of
+  scalars; an undefined node when no line matches.
+*/
+YAML::Node lineCaptures(std::istream &in, const std::regex &pattern)
+{
+  std::string line;
+  std::smatch m;
+  while (std::getline(in, line))
+    if (std::regex_search(line, m, pattern)) {
+      YAML::Node captures(YAML::NodeType::Sequence);
+      for (size_t g = 1; g < m.size(); ++g)
+        captures.push_back(m[g].str());
+      return captures;
+    }
+  return YAML::Node(YAML::NodeType::Undefined);
+}
+
+/*!
+  The checked node of `file`: the parsed YAML, or with --line (`line` true) the captures of the
+  first line `regex` matches. Returns 0, or the exit status: 1 when no line matches, 2 when the
+  file cannot be read or parsed or the expression is not one.
+*/
+int load(const std::string &file, bool line, const std::string &regex, YAML::Node &root)
+{
+  if (!line) {
+    try {
+      root = file == "-" ? YAML::Load(std::cin) : YAML::LoadFile(file);
+    }
+    catch (const YAML::Exception &e) {
+      std::cerr << "selfcalib-yaml-check: " << file << ": " << e.what() << "\n";
+      return 2;
+    }
+    return 0;
+  }
+  std::regex pattern;
+  try {
+    pattern = std::regex(regex, std::regex::ECMAScript);
+  }
+  catch (const std::regex_error &e) {
+    return usage("--line: '" + regex + "' is not a regular expression (" + e.what() + ")");
+  }
+  std::ifstream text;
+  if (file != "-") {
+    text.open(file);
+    if (!text) {
+      std::cerr << "selfcalib-yaml-check: " << file << ": cannot read\n";
+      return 2;
+    }
+  }
+  root = lineCaptures(file == "-" ? std::cin : text, pattern);
+  if (!root.IsDefined()) {
+    std::cout << "yaml-check FAILED: " << file << ": no line matches '" << regex << "'\n";
+    return 1;
+  }
+  return 0;
 }
 } // namespace
 
 int main(int argc, char **argv)
 {
-  if (argc < 4)
+  const bool line = argc > 1 && std::string(argv[1]) == "--line";
+  if (line && argc < 3)
+    return usage("--line: give a regular expression");
+  const int first = line ? 3 : 1; // the argument FILE is
+  if (argc < first + 3)
     return usage("give a file and at least one check");
-  const std::string file = argv[1];
+  const std::string file = argv[first];
   YAML::Node root;
-  try {
-    if (file == "-")
-      root = YAML::Load(std::cin);
-    else
-      root = YAML::LoadFile(file);
-  }
-  catch (const YAML::Exception &e) {
-    std::cerr << "selfcalib-yaml-check: " << file << ": " << e.what() << "\n";
-    return 2;
-  }
+  if (const int status = load(file, line, line ? argv[2] : "", root))
+    return status;
 
   int failed = 0, checks = 0;
-  for (int a = 2; a < argc;) {
+  for (int a = first + 1; a < argc;) {
     const std::string path = argv[a];
     if (a + 1 >= argc)
       return usage("'" + path + "': no operation");

@@ -4,11 +4,15 @@
 #ifndef VP_SELFCALIB_TEST_COMMON_H
 #define VP_SELFCALIB_TEST_COMMON_H
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <visp3/core/vpPoseVector.h>
 #include <visp3/selfcalib/vpBoardDetector.h>
+#include <visp3/selfcalib/vpKinematicIdentification.h>
 #include <visp3/selfcalib/vpSelfCalibRenderer.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
@@ -83,6 +87,48 @@ inline vpBoardDetector::Options tagBundleDetector(const vpSelfCalibRenderer::Opt
   }
   return o;
 }
+
+//! The parameters an estimated set leaves at nominal because the data do not determine them.
+inline std::vector<std::string> leftByData(const vpKinematicIdentification::Identifiability &s)
+{
+  std::vector<std::string> out;
+  for (const auto &u : s.unidentifiable)
+    if (u.cause == vpKinematicIdentification::CAUSE_DATA)
+      out.push_back(u.name);
+  return out;
+}
+
+/*!
+  A stuck wrist: the PUMA 560 (standard DH) in the simulator (f known, no pixel noise, 20 scene points
+  or more in view), `views` configurations drawn with joint 5's deviation from the home scaled down
+  so that it spans `range_deg` (within +-range_deg / 2 of the home; 0: the configurations as drawn).
+*/
+struct StuckWrist {
+  vpSelfCalibSimulator sim;
+  std::vector<vpColVector> q;
+  vpSelfCalibDataset ds;
+  StuckWrist(uint64_t seed, unsigned int views, double range_deg) : sim(simOf(seed))
+  {
+    const vpColVector home = vpSelfCalibSimulator::homeConfiguration(sim.getNominalChain());
+    q = sim.generateConfigurations(views);
+    double widest = 0;
+    for (const vpColVector &c : q)
+      widest = std::max(widest, std::fabs(c[4] - home[4]));
+    for (vpColVector &c : q)
+      if (range_deg > 0)
+        c[4] = home[4] + (c[4] - home[4]) * (0.5 * range_deg * M_PI / 180.0) / widest;
+    ds = sim.makeDataset(q);
+  }
+  //! The simulator of the stuck wrist's views, before any joint is squeezed.
+  static vpSelfCalibSimulator simOf(uint64_t seed)
+  {
+    vpSelfCalibSimulator::Options o;
+    o.seed = seed;
+    o.pixel_noise_sd = 0;
+    o.min_visible_points = 20;
+    return vpSelfCalibSimulator(vpKinematicChain::preset("puma560"), o);
+  }
+};
 } // namespace selfcalib_test
 
 #endif

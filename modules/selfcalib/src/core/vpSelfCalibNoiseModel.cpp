@@ -38,48 +38,49 @@ vpSelfCalibNoiseModel vpSelfCalibNoiseModel::unmeasured()
   return n;
 }
 
-vpSelfCalibNoiseModel vpSelfCalibNoiseModel::withPixelNoise(double sd, Origin origin) const
-{
-  vpSelfCalibNoiseModel n = *this;
-  n.pixel_sd = sd;
-  n.pixel_sd_origin = origin;
-  return n;
-}
-
-vpSelfCalibNoiseModel vpSelfCalibNoiseModel::withPoseError(double t, double r, Origin origin) const
-{
-  vpSelfCalibNoiseModel n = *this;
-  n.pose_sd_translation = t;
-  n.pose_sd_rotation = r;
-  n.pose_sd_origin = origin;
-  return n;
-}
-
-vpSelfCalibNoiseModel vpSelfCalibNoiseModel::withJointError(const std::vector<double> &sd, Origin origin) const
-{
-  vpSelfCalibNoiseModel n = *this;
-  n.joint_sd = sd;
-  n.joint_sd_origin = origin;
-  return n;
-}
-
-vpSelfCalibNoiseModel vpSelfCalibNoiseModel::withModelError(double t, double r, Origin origin) const
-{
-  vpSelfCalibNoiseModel n = *this;
-  n.model_sd_translation = t;
-  n.model_sd_rotation = r;
-  n.model_sd_origin = origin;
-  return n;
-}
-
 namespace
 {
+using Noise = vpSelfCalibNoiseModel;
+
+//! A copy of `n` holding the level `value` in `field`, and `origin` in `origin_field` (where it comes from).
+template <typename T>
+Noise withLevel(Noise n, T Noise::*field, const T &value, Noise::Origin Noise::*origin_field, Noise::Origin origin)
+{
+  n.*field = value;
+  n.*origin_field = origin;
+  return n;
+}
+
 // Both parts positive (the error modelled) or both 0 (exact), each finite.
 bool pairValid(double t, double r)
 {
   return t >= 0 && r >= 0 && std::isfinite(t) && std::isfinite(r) && ((t > 0) == (r > 0));
 }
 } // namespace
+
+vpSelfCalibNoiseModel vpSelfCalibNoiseModel::withPixelNoise(double sd, Origin origin) const
+{
+  return withLevel(*this, &Noise::pixel_sd, sd, &Noise::pixel_sd_origin, origin);
+}
+
+vpSelfCalibNoiseModel vpSelfCalibNoiseModel::withPoseError(double t, double r, Origin origin) const
+{
+  Noise n = withLevel(*this, &Noise::pose_sd_translation, t, &Noise::pose_sd_origin, origin);
+  n.pose_sd_rotation = r;
+  return n;
+}
+
+vpSelfCalibNoiseModel vpSelfCalibNoiseModel::withJointError(const std::vector<double> &sd, Origin origin) const
+{
+  return withLevel(*this, &Noise::joint_sd, sd, &Noise::joint_sd_origin, origin);
+}
+
+vpSelfCalibNoiseModel vpSelfCalibNoiseModel::withModelError(double t, double r, Origin origin) const
+{
+  Noise n = withLevel(*this, &Noise::model_sd_translation, t, &Noise::model_sd_origin, origin);
+  n.model_sd_rotation = r;
+  return n;
+}
 
 void vpSelfCalibNoiseModel::check(const std::string &who) const
 {

@@ -5,7 +5,6 @@
 
 #include <fstream>
 #include <iostream>
-#include <mutex>
 #include <sstream>
 
 #include <cerrno>
@@ -23,8 +22,6 @@ namespace vpSelfCalib
 {
 namespace
 {
-std::mutex g_parse_mutex;
-
 //! Bytes of a camera XML file (a few cameras take a few kB).
 constexpr size_t kMaxCameraXmlBytes = size_t(16) << 20;
 
@@ -55,7 +52,6 @@ bool readCameraXml(const std::string &file, const std::string &name,
                    vpCameraParameters::vpCameraParametersProjType model, CameraXml &out)
 {
   checkCameraXmlFile(file);
-  std::lock_guard<std::mutex> lock(g_parse_mutex);
   const SilentCout silent;
   vpXmlParserCamera parser;
   vpCameraParameters cam;

@@ -469,6 +469,21 @@ bool observeTarget(const vpSelfCalibSimulator::EyeToHandOptions &o, const std::m
   return v.points.size() == layout.size();
 }
 
+//! A view's controller pose: the true bMe (kept in the truth) with the controller's error drawn
+//! (EyeToHandOptions::pose_sd_translation, pose_sd_rotation).
+void recordControllerPose(const vpSelfCalibSimulator::EyeToHandOptions &o, const vpSelfCalib::Rigid &bMe,
+                          vpSelfCalib::Random &error_rng, vpSelfCalibDataset::View &v,
+                          vpSelfCalibSimulator::EyeToHandTruth &truth)
+{
+  using namespace vpSelfCalib;
+  const double d[6] = {error_rng.normal(o.pose_sd_translation), error_rng.normal(o.pose_sd_translation),
+                       error_rng.normal(o.pose_sd_translation), error_rng.normal(o.pose_sd_rotation),
+                       error_rng.normal(o.pose_sd_rotation),    error_rng.normal(o.pose_sd_rotation)};
+  v.has_fMe = true;
+  v.fMe = toVisp(bMe * rigidFromVector(d).inverse());
+  truth.bMe.push_back(toVisp(bMe));
+}
+
 /*
   Eye-to-hand with joint readings (EyeToHandOptions::robot): the true robot, the camera facing the
   target at home, the views drawn about home; each view's joint readings and controller pose.
@@ -520,12 +535,7 @@ void simulateEyeToHandJoints(const vpSelfCalibSimulator::EyeToHandOptions &o, vp
     v.q = q;
     for (unsigned int j = 0; j < n; ++j)
       v.q[j] -= joint_rng.normal(o.joint_sd);
-    const double d[6] = {error_rng.normal(o.pose_sd_translation), error_rng.normal(o.pose_sd_translation),
-                         error_rng.normal(o.pose_sd_translation), error_rng.normal(o.pose_sd_rotation),
-                         error_rng.normal(o.pose_sd_rotation),    error_rng.normal(o.pose_sd_rotation)};
-    v.has_fMe = true;
-    v.fMe = toVisp(bMe * rigidFromVector(d).inverse());
-    truth.bMe.push_back(toVisp(bMe));
+    recordControllerPose(o, bMe, error_rng, v, truth);
     truth.q.push_back(q);
     ds.views.push_back(v);
   }
@@ -576,12 +586,7 @@ vpSelfCalibDataset vpSelfCalibSimulator::simulateEyeToHand(const EyeToHandOption
     if (!observeTarget(o, truth.layout, cMo, noise_rng, v) && (o.board || !o.layout.empty() || v.points.size() < 6))
       continue;
     const Rigid bMe = bMc * cMo * eMo.inverse();
-    const double d[6] = {error_rng.normal(o.pose_sd_translation), error_rng.normal(o.pose_sd_translation),
-                         error_rng.normal(o.pose_sd_translation), error_rng.normal(o.pose_sd_rotation),
-                         error_rng.normal(o.pose_sd_rotation),    error_rng.normal(o.pose_sd_rotation)};
-    v.has_fMe = true;
-    v.fMe = toVisp(bMe * rigidFromVector(d).inverse());
-    truth.bMe.push_back(toVisp(bMe));
+    recordControllerPose(o, bMe, error_rng, v, truth);
     ds.views.push_back(v);
   }
   if (ds.views.size() < o.num_views)

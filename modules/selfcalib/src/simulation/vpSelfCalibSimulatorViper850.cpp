@@ -5,15 +5,14 @@
 #include <visp3/selfcalib/vpSelfCalibSimulatorViper850.h>
 
 #include <cmath>
-#include <mutex>
 #include <optional>
 
 #include "../core/vpSelfCalibSilentCout.h"
 
 namespace
 {
-std::mutex g_quiet_mutex;
-std::optional<vpSelfCalib::SilentCout> g_quiet;
+//! This thread's silence while a simulator is constructed (SilentCout serialises the threads).
+thread_local std::optional<vpSelfCalib::SilentCout> g_quiet;
 
 /*
   vpSimulatorViper850's constructor prints its default camera ("Get default camera parameters for
@@ -23,16 +22,11 @@ std::optional<vpSelfCalib::SilentCout> g_quiet;
 */
 bool quietCout(bool display)
 {
-  g_quiet_mutex.lock();
   g_quiet.emplace();
   return display;
 }
 
-void restoreCout()
-{
-  g_quiet.reset();
-  g_quiet_mutex.unlock();
-}
+void restoreCout() { g_quiet.reset(); }
 } // namespace
 
 vpSelfCalibSimulatorViper850::vpSelfCalibSimulatorViper850()

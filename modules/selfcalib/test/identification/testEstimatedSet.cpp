@@ -21,6 +21,8 @@
 #include "core/vpSelfCalibMath.h"
 #include "core/vpSelfCalibRandom.h"
 
+#include "../testCommon.h"
+
 using namespace vpSelfCalib;
 
 namespace
@@ -280,31 +282,9 @@ TEST(EstimatedSet, PipelinesEstimateOneSetUnderPixelAndJointNoise)
 namespace
 {
 // The PUMA 560 (standard DH) with its wrist joint 5 squeezed to within about +-0.5 deg of the home
-// in every configuration: the views the simulator draws, joint 5's deviation scaled down.
-struct StuckWrist {
-  vpSelfCalibSimulator sim;
-  std::vector<vpColVector> q;
-  vpSelfCalibDataset ds;
-  StuckWrist(uint64_t seed, unsigned int views, double range_deg) : sim(simOf(seed))
-  {
-    const vpColVector home = vpSelfCalibSimulator::homeConfiguration(sim.getNominalChain());
-    q = sim.generateConfigurations(views);
-    double widest = 0;
-    for (const vpColVector &c : q)
-      widest = std::max(widest, std::fabs(c[4] - home[4]));
-    for (vpColVector &c : q)
-      if (range_deg > 0)
-        c[4] = home[4] + (c[4] - home[4]) * (0.5 * range_deg * M_PI / 180.0) / widest;
-    ds = sim.makeDataset(q);
-  }
-  static vpSelfCalibSimulator simOf(uint64_t seed)
-  {
-    vpSelfCalibSimulator::Options o;
-    o.seed = seed;
-    o.pixel_noise_sd = 0;
-    o.min_visible_points = 20;
-    return vpSelfCalibSimulator(vpKinematicChain::preset("puma560"), o);
-  }
+// in every configuration (the tests' shared stuck wrist), and noisy draws of its views.
+struct StuckWrist : selfcalib_test::StuckWrist {
+  using selfcalib_test::StuckWrist::StuckWrist;
   // The observations with Gaussian noise (px) and the true points moved by 1 mm: a start.
   void draws(double pixel_sd, uint64_t seed, vpSelfCalibDataset &noisy, std::map<int, vpColVector> &points) const
   {
@@ -320,14 +300,7 @@ struct StuckWrist {
   }
 };
 
-std::vector<std::string> leftByData(const vpKinematicIdentification::Identifiability &s)
-{
-  std::vector<std::string> out;
-  for (const auto &u : s.unidentifiable)
-    if (u.cause == vpKinematicIdentification::CAUSE_DATA)
-      out.push_back(u.name);
-  return out;
-}
+using selfcalib_test::leftByData;
 } // namespace
 
 /*

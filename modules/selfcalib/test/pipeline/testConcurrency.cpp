@@ -1,20 +1,31 @@
 /*
  * Thread safety: the library runs concurrent calibrations (README "Reliability"). Two calibrations
  * in two threads give the results of two sequential runs bit for bit, and glog's global level,
- * which the solvers raise while they run, is the caller's again afterwards.
+ * which the solvers raise while they run, is the caller's again afterwards; so is std::cout's
+ * buffer, which the library silences around the third-party calls that print.
  */
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
 #include <thread>
 #include <vector>
 
 #include <glog/logging.h>
+#include <unistd.h>
 
+#include <visp3/core/vpXmlParserCamera.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
+#include <visp3/selfcalib/vpSelfCalibSimulatorViper850.h>
 
 #include "../testCommon.h"
 #include "core/vpSelfCalibCeres.h"
+#include "core/vpSelfCalibSilentCout.h"
+#include "io/vpSelfCalibCameraXml.h"
 
 using namespace selfcalib_test;
 
@@ -143,4 +154,104 @@ TEST(Concurrency, RankDeficientCovarianceIsSilent)
   EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
   EXPECT_EQ(FLAGS_minloglevel, 0);
   FLAGS_minloglevel = 1;
+}
+
+namespace
+{
+//! A camera XML file of ViSP's format, removed with the object.
+class CameraXmlFile
+{
+public:
+  CameraXmlFile()
+  {
+    char name[] = "/tmp/selfcalib-camera-XXXXXX.xml";
+    const int fd = mkstemps(name, 4);
+    if (fd < 0)
+      throw std::runtime_error("mkstemps failed");
+    ::close(fd);
+    m_path = name;
+    std::ofstream(m_path) << "<?xml version=\"1.0\"?>\n<root>\n  <camera>\n    <name>Camera</name>\n"
+                             "    <image_width>640</image_width>\n    <image_height>480</image_height>\n"
+                             "    <model>\n      <type>perspectiveProjWithoutDistortion</type>\n"
+                             "      <px>1500</px>\n      <py>1501</py>\n      <u0>320</u0>\n      <v0>240</v0>\n"
+                             "    </model>\n  </camera>\n</root>\n";
+  }
+  ~CameraXmlFile() { std::remove(m_path.c_str()); }
+  CameraXmlFile(const CameraXmlFile &) = delete;
+  CameraXmlFile &operator=(const CameraXmlFile &) = delete;
+  const std::string &path() const { return m_path; }
+
+private:
+  std::string m_path;
+};
+} // namespace
+
+// The two third-party calls that print (ViSP's camera XML parser, vpSimulatorViper850's constructor),
+// each silenced by the library, run on three threads at once many times: afterwards std::cout's buffer
+// is the caller's, and nothing of theirs reached it.
+TEST(Concurrency, SilencedCallsOnThreadsLeaveTheCallersCout)
+{
+  const CameraXmlFile xml;
+  std::ostringstream callers;
+  std::streambuf *const original = std::cout.rdbuf(callers.rdbuf());
+  {
+    // The check is meaningful: unsilenced, both print.
+    vpXmlParserCamera parser;
+    vpCameraParameters cam;
+    parser.parse(cam, xml.path(), "Camera", vpCameraParameters::perspectiveProjWithoutDistortion);
+    { const vpSimulatorViper850 loud(false); }
+    EXPECT_NE(callers.str().find("Camera"), std::string::npos) << callers.str();
+    callers.str("");
+  }
+  // Two parsing threads and one simulator thread (ViSP's wire-frame simulator, the base of
+  // vpSimulatorViper850, does not support two instances built or destroyed on two threads at once).
+  // The parsing threads parse for as long as the simulator thread builds simulators.
+  const int rounds = 100;
+  std::atomic<bool> done{false};
+  std::atomic<int> parsed{0}, wrong{0}, built{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 2; ++t)
+    threads.emplace_back([&] {
+      while (!done) {
+        vpSelfCalib::CameraXml out;
+        const bool ok = vpSelfCalib::readCameraXml(xml.path(), "Camera",
+                                                   vpCameraParameters::perspectiveProjWithoutDistortion, out);
+        ++(ok && out.cam.get_py() == 1501 && out.width == 640 ? parsed : wrong);
+      }
+    });
+  threads.emplace_back([&] {
+    for (int k = 0; k < rounds; ++k) {
+      const vpSelfCalibSimulatorViper850 robot;
+      ++built;
+    }
+    done = true;
+  });
+  for (std::thread &t : threads)
+    t.join();
+  std::streambuf *const after = std::cout.rdbuf(original);
+  EXPECT_EQ(after, callers.rdbuf()) << "std::cout's buffer is not the caller's after the silenced calls";
+  EXPECT_EQ(callers.str(), "");
+  EXPECT_GT(parsed, rounds) << "the parses did not overlap the simulators";
+  EXPECT_EQ(wrong, 0);
+  EXPECT_EQ(built, rounds);
+}
+
+// A silenced call inside another on the same thread: the inner one keeps the silence, the outer one
+// gives the caller's buffer back.
+TEST(Concurrency, NestedSilentCoutRestoresTheCallersBuffer)
+{
+  std::ostringstream callers;
+  std::streambuf *const original = std::cout.rdbuf(callers.rdbuf());
+  {
+    const vpSelfCalib::SilentCout outer;
+    {
+      const vpSelfCalib::SilentCout inner;
+      std::cout << "inner";
+    }
+    std::cout << "between";
+    EXPECT_EQ(std::cout.rdbuf(), nullptr);
+  }
+  std::cout << "after";
+  EXPECT_EQ(std::cout.rdbuf(original), callers.rdbuf());
+  EXPECT_EQ(callers.str(), "after");
 }

@@ -13,33 +13,14 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
+#include "../testCommon.h"
+
 namespace
 {
 // The simulator's views of a PUMA 560 with joint 5 held within +-0.25 deg of its home value (about
-// 0.5 deg of range, as bench-estset's stuck joint), f known, no pixel noise.
-struct Stuck {
-  vpSelfCalibSimulator sim;
-  vpSelfCalibDataset ds;
-  explicit Stuck(uint64_t seed, double range_deg = 0.5) : sim(simOf(seed))
-  {
-    const vpColVector home = vpSelfCalibSimulator::homeConfiguration(sim.getNominalChain());
-    std::vector<vpColVector> q = sim.generateConfigurations(15);
-    double widest = 0;
-    for (const vpColVector &c : q)
-      widest = std::max(widest, std::fabs(c[4] - home[4]));
-    for (vpColVector &c : q)
-      if (range_deg > 0)
-        c[4] = home[4] + (c[4] - home[4]) * (0.5 * range_deg * M_PI / 180.0) / widest;
-    ds = sim.makeDataset(q);
-  }
-  static vpSelfCalibSimulator simOf(uint64_t seed)
-  {
-    vpSelfCalibSimulator::Options o;
-    o.seed = seed;
-    o.pixel_noise_sd = 0;
-    o.min_visible_points = 20;
-    return vpSelfCalibSimulator(vpKinematicChain::preset("puma560"), o);
-  }
+// 0.5 deg of range, as bench-estset's stuck joint): 15 views, f known, no pixel noise.
+struct Stuck : selfcalib_test::StuckWrist {
+  explicit Stuck(uint64_t seed, double range_deg = 0.5) : StuckWrist(seed, 15, range_deg) {}
   vpMeasurementPlanner planner() const { return vpMeasurementPlanner(sim.getNominalChain(), sim.getPlannerScene()); }
 };
 
@@ -59,14 +40,7 @@ vpSelfCalibNoiseModel noiseOf(double pixel_sd)
   return n;
 }
 
-std::vector<std::string> leftByData(const vpKinematicIdentification::Identifiability &s)
-{
-  std::vector<std::string> out;
-  for (const auto &u : s.unidentifiable)
-    if (u.cause == vpKinematicIdentification::CAUSE_DATA)
-      out.push_back(u.name);
-  return out;
-}
+using selfcalib_test::leftByData;
 } // namespace
 
 /*
