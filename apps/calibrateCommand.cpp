@@ -166,7 +166,7 @@ void stateRobotError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po
   both fixed and freed.
 */
 void checkParameterLists(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds,
-                         const vpRobotSelfCalibration::Options &po)
+                         const vpRobotSelfCalibration::Options &po, bool hand_eye, bool intrinsics_estimated)
 {
   const std::pair<const char *, std::vector<std::string>> lists[4] = {
       {"--fix", po.bundle.fixed}, {"--free", po.bundle.free}, {"the dataset's fix", ds.fix}, {"the dataset's free", ds.free}};
@@ -184,6 +184,22 @@ void checkParameterLists(const vpKinematicChain &nominal, const vpSelfCalibDatas
   for (const std::string &f : freed)
     if (std::find(fixed.begin(), fixed.end(), f) != fixed.end())
       throw CLI::ValidationError("--free", "'" + f + "' is both fixed and freed: choose one");
+  // Every parameter the method estimates fixed (eMc's six with hand-eye), and no intrinsics: nothing
+  // is left to calibrate.
+  if (intrinsics_estimated || fixed.empty())
+    return;
+  const std::vector<std::string> names = nominal.getParameterNames();
+  const size_t estimated = static_cast<size_t>(std::count_if(names.begin(), names.end(), [&](const std::string &n) {
+    return (!hand_eye || n.rfind("eMc.", 0) == 0) && std::find(fixed.begin(), fixed.end(), n) == fixed.end();
+  }));
+  if (estimated == 0)
+    throw CLI::ValidationError("--fix", "every parameter the " + std::string(hand_eye ? "hand-eye" : "bundle") +
+                                            " method estimates is fixed (" +
+                                            (hand_eye ? std::string("the six of eMc, bMc with the camera in the world")
+                                                      : std::to_string(names.size()) + " parameters") +
+                                            ") and the intrinsics are known: nothing is left to calibrate; fix fewer "
+                                            "parameters (" +
+                                            (hand_eye ? "e.g. --fix eMc.tz" : "e.g. --fix 'j1.*'") + ")");
 }
 
 } // namespace
@@ -220,7 +236,15 @@ int calibrate(const CalibrateArgs &a)
     refuseBundleOptions(a); // before the front end runs, when the method is known
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
   co.prior = nominal; // the front end's matching is guided by the nominal kinematics
-  checkParameterLists(nominal, ds, po);
+  const bool hand_eye = world ? !world_bundle : co.method == vpRobotSelfCalibration::HAND_EYE;
+  checkParameterLists(nominal, ds, po, hand_eye,
+                      !a.estimate.empty() || (po.focal_mode == vpRobotSelfCalibration::FOCAL_AUTO ? !ds.focal_known
+                                                                                        : po.focal_mode != vpRobotSelfCalibration::FOCAL_KNOWN));
+  if (a.board_geometry && !vpSelfCalibImageCorrespondences::needsFrontEnd(ds))
+    throw CLI::ValidationError("--board-geometry",
+                               "the dataset's views come with their points (ids of their own, no images to detect the "
+                               "board in): the board's layout applies to the corners found in images; give a dataset "
+                               "of images, or leave --board-geometry out");
   // Outputs: a set written in a private directory beside --out, moved into place at once, under
   // a lock on --out; never over an input, never over files that are not an earlier run's results.
   vpSelfCalibOutputDirectory outdir(out);
