@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <set>
 
 #include <opencv2/core.hpp>
 
@@ -117,6 +118,17 @@ std::string writeResults(const fs::path &stage, const std::string &dataset, cons
     std::cerr << "warning: " << w << "\n";
   return report.message;
 }
+//! How many of the board's points (known_points' ids) the dataset's views observe.
+size_t boardPointsObserved(const std::map<int, vpColVector> &layout, const vpSelfCalibDataset &ds)
+{
+  std::set<int> seen;
+  for (const auto &v : ds.views)
+    for (const auto &o : v.points)
+      if (layout.count(o.id))
+        seen.insert(o.id);
+  return seen.size();
+}
+
 //! The options of the full kinematic calibration only, refused with the hand-eye method (exit 2).
 void refuseBundleOptions(const CalibrateArgs &a)
 {
@@ -141,7 +153,17 @@ void stateRobotError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po
   // A stated robot error: the sd are widened by sigma0 when the residuals say the noise is larger.
   // --joint-sd 0 and --pose-sd 0 come alone: exact, nothing stated.
   const bool joints_stated = !a.joint_sd.empty() && a.joint_sd[0] > 0;
-  const bool pose_stated = a.pose_sd.size() == 2 && std::stod(a.pose_sd[0]) > 0;
+  bool pose_stated = a.pose_sd.size() == 2 && std::stod(a.pose_sd[0]) > 0;
+  // Below an arm's repeatability (ISO 9283: 0.02 to 0.1 mm; the floor of the measured robot error)
+  // a stated error only freezes the poses, unchecked: taken as exact, whose checks then apply.
+  constexpr double kArmFloor = 2e-5;
+  if (pose_stated && std::stod(a.pose_sd[0]) < kArmFloor && std::stod(a.pose_sd[1]) < kArmFloor) {
+    std::cerr << "warning: --pose-sd " << a.pose_sd[0] << "," << a.pose_sd[1]
+              << ": below the 0.02 mm / 0.02 mrad no arm repeats better than: the poses are taken as exact, as "
+                 "with --pose-sd 0 (whose checks then apply)\n";
+    pose_stated = false;
+    po.trust_robot = true;
+  }
   if (joints_stated || pose_stated)
     po.bundle.scale_covariance = true;
   if (joints_stated && po.method != vpRobotSelfCalibration::PAPER)
@@ -240,11 +262,15 @@ int calibrate(const CalibrateArgs &a)
   checkParameterLists(nominal, ds, po, hand_eye,
                       !a.estimate.empty() || (po.focal_mode == vpRobotSelfCalibration::FOCAL_AUTO ? !ds.focal_known
                                                                                         : po.focal_mode != vpRobotSelfCalibration::FOCAL_KNOWN));
-  if (a.board_geometry && !vpSelfCalibImageCorrespondences::needsFrontEnd(ds))
-    throw CLI::ValidationError("--board-geometry",
-                               "the dataset's views come with their points (ids of their own, no images to detect the "
-                               "board in): the board's layout applies to the corners found in images; give a dataset "
-                               "of images, or leave --board-geometry out");
+  if (a.board_geometry && !vpSelfCalibImageCorrespondences::needsFrontEnd(ds) &&
+      boardPointsObserved(po.bundle.known_points, ds) < 3)
+    throw CLI::ValidationError(
+        "--board-geometry", "the dataset's views come with their points, and " +
+                                std::to_string(boardPointsObserved(po.bundle.known_points, ds)) + " of the board's " +
+                                std::to_string(po.bundle.known_points.size()) +
+                                " point ids are among them (3 are needed): the points are not the board's (its layout "
+                                "applies to the ids the board detector gives, as in a dataset of images or simulate "
+                                "--camera-mount world); leave --board-geometry out, or give the board these points are");
   // Outputs: a set written in a private directory beside --out, moved into place at once, under
   // a lock on --out; never over an input, never over files that are not an earlier run's results.
   vpSelfCalibOutputDirectory outdir(out);
