@@ -144,6 +144,10 @@ int simulate(const SimulateArgs &a)
               << "write elsewhere\n";
     return 1;
   }
+  if (a.camera_mount != "world" && (a.with_joints || a.joint_sd > 0))
+    throw CLI::ValidationError(a.with_joints ? "--with-joints" : "--joint-sd",
+                               "joint readings with a board on the tool are simulated with --camera-mount world only "
+                               "(an eye-in-hand dataset always has its joints, exact)");
   if (a.camera_mount != "world" && a.pose_sd > 0)
     throw CLI::ValidationError("--pose-sd", "the controller poses' error is simulated with --camera-mount world only "
                                             "(a camera on the effector: the robot's errors are in its true model)");
