@@ -26,11 +26,15 @@ namespace
 {
 //! The image front end on the dataset's images (when it has no points), its figures on stderr.
 vpSelfCalibImageCorrespondences::Result runFrontEnd(vpSelfCalibDataset &ds,
-                                                    const vpSelfCalibImageCorrespondences::Options &co)
+                                                    const vpSelfCalibImageCorrespondences::Options &co,
+                                                    bool board_geometry)
 {
   const size_t num_images = ds.views.size();
   if (vpSelfCalibImageCorrespondences::needsFrontEnd(ds))
     std::cerr << "... image front end (" << num_images << " images)\n";
+  else if (co.board && board_geometry)
+    std::cerr << "... --board: the dataset's views come with their points, the board's by their ids: its layout "
+                 "is their prior (--board-geometry)\n";
   else if (co.board)
     std::cerr << "warning: --board: the dataset's views come with their points; the board is not looked for\n";
   const vpSelfCalibImageCorrespondences::Result cr = vpSelfCalibImageCorrespondences::fromDatasetImages(ds, co);
@@ -278,7 +282,7 @@ int calibrate(const CalibrateArgs &a)
     return refused;
   if (const int refused = checkHeldout(dataset, ds, a.heldout))
     return refused;
-  const vpSelfCalibImageCorrespondences::Result cr = runFrontEnd(ds, co);
+  const vpSelfCalibImageCorrespondences::Result cr = runFrontEnd(ds, co, a.board_geometry);
   cv::setNumThreads(1);
   if (cr.board_ran && !co.mask_board && cr.board_images == 0 && !cr.board.empty()) {
     // The board asked for is in no image: named, with what the detector saw in the first one.
