@@ -251,6 +251,11 @@ int calibrate(const CalibrateArgs &a)
                                            "paper method measures the camera's motion between views of a scene fixed "
                                            "in the base frame, and the dataset " +
                                                dataset + " says the camera is fixed in the world");
+  if (!a.method.empty() && co.method == vpRobotSelfCalibration::PAPER && (!a.joint_sd.empty() || !a.pose_sd.empty()))
+    throw CLI::ValidationError(a.joint_sd.empty() ? "--pose-sd" : "--joint-sd",
+                               "the paper method models no robot error (its poses come from the images alone): the "
+                               "robot's error is modelled by --method bundle (--joint-sd, --pose-sd T,R) or hand-eye "
+                               "(--pose-sd)");
   const bool world_bundle = world && !a.method.empty() && co.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT;
   for (size_t k = 0; world_bundle && k < ds.views.size(); ++k)
     if (ds.views[k].q.size() == 0)
