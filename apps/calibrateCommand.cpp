@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <set>
 
 #include <opencv2/core.hpp>
 
@@ -25,11 +26,15 @@ namespace
 {
 //! The image front end on the dataset's images (when it has no points), its figures on stderr.
 vpSelfCalibImageCorrespondences::Result runFrontEnd(vpSelfCalibDataset &ds,
-                                                    const vpSelfCalibImageCorrespondences::Options &co)
+                                                    const vpSelfCalibImageCorrespondences::Options &co,
+                                                    bool board_geometry)
 {
   const size_t num_images = ds.views.size();
   if (vpSelfCalibImageCorrespondences::needsFrontEnd(ds))
     std::cerr << "... image front end (" << num_images << " images)\n";
+  else if (co.board && board_geometry)
+    std::cerr << "... --board: the dataset's views come with their points, the board's by their ids: its layout "
+                 "is their prior (--board-geometry)\n";
   else if (co.board)
     std::cerr << "warning: --board: the dataset's views come with their points; the board is not looked for\n";
   const vpSelfCalibImageCorrespondences::Result cr = vpSelfCalibImageCorrespondences::fromDatasetImages(ds, co);
@@ -117,6 +122,17 @@ std::string writeResults(const fs::path &stage, const std::string &dataset, cons
     std::cerr << "warning: " << w << "\n";
   return report.message;
 }
+//! How many of the board's points (known_points' ids) the dataset's views observe.
+size_t boardPointsObserved(const std::map<int, vpColVector> &layout, const vpSelfCalibDataset &ds)
+{
+  std::set<int> seen;
+  for (const auto &v : ds.views)
+    for (const auto &o : v.points)
+      if (layout.count(o.id))
+        seen.insert(o.id);
+  return seen.size();
+}
+
 //! The options of the full kinematic calibration only, refused with the hand-eye method (exit 2).
 void refuseBundleOptions(const CalibrateArgs &a)
 {
@@ -141,7 +157,17 @@ void stateRobotError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po
   // A stated robot error: the sd are widened by sigma0 when the residuals say the noise is larger.
   // --joint-sd 0 and --pose-sd 0 come alone: exact, nothing stated.
   const bool joints_stated = !a.joint_sd.empty() && a.joint_sd[0] > 0;
-  const bool pose_stated = a.pose_sd.size() == 2 && std::stod(a.pose_sd[0]) > 0;
+  bool pose_stated = a.pose_sd.size() == 2 && std::stod(a.pose_sd[0]) > 0;
+  // Below an arm's repeatability (ISO 9283: 0.02 to 0.1 mm; the floor of the measured robot error)
+  // a stated error only freezes the poses, unchecked: taken as exact, whose checks then apply.
+  constexpr double kArmFloor = 2e-5;
+  if (pose_stated && std::stod(a.pose_sd[0]) < kArmFloor && std::stod(a.pose_sd[1]) < kArmFloor) {
+    std::cerr << "warning: --pose-sd " << a.pose_sd[0] << "," << a.pose_sd[1]
+              << ": below the 0.02 mm / 0.02 mrad no arm repeats better than: the poses are taken as exact, as "
+                 "with --pose-sd 0 (whose checks then apply)\n";
+    pose_stated = false;
+    po.trust_robot = true;
+  }
   if (joints_stated || pose_stated)
     po.bundle.scale_covariance = true;
   if (joints_stated && po.method != vpRobotSelfCalibration::PAPER)
@@ -166,7 +192,7 @@ void stateRobotError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po
   both fixed and freed.
 */
 void checkParameterLists(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds,
-                         const vpRobotSelfCalibration::Options &po)
+                         const vpRobotSelfCalibration::Options &po, bool hand_eye, bool intrinsics_estimated)
 {
   const std::pair<const char *, std::vector<std::string>> lists[4] = {
       {"--fix", po.bundle.fixed}, {"--free", po.bundle.free}, {"the dataset's fix", ds.fix}, {"the dataset's free", ds.free}};
@@ -184,6 +210,22 @@ void checkParameterLists(const vpKinematicChain &nominal, const vpSelfCalibDatas
   for (const std::string &f : freed)
     if (std::find(fixed.begin(), fixed.end(), f) != fixed.end())
       throw CLI::ValidationError("--free", "'" + f + "' is both fixed and freed: choose one");
+  // Every parameter the method estimates fixed (eMc's six with hand-eye), and no intrinsics: nothing
+  // is left to calibrate.
+  if (intrinsics_estimated || fixed.empty())
+    return;
+  const std::vector<std::string> names = nominal.getParameterNames();
+  const size_t estimated = static_cast<size_t>(std::count_if(names.begin(), names.end(), [&](const std::string &n) {
+    return (!hand_eye || n.rfind("eMc.", 0) == 0) && std::find(fixed.begin(), fixed.end(), n) == fixed.end();
+  }));
+  if (estimated == 0)
+    throw CLI::ValidationError("--fix", "every parameter the " + std::string(hand_eye ? "hand-eye" : "bundle") +
+                                            " method estimates is fixed (" +
+                                            (hand_eye ? std::string("the six of eMc, bMc with the camera in the world")
+                                                      : std::to_string(names.size()) + " parameters") +
+                                            ") and the intrinsics are known: nothing is left to calibrate; fix fewer "
+                                            "parameters (" +
+                                            (hand_eye ? "e.g. --fix eMc.tz" : "e.g. --fix 'j1.*'") + ")");
 }
 
 } // namespace
@@ -209,6 +251,11 @@ int calibrate(const CalibrateArgs &a)
                                            "paper method measures the camera's motion between views of a scene fixed "
                                            "in the base frame, and the dataset " +
                                                dataset + " says the camera is fixed in the world");
+  if (!a.method.empty() && co.method == vpRobotSelfCalibration::PAPER && (!a.joint_sd.empty() || !a.pose_sd.empty()))
+    throw CLI::ValidationError(a.joint_sd.empty() ? "--pose-sd" : "--joint-sd",
+                               "the paper method models no robot error (its poses come from the images alone): the "
+                               "robot's error is modelled by --method bundle (--joint-sd, --pose-sd T,R) or hand-eye "
+                               "(--pose-sd)");
   const bool world_bundle = world && !a.method.empty() && co.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT;
   for (size_t k = 0; world_bundle && k < ds.views.size(); ++k)
     if (ds.views[k].q.size() == 0)
@@ -220,7 +267,19 @@ int calibrate(const CalibrateArgs &a)
     refuseBundleOptions(a); // before the front end runs, when the method is known
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
   co.prior = nominal; // the front end's matching is guided by the nominal kinematics
-  checkParameterLists(nominal, ds, po);
+  const bool hand_eye = world ? !world_bundle : co.method == vpRobotSelfCalibration::HAND_EYE;
+  checkParameterLists(nominal, ds, po, hand_eye,
+                      !a.estimate.empty() || (po.focal_mode == vpRobotSelfCalibration::FOCAL_AUTO ? !ds.focal_known
+                                                                                        : po.focal_mode != vpRobotSelfCalibration::FOCAL_KNOWN));
+  if (a.board_geometry && !vpSelfCalibImageCorrespondences::needsFrontEnd(ds) &&
+      boardPointsObserved(po.bundle.known_points, ds) < 3)
+    throw CLI::ValidationError(
+        "--board-geometry", "the dataset's views come with their points, and " +
+                                std::to_string(boardPointsObserved(po.bundle.known_points, ds)) + " of the board's " +
+                                std::to_string(po.bundle.known_points.size()) +
+                                " point ids are among them (3 are needed): the points are not the board's (its layout "
+                                "applies to the ids the board detector gives, as in a dataset of images or simulate "
+                                "--camera-mount world); leave --board-geometry out, or give the board these points are");
   // Outputs: a set written in a private directory beside --out, moved into place at once, under
   // a lock on --out; never over an input, never over files that are not an earlier run's results.
   vpSelfCalibOutputDirectory outdir(out);
@@ -228,7 +287,7 @@ int calibrate(const CalibrateArgs &a)
     return refused;
   if (const int refused = checkHeldout(dataset, ds, a.heldout))
     return refused;
-  const vpSelfCalibImageCorrespondences::Result cr = runFrontEnd(ds, co);
+  const vpSelfCalibImageCorrespondences::Result cr = runFrontEnd(ds, co, a.board_geometry);
   cv::setNumThreads(1);
   if (cr.board_ran && !co.mask_board && cr.board_images == 0 && !cr.board.empty()) {
     // The board asked for is in no image: named, with what the detector saw in the first one.

@@ -199,6 +199,13 @@ int checkHeldout(const std::string &dataset, const vpSelfCalibDataset &ds, const
     return 1;
   }
   const vpSelfCalibDataset h = vpSelfCalibDataset::loadYaml(heldout);
+  if (h.camera_mount != ds.camera_mount) {
+    std::cerr << "error: --heldout " << heldout << ": camera_mount: "
+              << vpSelfCalibDataset::cameraMountName(h.camera_mount) << ", the calibration dataset's is "
+              << vpSelfCalibDataset::cameraMountName(ds.camera_mount)
+              << ": a check on another set-up says nothing of this calibration; give views of this one\n";
+    return 1;
+  }
   std::vector<size_t> shared;
   for (size_t k = 0; k < h.views.size(); ++k)
     for (const vpSelfCalibDataset::View &v : ds.views)

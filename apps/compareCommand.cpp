@@ -196,6 +196,11 @@ int compare(const CompareArgs &a)
   const Truth t = readTruth(root, a.truth);
   const vpKinematicChain model = vpKinematicChain::loadYaml((dir / "model.yaml").string());
   const vpSelfCalibResultsFile::Contents res = vpSelfCalibResultsFile::read((dir / "results.yaml").string());
+  if (res.bMc) {
+    std::cerr << "error: '" << a.result << "' is an eye-to-hand result (bMc, eMo: the camera in the world): compare "
+              << "measures the relative motions of a camera on the flange, which this result does not model\n";
+    return 1;
+  }
   if (model.getNumJoints() != t.true_model.getNumJoints()) {
     std::cerr << "error: " << (dir / "model.yaml").string() << " has " << model.getNumJoints() << " joints, the truth "
               << t.true_model.getNumJoints() << ": not a result of this simulation's robot\n";
@@ -220,6 +225,16 @@ int compare(const CompareArgs &a)
       std::cerr << "error: " << a.joints << ": at least 2 configurations are needed (the first and one other)\n";
       return 1;
     }
+    // Configurations the arm cannot reach measure nothing it does (calibrate and verify refuse them too).
+    for (size_t k = 0; k < qs.size(); ++k)
+      for (unsigned int j = 0; j < qs[k].size(); ++j) {
+        const vpKinematicChain::Joint &l = t.true_model.getJoints()[j];
+        if (qs[k][j] < l.min || qs[k][j] > l.max) {
+          std::cerr << "error: " << a.joints << ":" << k + 1 << ": joint " << j + 1 << " = " << qs[k][j]
+                    << " rad is outside the model's limits [" << l.min << ", " << l.max << "]\n";
+          return 1;
+        }
+      }
   }
   if (!a.yaml.empty() && outputRefused(a.yaml, a.force))
     return 1;

@@ -3,6 +3,8 @@
  */
 #include "commands.h"
 
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 
@@ -56,6 +58,16 @@ bool holdsText(const std::string &file, const std::string &text)
 
 int importData(const ImportArgs &a)
 {
+  const std::vector<std::string> presets = vpKinematicChain::presetNames();
+  std::error_code ec;
+  if (!a.robot.empty() && std::find(presets.begin(), presets.end(), a.robot) == presets.end() &&
+      !std::filesystem::exists(a.robot, ec)) {
+    std::string names;
+    for (const std::string &p : presets)
+      names += (names.empty() ? "" : ", ") + p;
+    throw CLI::ValidationError("--robot", "'" + a.robot + "' is neither a preset (" + names +
+                                              ") nor a robot-model file (DH/MDH YAML or URDF)");
+  }
   if (outputRefused(a.out, a.force))
     return 1;
   vpSelfCalibImporter::Options io;

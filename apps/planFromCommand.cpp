@@ -108,6 +108,19 @@ int planFrom(const PlanArgs &a)
   if (!a.out_file.empty() && outputRefused(a.out_file, a.force))
     return 1;
   vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(a.from);
+  // Never over an input: the dataset, its robot model or one of its images.
+  if (!a.out_file.empty() && !canonical(a.out_file).empty()) {
+    std::vector<std::string> inputs = {a.from, ds.robot};
+    for (const vpSelfCalibDataset::View &v : ds.views)
+      inputs.push_back(v.image);
+    for (const std::string &in : inputs)
+      if (!in.empty() && canonical(in) == canonical(a.out_file)) {
+        std::cerr << "error: '" << a.out_file << "' is an input of this plan ("
+                  << (in == a.from ? "the dataset" : in == ds.robot ? "its robot model" : "one of its images")
+                  << "); choose another --out\n";
+        return 1;
+      }
+  }
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
   const vpRobotSelfCalibration::Options po = calibrationOf(a, ds);
   const std::string refused = refusal(a.from, ds, nominal.getNumJoints());

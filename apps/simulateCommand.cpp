@@ -131,6 +131,23 @@ int simulate(const SimulateArgs &a)
     std::cerr << "error: '" << out << "': its directory '" << out_dir.string() << "' is not there\n";
     return 1;
   }
+  // One run per dataset at a time (a lock beside it, released when the run ends, killed or not):
+  // two runs into one stem would pair one run's dataset with the other's truth.
+  std::unique_ptr<vpSelfCalibOutputDirectory> run_lock;
+  try {
+    run_lock = std::make_unique<vpSelfCalibOutputDirectory>(
+        (out_dir / (fs::path(out).stem().string() + "-simulate")).string());
+  } catch (const vpException &e) {
+    if (e.getStringMessage().find("is being written by another run") == std::string::npos)
+      throw;
+    std::cerr << "error: '" << out << "' is being written by another simulate run: wait for it to end, or "
+              << "write elsewhere\n";
+    return 1;
+  }
+  if (a.camera_mount != "world" && (a.with_joints || a.joint_sd > 0))
+    throw CLI::ValidationError(a.with_joints ? "--with-joints" : "--joint-sd",
+                               "joint readings with a board on the tool are simulated with --camera-mount world only "
+                               "(an eye-in-hand dataset always has its joints, exact)");
   if (a.camera_mount != "world" && a.pose_sd > 0)
     throw CLI::ValidationError("--pose-sd", "the controller poses' error is simulated with --camera-mount world only "
                                             "(a camera on the effector: the robot's errors are in its true model)");

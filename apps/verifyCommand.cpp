@@ -4,6 +4,7 @@
 #include "commands.h"
 
 #include <iomanip>
+#include <filesystem>
 #include <iostream>
 
 #include <visp3/selfcalib/vpCalibrationVerifier.h>
@@ -25,8 +26,21 @@ void addVerify(CLI::App &app, ModelArgs &a)
 int verify(const ModelArgs &a)
 {
   const std::string &dataset = a.second;
+  std::error_code ec;
+  if (std::filesystem::is_directory(a.model, ec)) {
+    const std::filesystem::path m = std::filesystem::path(a.model) / "model.yaml";
+    std::cerr << "error: '" << a.model << "' is a directory: give the model file"
+              << (std::filesystem::exists(m, ec) ? " (" + m.string() + ", the model calibrate wrote there)" : "")
+              << "\n";
+    return 1;
+  }
   const vpKinematicChain model = vpKinematicChain::fromPresetOrFile(a.model);
   vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
+  if (ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD) {
+    std::cerr << "error: dataset '" << dataset << "': camera_mount: world; verify triangulates the scene through a "
+              << "camera on the flange (camera_mount: effector), which this dataset does not have\n";
+    return 1;
+  }
   if (vpSelfCalibImageCorrespondences::needsFrontEnd(ds)) {
     // Images without points (simulate --images, an acquisition): the front end finds the points
     // and the yardstick's ends as calibrate's does, guided by the model verified.

@@ -448,6 +448,10 @@ void vpBoardDetector::Options::check() const
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpBoardDetector: the spacing must be a positive number of m, got " +
                                    std::to_string(spacing));
+  if (spacing > 10.0) // a printed board's pitch is centimetres; metres by the thousand are a pitch in mm
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpBoardDetector: a spacing of " + std::to_string(spacing) +
+                                   " m is beyond the 10 m read: give it in m (e.g. 0.0236 for 23.6 mm)");
   if (id_offset < 0 || static_cast<long long>(id_offset) + numIds() > INT_MAX)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpBoardDetector: the id offset must be >= 0 and leave room for the board's " +

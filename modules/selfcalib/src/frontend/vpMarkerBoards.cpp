@@ -69,6 +69,40 @@ std::string idList(const std::vector<int> &ids)
   return s;
 }
 
+/*
+  The largest side of a square, a marker or a tag read (m): a printed target on a robot arm's scene is
+  a few decimetres; a side in metres by the thousand is a size given in mm (48 for 0.048).
+*/
+constexpr double kMaxSide = 10.0;
+
+void checkSide(const std::string &what, double side)
+{
+  if (side > kMaxSide)
+    throw badValue(what + " of " + shortest(side) + " m is beyond the " + shortest(kMaxSide) +
+                   " m read: give it in m (e.g. 0.048 for 48 mm)");
+}
+
+/*
+  Two tags of a bundle whose centres are closer than a quarter of their two sides together overlap
+  (squares that do not overlap hold disjoint disks of half their side, so in one plane their centres
+  are at least half the sum of the sides apart; the faces of a cube are 0.71 side apart): one region
+  of the target cannot carry both.
+*/
+void checkOverlap(const std::vector<Options::BundleTag> &bundle)
+{
+  for (size_t i = 0; i < bundle.size(); ++i)
+    for (size_t j = i + 1; j < bundle.size(); ++j) {
+      const vpPoseVector &a = bundle[i].bMt, &b = bundle[j].bMt;
+      const double d = std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+      if (d < 0.25 * (bundle[i].size + bundle[j].size))
+        throw badValue("tags " + std::to_string(bundle[i].id) + " and " + std::to_string(bundle[j].id) +
+                       " of the bundle overlap: their centres are " + shortest(d) + " m apart, less than " +
+                       shortest(0.25 * (bundle[i].size + bundle[j].size)) +
+                       " m for sides of " + shortest(bundle[i].size) + " and " + shortest(bundle[j].size) +
+                       " m; check their poses (m, in the bundle's frame)");
+    }
+}
+
 void checkCharuco(const Options &o)
 {
   if (o.rows < 3 || o.cols < 3)
@@ -77,6 +111,7 @@ void checkCharuco(const Options &o)
   if (!(o.spacing > 0) || !std::isfinite(o.spacing) || !(o.marker_size > 0) || !std::isfinite(o.marker_size))
     throw badValue("a ChArUco board's square and marker sides must be positive numbers of m, got " +
                    shortest(o.spacing) + " and " + shortest(o.marker_size));
+  checkSide("a ChArUco board's square", o.spacing);
   if (o.marker_size >= o.spacing)
     throw badValue("a ChArUco board's markers (" + shortest(o.marker_size) + " m) must be smaller than its squares (" +
                    shortest(o.spacing) + " m)");
@@ -100,6 +135,8 @@ void checkTags(const Options &o)
   const int size = vpSelfCalib::arucoDictionarySize(d);
   if (o.bundle.empty() && (!(o.marker_size > 0) || !std::isfinite(o.marker_size)))
     throw badValue("the tags' side must be a positive number of m, got " + shortest(o.marker_size));
+  if (o.bundle.empty())
+    checkSide("a tag side", o.marker_size);
   std::set<int> seen;
   for (const Options::BundleTag &t : o.bundle) {
     if (!(t.size > 0) || !std::isfinite(t.size))
@@ -108,9 +145,11 @@ void checkTags(const Options &o)
     for (unsigned int k = 0; k < 6; ++k)
       if (!std::isfinite(t.bMt[k]))
         throw badValue("tag " + std::to_string(t.id) + " of the bundle: its pose is not finite");
+    checkSide("tag " + std::to_string(t.id) + " of the bundle: a side", t.size);
     if (!seen.insert(t.id).second)
       throw badValue("tag " + std::to_string(t.id) + " is twice in the bundle");
   }
+  checkOverlap(o.bundle);
   for (int id : o.tag_ids)
     if (id < 0 || id >= size)
       throw badValue("tag id " + std::to_string(id) + " is not in family " + o.dictionary + " (ids 0 to " +

@@ -757,13 +757,22 @@ void vpSelfCalibImporter::Result::save(const std::string &dataset_file) const
   // The pair: the robot model first, then the dataset that names it, so that a dataset is never
   // there without its model. A dataset that cannot be written takes the new model back (the
   // earlier one, or none), so that a failed import leaves the files as they were.
+  // A model that changes (a --force import of other data): the earlier dataset is taken away first,
+  // so that a kill between the two writes leaves the new model alone (import again), never the
+  // earlier dataset paired with the new model.
   ds.robot = robotModelFileFor(out);
   std::error_code ec;
   const bool had_model = fs::is_regular_file(ds.robot, ec);
   const std::string earlier_model =
       had_model ? vpSelfCalib::readTextFileBounded(ds.robot, "robot model", size_t(1) << 24) : std::string();
-  robot_model.saveYaml(ds.robot);
+  const bool had_dataset = had_model && earlier_model != robot_model.toYamlString() && fs::is_regular_file(out, ec);
+  const std::string earlier_dataset =
+      had_dataset ? vpSelfCalib::readTextFileBounded(out, "dataset", size_t(1) << 28) : std::string();
+  if (had_dataset && !fs::remove(out, ec))
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               "dataset '" + out + "': cannot replace it: " + ec.message());
   try {
+    robot_model.saveYaml(ds.robot);
     ds.saveYaml(out);
   } catch (...) {
     try {
@@ -771,6 +780,8 @@ void vpSelfCalibImporter::Result::save(const std::string &dataset_file) const
         vpSelfCalib::writeFileAtomically(ds.robot, earlier_model, "robot model");
       else
         fs::remove(ds.robot, ec);
+      if (had_dataset)
+        vpSelfCalib::writeFileAtomically(out, earlier_dataset, "dataset");
     } catch (const vpException &) {
       // the dataset's error is the one to report
     }
