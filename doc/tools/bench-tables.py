@@ -67,7 +67,7 @@ BENCHES = [
      "Eye-in-hand on a rendered ChArUco board (corners found by the board front end, then Gaussian "
      "noise added): held-out error against the Cramer-Rao bound, the board's layout unknown (its points "
      "are scene points) and known (`--board-geometry`), f known and shared."),
-    ("bench-estset", ["--focal", "known"],
+    ("bench-estset", ["--stable-geometries", "2"],
      "The bundle method on arms with one joint that barely moves (Panda joint 3, PUMA joint 5, within "
      "+-0.5 deg): the estimated set decided from the data's information (what is left at nominal, the "
      "same set over draws), the held-out relative-pose error against the nominal model's and the "

@@ -2,8 +2,8 @@
  * bench-estset: the estimated set from what the data determine, on arms one of whose joints barely
  * moves (the real Franka set's joint 3 moves 0.51 deg while the others move 51-122 deg).
  *
- *   bench-estset [--seeds N] [--draws K] [--stable D] [--robots panda,puma560] [--views 12,25]
- *                [--noise 0.2,0.5] [--focal known,shared] [--csv FILE]
+ *   bench-estset [--seeds N] [--draws K] [--stable D] [--stable-geometries G] [--robots panda,puma560]
+ *                [--views 12,25] [--noise 0.2,0.5] [--focal known,shared] [--csv FILE]
  *
  * Per robot (its stuck joint: the Panda's j3, a 6-axis arm's wrist j5), number of calibration views,
  * focal mode, noise level and seed: a true robot with seeded errors (vpSelfCalibSimulator, 80 points
@@ -20,12 +20,20 @@
  *                           worst run's ratio calibrated / nominal (below 1: better in every run);
  *   gain                    the mean over the runs of nominal / calibrated;
  *   CRB RMS                 the RMS error the Cramer-Rao bound of the set estimated predicts;
+ *   set's bias RMS          the held-out error of the noise-free fit with the run's set (the
+ *                           parameters left at nominal held there, the others fitted to the true
+ *                           images): what leaving them costs, which the bound does not hold;
  *   gain the bound allows   nominal RMS / CRB RMS: what an efficient estimator of that set gains;
  *   CRB ratio               RMS error / the RMS the Cramer-Rao bound of the set estimated predicts
  *                           (vpKinematicBundleAdjustment::information at the truth with that set,
  *                           propagated by relativePoseCovariance): 1 is efficient; the parameters
- *                           left at nominal keep their true error, a bias the bound does not hold.
- * Then the same-set check: D draws of one geometry per robot (12 views, 0.2 px, f known).
+ *                           left at nominal keep their true error, a bias the bound does not hold;
+ *   ratio to CRB + bias     RMS error / sqrt(CRB^2 + bias^2): 1 when the bound and the set's bias
+ *                           together account for the error.
+ * A doubtful run prints its doubts and, against the truth, its estimated parameter farthest from the
+ * noise-free fit of its set (in its sd: the estimator's own error) and from the true robot.
+ * Then the same-set check: per robot and noise level, D draws of each of G geometries (12 views, f
+ * known): the geometries whose D draws all leave the same list at nominal.
  * Then (--tables add) the poses to add: per robot and seed (12 views, 0.2 px, f known), calibrate, the
  * poses vpMeasurementPlanner::planAdditions proposes (as plan --from: as many as determine what was
  * left), the true robot's views at them with the same noise, calibrate again: what is left before and
@@ -34,7 +42,8 @@
  * there), B with it moving +-0.5 rad as the others (what a model of the whole workspace is for).
  * Target: nothing left after and a lower held-out error on B in every run.
  * Targets (f known): ok in every run, the calibrated error below the nominal one in every run, gain
- * >= 3 with 12 views and >= 5 with 25, CRB ratio <= 1.3, one set per geometry.
+ * >= 3 with 12 views and >= 5 with 25, CRB ratio <= 1.3, one set per geometry. The f self-calibrated
+ * rows are measured, not claimed (with 12 views f itself limits the gain).
  */
 #include <algorithm>
 #include <chrono>
@@ -45,6 +54,7 @@
 #include <map>
 #include <random>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -202,7 +212,7 @@ struct Row {
   double sum_nominal2 = 0, sum_calibrated2 = 0, sum_bound2 = 0, worst = 0;
   unsigned int pairs = 0, bound_pairs = 0;
   bench::Stats gain;
-  double sum_e2_bounded = 0;
+  double sum_e2_bounded = 0, sum_bias2 = 0;
 };
 
 //! The Cramer-Rao bound of the set r estimated, at the truth, propagated to the held-out pairs (sum of variances).
@@ -227,6 +237,65 @@ bool boundOf(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds0, uns
     pred.push_back(C[0][0] + C[1][1] + C[2][2]);
   }
   return true;
+}
+
+/*
+  The error the set itself costs: the bundle adjustment on the noise-free calibration views with the
+  run's set (the parameters it left at nominal held there, the others fitted to the true images; the
+  true points as start), the held-out position errors of that fit. The bound holds the noise part of
+  a run's error; this is the rest (0 when nothing is left at nominal).
+*/
+std::vector<double> biasOf(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds0, unsigned int views,
+                           const vpRobotSelfCalibration::Result &r, vpRobotSelfCalibration::FocalMode mode, double noise,
+                           vpKinematicChain &limit)
+{
+  vpKinematicBundleAdjustment::Options bo;
+  bo.intrinsics = mode == vpRobotSelfCalibration::FOCAL_KNOWN ? 0u : vpKinematicBundleAdjustment::FX;
+  bo.estimated_set = r.identifiability;
+  bo.covariance = false;
+  vpSelfCalibNoiseModel bn;
+  bn.pixel_sd = noise;
+  const std::vector<vpSelfCalibDataset::View> cal(ds0.views.begin(), ds0.views.begin() + views);
+  const auto fit = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), sim.getCamera(), cal, sim.getYardstick(),
+                                                       sim.getScenePointsById(), bo, bn);
+  if (fit.status != vpKinematicBundleAdjustment::OK)
+    return {};
+  limit = fit.chain;
+  const std::vector<vpSelfCalibDataset::View> hv(ds0.views.begin() + views, ds0.views.end());
+  return bench::verifyAgainstTruth(sim, fit.chain, fit.camera, hv).position_errors;
+}
+
+/*
+  A doubtful run against the truth: the estimated parameter farthest from the noise-free fit of the
+  same set (the estimator's own error, in its sd: a doubt about the estimate is right when it is
+  large) and the one farthest from the true robot (which the set's bias adds to).
+*/
+std::string againstTruth(const vpSelfCalibSimulator &sim, const vpKinematicChain &limit,
+                         const vpRobotSelfCalibration::Result &r)
+{
+  const vpColVector &est = r.calibrated.getParameters(), &lim = limit.getParameters(),
+                    &tru = sim.getTrueChain().getParameters();
+  const std::vector<std::string> names = r.calibrated.getParameterNames();
+  double z_lim = 0, z_true = 0;
+  std::string n_lim, n_true;
+  for (unsigned int i : r.identifiability.identified) {
+    const double sd = i < r.parameter_sd.size() ? r.parameter_sd[i] : 0;
+    if (!(sd > 0))
+      continue;
+    const double a = std::fabs(est[i] - lim[i]) / sd, b = std::fabs(est[i] - tru[i]) / sd;
+    if (a > z_lim) {
+      z_lim = a;
+      n_lim = names[i];
+    }
+    if (b > z_true) {
+      z_true = b;
+      n_true = names[i];
+    }
+  }
+  std::ostringstream os;
+  os << std::setprecision(2) << "worst |estimate - noise-free fit| / sd " << z_lim << " (" << n_lim
+     << "), worst |estimate - truth| / sd " << z_true << " (" << n_true << ")";
+  return os.str();
 }
 
 void runOnce(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, const std::vector<vpColVector> &held,
@@ -257,15 +326,31 @@ void runOnce(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, c
     ++row.pairs;
   }
   std::vector<double> pred;
-  if (boundOf(clean, ds0, views, held, r, mode, noise, pred))
-    for (size_t k = 0; k < pred.size() && k < v.position_errors.size(); ++k) {
-      row.sum_bound2 += pred[k];
+  double run_bound2 = 0, run_bias2 = 0;
+  unsigned int run_pairs = 0;
+  if (boundOf(clean, ds0, views, held, r, mode, noise, pred)) {
+    vpKinematicChain limit = clean.getNominalChain();
+    const std::vector<double> bias = biasOf(clean, ds0, views, r, mode, noise, limit);
+    if (r.status == vpRobotSelfCalibration::DOUBTFUL)
+      std::cerr << "\n" << tag << ": doubtful: " << againstTruth(clean, limit, r) << "\n";
+    for (size_t k = 0; k < pred.size() && k < v.position_errors.size() && k < bias.size(); ++k) {
+      run_bound2 += pred[k];
+      run_bias2 += bias[k] * bias[k];
       row.sum_e2_bounded += v.position_errors[k] * v.position_errors[k];
-      ++row.bound_pairs;
+      ++run_pairs;
     }
+  }
+  row.sum_bound2 += run_bound2;
+  row.sum_bias2 += run_bias2;
+  row.bound_pairs += run_pairs;
+  std::string doubts;
+  for (const auto &f : r.findings)
+    if (f.severity == vpSelfCalibDataCheck::DOUBT)
+      doubts += (doubts.empty() ? "" : " ") + f.code;
   if (csv.enabled())
     csv.row() << tag << "," << vpRobotSelfCalibration::statusName(r.status) << "," << e_nom << "," << e_cal << ","
-              << "\"" << leftByData(r) << "\"\n";
+              << std::sqrt(run_bound2 / std::max(1u, run_pairs)) << "," << std::sqrt(run_bias2 / std::max(1u, run_pairs))
+              << ",\"" << leftByData(r) << "\",\"" << doubts << "\"," << r.predicted_rms << "," << r.fit_nominal_rms << "\n";
 }
 
 //! The poses to add table: one run per seed, before and after the poses plan --from proposes.
@@ -363,6 +448,10 @@ void addPosesRun(const std::string &robot, unsigned int seed, double noise, unsi
   row.wide_gain_before.add(rms(w_nom) / rms(w1));
   row.wide_gain_after.add(rms(w_nom) / rms(w2));
   row.better += rms(w2) < rms(w1);
+  if (!(rms(w2) < rms(w1)))
+    std::cerr << "\n" << robot << ", seed " << seed << ": not better on B after the poses: " << 1e3 * rms(w1) << " -> "
+              << 1e3 * rms(w2) << " mm (nominal " << 1e3 * rms(w_nom) << "); left before [" << leftByData(r1)
+              << "], after [" << leftByData(r2) << "], " << plan.additions.size() << " poses added\n";
   addErrors(w_nom, w1, w2, row.wide_nominal2, row.wide_before2, row.wide_after2, row.wide_pairs);
 }
 
@@ -376,6 +465,54 @@ std::string mostFrequent(const std::map<std::string, unsigned int> &sets)
       common = s.first;
     }
   return common;
+}
+
+/*
+  The same-set check: per robot, noise level and geometry (seeds 1..G, 12 views, f known), D noise
+  draws calibrated; the number of different lists left at nominal over the draws (1: a decision the
+  noise does not move). True when every geometry gives one set at every level.
+*/
+bool sameSetCheck(const std::vector<std::string> &robots, const std::vector<double> &noises, unsigned int draws,
+                  unsigned int geometries)
+{
+  bool same = true;
+  std::cout << "\n\nthe same set in " << draws << " noise draws of one geometry (12 views, f known), seeds 1-" << geometries
+            << ":\n\n| robot | noise (px) | geometries | with one set | sets (per geometry) | most frequent |\n"
+            << "|---|---|---|---|---|---|\n";
+  for (const std::string &robot : robots)
+    for (const double noise : noises) {
+      const unsigned int stuck = stuckJoint(robot), views = 12;
+      unsigned int one = 0;
+      std::string counts;
+      std::map<std::string, unsigned int> all;
+      for (unsigned int g = 1; g <= geometries; ++g) {
+        const vpSelfCalibSimulator clean = makeSim(robot, g);
+        const std::vector<vpColVector> q =
+            configurations(clean, home(robot, clean.getNominalChain()), stuck, views + kHeldOut, g);
+        const vpSelfCalibDataset ds0 = bench::pipelineDataset(clean, q, vpRobotSelfCalibration::FOCAL_KNOWN);
+        std::map<std::string, unsigned int> sets;
+        for (unsigned int d = 0; d < draws; ++d) {
+          std::cerr << robot << " " << noise << " px, geometry " << g << ", same-set draw " << d + 1 << "/" << draws
+                    << "      \r" << std::flush;
+          const auto r = calibrate(clean, noisy(ds0, noise, 5000011ULL + 7919ULL * g + d),
+                                   vpRobotSelfCalibration::FOCAL_KNOWN, noise, views);
+          const bool have = r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL;
+          ++sets[have ? leftByData(r) : "(failed)"];
+        }
+        one += sets.size() == 1;
+        counts += (counts.empty() ? "" : " ") + std::to_string(sets.size());
+        if (sets.size() > 1)
+          for (const auto &s : sets)
+            std::cerr << "\n" << robot << " " << noise << " px, geometry " << g << ": [" << s.first << "] x" << s.second;
+        for (const auto &s : sets)
+          all[s.first] += s.second;
+      }
+      same = same && one == geometries;
+      std::cout << std::fixed << std::setprecision(1) << "| " << robot << " | " << noise << " | " << geometries << " | "
+                << one << " | " << counts << " | " << mostFrequent(all) << " |\n"
+                << std::flush;
+    }
+  return same;
 }
 
 //! The second table; true when every run estimates every parameter after the poses and its held-out error drops.
@@ -420,7 +557,7 @@ bool addPosesTable(const std::vector<std::string> &robots, unsigned int seeds)
 int main(int argc, char **argv)
 {
   try {
-    unsigned int seeds = 10, draws = 0, stable = 30;
+    unsigned int seeds = 10, draws = 0, stable = 30, stable_geometries = 1;
     std::vector<std::string> robots = {"panda", "puma560"};
     std::vector<unsigned int> view_counts = {12, 25};
     std::vector<double> noises = {0.2, 0.5};
@@ -436,6 +573,10 @@ int main(int argc, char **argv)
     app.add_option("--stable", stable, "noise draws of one geometry for the same-set check (default 30; 0: none)")
         ->type_name("D")
         ->check(selfcalibCli::wholeNumber());
+    app.add_option("--stable-geometries", stable_geometries,
+                   "geometries (seeds 1..G) of the same-set check, each at every --noise level (default 1)")
+        ->type_name("G")
+        ->check(CLI::PositiveNumber);
     selfcalibCli::addRobots(app, robots, vpKinematicChain::presetNames());
     app.add_option("--views", view_counts, "calibration views (default 12,25)")->type_name("V")->delimiter(',');
     selfcalibCli::addNoiseLevels(app, noises, "pixel noise levels, above 0 (default 0.2,0.5)", true);
@@ -465,13 +606,15 @@ int main(int argc, char **argv)
 
     g_tolerance_t = tolerance.at(0);
     g_tolerance_r = tolerance.at(1);
-    bench::Csv csv(csv_path, "run,status,nominal_rms_m,calibrated_rms_m,left_at_nominal");
+    bench::Csv csv(csv_path, "robot,views,focal,noise,seed,draw,status,nominal_rms_m,calibrated_rms_m,crb_rms_m,bias_rms_m,left_at_nominal,doubts,"
+                   "predicted_px,nominal_fit_px");
     std::cout << "bench-estset: " << seeds << " seeds x " << (draws + 1) << " noise draws, the stuck joint within +-0.5 deg, "
               << kHeldOut << " held-out views\n";
     if (std::find(tables.begin(), tables.end(), "main") != tables.end())
       std::cout << "\n| robot | stuck | views | focal | noise (px) | ok | doubtful | failed | left at nominal (most frequent) | sets over the seeds | "
-                 "nominal RMS (mm) | calibrated RMS (mm) | CRB RMS (mm) | worst cal/nom | gain (mean) | gain the bound allows | CRB ratio | targets |\n"
-              << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+                 "nominal RMS (mm) | calibrated RMS (mm) | CRB RMS (mm) | set's bias RMS (mm) | worst cal/nom | gain (mean) | gain the bound allows | CRB ratio | "
+                 "ratio to CRB + bias | targets |\n"
+              << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     const auto t_start = std::chrono::steady_clock::now();
     bool all_met = true;
     const bool main_table = std::find(tables.begin(), tables.end(), "main") != tables.end();
@@ -509,6 +652,8 @@ int main(int argc, char **argv)
                 common = s.first;
               }
             const double crb = row.sum_bound2 > 0 ? std::sqrt(row.sum_e2_bounded / row.sum_bound2) : NAN;
+            const double with_bias =
+                row.sum_bound2 > 0 ? std::sqrt(row.sum_e2_bounded / (row.sum_bound2 + row.sum_bias2)) : NAN;
             const double target_gain = views >= 25 ? 5.0 : 3.0;
             const bool met = row.failed == 0 && row.doubtful == 0 && row.worst < 1 && row.gain.mean() >= target_gain &&
                              crb <= 1.3;
@@ -519,40 +664,20 @@ int main(int argc, char **argv)
                       << " | " << common << " | " << row.sets.size() << " | " << std::setprecision(3)
                       << 1e3 * std::sqrt(row.sum_nominal2 / std::max(1u, row.pairs)) << " | "
                       << 1e3 * std::sqrt(row.sum_calibrated2 / std::max(1u, row.pairs)) << " | "
-                      << 1e3 * std::sqrt(row.sum_bound2 / std::max(1u, row.bound_pairs)) << " | " << std::setprecision(2)
+                      << 1e3 * std::sqrt(row.sum_bound2 / std::max(1u, row.bound_pairs)) << " | "
+                      << 1e3 * std::sqrt(row.sum_bias2 / std::max(1u, row.bound_pairs)) << " | " << std::setprecision(2)
                       << row.worst << " | " << bench::meanSd(row.gain, 1, 1) << " | "
                       << std::sqrt(row.sum_nominal2 / std::max(1u, row.pairs)) /
                              std::sqrt(row.sum_bound2 / std::max(1u, row.bound_pairs))
-                      << " | " << crb << " | "
+                      << " | " << crb << " | " << with_bias << " | "
                       << (mode == vpRobotSelfCalibration::FOCAL_KNOWN ? (met ? "met" : "NOT met") : "(not claimed)")
                       << " |\n"
                       << std::flush;
           }
         }
     }
-    // The same set in repeated draws of one geometry.
-    bool same = true;
-    for (const std::string &robot : robots) {
-      if (stable == 0 || !main_table)
-        break;
-      const unsigned int stuck = stuckJoint(robot), views = 12;
-      const vpSelfCalibSimulator clean = makeSim(robot, 1);
-      const std::vector<vpColVector> q =
-          configurations(clean, home(robot, clean.getNominalChain()), stuck, views + kHeldOut, 1);
-      const vpSelfCalibDataset ds0 = bench::pipelineDataset(clean, q, vpRobotSelfCalibration::FOCAL_KNOWN);
-      std::map<std::string, unsigned int> sets;
-      for (unsigned int d = 0; d < stable; ++d) {
-        std::cerr << robot << " same-set draw " << d + 1 << "/" << stable << "      \r" << std::flush;
-        const auto r = calibrate(clean, noisy(ds0, 0.2, 5000011ULL + d), vpRobotSelfCalibration::FOCAL_KNOWN, 0.2, views);
-        ++sets[r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL ? leftByData(r)
-                                                                                                        : "(failed)"];
-      }
-      std::cout << "\nsame set, " << robot << " (12 views, 0.2 px, f known, " << stable << " draws): " << sets.size()
-                << " set(s):";
-      for (const auto &s : sets)
-        std::cout << " [" << s.first << "] x" << s.second;
-      same = same && sets.size() == 1;
-    }
+    // The same set in repeated draws of one geometry, at each noise level.
+    const bool same = stable == 0 || !main_table || sameSetCheck(robots, noises, stable, stable_geometries);
     const bool added = !add_table || addPosesTable(robots, seeds);
     std::cerr << std::string(70, ' ') << "\r";
     if (main_table)

@@ -141,6 +141,38 @@ double noiseOf(const Context &c, const Result &res)
 }
 
 /*
+  The image variance (px^2, per coordinate) of the points a view k sees, from the 6 x 6 covariance Ck
+  of the relative pose T = c_0 M c_k (position, then the left rotation perturbation, both in c_0's
+  frame: relativePoseCovariance): a point X_k of camera k (X_0 = R_T X_k + t_T) moves by
+  dX_k = -R_T^T dt + [X_k]x R_T^T dphi, its pixel by f / Z (dX - x dZ, dY - y dZ). Taken whole, with
+  the cross terms: the data determine the combination of position and rotation the images see (a
+  camera shifted sideways and turned back towards the scene), so the two parts counted apart would
+  overstate the error by the scene's depth times the rotation's sd.
+*/
+double imageVariance(const vpMatrix &Ck, const Eigen::Matrix3d &R_T, const std::vector<Eigen::Vector3d> &Xk, double f,
+                     unsigned int &count)
+{
+  Eigen::Matrix<double, 6, 6> C;
+  for (int a = 0; a < 6; ++a)
+    for (int b = 0; b < 6; ++b)
+      C(a, b) = Ck[a][b];
+  double sum = 0;
+  for (const Eigen::Vector3d &X : Xk) {
+    if (!(X.z() > 0))
+      continue;
+    Eigen::Matrix<double, 3, 6> G;
+    G.leftCols(3) = -R_T.transpose();
+    G.rightCols(3) = vpSelfCalib::skew(X) * R_T.transpose();
+    Eigen::Matrix<double, 2, 3> P;
+    P << 1, 0, -X.x() / X.z(), 0, 1, -X.y() / X.z();
+    const Eigen::Matrix<double, 2, 6> J = (f / X.z()) * P * G;
+    sum += 0.5 * (J * C * J.transpose()).trace();
+    ++count;
+  }
+  return sum;
+}
+
+/*
   The calibrated model's predicted error on new views against the nominal model's misfit (see
   Result::predicted_rms); points: the scene triangulated through the calibrated model (f frame).
 */
@@ -151,35 +183,26 @@ void checkPredicted(const Context &c, Result &res, const std::map<int, vpColVect
   const vpMatrix &C = c.options.method == vpRobotSelfCalibration::PAPER ? res.identification.covariance
                                                                          : res.bundle.covariance;
   const std::vector<unsigned int> &id = res.identifiability.identified;
-  if (id.empty() || C.getRows() < id.size())
+  if (id.empty() || C.getRows() < id.size() || c.calibration.size() < 2)
     return;
-  double zsum = 0;
-  unsigned int nz = 0;
-  for (const View &v : c.calibration) {
-    const vpSelfCalib::Rigid cMf = vpSelfCalib::rigidFromVisp(res.calibrated.get_fMc(v.q)).inverse();
+  const vpSelfCalib::Rigid A = vpSelfCalib::rigidFromVisp(res.calibrated.get_fMc(c.calibration[0].q));
+  double sum = 0;
+  unsigned int count = 0;
+  for (size_t k = 1; k < c.calibration.size(); ++k) {
+    const View &v = c.calibration[k];
+    const vpSelfCalib::Rigid B = vpSelfCalib::rigidFromVisp(res.calibrated.get_fMc(v.q)), cMf = B.inverse();
+    std::vector<Eigen::Vector3d> Xk;
     for (const auto &o : v.points) {
       const auto X = points.find(o.id);
-      if (X == points.end())
-        continue;
-      const double z = (cMf * Eigen::Vector3d(X->second[0], X->second[1], X->second[2])).z();
-      if (z > 0) {
-        zsum += z;
-        ++nz;
-      }
+      if (X != points.end())
+        Xk.push_back(cMf * Eigen::Vector3d(X->second[0], X->second[1], X->second[2]));
     }
+    const vpMatrix Ck = vpKinematicBundleAdjustment::relativePoseCovariance(res.calibrated, id, C, c.calibration[0].q, v.q);
+    sum += imageVariance(Ck, A.R.transpose() * B.R, Xk, res.camera.get_px(), count);
   }
-  if (nz == 0)
+  if (count == 0)
     return;
-  const double f = res.camera.get_px(), Z = zsum / nz;
-  double sum = 0;
-  for (size_t k = 1; k < c.calibration.size(); ++k) {
-    const vpMatrix Ck = vpKinematicBundleAdjustment::relativePoseCovariance(res.calibrated, id, C, c.calibration[0].q,
-                                                                           c.calibration[k].q);
-    const double t2 = Ck[0][0] + Ck[1][1] + Ck[2][2], r2 = Ck[3][3] + Ck[4][4] + Ck[5][5];
-    // Two of the three components move the image; per coordinate, a third of each trace.
-    sum += (t2 * (f / Z) * (f / Z) + r2 * f * f) / 3.0;
-  }
-  res.predicted_rms = std::sqrt(sum / static_cast<double>(c.calibration.size() - 1));
+  res.predicted_rms = std::sqrt(sum / count);
   // A checked answer must be better than the nominal model with confidence: its own uncertainty
   // must leave at most a 0.1 % chance that its error on new views exceeds twice the nominal misfit.
   // The error of a run lies mostly along one direction (the focal length, the scale), so it is taken

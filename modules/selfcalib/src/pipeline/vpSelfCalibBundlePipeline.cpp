@@ -66,12 +66,23 @@ void runBundle(const Context &c, Result &res)
   }
   c.report("identification from the multi-view poses", 0, 1);
   // The set the bundle adjustment estimates, decided from what its data determine at the nominal
-  // model (the points moved to f through it), so that the start identification estimates within it
-  // and a parameter the data leave out stays nominal instead of taking the start's value.
+  // model, so that the start identification estimates within it and a parameter the data leave out
+  // stays nominal instead of taking the start's value. With f known, the points are triangulated
+  // through the nominal model's camera poses: their scale is the model's, where the multi-view
+  // points' scale (one noisy baseline) moves every predicted sd by several percent from one noise
+  // draw to the next, and a decision near the tolerance with it.
   vpKinematicBundleAdjustment::Options bo = c.bundle;
-  bo.estimated_set = vpKinematicBundleAdjustment::estimatedSet(
-      c.nominal, startCamera(c, res.multiview.fx), cal, c.dataset.yardstick,
-      pointsInF(res, c.nominal.get_fMc(cal[0].q), s), c.bundle, c.noise);
+  std::map<int, vpColVector> set_points = pointsInF(res, c.nominal.get_fMc(cal[0].q), s);
+  if (c.mode == vpRobotSelfCalibration::FOCAL_KNOWN) {
+    std::vector<Rigid> fMc;
+    for (const View &v : cal)
+      fMc.push_back(rigidFromVisp(c.nominal.get_fMc(v.q)));
+    PredictedStart p = predictedStart(cal, fMc, lensOf(c.dataset), true);
+    if (p.ok)
+      set_points = std::move(p.points);
+  }
+  bo.estimated_set = vpKinematicBundleAdjustment::estimatedSet(c.nominal, startCamera(c, res.multiview.fx), cal,
+                                                               c.dataset.yardstick, set_points, c.bundle, c.noise);
   // The start identification estimates exactly that set (fixing the others instead would let the
   // rule take a redundant twin of each in its place, which the bundle adjustment would then keep at
   // the start's value); when the posed views do not determine it, the start is the nominal model.

@@ -297,8 +297,9 @@ public:
     double fit_nominal_rms = 0, fit_calibrated_rms = 0;
     /*!
       px, the calibrated model's own predicted error on new views (BUNDLE_ADJUSTMENT, PAPER): its
-      covariance propagated to the relative camera poses of the calibration views (to first order:
-      position sd times f over the scene's mean depth, rotation sd times f, per image coordinate).
+      covariance propagated to the relative camera poses of the calibration views (c_0 M c_k), then
+      to the pixels of the points each view sees (first order, the pose's 6 x 6 covariance whole:
+      position and rotation errors the images cannot tell apart partly cancel), RMS per coordinate.
       Above 2 / 3.29 of fit_nominal_rms, the model's own uncertainty leaves more than a 0.1 % chance
       that it does worse than twice the nominal model on new views (DOUBTFUL,
       expected-worse-than-nominal). 0 when not computed.
