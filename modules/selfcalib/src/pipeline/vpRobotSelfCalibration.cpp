@@ -342,79 +342,91 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
     pinhole.opencv_distortion.clear();
   }
   const vpSelfCalibDataset &data0 = pinhole.views.empty() ? ds : pinhole;
-  // eMc and a self-calibrated focal length started from what the data measure, not from the guesses;
-  // a hand-eye run started from an earlier run's model, points and f (opt.start: a cross-validation
-  // fold) starts from those.
-  const bool warm = opt.method == HAND_EYE && opt.start.set;
-  const vpSelfCalibPipeline::DataStart start = warm ? vpSelfCalibPipeline::DataStart{nominal, data0, {}, std::string()}
-                                                    : vpSelfCalibPipeline::startFromData(nominal, data0, N, opt);
-  const vpSelfCalibDataset &data = start.dataset;
-  const vpKinematicChain &model = start.model;
-  // Resolves the focal mode and builds every step's options: the remaining caller mistakes throw here.
-  const vpSelfCalibPipeline::Context context(model, data, opt, N, progress, &nominal, start.eMc_from_data);
+  // eMc and a self-calibrated focal length started from what the data measure, not from the guesses
+  // (below); a hand-eye run started from an earlier run's model, points and f (opt.start: a
+  // cross-validation fold) starts from those.
+  const auto runFrom = [&](const vpSelfCalibPipeline::DataStart &start) -> Result {
+    const vpSelfCalibDataset &data = start.dataset;
+    const vpKinematicChain &model = start.model;
+    // Resolves the focal mode and builds every step's options: the remaining caller mistakes throw here.
+    const vpSelfCalibPipeline::Context context(model, data, opt, N, progress, &nominal, start.eMc_from_data);
 
-  Result res;
-  res.method = opt.method;
-  res.calibrated = model;
-  res.camera = data.cam;
-  if (!vpSelfCalibPipeline::checkData(context, res)) {
-    res.seconds = seconds(t0);
-    return res;
-  }
-  res.findings.insert(res.findings.end(), start.findings.begin(), start.findings.end());
-  const std::vector<vpSelfCalibDataCheck::Finding> data_findings = res.findings;
-  runMethod(context, res);
-  // Later runs at the measured noise levels; `current` is the context of the run that stands.
-  std::optional<vpSelfCalibPipeline::Context> current;
-  const auto attempt = [&](const vpSelfCalibNoiseModel &noise, bool robot_round) {
-    const vpSelfCalibPipeline::Context c(context, noise, robot_round);
-    Result next;
-    next.method = opt.method;
-    next.calibrated = model;
-    next.camera = data.cam;
-    next.findings = data_findings;
-    runMethod(c, next);
-    if (next.status != OK)
-      return vpSelfCalibPipeline::NoiseAttempt{false, statusName(next.status), vpSelfCalibNoiseModel::unmeasured()};
-    next.stage_seconds.insert(next.stage_seconds.begin(), res.stage_seconds.begin(), res.stage_seconds.end());
-    res = next;
-    current.emplace(c);
-    return vpSelfCalibPipeline::NoiseAttempt{true, std::string(), res.measured};
-  };
-  if (opt.method != PAPER) {
-    // A run that failed on too many rejected observations is the one a too small pixel_sd breaks:
-    // it runs again too when its residuals measured the noise.
-    // The attempts replace res: what the first run measured is copied first, and the notes of the
-    // rounds join the findings of the run that stands at the end.
-    const bool usable = res.status == OK || res.status == IDENTIFICATION_FAILED;
-    const vpSelfCalibNoiseModel first_measured = res.measured;
-    std::vector<vpSelfCalibDataCheck::Finding> notes;
-    vpSelfCalibPipeline::measureNoise(res.noise, first_measured, res.status == OK, usable, true, attempt, notes);
-    res.findings.insert(res.findings.end(), notes.begin(), notes.end());
-    // The checks below at the robot error the adjustment measured (its sds then follow sigma0).
-    if (res.bundle.robot_rounds > 0) {
-      const vpSelfCalibPipeline::Context base = current ? *current : context;
-      current.emplace(base, res.noise, true);
+    Result res;
+    res.method = opt.method;
+    res.calibrated = model;
+    res.camera = data.cam;
+    if (!vpSelfCalibPipeline::checkData(context, res)) {
+      res.seconds = seconds(t0);
+      return res;
     }
-  }
-  const vpSelfCalibPipeline::Context &used = current ? *current : context;
-  if (!start.message.empty())
-    res.message = start.message + "; " + res.message;
-  if (start.eMc_from_data && res.status == OK)
-    vpSelfCalibPipeline::findGuessFar(nominal, opt, res);
+    res.findings.insert(res.findings.end(), start.findings.begin(), start.findings.end());
+    const std::vector<vpSelfCalibDataCheck::Finding> data_findings = res.findings;
+    runMethod(context, res);
+    // Later runs at the measured noise levels; `current` is the context of the run that stands.
+    std::optional<vpSelfCalibPipeline::Context> current;
+    const auto attempt = [&](const vpSelfCalibNoiseModel &noise, bool robot_round) {
+      const vpSelfCalibPipeline::Context c(context, noise, robot_round);
+      Result next;
+      next.method = opt.method;
+      next.calibrated = model;
+      next.camera = data.cam;
+      next.findings = data_findings;
+      runMethod(c, next);
+      if (next.status != OK)
+        return vpSelfCalibPipeline::NoiseAttempt{false, statusName(next.status), vpSelfCalibNoiseModel::unmeasured()};
+      next.stage_seconds.insert(next.stage_seconds.begin(), res.stage_seconds.begin(), res.stage_seconds.end());
+      res = next;
+      current.emplace(c);
+      return vpSelfCalibPipeline::NoiseAttempt{true, std::string(), res.measured};
+    };
+    if (opt.method != PAPER) {
+      // A run that failed on too many rejected observations is the one a too small pixel_sd breaks:
+      // it runs again too when its residuals measured the noise.
+      // The attempts replace res: what the first run measured is copied first, and the notes of the
+      // rounds join the findings of the run that stands at the end.
+      const bool usable = res.status == OK || res.status == IDENTIFICATION_FAILED;
+      const vpSelfCalibNoiseModel first_measured = res.measured;
+      std::vector<vpSelfCalibDataCheck::Finding> notes;
+      vpSelfCalibPipeline::measureNoise(res.noise, first_measured, res.status == OK, usable, true, attempt, notes);
+      res.findings.insert(res.findings.end(), notes.begin(), notes.end());
+      // The checks below at the robot error the adjustment measured (its sds then follow sigma0).
+      if (res.bundle.robot_rounds > 0) {
+        const vpSelfCalibPipeline::Context base = current ? *current : context;
+        current.emplace(base, res.noise, true);
+      }
+    }
+    const vpSelfCalibPipeline::Context &used = current ? *current : context;
+    if (!start.message.empty())
+      res.message = start.message + "; " + res.message;
+    if (start.eMc_from_data && res.status == OK)
+      vpSelfCalibPipeline::findGuessFar(nominal, opt, res);
 
-  vpSelfCalibPipeline::checkResult(used, res);
-  if (res.status != OK) {
-    // What the checks found often explains the failure: say it with the failure.
-    for (const auto &f : res.findings)
-      res.message += "; " + f.message;
+    vpSelfCalibPipeline::checkResult(used, res);
+    if (res.status != OK) {
+      // What the checks found often explains the failure: say it with the failure.
+      for (const auto &f : res.findings)
+        res.message += "; " + f.message;
+      res.seconds = seconds(t0);
+      return res;
+    }
+    vpSelfCalibPipeline::verify(used, res);
+    vpSelfCalibPipeline::assess(used, res);
+    if (start.eMc_from_data)
+      vpSelfCalibPipeline::expressInGuess(nominal, res);
     res.seconds = seconds(t0);
     return res;
+  };
+  if (opt.method == HAND_EYE && opt.start.set)
+    return runFrom(vpSelfCalibPipeline::DataStart{nominal, data0, {}, std::string()});
+  const vpSelfCalibPipeline::DataStart measured = vpSelfCalibPipeline::startFromData(nominal, data0, N, opt, true);
+  Result res = runFrom(measured);
+  // A run from the measured eMc that fails (e.g. two-view motions on a plane that fit the robot's
+  // rotations but not its translations) is tried again from the model's guess, which then says so.
+  if (measured.eMc_from_data && (res.status == TWO_VIEW_FAILED || res.status == SCALE_FAILED ||
+                                 res.status == IDENTIFICATION_FAILED)) {
+    Result again = runFrom(vpSelfCalibPipeline::startFromData(nominal, data0, N, opt, false));
+    if (again.status == OK || again.status == DOUBTFUL)
+      return again;
   }
-  vpSelfCalibPipeline::verify(used, res);
-  vpSelfCalibPipeline::assess(used, res);
-  if (start.eMc_from_data)
-    vpSelfCalibPipeline::expressInGuess(nominal, res);
-  res.seconds = seconds(t0);
   return res;
 }

@@ -414,7 +414,7 @@ double focalFromModel(const vpKinematicChain &model, const std::vector<View> &ca
 } // namespace
 
 DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDataset &data, unsigned int N,
-                        const vpRobotSelfCalibration::Options &opt)
+                        const vpRobotSelfCalibration::Options &opt, bool measure_eMc)
 {
   DataStart start{nominal, data, {}, std::string()};
   if (opt.method == vpRobotSelfCalibration::PAPER)
@@ -446,7 +446,10 @@ DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDatase
   // yet, the pixels are taken as a pinhole camera's.
   const std::vector<View> pixels = focal_known ? undistorted(cal, lens) : cal;
   const double threshold = std::max(1.0, 3 * opt.noise.pixel_sd);
-  const MeasuredStart m = measuredStart(pixels, lens, data.width, opt.bundle.known_points, focal_known, threshold);
+  MeasuredStart m;
+  m.how = "the run started from the measured eMc failed";
+  if (measure_eMc)
+    m = measuredStart(pixels, lens, data.width, opt.bundle.known_points, focal_known, threshold);
   if (m.has_eMc) {
     start.model = withNominalEMc(nominal, m.eMc);
     start.eMc_from_data = true;

@@ -132,7 +132,7 @@ TEST(MeasuredStart, TooFewSharedPointsFallsBackToTheGuessAndSaysSo)
     v.points.resize(std::min<size_t>(v.points.size(), 12));
   RSC::Options o;
   o.num_calibration_poses = 8;
-  const vpSelfCalibPipeline::DataStart s = vpSelfCalibPipeline::startFromData(sim.getNominalChain(), ds, 8, o);
+  const vpSelfCalibPipeline::DataStart s = vpSelfCalibPipeline::startFromData(sim.getNominalChain(), ds, 8, o, true);
   EXPECT_FALSE(s.eMc_from_data);
   ASSERT_EQ(s.findings.size(), 1u);
   EXPECT_EQ(s.findings[0].code, "emc-start-guess");
