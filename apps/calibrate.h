@@ -1,11 +1,13 @@
 /*
  * visp-selfcalib calibrate: the pieces its files share (calibrateOptions.cpp: the command line and
- * the library options it gives, calibrateFrontEnd.cpp: its front-end part; calibrateCommand.cpp: the
- * run; calibrateOutput.cpp: the output directory and what is printed).
+ * the library options it gives, calibrateFrontEnd.cpp: its front-end part; calibrateChecks.cpp: the
+ * options checked against the dataset and the method; calibrateCommand.cpp: the run;
+ * calibrateOutput.cpp: the output directory and what is printed).
  */
 #ifndef VISP_SELFCALIB_CALIBRATE_H
 #define VISP_SELFCALIB_CALIBRATE_H
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -24,6 +26,16 @@ vpSelfCalibImageCorrespondences::Options frontEndOptions(const CalibrateArgs &a)
 //! The calibration's options from the command line; CLI::ValidationError for options that disagree.
 vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
                                                    const vpSelfCalibImageCorrespondences::Options &co);
+
+//! How many of the board's points (known_points' ids) the dataset's views observe (calibrateChecks.cpp).
+size_t boardPointsObserved(const std::map<int, vpColVector> &layout, const vpSelfCalibDataset &ds);
+//! The options of the full kinematic calibration only, refused with the hand-eye method (CLI::ValidationError).
+void refuseBundleOptions(const CalibrateArgs &a);
+//! --pose-sd T,R and --joint-sd into the noise model once the method is known.
+void stateRobotError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po);
+//! --fix / --free and the dataset's fix: / free: against the model's parameter names (usage errors).
+void checkParameterLists(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds,
+                         const vpRobotSelfCalibration::Options &po, bool hand_eye, bool intrinsics_estimated);
 
 //! The files a calibration reads: the dataset, its robot model file, camera XML and images.
 std::vector<std::string> calibrationInputs(const std::string &dataset, const vpSelfCalibDataset &ds);
