@@ -80,7 +80,7 @@ BENCHES = [
      "exact joint readings, readings off by 0.02 deg, and readings off by 0.05 deg with a 0.1 mm / "
      "0.1 mrad model residual: the levels measured against the simulated ones, the held-out error "
      "against the run's own predicted error, and the NEES of the corrections."),
-    ("bench-hd", [],
+    ("bench-hd", ["--seeds", "2"],
      "HD images in bounded time: `visp-selfcalib calibrate --method hand-eye --folds 5` on 12 rendered "
      "views of 1280 x 720 (simulated Viper850, controller poses, textured scene, f scaled with the "
      "height), its progress stamped stage by stage (image front end, the calibration on every view, "
