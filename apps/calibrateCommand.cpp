@@ -101,6 +101,7 @@ std::string writeResults(const fs::path &stage, const std::string &dataset, cons
   const bool doubtful = r.status == vpRobotSelfCalibration::DOUBTFUL;
   vpKinematicChain model = r.calibrated;
   model.setName(nominal.getName() + (doubtful ? "-calibrated-DOUBTFUL" : "-calibrated"));
+  model.setCameraInWorld(r.has_bMc); // eye-to-hand: the file holds bMc, and says so
   model.saveYaml((stage / "model.yaml").string());
   if (r.has_bMc) { // eye-to-hand: the camera a link of the world, the target on the flange
     const vpHomogeneousMatrix bMc(r.bMc), eMo(r.eMo);

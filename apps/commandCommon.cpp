@@ -12,6 +12,7 @@
 
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibResultsFile.h>
 
 namespace fs = std::filesystem;
 
@@ -25,6 +26,32 @@ std::string presetList()
 }
 
 std::string modelHelp() { return "a preset (" + presetList() + "), a robot-model YAML or a URDF file"; }
+
+vpKinematicChain readModelArgument(const std::string &model)
+{
+  vpKinematicChain chain = vpKinematicChain::fromPresetOrFile(model);
+  std::error_code ec;
+  const fs::path file(model);
+  if (chain.isCameraInWorld() || !fs::is_regular_file(file, ec) || file.extension() == ".urdf")
+    return chain;
+  const fs::path results = file.parent_path() / "results.yaml";
+  if (!fs::is_regular_file(results, ec))
+    return chain;
+  bool eye_to_hand = false;
+  try {
+    eye_to_hand = vpSelfCalibResultsFile::read(results.string()).bMc.has_value();
+  } catch (const vpSelfCalibException &) {
+    return chain; // a results.yaml that does not read says nothing about this model
+  }
+  if (eye_to_hand)
+    throw vpSelfCalibException(
+        vpSelfCalibException::badValue,
+        model + ": an eye-to-hand model file of the older form: its eMc holds the camera in the world (" +
+            results.string() + " beside it has bMc), and the file does not say camera_mount: world. Rename its key "
+            "'eMc:' to 'bMc:' and add the line 'camera_mount: world' (sed -i 's/^eMc:/camera_mount: world\\nbMc:/' " +
+            model + "), or run calibrate again");
+  return chain;
+}
 
 namespace
 {

@@ -53,6 +53,13 @@ bool makeDirectory(const std::filesystem::path &dir);
 std::vector<std::string> focalNames(std::initializer_list<vpRobotSelfCalibration::FocalMode> modes);
 //! --robot NAME: a preset or a robot-model file (YAML or URDF).
 CLI::Option *addRobotOption(CLI::App &app, std::string &robot);
+/*!
+  The MODEL of export, verify and predict: vpKinematicChain::fromPresetOrFile(), and a model.yaml
+  that an eye-to-hand calibrate wrote before the model file had `camera_mount` (bMc under the key
+  eMc: its results.yaml beside it has a bMc block) refused with how to convert it, so that a bMc is
+  never used as an eMc. Throws vpSelfCalibException.
+*/
+vpKinematicChain readModelArgument(const std::string &model);
 
 // ---------------------------------------------------------------------------------------------
 // info, predict, verify: a model, and a joints file or a dataset

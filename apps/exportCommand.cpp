@@ -27,7 +27,7 @@ int exportModel(const ExportArgs &a)
 {
   const std::string &model_name = a.model;
   const std::string &out = !a.urdf.empty() ? a.urdf : (!a.dh.empty() ? a.dh : a.mdh);
-  const vpKinematicChain model = vpKinematicChain::fromPresetOrFile(model_name);
+  const vpKinematicChain model = readModelArgument(model_name);
   if (!canonical(out).empty() && canonical(out) == canonical(model_name)) {
     std::cerr << "error: '" << out << "' is the input model\n";
     return 1;
@@ -35,7 +35,10 @@ int exportModel(const ExportArgs &a)
   if (outputRefused(out, a.force))
     return 1;
   if (!a.urdf.empty()) {
-    vpModelExport::saveURDF(model, out);
+    // camera_mount: world: the hand-eye slot is bMc, the camera a link of the world (the target is
+    // not in the model file: calibrate's own model.urdf has it, from results.yaml's eMo).
+    const vpHomogeneousMatrix bMc = model.get_eMc_corrected();
+    vpModelExport::saveURDF(model, out, model.isCameraInWorld() ? &bMc : nullptr, nullptr);
     std::cout << "wrote " << out << "\n";
     return 0;
   }
@@ -44,7 +47,9 @@ int exportModel(const ExportArgs &a)
   std::cerr << fit.message << "\n";
   if (!fit.representable)
     return 3;
-  fit.table.saveYaml(out);
+  vpKinematicChain table = fit.table;
+  table.setCameraInWorld(model.isCameraInWorld()); // a bMc stays a bMc
+  table.saveYaml(out);
   std::cout << "wrote " << out << (fit.well_conditioned ? "" : " (ill-conditioned, see above)") << "\n";
   return 0;
 }

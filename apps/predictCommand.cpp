@@ -38,7 +38,12 @@ void addPredict(CLI::App &app, ModelArgs &a)
 
 int predict(const ModelArgs &a)
 {
-  const vpKinematicChain chain = vpKinematicChain::fromPresetOrFile(a.model);
+  const vpKinematicChain chain = readModelArgument(a.model);
+  if (chain.isCameraInWorld()) {
+    std::cerr << "error: " << a.model << ": the camera is fixed in the world (camera_mount: world): its pose is the "
+              << "model's bMc whatever the joints; predict gives the pose of a camera on the end-effector\n";
+    return 1;
+  }
   const std::string source = a.second.empty() ? "<stdin>" : a.second;
   const std::vector<vpColVector> qs = readJoints(a.second, "joints file", chain.getNumJoints());
   if (qs.empty()) {

@@ -34,7 +34,13 @@ int verify(const ModelArgs &a)
               << "\n";
     return 1;
   }
-  const vpKinematicChain model = vpKinematicChain::fromPresetOrFile(a.model);
+  const vpKinematicChain model = readModelArgument(a.model);
+  if (model.isCameraInWorld()) {
+    std::cerr << "error: " << a.model << ": the camera is fixed in the world (camera_mount: world); verify "
+              << "triangulates a yardstick through a camera on the end-effector: read an eye-to-hand model's "
+              << "cross-validation in results.yaml, or compare a simulated one with its truth (compare)\n";
+    return 1;
+  }
   vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
   if (ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD) {
     std::cerr << "error: dataset '" << dataset << "': camera_mount: world; verify triangulates the scene through a "

@@ -144,9 +144,18 @@ RSC::Options options(const Setup &s, const std::map<int, vpColVector> &layout)
   o.num_calibration_poses = s.views; // every view calibrates (the bound is of the same views)
   o.bundle.known_points = layout;
   o.noise.pixel_sd = s.noise;
-  // Without robot error the data states it exact, as with it the data states its level: the run
-  // models what the bound models (the default would model and measure an error that is not there).
+  // The robot's error stated here, whatever the methods' defaults (which may model or measure it):
+  // without, the data exact (the default would model and measure an error that is not there); with,
+  // the level the data were drawn with, stated and not measured, the covariance widened by sigma0
+  // as for a level the dataset states. The run models what the bound models.
   o.trust_robot = !s.robot_error;
+  o.noise.measure_pose_sd = o.noise.measure_joint_sd = o.noise.measure_model_sd = false;
+  if (s.robot_error) {
+    const vpSelfCalibNoiseModel::Origin stated = vpSelfCalibNoiseModel::STATED;
+    o.noise = isBundle(s) ? o.noise.withJointError({s.joint_sd}, stated)
+                          : o.noise.withPoseError(s.pose_sd[0], s.pose_sd[1], stated);
+    o.bundle.scale_covariance = true;
+  }
   return o;
 }
 

@@ -32,6 +32,28 @@ using namespace vpSelfCalib;
 
 namespace
 {
+/*
+  The model's camera_mount: effector (the default: eMc) or world (bMc); a file that names the
+  other slot's key is refused, so that a bMc is never read as an eMc or the reverse.
+*/
+bool cameraInWorld(Reader &r, const YAML::Node &root)
+{
+  bool world = false;
+  if (root["camera_mount"]) {
+    const std::string mount = r.text(root["camera_mount"], "camera_mount");
+    if (mount != "effector" && mount != "world")
+      r.fail("camera_mount", "expected effector (the camera on the end-effector: key eMc) or world (the camera "
+                             "fixed in the world: key bMc), got '" + mount + "'");
+    world = mount == "world";
+  }
+  if (world && root["eMc"])
+    r.fail("eMc", "camera_mount: world holds the camera in the base frame under the key bMc, not eMc");
+  if (!world && root["bMc"])
+    r.fail("bMc", "the camera in the base frame (bMc) needs camera_mount: world (without it the camera is on the "
+                  "end-effector: key eMc)");
+  return world;
+}
+
 vpKinematicChain parse(const YAML::Node &root, const std::string &source)
 {
   Reader r("robot model", source);
@@ -39,18 +61,21 @@ vpKinematicChain parse(const YAML::Node &root, const std::string &source)
     throw vpSelfCalibException(vpSelfCalibException::parseError,
                                "robot model " + source + ": expected a YAML map at the top level");
   vpKinematicChain chain;
+  // camera_mount: world: the hand-eye slot holds bMc, under that key (the camera in the base frame).
+  const bool world = cameraInWorld(r, root);
+  const char *slot = world ? "bMc" : "eMc";
   if (root["preset"]) {
-    r.onlyKeys(root, {"name", "preset", "eMc", "corrections"}, "");
+    r.onlyKeys(root, {"name", "preset", "camera_mount", slot, "corrections"}, "");
     const std::string name = r.text(root["preset"], "preset");
     try {
       chain = vpKinematicChain::preset(name);
     } catch (const vpSelfCalibException &e) {
       r.fail("preset", e.getStringMessage());
     }
-    if (root["eMc"])
-      chain.set_eMc(r.pose(root["eMc"], "eMc"));
+    if (root[slot])
+      chain.set_eMc(r.pose(root[slot], slot));
   } else {
-    r.onlyKeys(root, {"name", "convention", "joints", "base", "flange", "eMc", "corrections"}, "");
+    r.onlyKeys(root, {"name", "convention", "joints", "base", "flange", "camera_mount", slot, "corrections"}, "");
     const std::string conv = r.text(root["convention"], "convention");
     vpKinematicChain::Convention c;
     if (conv == "dh")
@@ -87,9 +112,10 @@ vpKinematicChain parse(const YAML::Node &root, const std::string &source)
     }
     const vpPoseVector base = root["base"] ? r.pose(root["base"], "base") : vpPoseVector();
     const vpPoseVector flange = root["flange"] ? r.pose(root["flange"], "flange") : vpPoseVector();
-    const vpPoseVector eMc = root["eMc"] ? r.pose(root["eMc"], "eMc") : vpPoseVector();
+    const vpPoseVector eMc = root[slot] ? r.pose(root[slot], slot) : vpPoseVector();
     chain = vpKinematicChain("robot", c, joints, base, flange, eMc);
   }
+  chain.setCameraInWorld(world);
   if (root["name"])
     chain.setName(r.text(root["name"], "name"));
   const YAML::Node corr = root["corrections"];
@@ -174,7 +200,10 @@ std::string vpKinematicChain::toYamlString() const
   emitPose(out, m_fMb);
   out << YAML::Key << "flange" << YAML::Value;
   emitPose(out, m_nMe);
-  out << YAML::Key << "eMc" << YAML::Value;
+  if (m_camera_in_world) // the hand-eye slot holds bMc: the file says so
+    out << YAML::Key << "camera_mount" << YAML::Value << "world" << YAML::Key << "bMc" << YAML::Value;
+  else
+    out << YAML::Key << "eMc" << YAML::Value;
   emitPose(out, m_eMc);
   out << YAML::Key << "corrections" << YAML::Value << YAML::BeginMap;
   const std::vector<std::string> names = getParameterNames();

@@ -286,6 +286,12 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
   using vpSelfCalibPipeline::seconds;
   const auto t0 = std::chrono::steady_clock::now();
   const unsigned int N = checkInputs(input_model, input, opt);
+  if (input_model.isCameraInWorld() && input.camera_mount != vpSelfCalibDataset::CAMERA_IN_WORLD)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpRobotSelfCalibration: the model '" + input_model.getName() +
+                                   "' has the camera fixed in the world (camera_mount: world, its hand-eye slot is "
+                                   "bMc) and the dataset has it on the end-effector: give the dataset "
+                                   "camera_mount: world, or a model of the arm with the camera's eMc");
   if (input.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD) {
     // Eye-to-hand: the eye-in-hand problem of the inverted controller poses, its eMc (bMc here)
     // started where the target's known points say (else at the identity), the result renamed.

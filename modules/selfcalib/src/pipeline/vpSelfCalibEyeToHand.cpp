@@ -233,6 +233,7 @@ void runBundleEyeToHand(const Context &c, Result &res)
 void eyeToHandResult(Result &res)
 {
   res.camera_mount = vpSelfCalibDataset::CAMERA_IN_WORLD;
+  res.calibrated.setCameraInWorld(true); // its hand-eye slot is bMc: its model file says so
   res.has_bMc = res.has_eMc;
   res.bMc = res.eMc;
   res.bMc_sd = res.eMc_sd;

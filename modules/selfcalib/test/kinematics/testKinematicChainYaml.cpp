@@ -145,6 +145,49 @@ TEST(KinematicChainYaml, MalformedFilesNameFileKeyAndExpectation)
   expectError("preset: viper850\ncorrections: {[j2.tx]: 0.001}\n", {"corrections.(key)", "keys are plain names"});
 }
 
+// The camera fixed in the world: the file says camera_mount: world and holds the slot under bMc
+// (no eMc key); read back, the model is marked so and gives the same bMc bit for bit, and the
+// text is the same on a second round trip. An eye-in-hand model writes neither key.
+TEST(KinematicChainYaml, CameraInTheWorldIsWrittenAsBMcAndReadBack)
+{
+  vpKinematicChain c = vpKinematicChain::preset("puma560");
+  c.set_eMc(vpPoseVector(1.2, 0.1, 0.6, -1.4, -1.6, 1.1));
+  c.setParameter("eMc.tx", 0.002);
+  c.setParameter("j2.ry", -0.001);
+  c.setCameraInWorld(true);
+  const std::string text = c.toYamlString();
+  EXPECT_NE(text.find("camera_mount: world\nbMc: [1.2"), std::string::npos) << text;
+  EXPECT_EQ(text.find("eMc:"), std::string::npos) << text;
+  const vpKinematicChain d = vpKinematicChain::fromYamlString(text);
+  EXPECT_TRUE(d.isCameraInWorld());
+  const vpHomogeneousMatrix A = c.get_eMc_corrected(), B = d.get_eMc_corrected();
+  for (unsigned int r = 0; r < 3; ++r)
+    for (unsigned int s = 0; s < 4; ++s)
+      EXPECT_EQ(A[r][s], B[r][s]);
+  EXPECT_EQ(d.getParameter("j2.ry"), -0.001);
+  EXPECT_EQ(d.toYamlString(), text);
+  const vpKinematicChain e = vpKinematicChain::fromYamlString(kPumaYaml);
+  EXPECT_FALSE(e.isCameraInWorld());
+  EXPECT_EQ(e.toYamlString().find("camera_mount"), std::string::npos);
+  EXPECT_EQ(e.toYamlString().find("bMc"), std::string::npos);
+  EXPECT_FALSE(vpKinematicChain::fromYamlString(replace(kPumaYaml, "eMc:", "camera_mount: effector\neMc:")).isCameraInWorld());
+  // A preset with the camera in the world.
+  const vpKinematicChain p =
+      vpKinematicChain::fromYamlString("preset: viper850\ncamera_mount: world\nbMc: [1, 0, 0.5, 0, 0, 0]\n");
+  EXPECT_TRUE(p.isCameraInWorld());
+  EXPECT_DOUBLE_EQ(p.get_eMc_pose()[2], 0.5);
+}
+
+// The two slots are never mixed up: world with an eMc key, bMc without world, an unknown mount.
+TEST(KinematicChainYaml, CameraMountAndSlotMustAgree)
+{
+  expectError(replace(kPumaYaml, "eMc:", "camera_mount: world\neMc:"),
+              {"eMc", "camera_mount: world holds the camera in the base frame under the key bMc"});
+  expectError(replace(kPumaYaml, "eMc:", "bMc:"), {"bMc", "needs camera_mount: world"});
+  expectError(replace(kPumaYaml, "eMc:", "camera_mount: ceiling\neMc:"),
+              {"camera_mount", "expected effector", "or world", "'ceiling'"});
+}
+
 TEST(KinematicChainYaml, UnreadableFileIsNamed)
 {
   const std::string path = tempPath("does-not-exist.yaml");

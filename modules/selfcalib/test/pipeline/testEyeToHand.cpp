@@ -50,6 +50,38 @@ TEST(EyeToHand, NoiseFreeBoardIsRecoveredExactly)
     EXPECT_LT(std::fabs(eb[i]), 1e-7) << "bMc axis " << i;
     EXPECT_LT(std::fabs(eo[i]), 1e-7) << "eMo axis " << i;
   }
+  // The calibrated model's hand-eye slot is bMc, and the model says so (its file: camera_mount:
+  // world, key bMc); it reads back as the same bMc.
+  EXPECT_TRUE(r.calibrated.isCameraInWorld());
+  const vpKinematicChain back = vpKinematicChain::fromYamlString(r.calibrated.toYamlString());
+  EXPECT_TRUE(back.isCameraInWorld());
+  const vpColVector eback = poseError(vpPoseVector(back.get_eMc_corrected()), truth.bMc);
+  for (unsigned int i = 0; i < 6; ++i)
+    EXPECT_LT(std::fabs(eback[i]), 1e-7) << "model file's bMc axis " << i;
+}
+
+// A model whose camera is fixed in the world (its hand-eye slot bMc) on a dataset whose camera is
+// on the end-effector: refused, so that a bMc is never calibrated as an eMc.
+TEST(EyeToHand, CameraInWorldModelOnEyeInHandDataIsRefused)
+{
+  vpSelfCalibSimulator::EyeToHandOptions so;
+  so.robot = "viper850";
+  vpSelfCalibSimulator::EyeToHandTruth truth;
+  vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(so, truth);
+  ds.camera_mount = vpSelfCalibDataset::CAMERA_ON_EFFECTOR;
+  vpKinematicChain model = vpKinematicChain::preset("viper850");
+  model.setCameraInWorld(true);
+  RSC::Options o;
+  o.method = RSC::HAND_EYE;
+  try {
+    RSC::run(model, ds, o);
+    ADD_FAILURE() << "a camera-in-the-world model ran on an eye-in-hand dataset";
+  } catch (const vpSelfCalibException &e) {
+    EXPECT_NE(e.getStringMessage().find("has the camera fixed in the world (camera_mount: world, its hand-eye slot is "
+                                        "bMc) and the dataset has it on the end-effector"),
+              std::string::npos)
+        << e.getStringMessage();
+  }
 }
 
 // With 2 mm / 2 mrad of controller pose error and 0.2 px: the errors stay within 3.5 reported sd on

@@ -130,6 +130,14 @@ public:
   void set_fMb(const vpPoseVector &fMb) { m_fMb = fMb; }
   void set_nMe(const vpPoseVector &nMe) { m_nMe = nMe; }
   void set_eMc(const vpPoseVector &eMc) { m_eMc = eMc; }
+  /*!
+    The camera fixed in the world (eye-to-hand): the hand-eye slot (get_eMc(), its eMc.*
+    corrections, get_eMc_corrected()) then holds the camera in the base frame, bMc, and the model
+    file says so (`camera_mount: world`, the key `bMc` in place of `eMc`). False: the camera on the
+    end-effector, the slot is eMc (the default).
+  */
+  bool isCameraInWorld() const { return m_camera_in_world; }
+  void setCameraInWorld(bool in_world) { m_camera_in_world = in_world; }
 
   // Error-model parameters
   unsigned int getNumParameters() const { return kBlockSize * (getNumJoints() + 2); }
@@ -184,6 +192,7 @@ private:
   Convention m_convention;
   std::vector<Joint> m_joints;
   vpPoseVector m_fMb, m_nMe, m_eMc;
+  bool m_camera_in_world = false;
   std::vector<vpHomogeneousMatrix> m_P; // P_i, i = 0..n-1 (placement of joint i+1's axis)
   vpHomogeneousMatrix m_L;              // after the last joint
   vpColVector m_params;
