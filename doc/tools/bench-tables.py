@@ -66,7 +66,7 @@ BENCHES = [
     ("bench-planner", ["--seeds", "2"],
      "The paper's optimal trajectory (Section 3.3) against the random feasible start it is planned "
      "from: eq. 21 ratio error, pose-measurement error, held-out error, conditioning, planning time."),
-    ("bench-boards", ["--seeds", "5", "--draws", "2"],
+    ("bench-boards", ["--seeds", "10", "--draws", "2"],
      "Eye-in-hand on a rendered ChArUco board (corners found by the board front end, then Gaussian "
      "noise added): held-out error against the Cramer-Rao bound, the board's layout unknown (its points "
      "are scene points) and known (`--board-geometry`), f known and shared."),

@@ -95,13 +95,16 @@ std::vector<double> heldOutErrors(const vpKinematicChain &model, const vpKinemat
 int main(int argc, char **argv)
 {
   try {
-    unsigned int seeds = 5, draws = 2, poses = 20, held_out = 6;
+    unsigned int seeds = 5, draws = 2, poses = 20, held_out = 6, first_seed = 1;
     std::string focal = "known", csv_path;
     double noise = 0.2;
     CLI::App app("bench-boards: eye-in-hand self-calibration on a rendered ChArUco board against the Cramer-Rao\n"
                  "bound, its layout unknown and known (--board-geometry).",
                  "bench-boards");
     selfcalibCli::addSeeds(app, seeds);
+    app.add_option("--first-seed", first_seed, "the first seed (geometry; default 1): more seeds in another run")
+        ->type_name("S")
+        ->check(selfcalibCli::wholeNumber(1, 100000));
     app.add_option("--draws", draws, "noise draws of each seed's geometry (default 2)")
         ->type_name("K")
         ->check(selfcalibCli::wholeNumber(1, 100));
@@ -136,14 +139,14 @@ int main(int argc, char **argv)
     const auto t_start = std::chrono::steady_clock::now();
     Row rows[2]; // layout unknown, known
     bench::Stats detector;
-    for (unsigned int seed = 1; seed <= seeds; ++seed) {
+    for (unsigned int seed = first_seed; seed < first_seed + seeds; ++seed) {
       vpSelfCalibSimulator::Options so;
       so.seed = seed;
       const vpSelfCalibSimulator sim(vpKinematicChain::preset("viper850"), so);
       const std::vector<vpColVector> q = sim.generateConfigurations(poses);
       const std::vector<vpColVector> cal(q.begin(), q.end() - held_out), held(q.end() - held_out, q.end());
       for (unsigned int d = 0; d < draws; ++d) {
-        std::cerr << "seed " << seed << "/" << seeds << ", draw " << d + 1 << "/" << draws << "      \r" << std::flush;
+        std::cerr << "seed " << seed << "/" << first_seed + seeds - 1 << ", draw " << d + 1 << "/" << draws << "      \r" << std::flush;
         vpSelfCalibRenderer::Options ro;
         ro.scene = vpSelfCalibRenderer::CHARUCO;
         ro.seed = 1000 * seed + d;
@@ -180,6 +183,9 @@ int main(int argc, char **argv)
           const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, po);
           Row &row = rows[known];
           ++row.runs;
+          if (r.status != vpRobotSelfCalibration::OK)
+            std::cerr << "\nseed " << seed << ", draw " << d + 1 << ", layout " << (known ? "known" : "unknown") << ": "
+                      << vpRobotSelfCalibration::statusName(r.status) << ": " << r.message << "\n";
           if (r.status != vpRobotSelfCalibration::OK && r.status != vpRobotSelfCalibration::DOUBTFUL) {
             ++row.failed;
             continue;

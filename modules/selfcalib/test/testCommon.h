@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -86,6 +87,48 @@ inline vpBoardDetector::Options tagBundleDetector(const vpSelfCalibRenderer::Opt
     o.tag_ids.push_back(t.first);
   }
   return o;
+}
+
+/*!
+  simulate --target charuco's board (7 x 5 squares of 2 cm, 24 corners), its layout unknown: the
+  reference scenario of `sim` (eye-in-hand) with the board where vpSelfCalibRenderer places it, its
+  corners projected through the true camera at the configurations q (those in the image), with
+  Gaussian noise of sd px (random stream `stream` of `seed`; none at 0); the board's yardstick. The
+  corners' true positions in f go to `truth`. No image is rendered: the corners are exact.
+*/
+inline vpSelfCalibDataset charucoBoardViews(const vpSelfCalibSimulator &sim, const std::vector<vpColVector> &q, double sd,
+                                            uint64_t seed, uint64_t stream, std::map<int, vpColVector> &truth)
+{
+  const vpBoardDetector det(vpBoardDetector::parse("charuco:7x5:0.02:0.015:DICT_6X6_250"));
+  vpSelfCalibRenderer::Options ro;
+  ro.scene = vpSelfCalibRenderer::CHARUCO;
+  const vpHomogeneousMatrix fMb = vpSelfCalibRenderer(sim, ro).getBoardPose();
+  truth.clear();
+  for (const auto &e : det.getLayout()) {
+    const vpColVector X = fMb * vpColVector({e.second[0], e.second[1], e.second[2], 1.0});
+    truth[e.first] = vpColVector({X[0], X[1], X[2]});
+  }
+  vpSelfCalib::Random rng(seed, stream);
+  vpSelfCalibDataset ds;
+  ds.cam = sim.getCamera();
+  ds.width = sim.getOptions().width;
+  ds.height = sim.getOptions().height;
+  ds.focal_known = true;
+  ds.yardstick = det.getYardstick();
+  for (const vpColVector &qk : q) {
+    vpSelfCalibDataset::View v;
+    v.q = qk;
+    const vpHomogeneousMatrix cMf = sim.getTrueChain().get_fMc(qk).inverse();
+    for (const auto &e : truth) {
+      const vpColVector p = cMf * vpColVector({e.second[0], e.second[1], e.second[2], 1.0});
+      const double u = ds.cam.get_u0() + ds.cam.get_px() * p[0] / p[2] + (sd > 0 ? rng.normal(sd) : 0.0);
+      const double w = ds.cam.get_v0() + ds.cam.get_py() * p[1] / p[2] + (sd > 0 ? rng.normal(sd) : 0.0);
+      if (p[2] > 0 && u >= 0 && w >= 0 && u < ds.width && w < ds.height)
+        v.points.push_back({e.first, vpImagePoint(w, u)});
+    }
+    ds.views.push_back(v);
+  }
+  return ds;
 }
 
 //! The parameters an estimated set leaves at nominal because the data do not determine them.

@@ -556,11 +556,16 @@ std::unique_ptr<ceres::Problem> solveBundle(State &s, double loss_scale, bool co
 }
 
 /*
-  Resection of the views the robust solve could not explain (a wrong two-view pose, or no pose):
-  a view with fewer than half of its observations (or min_points) within the outlier threshold
-  gets the pose OpenCV's PnP RANSAC finds from the current points, when that explains more of
-  them; a view that still explains too few is left out (posed = false). Not the reference view,
-  whose baseline is the unit. True when a pose changed or a view was left out.
+  Resection of the views the robust solve could not fully explain (a wrong two-view pose, or no
+  pose): a view with an observation beyond the outlier threshold gets the pose OpenCV's PnP RANSAC
+  finds from the current points, when that explains more of them; a view that still explains
+  fewer than half of its observations (or min_points) is left out (posed = false). Not the
+  reference view, whose baseline is the unit. True when a pose changed or a view was left out.
+  Every view with an unexplained observation is tried, not only those that explain less than half:
+  on a plane the two-view motion is ambiguous (a homography decomposes into two motions), and the
+  wrong one of a view, after the robust solve has bent the points a little towards it, still
+  explains about half of a small board's corners; the other views place the points well enough
+  for PnP to find the right pose, which explains them all.
 */
 bool resectUnexplainedViews(State &s)
 {
@@ -578,7 +583,7 @@ bool resectUnexplainedViews(State &s)
         good += s.res.posed[k] && whitened(s, n) * s.noise.pixel_sd <= thr;
       }
     const unsigned int needed = std::max<unsigned int>(opt.min_points, static_cast<unsigned int>(idx.size() / 2));
-    if (s.res.posed[k] && good >= needed)
+    if (s.res.posed[k] && good == idx.size())
       continue;
     std::vector<Eigen::Vector3d> P3;
     std::vector<Eigen::Vector2d> P2;
@@ -662,9 +667,10 @@ double focalSd(ceres::Problem &problem, State &s)
 }
 
 /*
-  The robust solve schedule (robustSchedule): after the first robust solve, once, the views it
-  could not explain are resected and, when that changed a view, that solve is run again; the
-  outliers are trimmed after the solve the schedule says; the last solve (plain least squares)
+  The robust solve schedule (robustSchedule): after each robust solve, the views it could not
+  explain are resected and, when that changed a view, that solve is run again (a view wrongly
+  posed may only show once the wide loss of the first solve has narrowed); the outliers are
+  trimmed after the solve the schedule says; the last solve (plain least squares)
   gives f's standard deviation. Status OK, TOO_FEW_VIEWS (no observation left) or NO_CONVERGENCE.
 */
 vpMultiViewReconstruction::Status robustSolve(State &s)
@@ -684,7 +690,7 @@ vpMultiViewReconstruction::Status robustSolve(State &s)
     const double loss_scale = schedule.scales[stage];
     // The last solve gives f and its sd: converged whatever opt.tight (see solveBundle).
     std::unique_ptr<ceres::Problem> problem = solveBundle(s, loss_scale, stage == last);
-    if (problem && s.summary.IsSolutionUsable() && stage == 0 && loss_scale > 0 && resectUnexplainedViews(s))
+    if (problem && s.summary.IsSolutionUsable() && loss_scale > 0 && resectUnexplainedViews(s))
       problem = solveBundle(s, loss_scale, stage == last);
     if (!problem) {
       res.message = "no observation left";
