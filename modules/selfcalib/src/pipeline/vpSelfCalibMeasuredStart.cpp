@@ -203,7 +203,9 @@ void planeMotions(Pair &p, const cv::Mat &K)
   The plane's two decompositions differ in their normal, and only the true one is the same in every
   pair with view r (the plane's normal in view r): the normal that is nearest to some candidate of
   the most other planar pairs (the smallest median angle) is taken, and each planar pair's motion
-  is its candidate with the nearest normal. Needs 3 planar pairs or more.
+  is its candidate with the nearest normal, when that one is less than half as far from it as the
+  pair's other candidates (a pair that sees another plane, e.g. the other side of a ridge, is left
+  out rather than given a motion at random). Needs 3 planar pairs or more.
 */
 void choosePlaneMotions(std::vector<Pair> &pairs)
 {
@@ -241,7 +243,13 @@ void choosePlaneMotions(std::vector<Pair> &pairs)
     }
   for (Pair *p : planar) {
     size_t which = 0;
-    nearest(*p, normal, which);
+    const double d = nearest(*p, normal, which);
+    double other = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < p->normals.size(); ++i)
+      if (i != which)
+        other = std::min(other, std::acos(std::clamp(p->normals[i].dot(normal), -1.0, 1.0)));
+    if (!(d < 0.5 * other))
+      continue;
     p->ckMc0 = p->plane_motions[which];
     p->planar = p->posed = true;
   }
