@@ -180,6 +180,14 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
   }
   po.bundle.fixed = a.fix;
   po.bundle.free = a.free;
+  // The board's layout as its spec describes it measures the start (PnP) even when the bundle
+  // adjustment does not take it as known; several single tags have none, a masked board gives no points.
+  if (co.board && !co.mask_board) {
+    try {
+      po.target_layout = vpBoardDetector(*co.board).getLayout();
+    } catch (const vpSelfCalibException &) {
+    }
+  }
   if (a.board_geometry) {
     try {
       po.bundle.known_points = vpBoardDetector(*co.board).getLayout();

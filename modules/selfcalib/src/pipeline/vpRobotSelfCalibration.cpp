@@ -424,15 +424,5 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
   };
   if (opt.method == HAND_EYE && opt.start.set)
     return runFrom(vpSelfCalibPipeline::DataStart{nominal, data0, {}, std::string()});
-  const vpSelfCalibPipeline::DataStart measured = vpSelfCalibPipeline::startFromData(nominal, data0, N, opt, true);
-  Result res = runFrom(measured);
-  // A run from the measured eMc that fails (e.g. two-view motions on a plane that fit the robot's
-  // rotations but not its translations) is tried again from the model's guess, which then says so.
-  if (measured.eMc_from_data && (res.status == TWO_VIEW_FAILED || res.status == SCALE_FAILED ||
-                                 res.status == IDENTIFICATION_FAILED)) {
-    Result again = runFrom(vpSelfCalibPipeline::startFromData(nominal, data0, N, opt, false));
-    if (again.status == OK || again.status == DOUBTFUL)
-      return again;
-  }
-  return res;
+  return runFrom(vpSelfCalibPipeline::startFromData(nominal, data0, N, opt));
 }

@@ -9,8 +9,9 @@
  * - a target of known points: each view's target pose by PnP, eMc by OpenCV's closed forms;
  * - a scene of unknown points: the two-view motion c_kMc_r of each pair (view r, view k), r the view
  *   that shares enough points with the most others, by
- *   OpenCV's five-point solver, the rotation of eMc by OpenCV's closed forms, its translation and
- *   each pair's unknown scale by linear least squares.
+ *   OpenCV's five-point solver (on a plane, which a homography explains: the homography's
+ *   decomposition whose plane normal in view r the pairs share), the rotation of eMc by OpenCV's
+ *   closed forms, its translation and each pair's unknown scale by linear least squares.
  * A self-calibrated focal length is the one at which the two agree best, scanned over 0.3x to 4x the
  * image width: the median reprojection error of the target's points through the robot, or the
  * median difference between the rotation angle of each camera motion and the end-effector's (the
@@ -76,6 +77,11 @@ struct Pair {
   double robot_angle = 0;
   bool posed = false;
   Rigid ckMc0; //!< c_kMc_r, translation of unit length
+  cv::Mat H;                            //!< the homography r -> k when it explains the points (a plane)
+  std::vector<cv::Point2d> h_inliers0, h_inliersk; //!< its inliers
+  bool planar = false;                  //!< ckMc0 is one of the plane's motions below
+  std::vector<Rigid> plane_motions;     //!< the homography's motions that keep the points in front
+  std::vector<Eigen::Vector3d> normals; //!< the plane's normal in view r of each
 };
 
 //! The number of ids views a and b share.
@@ -136,6 +142,120 @@ std::vector<Pair> pairsWithView(const std::vector<View> &views, const std::vecto
 }
 
 /*
+  The pairs whose points a homography explains (its inliers planar_ratio times the fundamental
+  matrix's or more, vpTwoViewEstimator's rule) keep it: the scene is a plane, where the five-point
+  solutions fit the points but not the motion. Independent of the focal length: found once.
+*/
+void findPlanes(std::vector<Pair> &pairs, double threshold_px)
+{
+  for (Pair &p : pairs) {
+    cv::Mat h_mask, f_mask;
+    const cv::Mat H = cv::findHomography(p.p0, p.pk, cv::RANSAC, threshold_px, h_mask);
+    const cv::Mat F = cv::findFundamentalMat(p.p0, p.pk, cv::FM_RANSAC, threshold_px, 0.99, f_mask);
+    const int nh = H.empty() ? 0 : cv::countNonZero(h_mask);
+    const int nf = F.empty() ? 0 : cv::countNonZero(f_mask);
+    if (nh < 8 || nh < vpTwoViewEstimator::Settings().planar_ratio * nf)
+      continue;
+    p.H = H;
+    for (size_t i = 0; i < p.p0.size(); ++i)
+      if (h_mask.at<uchar>(static_cast<int>(i))) {
+        p.h_inliers0.push_back(p.p0[i]);
+        p.h_inliersk.push_back(p.pk[i]);
+      }
+  }
+}
+
+/*
+  A plane's pair at the camera K: the homography's decompositions (OpenCV's) that keep its inliers
+  in front of both cameras, with the plane's normal in view r of each; choosePlaneMotions() keeps one.
+*/
+void planeMotions(Pair &p, const cv::Mat &K)
+{
+  p.plane_motions.clear();
+  p.normals.clear();
+  std::vector<cv::Mat> Rs, ts, ns;
+  cv::decomposeHomographyMat(p.H, K, Rs, ts, ns);
+  std::vector<cv::Point2f> a, b; // normalized coordinates of the inliers
+  const cv::Mat Kinv = K.inv();
+  for (size_t i = 0; i < p.h_inliers0.size(); ++i) {
+    const cv::Mat x0 = Kinv * (cv::Mat_<double>(3, 1) << p.h_inliers0[i].x, p.h_inliers0[i].y, 1);
+    const cv::Mat xk = Kinv * (cv::Mat_<double>(3, 1) << p.h_inliersk[i].x, p.h_inliersk[i].y, 1);
+    a.emplace_back(static_cast<float>(x0.at<double>(0)), static_cast<float>(x0.at<double>(1)));
+    b.emplace_back(static_cast<float>(xk.at<double>(0)), static_cast<float>(xk.at<double>(1)));
+  }
+  std::vector<int> keep;
+  cv::filterHomographyDecompByVisibleRefpoints(Rs, ns, a, b, keep);
+  for (int i : keep) {
+    Rigid M;
+    Eigen::Vector3d n;
+    cv::cv2eigen(Rs[static_cast<size_t>(i)], M.R);
+    cv::cv2eigen(ts[static_cast<size_t>(i)], M.t);
+    cv::cv2eigen(ns[static_cast<size_t>(i)], n);
+    if (M.R.allFinite() && M.t.allFinite() && n.allFinite() && M.t.norm() > 0) {
+      M.t.normalize();
+      p.plane_motions.push_back(M);
+      p.normals.push_back(n.normalized());
+    }
+  }
+}
+
+/*
+  The plane's two decompositions differ in their normal, and only the true one is the same in every
+  pair with view r (the plane's normal in view r): the normal that is nearest to some candidate of
+  the most other planar pairs (the smallest median angle) is taken, and each planar pair's motion
+  is its candidate with the nearest normal, when that one is less than half as far from it as the
+  pair's other candidates (a pair that sees another plane, e.g. the other side of a ridge, is left
+  out rather than given a motion at random). Needs 3 planar pairs or more.
+*/
+void choosePlaneMotions(std::vector<Pair> &pairs)
+{
+  std::vector<Pair *> planar;
+  for (Pair &p : pairs)
+    if (!p.plane_motions.empty())
+      planar.push_back(&p);
+  if (planar.size() < 3)
+    return;
+  const auto nearest = [](const Pair &p, const Eigen::Vector3d &n, size_t &which) {
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < p.normals.size(); ++i) {
+      const double a = std::acos(std::clamp(p.normals[i].dot(n), -1.0, 1.0));
+      if (a < best) {
+        best = a;
+        which = i;
+      }
+    }
+    return best;
+  };
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  double best = std::numeric_limits<double>::infinity();
+  for (const Pair *p : planar)
+    for (const Eigen::Vector3d &n : p->normals) {
+      std::vector<double> angles;
+      size_t which = 0;
+      for (const Pair *q : planar)
+        if (q != p)
+          angles.push_back(nearest(*q, n, which));
+      const double m = median(angles);
+      if (m < best) {
+        best = m;
+        normal = n;
+      }
+    }
+  for (Pair *p : planar) {
+    size_t which = 0;
+    const double d = nearest(*p, normal, which);
+    double other = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < p->normals.size(); ++i)
+      if (i != which)
+        other = std::min(other, std::acos(std::clamp(p->normals[i].dot(normal), -1.0, 1.0)));
+    if (!(d < 0.5 * other))
+      continue;
+    p->ckMc0 = p->plane_motions[which];
+    p->planar = p->posed = true;
+  }
+}
+
+/*
   Each pair's camera motion c_kMc_0 at the pinhole camera (f, mu f, u0, v0) by OpenCV's five-point
   RANSAC (classic: deterministic, valid on planes) and recoverPose; the median over the pairs of
   |angle(c_kMc_0) - angle(e_kMe_0)| (those that rotate kMinPairRotation or more, all when fewer than
@@ -144,18 +264,26 @@ std::vector<Pair> pairsWithView(const std::vector<View> &views, const std::vecto
 double motionScore(std::vector<Pair> &pairs, const CameraModel &lens, double f, double threshold_px)
 {
   const cv::Mat K = (cv::Mat_<double>(3, 3) << f, 0, lens.u0(), 0, lens.mu() * f, lens.v0(), 0, 0, 1);
-  std::vector<double> all, rotating;
   for (Pair &p : pairs) {
-    p.posed = false;
+    p.posed = p.planar = false;
+    p.plane_motions.clear();
+    if (!p.H.empty()) {
+      planeMotions(p, K);
+      continue;
+    }
     cv::Mat mask, R, t;
     const cv::Mat E = cv::findEssentialMat(p.p0, p.pk, K, cv::RANSAC, 0.999, threshold_px, mask);
     if (E.empty() || E.rows != 3 || cv::recoverPose(E(cv::Rect(0, 0, 3, 3)), p.p0, p.pk, K, R, t, mask) == 0)
       continue;
     cv::cv2eigen(R, p.ckMc0.R);
     cv::cv2eigen(t, p.ckMc0.t);
-    if (!p.ckMc0.R.allFinite() || !p.ckMc0.t.allFinite())
+    p.posed = p.ckMc0.R.allFinite() && p.ckMc0.t.allFinite();
+  }
+  choosePlaneMotions(pairs);
+  std::vector<double> all, rotating;
+  for (const Pair &p : pairs) {
+    if (!p.posed)
       continue;
-    p.posed = true;
     const double e = std::abs(angleOf(p.ckMc0.R) - p.robot_angle);
     all.push_back(e);
     if (p.robot_angle >= kMinPairRotation)
@@ -182,7 +310,7 @@ void refinePairs(std::vector<Pair> &pairs, const CameraModel &lens, double f, do
   o.mu = lens.mu();
   o.ransac.inlier_threshold = threshold_px;
   for (Pair &p : pairs) {
-    if (!p.posed)
+    if (!p.posed || p.planar) // a plane's fundamental matrix is not determined
       continue;
     std::vector<vpImagePoint> a, b;
     for (size_t i = 0; i < p.p0.size(); ++i) {
@@ -348,6 +476,7 @@ MeasuredStart measuredStart(const std::vector<View> &views, const CameraModel &l
     out.how = "no view shares " + std::to_string(kMinPairPoints) + " points with 3 others";
     return out;
   }
+  findPlanes(pairs, threshold_px);
   const double f =
       focal_known ? lens.px() : scanFocal([&](double x) { return motionScore(pairs, lens, x, threshold_px); }, center);
   const double score = f > 0 ? motionScore(pairs, lens, f, threshold_px) : std::numeric_limits<double>::infinity();
@@ -358,9 +487,13 @@ MeasuredStart measuredStart(const std::vector<View> &views, const CameraModel &l
     return out;
   }
   const long posed = std::count_if(pairs.begin(), pairs.end(), [](const Pair &p) { return p.posed; });
+  const long planar = std::count_if(pairs.begin(), pairs.end(), [](const Pair &p) { return p.planar; });
   std::ostringstream os;
-  os << "the camera's motions of " << posed << " pairs with view " << r << " (five-point, hand-eye closed form, median "
-     << std::setprecision(3) << score * 180 / M_PI << " deg from the robot's rotation angles)";
+  os << "the camera's motions of " << posed << " pairs with view " << r;
+  if (planar > 0)
+    os << " (" << planar << " on a plane: the homography's motion whose normal the pairs share)";
+  os << " (five-point, hand-eye closed form, median " << std::setprecision(3) << score * 180 / M_PI
+     << " deg from the robot's rotation angles)";
   out.how = os.str();
   out.has_eMc = true;
   out.has_fx = !focal_known;
@@ -414,7 +547,7 @@ double focalFromModel(const vpKinematicChain &model, const std::vector<View> &ca
 } // namespace
 
 DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDataset &data, unsigned int N,
-                        const vpRobotSelfCalibration::Options &opt, bool measure_eMc)
+                        const vpRobotSelfCalibration::Options &opt)
 {
   DataStart start{nominal, data, {}, std::string()};
   if (opt.method == vpRobotSelfCalibration::PAPER)
@@ -446,10 +579,9 @@ DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDatase
   // yet, the pixels are taken as a pinhole camera's.
   const std::vector<View> pixels = focal_known ? undistorted(cal, lens) : cal;
   const double threshold = std::max(1.0, 3 * opt.noise.pixel_sd);
-  MeasuredStart m;
-  m.how = "the run started from the measured eMc failed";
-  if (measure_eMc)
-    m = measuredStart(pixels, lens, data.width, opt.bundle.known_points, focal_known, threshold);
+  // The known points, else the target's described layout (PnP), else the camera's motions.
+  const std::map<int, vpColVector> &layout = opt.bundle.known_points.empty() ? opt.target_layout : opt.bundle.known_points;
+  const MeasuredStart m = measuredStart(pixels, lens, data.width, layout, focal_known, threshold);
   if (m.has_eMc) {
     start.model = withNominalEMc(nominal, m.eMc);
     start.eMc_from_data = true;

@@ -291,11 +291,10 @@ struct DataStart {
   zeroed); when eMc cannot be measured, the guess, and the warning "emc-start-guess". A self-calibrated focal
   length measured with it, else where the rays of the model's camera poses meet best
   (predictedStart()). Eye-to-hand (bundle.controller_poses_inverted or bundle.eye_to_hand: run()
-  started bMc): the focal length only, from the rays. measure_eMc false: eMc from the model's
-  guess (the run from the measured one failed), a self-calibrated focal length from the rays.
+  started bMc): the focal length only, from the rays.
 */
 DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDataset &data, unsigned int N,
-                        const vpRobotSelfCalibration::Options &opt, bool measure_eMc);
+                        const vpRobotSelfCalibration::Options &opt);
 /*!
   The calibrated model of a run started from the data's eMc expressed against the caller's model:
   its eMc the guess's, its eMc correction D such that guess D = the calibrated eMc (the corrections

@@ -10,8 +10,10 @@
 #include <string>
 #include <vector>
 
+#include <visp3/selfcalib/vpBoardDetector.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibRenderer.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
 #include "../testCommon.h"
@@ -33,6 +35,38 @@ std::vector<vpSelfCalibDataset::View> withTrueFMe(const vpSelfCalibSimulator &si
     v.has_fMe = true;
   }
   return views;
+}
+
+//! The ChArUco board of simulate --target charuco (7 x 5 squares of 2 cm).
+const char *const kCharuco = "charuco:7x5:0.02:0.015:DICT_6X6_250";
+
+/*
+  The views of simulate --images --target charuco (getting-started's block) without the images:
+  the reference scenario's robot and poses (seed), its board's inner corners (the renderer's
+  placement) through the true camera with `sd` px of noise, the board's first row the yardstick.
+*/
+vpSelfCalibDataset charucoPlane(const vpSelfCalibSimulator &sim, unsigned int n, double sd)
+{
+  vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(n));
+  vpSelfCalibRenderer::Options ro;
+  ro.scene = vpSelfCalibRenderer::CHARUCO;
+  const vpHomogeneousMatrix fMb = vpSelfCalibRenderer(sim, ro).getBoardPose();
+  const vpBoardDetector board(vpBoardDetector::parse(kCharuco));
+  const vpSelfCalib::CameraModel lens = vpSelfCalib::CameraModel::fromVisp(sim.getCamera());
+  vpSelfCalib::Random rng(sim.getOptions().seed, 77);
+  for (auto &v : ds.views) {
+    v.points.clear();
+    const vpSelfCalib::Rigid cMb = vpSelfCalib::rigidFromVisp(sim.getTrueChain().get_fMc(v.q).inverse() * fMb);
+    for (const auto &e : board.getLayout()) {
+      const Eigen::Vector2d uv = lens.project(cMb * vpSelfCalib::vec3(e.second));
+      vpSelfCalibDataset::Observation o;
+      o.id = e.first;
+      o.ip = vpImagePoint(uv(1) + rng.normal(sd), uv(0) + rng.normal(sd));
+      v.points.push_back(o);
+    }
+  }
+  ds.yardstick = board.getYardstick();
+  return ds;
 }
 } // namespace
 
@@ -58,6 +92,66 @@ TEST(MeasuredStart, NoiseFreeMotionsGiveTheTrueFocalAndEMc)
     EXPECT_NEAR(m.fx, f_true, 1e-4 * f_true) << m.how;
     EXPECT_LT(vpSelfCalib::rotationDistance(vpSelfCalib::toVisp(m.eMc), eMc_true), 1e-5) << m.how;
     EXPECT_LT(vpSelfCalib::translationDistance(vpSelfCalib::toVisp(m.eMc), eMc_true), 1e-5) << m.how;
+  }
+}
+
+// A plane of unknown layout (the ChArUco board's corners, noise-free): each pair's motion is the
+// homography's decomposition whose plane normal the other pairs share (the five-point solutions
+// fit the points of a plane but not the motion), and the focal length and eMc follow exactly.
+TEST(MeasuredStart, APlaneOfUnknownLayoutGivesTheTrueFocalAndEMc)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 1, 0.0);
+  const vpSelfCalibDataset ds = charucoPlane(sim, 12, 0.0);
+  std::vector<vpSelfCalibDataset::View> views = ds.views;
+  for (auto &v : views) {
+    v.fMe = sim.getTrueChain().get_fMe(v.q);
+    v.has_fMe = true;
+  }
+  const vpSelfCalib::CameraModel lens = vpSelfCalib::CameraModel::fromVisp(sim.getCamera());
+  const vpHomogeneousMatrix eMc_true = sim.getTrueChain().get_eMc_corrected();
+  for (bool known : {false, true}) {
+    const vpSelfCalibPipeline::MeasuredStart m = vpSelfCalibPipeline::measuredStart(views, lens, 640, {}, known, 1.0);
+    ASSERT_TRUE(m.has_eMc) << m.how;
+    EXPECT_NE(m.how.find(" pairs with view 0 (11 on a plane"), std::string::npos) << m.how;
+    EXPECT_NEAR(m.fx, lens.px(), 1e-4 * lens.px()) << m.how;
+    EXPECT_LT(vpSelfCalib::rotationDistance(vpSelfCalib::toVisp(m.eMc), eMc_true), 1e-5) << m.how;
+    EXPECT_LT(vpSelfCalib::translationDistance(vpSelfCalib::toVisp(m.eMc), eMc_true), 2e-5) << m.how;
+  }
+}
+
+// The ChArUco plane of getting-started (f self-calibrated, 0.2 px): with the board's layout as its
+// spec describes it (target_layout, PnP) or without (the plane's motions), the run starts from the
+// measured eMc (no emc-start-guess), ends ok with eMc within 3 sd of the truth, and gives the same
+// focal length and eMc within 0.1 sd from the focal guesses 0.5x, 1x, 2x and an eMc guess 90 deg off.
+TEST(MeasuredStart, ACharucoPlaneCalibratesFromTheMeasuredStartWhateverTheGuesses)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 1, 0.2);
+  const vpSelfCalibDataset ds = charucoPlane(sim, 15, 0.2);
+  const double f_true = sim.getCamera().get_px();
+  const vpPoseVector truth(sim.getTrueChain().get_eMc_corrected());
+  for (bool layout : {true, false}) {
+    RSC::Options o;
+    if (layout)
+      o.target_layout = vpBoardDetector(vpBoardDetector::parse(kCharuco)).getLayout();
+    const RSC::Result ref = RSC::run(sim.getNominalChain(), withGuess(ds, f_true), o);
+    for (const auto &run : {std::make_pair(1.0, false), std::make_pair(0.5, true), std::make_pair(2.0, true)}) {
+      const RSC::Result r = run.first == 1.0 ? ref
+                                             : RSC::run(run.second ? turned90(sim.getNominalChain()) : sim.getNominalChain(),
+                                                        withGuess(ds, run.first * f_true), o);
+      const std::string what = std::string(layout ? "layout" : "no layout") + " " + std::to_string(run.first);
+      ASSERT_TRUE(r.status == RSC::OK || r.status == RSC::DOUBTFUL) << what << ": " << r.message;
+      EXPECT_NE(r.message.find(layout ? "eMc started from the target's poses" : "eMc started from the camera's motions"),
+                std::string::npos)
+          << what << ": " << r.message;
+      for (const auto &f : r.findings)
+        EXPECT_NE(f.code, "emc-start-guess") << what << ": " << f.message;
+      EXPECT_LT(std::fabs(r.fx - f_true), 3 * r.fx_sd) << what;
+      EXPECT_LT(std::fabs(r.fx - ref.fx), 0.1 * ref.fx_sd) << what;
+      for (unsigned int i = 0; i < 6; ++i) {
+        EXPECT_LT(std::fabs(r.eMc[i] - truth[i]), 3 * r.eMc_sd[i]) << what << " " << i;
+        EXPECT_LT(std::fabs(r.eMc[i] - ref.eMc[i]), 0.1 * ref.eMc_sd[i]) << what << " " << i;
+      }
+    }
   }
 }
 
@@ -132,7 +226,7 @@ TEST(MeasuredStart, TooFewSharedPointsFallsBackToTheGuessAndSaysSo)
     v.points.resize(std::min<size_t>(v.points.size(), 12));
   RSC::Options o;
   o.num_calibration_poses = 8;
-  const vpSelfCalibPipeline::DataStart s = vpSelfCalibPipeline::startFromData(sim.getNominalChain(), ds, 8, o, true);
+  const vpSelfCalibPipeline::DataStart s = vpSelfCalibPipeline::startFromData(sim.getNominalChain(), ds, 8, o);
   EXPECT_FALSE(s.eMc_from_data);
   ASSERT_EQ(s.findings.size(), 1u);
   EXPECT_EQ(s.findings[0].code, "emc-start-guess");

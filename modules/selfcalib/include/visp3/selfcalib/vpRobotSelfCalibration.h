@@ -198,6 +198,16 @@ public:
       double fx = 0;
     };
     Start start;
+    /*!
+      The target's layout as its description gives it (a board's spec: id -> point in the target's
+      frame, m), used only for the start of eMc and of a self-calibrated focal length (each view's
+      target pose by PnP, then the hand-eye closed form), where the camera's motions between views
+      of a plane are ambiguous. The bundle adjustment does not take it as known (that is
+      bundle.known_points, which the start uses first when given): a description only roughly
+      right (a board printed at another scale, not quite flat) still gives a start, and the data
+      decide the rest. Empty: the start measures the camera's motions.
+    */
+    std::map<int, vpColVector> target_layout;
     //! After a run: a warning when more than this fraction of the calibration observations was not
     //! used (rejected as wrong matches, or on points the reconstruction could not place).
     double outlier_warning = 0.25;
