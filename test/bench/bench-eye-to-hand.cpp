@@ -104,17 +104,12 @@ vpColVector homeOf(const std::string &robot)
 vpSelfCalibDataset simulate(const Setup &s, unsigned int seed, unsigned int noise_seed, bool clean,
                             vpSelfCalibSimulator::EyeToHandTruth &truth)
 {
-  vpSelfCalibSimulator::EyeToHandOptions so;
+  vpSelfCalibSimulator::EyeToHandOptions so = vpSelfCalibSimulator::eyeToHandHd();
   so.seed = seed;
   so.noise_seed = noise_seed;
   so.robot = s.robot;
   so.home = homeOf(s.robot);
   so.num_views = s.views;
-  so.width = 1280;
-  so.height = 720;
-  so.px = so.py = 1000;
-  so.u0 = 640;
-  so.v0 = 360;
   so.board_cols = 8;
   so.board_rows = 6;
   so.board_spacing = 0.03;

@@ -44,6 +44,13 @@ namespace
 const unsigned int kMinPairPoints = 15;
 //! Pairs whose end-effector rotates less (rad) carry little on the focal length.
 const double kMinPairRotation = 0.035;
+/*!
+  The five-point RANSAC's iterations at a rung of the focal scan: enough for half of a pair's points
+  off at 0.999 confidence (218). At a focal length far from the camera's few points fit and the
+  RANSAC would run to OpenCV's 1000; the search about the best rung and the final motions keep 1000.
+*/
+const int kRungIterations = 250;
+const int kIterations = 1000;
 
 double angleOf(const Eigen::Matrix3d &R) { return logSO3(R).norm(); }
 
@@ -257,11 +264,12 @@ void choosePlaneMotions(std::vector<Pair> &pairs)
 
 /*
   Each pair's camera motion c_kMc_0 at the pinhole camera (f, mu f, u0, v0) by OpenCV's five-point
-  RANSAC (classic: deterministic, valid on planes) and recoverPose; the median over the pairs of
+  RANSAC (classic: deterministic, valid on planes; at most `iterations`) and recoverPose; the median over the pairs of
   |angle(c_kMc_0) - angle(e_kMe_0)| (those that rotate kMinPairRotation or more, all when fewer than
   3 do). Infinite when fewer than 3 pairs are posed.
 */
-double motionScore(std::vector<Pair> &pairs, const CameraModel &lens, double f, double threshold_px)
+double motionScore(std::vector<Pair> &pairs, const CameraModel &lens, double f, double threshold_px,
+                   int iterations = kIterations)
 {
   const cv::Mat K = (cv::Mat_<double>(3, 3) << f, 0, lens.u0(), 0, lens.mu() * f, lens.v0(), 0, 0, 1);
   for (Pair &p : pairs) {
@@ -272,7 +280,7 @@ double motionScore(std::vector<Pair> &pairs, const CameraModel &lens, double f, 
       continue;
     }
     cv::Mat mask, R, t;
-    const cv::Mat E = cv::findEssentialMat(p.p0, p.pk, K, cv::RANSAC, 0.999, threshold_px, mask);
+    const cv::Mat E = cv::findEssentialMat(p.p0, p.pk, K, cv::RANSAC, 0.999, threshold_px, iterations, mask);
     if (E.empty() || E.rows != 3 || cv::recoverPose(E(cv::Rect(0, 0, 3, 3)), p.p0, p.pk, K, R, t, mask) == 0)
       continue;
     cv::cv2eigen(R, p.ckMc0.R);
@@ -477,8 +485,9 @@ MeasuredStart measuredStart(const std::vector<View> &views, const CameraModel &l
     return out;
   }
   findPlanes(pairs, threshold_px);
-  const double f =
-      focal_known ? lens.px() : scanFocal([&](double x) { return motionScore(pairs, lens, x, threshold_px); }, center);
+  const double f = focal_known ? lens.px()
+                                : scanFocal([&](double x) { return motionScore(pairs, lens, x, threshold_px); }, center,
+                                            [&](double x) { return motionScore(pairs, lens, x, threshold_px, kRungIterations); });
   const double score = f > 0 ? motionScore(pairs, lens, f, threshold_px) : std::numeric_limits<double>::infinity();
   if (std::isfinite(score))
     refinePairs(pairs, lens, f, threshold_px);

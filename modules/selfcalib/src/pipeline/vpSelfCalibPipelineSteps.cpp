@@ -426,14 +426,16 @@ double triangulateAll(const std::vector<View> &views, const std::vector<Rigid> &
 }
 } // namespace
 
-double scanFocal(const std::function<double(double)> &score, double center)
+double scanFocal(const std::function<double(double)> &score, double center,
+                 const std::function<double(double)> &rung_score)
 {
   // A ladder of focal lengths from 0.3x to 4x center (steps of 2^(1/4)), then golden-section
   // search on log f between the best rung's neighbours.
+  const std::function<double(double)> &rung = rung_score ? rung_score : score;
   double best = std::numeric_limits<double>::infinity();
   int best_k = 0;
   for (int k = -7; k <= 8; ++k) {
-    const double e = score(center * std::pow(2.0, k / 4.0));
+    const double e = rung(center * std::pow(2.0, k / 4.0));
     if (e < best) {
       best = e;
       best_k = k;

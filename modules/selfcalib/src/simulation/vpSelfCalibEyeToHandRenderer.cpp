@@ -120,12 +120,7 @@ std::map<int, vpColVector> vpSelfCalibEyeToHandRenderer::getOutline(const vpSelf
 
 vpSelfCalibSimulator::EyeToHandOptions vpSelfCalibEyeToHandRenderer::simulation(const vpSelfCalibRenderer::Options &options)
 {
-  vpSelfCalibSimulator::EyeToHandOptions eo;
-  eo.width = 1280;
-  eo.height = 720;
-  eo.px = eo.py = 1000;
-  eo.u0 = 640;
-  eo.v0 = 360;
+  vpSelfCalibSimulator::EyeToHandOptions eo = vpSelfCalibSimulator::eyeToHandHd();
   eo.lateral = 0.06;
   eo.layout = getOutline(options);
   eo.eMo = vpPoseVector(boardOnTool(options, 0.05, 0.1, -0.15, 0.3));

@@ -138,6 +138,17 @@ vpSelfCalibSimulator::Options vpSelfCalibSimulator::sceneOptions(const std::stri
 
 std::vector<std::string> vpSelfCalibSimulator::sceneNames() { return {"reference", "paper"}; }
 
+vpSelfCalibSimulator::EyeToHandOptions vpSelfCalibSimulator::eyeToHandHd()
+{
+  EyeToHandOptions o;
+  o.width = 1280;
+  o.height = 720;
+  o.px = o.py = 1000;
+  o.u0 = 640;
+  o.v0 = 360;
+  return o;
+}
+
 vpColVector vpSelfCalibSimulator::homeConfiguration(const vpKinematicChain &chain)
 {
   if (chain.getName() == "viper850")

@@ -283,14 +283,9 @@ TEST(EyeToHandBundle, NoiseFreeExactRecoveryOfBmcEmoAndTheChain)
 {
   for (const std::string robot : {"ur5", "panda"}) {
     SCOPED_TRACE(robot);
-    vpSelfCalibSimulator::EyeToHandOptions so;
+    vpSelfCalibSimulator::EyeToHandOptions so = vpSelfCalibSimulator::eyeToHandHd();
     so.robot = robot;
     so.num_views = 20;
-    so.width = 1280;
-    so.height = 720;
-    so.px = so.py = 1000;
-    so.u0 = 640;
-    so.v0 = 360;
     so.board_cols = 8;
     so.board_rows = 6;
     so.pixel_noise_sd = 0;

@@ -224,6 +224,12 @@ public:
     added. Seeded: the same options give the same data.
   */
   static vpSelfCalibDataset simulateEyeToHand(const EyeToHandOptions &options, EyeToHandTruth &truth);
+  /*!
+    The eye-to-hand options with the fixed camera of the rendered set-up
+    (vpSelfCalibEyeToHandRenderer::simulation()): 1280 x 720 pixels, f 1000 px, the principal point
+    at the image's centre; the other options their defaults.
+  */
+  static EyeToHandOptions eyeToHandHd();
 
 private:
   bool inverseKinematics(const vpHomogeneousMatrix &fMc, const vpColVector &q0, vpColVector &q) const;
