@@ -655,12 +655,13 @@ TEST(RobotSelfCalibration, BundleDropsTheRobotErrorOnExactReadings)
   });
   ASSERT_EQ(r.status, RSC::OK) << r.message;
   EXPECT_FALSE(r.noise.hasRobotError()) << r.noise.joint_sd.size() << " " << r.noise.model_sd_translation;
-  // Measured inside the one bundle adjustment: the method runs once, the variance components of the
-  // first solve measure the joints' factor at 0 (Helmert's estimate is unbiased whatever the prior,
-  // where the diagonal one shrank the level by 1.5 to 4 a round: 3 to 5 rounds), and one solve
-  // without the dropped corrections ends it.
+  // Measured inside the one bundle adjustment: the method runs once, the variance components measure
+  // the joints' factor near 0 from the first solve or the next (Helmert's estimate is unbiased
+  // whatever the prior, where the diagonal one shrank the level by 1.5 to 4 a round: 3 to 5
+  // rounds), and one solve without the dropped corrections ends it.
   EXPECT_EQ(method_runs, 1u);
-  EXPECT_EQ(r.bundle.robot_rounds, 1u);
+  EXPECT_GE(r.bundle.robot_rounds, 1u);
+  EXPECT_LE(r.bundle.robot_rounds, 2u);
   for (const auto &f : r.findings)
     EXPECT_NE(f.code, "robot-error-not-settled") << f.message;
   RSC::Options trusted = o;
