@@ -273,22 +273,25 @@ void applyRobotLevels(Adjustment &a, const vpSelfCalibNoiseModel &noise)
 /*
   One solve again at the robot error `noise` from the adjustment's state: the kept observations,
   plain least squares (the schedule's last stage), then the estimate and covariance into res from
-  `solved` (the result before the estimate). tight: converged to the tight tolerances (the estimate
-  that stands), else to Ceres's default ones (a round whose levels are measured again). False, res
-  untouched, when it fails.
+  `solved` (the result before the estimate), the pixels weighed at pixel_factor times the stated
+  sd. Converged to the tight tolerances: any solve may be the one that stands (a solve to Ceres's
+  default ones, then a tight one once the levels agree, cost one solve more on every run). False,
+  res untouched, when it fails.
 */
-bool solveAgain(Adjustment &a, const vpSelfCalibNoiseModel &noise, const vpSelfCalibDataset::Yardstick &yardstick,
-                const KBA::Options &opt, bool distortion, const std::vector<std::string> &names,
-                const KBA::Result &solved, bool tight, KBA::Result &res)
+bool solveAgain(Adjustment &a, const vpSelfCalibNoiseModel &noise, double pixel_factor,
+                const vpSelfCalibDataset::Yardstick &yardstick, const KBA::Options &opt, bool distortion,
+                const std::vector<std::string> &names, const KBA::Result &solved, KBA::Result &res)
 {
   applyRobotLevels(a, noise);
-  a.scale_covariance = true; // the robot's error measured: the sds follow sigma0 above 1
+  // The weights are the variance components measured: the covariance at them stands as it is.
+  a.pixel_factor = pixel_factor;
+  a.components_measured = true;
   KBA::Result r = solved;
   std::shared_ptr<ceres::ParameterBlockOrdering> order;
   const std::unique_ptr<ceres::Problem> problem = buildProblem(a, yardstick, opt, 0, order, r.scale_source);
   if (!problem)
     return false;
-  ceres::Solver::Options so = solverOptions(opt.max_iterations, tight, ceres::DENSE_SCHUR);
+  ceres::Solver::Options so = solverOptions(opt.max_iterations, true, ceres::DENSE_SCHUR);
   so.linear_solver_ordering = order;
   so.num_threads = static_cast<int>(opt.num_threads);
   ceres::Solver::Summary summary;
@@ -331,8 +334,9 @@ void settleRobotError(Adjustment &a, const vpSelfCalibDataset::Yardstick &yardst
                       KBA::Result &res)
 {
   const char *const form_name[] = {"", "the joint reading error", "the model residual"};
-  bool tight = true; // the solution of res converged to the tight tolerances
+  bool confounded = false;
   for (;;) {
+    confounded = confounded || res.robot_error_confounded;
     vpSelfCalibNoiseModel next = res.noise;
     std::vector<RobotErrorForm> agreed;
     std::string change, unmeasured;
@@ -349,14 +353,21 @@ void settleRobotError(Adjustment &a, const vpSelfCalibDataset::Yardstick &yardst
         change += (change.empty() ? "" : ", ") + std::string(form_name[f]) + " " + levelText(res.measured, f) +
                   " where " + levelText(res.noise, f) + " was used";
     }
+    // The image noise's component, measured with the robot's (its redundancy is large: the tight test).
+    const double pixel_factor = a.pixel_factor_measured > 0 ? a.pixel_factor_measured : a.pixel_factor;
+    if (std::fabs(pixel_factor / a.pixel_factor - 1) > kPoseSettled) {
+      std::ostringstream os;
+      os << std::setprecision(3) << "the image noise " << a.noise.pixel_sd * pixel_factor << " px where "
+         << a.noise.pixel_sd * a.pixel_factor << " px was used";
+      change += (change.empty() ? "" : ", ") + os.str();
+    }
+    res.robot_error_confounded = confounded;
     if (!unmeasured.empty() && (change.empty() || static_cast<int>(res.robot_rounds) == kMaxRobotRounds))
       res.robot_error_unsettled = "the robot's error could not be measured (the views do not separate its corrections "
                                   "from the rest, or no covariance): " + unmeasured;
     if (change.empty()) {
-      // The levels agree with the solution's: that solution converged to the tight tolerances.
-      if (!tight && !solveAgain(a, res.noise, yardstick, opt, distortion, names, solved, true, res))
-        res.robot_error_unsettled = "the solve at the measured robot error failed to converge to the tight "
-                                    "tolerances: the estimate is converged to Ceres's default ones";
+      // The levels agree with the solution's (converged to the tight tolerances, as every solve).
+      res.robot_error_confounded = confounded;
       for (RobotErrorForm f : agreed)
         markMeasured(res.noise, f);
       return;
@@ -366,11 +377,16 @@ void settleRobotError(Adjustment &a, const vpSelfCalibDataset::Yardstick &yardst
                                   " rounds: the corrections measure " + change;
       return;
     }
-    tight = false;
-    if (!solveAgain(a, next, yardstick, opt, distortion, names, solved, false, res)) {
+    // Every form dropped or no longer measured: the next solve is the last one.
+    const bool last = !measuredForm(next, JOINT_ERROR) && !measuredForm(next, MODEL_ERROR);
+    if (!solveAgain(a, next, pixel_factor, yardstick, opt, distortion, names, solved, res)) {
       res.robot_error_unsettled = "the robot's error the corrections measure is not the one used (" + change +
                                   "), and the solve at the measured level failed: the result is the one at the level "
                                   "used; these views may not determine the robot's error (add views)";
+      return;
+    }
+    if (last) {
+      res.robot_error_confounded = confounded;
       return;
     }
   }
@@ -415,6 +431,19 @@ void checkRobotError(const vpKinematicChain &start, const KBA::Options &opt, con
                                "vpKinematicBundleAdjustment: joint_sd needs 1 or " +
                                    std::to_string(start.getNumJoints()) + " values, got " +
                                    std::to_string(noise.joint_sd.size()));
+}
+
+/*
+  Full mode, the joint readings' error and the model residual both to be measured on an arm of 6
+  joints or more: each view's joint corrections already span its camera's 6-D displacement, so the
+  images cannot split the robot's error between them (the model residual differs only by its
+  prior's shape). The joints alone take it (Result::robot_error_confounded); a residual stated, or
+  measured without the joints', is kept.
+*/
+bool jointsTakeTheModelResidual(const vpKinematicChain &start, const KBA::Options &opt, const vpSelfCalibNoiseModel &noise)
+{
+  return !opt.hand_eye_only && noise.measure_joint_sd && noise.measure_model_sd && !noise.joint_sd.empty() &&
+         noise.hasModelError() && start.getNumJoints() >= 6;
 }
 
 //! Full mode: the sd of each view's correction, the joints (the noise model's joint_sd, one value
@@ -601,11 +630,14 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
                                         const vpSelfCalibDataset::Yardstick &yardstick,
                                         const std::map<int, vpColVector> &points0,
                                         const vpKinematicBundleAdjustment::Options &opt,
-                                        const vpSelfCalibNoiseModel &noise, bool solve)
+                                        const vpSelfCalibNoiseModel &given, bool solve)
 {
   const QuietCeres quiet;
   const auto t0 = std::chrono::steady_clock::now();
-  const Inputs in = checkedInputs(start, camera, views, points0, opt, noise);
+  const Inputs in = checkedInputs(start, camera, views, points0, opt, given);
+  const bool confounded = solve && jointsTakeTheModelResidual(start, opt, given);
+  const vpSelfCalibNoiseModel noise =
+      confounded ? given.withModelError(0, 0, vpSelfCalibNoiseModel::MEASURED) : given;
   const std::vector<vpColVector> &q = in.q;
   const std::vector<Rigid> &fMe = in.fMe;
   const std::map<int, Eigen::Vector3d> &X0 = in.X0;
@@ -615,6 +647,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   res.camera = camera;
   res.noise = noise;
   res.sd.resize(start.getNumParameters());
+  res.robot_error_confounded = confounded;
   std::string refused;
   res.identifiability = setOf(start, camera, views, yardstick, X0, q, fMe, opt, noise, refused);
   if (!refused.empty()) {

@@ -19,40 +19,163 @@ namespace vpKinematicBundle
 namespace
 {
 /*
-  The full mode's robot error measured by variance component estimation, as the controller poses'
-  in hand-eye mode: per part (the joint readings, the model residual's translations, its
-  rotations), the sum of the squared whitened corrections over their redundancy, sum (1 - posterior
-  variance / prior variance), the posterior variances from `full` (the covariance at the stated
-  weights, the dq blocks from row `first`). The joints share one factor (the stated per-joint ratios
-  kept). A part whose redundancy is below 1 (the images do not separate its corrections from the
-  rest, or its prior is below what they can see) is not measured: it stays 0 in res.measured.
+  The variance components of the full mode (Helmert's estimation; Koch, Parameter Estimation and
+  Hypothesis Testing in Linear Models, 3.6): the groups are the pixels (0), the joint corrections
+  (1), the model residual's translations (2) and rotations (3). With the whitened posterior
+  covariance of the corrections B (their covariance at the weights used over their prior sds) and
+  M = I - B, H(k, j) is the sum of M's squared entries between groups k and j, r(k) the trace of
+  M's block k (its redundancy) and q(k) the sum of the squared whitened corrections. The pixels'
+  row follows from those of the corrections (the rows of H sum to r; the redundancies sum to the
+  degrees of freedom), so only the corrections' covariance is needed. H theta = q gives each
+  group's variance factor on the weight it was used at, unbiased whatever that weight, where the
+  diagonal estimate (q(k) / r(k)) gives to each group what the groups that move the cameras the
+  same way (the joints and the model residual) explain together.
 */
-void measureFullModeError(const Adjustment &a, const Eigen::MatrixXd &full, int first, KBA::Result &res)
+struct Components {
+  Eigen::Matrix4d H = Eigen::Matrix4d::Zero();
+  Eigen::Vector4d r = Eigen::Vector4d::Zero(), q = Eigen::Vector4d::Zero();
+  bool present[4] = {true, false, false, false};
+};
+
+Components components(const Adjustment &a, const Eigen::MatrixXd &full, int first, const KBA::Result &res)
 {
+  Components c;
+  const int nj = a.state.n_joint, size = static_cast<int>(a.state.dq[0].size());
+  const int n = size * static_cast<int>(a.state.dq.size());
+  auto group = [nj](int i) { return i < nj ? 1 : (i < nj + 3 ? 2 : 3); };
+  for (int i = 0; i < size; ++i)
+    c.present[group(i)] = true;
+  for (int x = 0; x < n; ++x) {
+    const int ix = x % size, gx = group(ix);
+    const double sx = a.joint_sd[ix], d = a.state.dq[x / size][ix] / sx;
+    c.q[gx] += d * d;
+    for (int y = 0; y < n; ++y) {
+      const int iy = y % size;
+      const double m = (x == y ? 1.0 : 0.0) - full(first + x, first + y) / (sx * a.joint_sd[iy]);
+      c.H(gx, group(iy)) += m * m;
+      if (x == y)
+        c.r[gx] += m;
+    }
+  }
+  const double dof = 2.0 * res.num_observations - static_cast<double>(a.P + a.free_in.size() + 3 * res.points.size());
+  const double pixel_sd = a.noise.pixel_sd * a.pixel_factor;
+  c.r[0] = dof - c.r.tail<3>().sum();
+  for (int j = 1; j < 4; ++j)
+    c.H(0, j) = c.H(j, 0) = c.r[j] - c.H.row(j).tail<3>().sum();
+  c.H(0, 0) = c.r[0] - c.H.row(0).tail<3>().sum();
+  c.q[0] = 2.0 * res.num_observations * res.rms * res.rms / (pixel_sd * pixel_sd);
+  return c;
+}
+
+/*
+  H theta = q over the groups `active` (the others held at `fixed`), a group of the robot's error
+  whose factor comes out negative held at 0 (no such error) and the rest solved again.
+*/
+Eigen::Vector4d solveComponents(const Components &c, std::vector<int> active, const Eigen::Vector4d &fixed)
+{
+  Eigen::Vector4d theta = fixed;
+  for (;;) {
+    const int m = static_cast<int>(active.size());
+    Eigen::MatrixXd H(m, m);
+    Eigen::VectorXd q(m);
+    for (int k = 0; k < m; ++k) {
+      q[k] = c.q[active[k]];
+      for (int j = 0; j < 4; ++j)
+        if (std::find(active.begin(), active.end(), j) == active.end())
+          q[k] -= c.H(active[k], j) * theta[j];
+      for (int j = 0; j < m; ++j)
+        H(k, j) = c.H(active[k], active[j]);
+    }
+    const Eigen::VectorXd t = H.colPivHouseholderQr().solve(q);
+    int negative = -1;
+    for (int k = 0; k < m; ++k) {
+      theta[active[k]] = t[k];
+      if (active[k] > 0 && t[k] <= 0 && (negative < 0 || t[k] < theta[negative]))
+        negative = active[k];
+    }
+    if (negative < 0)
+      return theta;
+    theta[negative] = 0;
+    active.erase(std::find(active.begin(), active.end(), negative));
+  }
+}
+
+/*
+  The full mode's robot error measured (Result::measured: joint_sd, model_sd_*; the image noise's
+  factor into a.pixel_factor_measured) from the variance components. A group whose redundancy is
+  below 1 (the images do not separate its corrections from the rest, or its prior is below what
+  they can see) is not measured: it stays 0 in res.measured, its factor held at 1. The joints share
+  one factor (the stated per-joint ratios kept). When the joints and the model residual move the
+  cameras the same way (a 6-joint arm: both span each view's 6-D displacement), their factors are
+  correlated beyond kConfounded: one level is measured for both, taken by the joints, and the model
+  residual is dropped (Result::robot_error_confounded).
+*/
+constexpr double kConfounded = 0.9;
+constexpr double kNoError = 1e-12; //!< the variance factor of a group measured at 0
+
+void measureFullModeError(Adjustment &a, const Eigen::MatrixXd &full, int first, KBA::Result &res)
+{
+  a.pixel_factor_measured = 0;
   if (a.state.dq.empty())
     return;
-  const int nj = a.state.n_joint, size = static_cast<int>(a.state.dq[0].size());
-  double sum[3] = {0, 0, 0}, redundancy[3] = {0, 0, 0};
-  for (size_t k = 0; k < a.state.dq.size(); ++k)
-    for (int i = 0; i < size; ++i) {
-      const int part = i < nj ? 0 : (i < nj + 3 ? 1 : 2), r = first + size * static_cast<int>(k) + i;
-      const double prior = a.joint_sd[i] * a.joint_sd[i];
-      sum[part] += a.state.dq[k][i] * a.state.dq[k][i] / prior;
-      redundancy[part] += 1.0 - full(r, r) / prior;
+  Components c = components(a, full, first, res);
+  std::vector<int> active;
+  Eigen::Vector4d fixed = Eigen::Vector4d::Ones();
+  for (int k = 0; k < 4; ++k)
+    if (c.present[k] && c.r[k] >= 1)
+      active.push_back(k);
+  if (active.empty() || active[0] != 0)
+    return;
+  const bool split = c.present[1] && (c.present[2] || c.present[3]) && active.size() > 2 && active[1] == 1;
+  if (split) {
+    // H^-1 is the factors' covariance up to 2 (Gaussian residuals): a model part whose factor's sd
+    // is above 1 (its level not told from none or from twice it) or correlated with the joints'
+    // beyond kConfounded is not separated from the joints by these views.
+    const int m = static_cast<int>(active.size());
+    Eigen::MatrixXd H(m, m);
+    for (int k = 0; k < m; ++k)
+      for (int j = 0; j < m; ++j)
+        H(k, j) = c.H(active[k], active[j]);
+    const Eigen::MatrixXd C = H.inverse();
+    for (int k = 2; k < m; ++k)
+      res.robot_error_confounded = res.robot_error_confounded || !(2 * C(k, k) <= 1) ||
+                                   std::fabs(C(1, k)) > kConfounded * std::sqrt(C(1, 1) * C(k, k));
+  }
+  if (res.robot_error_confounded) {
+    // One group: the model's rows and columns added into the joints'.
+    for (int k = 2; k < 4; ++k) {
+      c.H.row(1) += c.H.row(k);
+      c.H.col(1) += c.H.col(k);
+      c.H.row(k).setZero();
+      c.H.col(k).setZero();
+      c.q[1] += c.q[k];
+      c.q[k] = 0;
+      fixed[k] = 0;
     }
-  if (nj > 0 && redundancy[0] >= 1) {
-    const double factor = std::sqrt(sum[0] / redundancy[0]);
+    active = {0, 1};
+  }
+  const Eigen::Vector4d theta = solveComponents(c, active, fixed);
+  if (theta[0] > 0)
+    a.pixel_factor_measured = a.pixel_factor * std::sqrt(theta[0]);
+  const int nj = a.state.n_joint;
+  auto measured = [&](int k) { return std::find(active.begin(), active.end(), k) != active.end(); };
+  // A factor of 0 (no such error) is measured as 1e-6 of the level used: below any drop level, and
+  // told from a part not measured (0).
+  auto sd_factor = [&](int k) { return std::sqrt(std::max(kNoError, theta[k])); };
+  if (nj > 0 && measured(1)) {
     res.measured.joint_sd.assign(a.joint_sd.begin(), a.joint_sd.begin() + nj);
     for (double &sd : res.measured.joint_sd)
-      sd *= factor;
+      sd *= sd_factor(1);
   }
-  // The model residual's parts apart: a part whose redundancy is below 1 while the other's is not
-  // is one its prior holds, not the images (a level the images cannot see): measured 0.
-  if (a.state.camera_delta && (redundancy[1] >= 1 || redundancy[2] >= 1)) {
-    if (redundancy[1] >= 1)
-      res.measured.model_sd_translation = a.noise.model_sd_translation * std::sqrt(sum[1] / redundancy[1]);
-    if (redundancy[2] >= 1)
-      res.measured.model_sd_rotation = a.noise.model_sd_rotation * std::sqrt(sum[2] / redundancy[2]);
+  if (a.state.camera_delta && res.robot_error_confounded) {
+    // Taken by the joints: the model residual measured as none (dropped).
+    res.measured.model_sd_translation = a.noise.model_sd_translation * std::sqrt(kNoError);
+    res.measured.model_sd_rotation = a.noise.model_sd_rotation * std::sqrt(kNoError);
+  } else if (a.state.camera_delta) {
+    if (measured(2))
+      res.measured.model_sd_translation = a.noise.model_sd_translation * sd_factor(2);
+    if (measured(3))
+      res.measured.model_sd_rotation = a.noise.model_sd_rotation * sd_factor(3);
   }
 }
 } // namespace
@@ -110,10 +233,12 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
   const double s2 = res.sigma0 * res.sigma0;
   const bool pose_priors = !a.state.delta.empty() || !a.state.dq.empty();
   const double factor =
-      a.scale_covariance_chi2 && !pose_priors ? (res.sigma0 < res.sigma0_low || res.sigma0 > res.sigma0_high ? s2 : 1.0)
+      a.components_measured ? 1.0
+      : a.scale_covariance_chi2 && !pose_priors ? (res.sigma0 < res.sigma0_low || res.sigma0 > res.sigma0_high ? s2 : 1.0)
       : (a.scale_covariance || a.scale_covariance_chi2) && res.sigma0 > 1 ? s2
                                                                           : 1.0;
-  res.covariance_scaled = factor != 1.0;
+  res.covariance_scaled = factor != 1.0 || a.pixel_factor != 1.0;
+  res.pixel_factor = a.pixel_factor;
   res.covariance.resize(N, N);
   for (int r = 0; r < N; ++r)
     for (int c = 0; c < N; ++c)

@@ -269,7 +269,8 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
     std::vector<double *> blocks = {a.state.rho.data(), a.in, Xp};
     if (a.state.correctionSize() > 0)
       blocks.push_back(a.state.correction(a.obs[n].view));
-    problem->AddResidualBlock(new ObservationCost(&a.state, a.obs[n].view, a.obs[n].u, a.obs[n].v, a.noise.pixel_sd),
+    problem->AddResidualBlock(new ObservationCost(&a.state, a.obs[n].view, a.obs[n].u, a.obs[n].v,
+                                                 a.noise.pixel_sd * a.pixel_factor),
                               loss_scale > 0 ? makeLoss(static_cast<RobustLoss>(a.noise.loss), loss_scale) : nullptr,
                               blocks);
     // The yardstick residual links its two ends: they stay in the reduced system.

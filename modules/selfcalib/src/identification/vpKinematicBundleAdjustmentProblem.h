@@ -77,6 +77,15 @@ struct Adjustment {
   std::vector<double> rho0;
   Eigen::VectorXd scale_dir;
   bool scale_covariance = false, scale_covariance_chi2 = false;
+  /*!
+    The robot's error measured in full mode: the image noise's sd the pixels are weighed at, over
+    noise.pixel_sd (its variance component, measured with the robot's; 1 until measured).
+  */
+  double pixel_factor = 1;
+  //! The image noise's factor the last covariance measured (pixel_factor for the next solve).
+  double pixel_factor_measured = 0;
+  //! The weights are the measured variance components: the covariance is not scaled by sigma0 again.
+  bool components_measured = false;
   vpSelfCalibNoiseModel noise;    //!< the noise of the adjustment (its pixel part, and the robot's)
   bool has_yardstick = false;
   int P = 0;

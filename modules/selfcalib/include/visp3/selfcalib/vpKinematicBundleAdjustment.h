@@ -297,10 +297,14 @@ public:
         corrections, without covariance, or when the corrections' redundancy is below 1 (the images
         do not separate them from the rest).
       - joint_sd (rad, one per joint) and model_sd_translation (m), model_sd_rotation (rad), full
-        mode with the joint readings' error or the model's residual modelled and a covariance, the
-        same way: the joints share one factor on their stated sds (sum over every joint correction
-        of its square over its stated variance, over their redundancy), the model residual's
-        translations and rotations one factor each; a part whose redundancy is below 1 is 0.
+        mode with the joint readings' error or the model's residual modelled and a covariance, by
+        Helmert's variance component estimation over the pixels, the joints (one factor on their
+        stated sds), the model residual's translations and its rotations: the factors solve
+        H theta = q, where q holds each group's sum of squared whitened residuals and H the traces
+        of the products of their blocks of the residuals' cofactor (unbiased whatever the weights
+        used, where the diagonal estimate q / redundancy gives each of the joints and the model
+        residual what both explain). A part whose redundancy is below 1 is 0; a part measured with
+        no error (a factor at or below 0) is 1e-6 of the level used (below any drop level).
     */
     vpSelfCalibNoiseModel measured = vpSelfCalibNoiseModel::unmeasured();
     /*!
@@ -308,15 +312,31 @@ public:
       error and the model's residual when the noise model asks to measure them (measure_joint_sd,
       measure_model_sd). Those are measured in the neighbourhood of the solution: the levels the
       variance components give (`measured`, each part at least a serial arm's repeatability, 2e-5 m
-      and rad) weigh the priors again and the adjustment is solved again from its solution (the
-      kept observations, plain least squares), until every part changes by 25 % or less (its
-      origin then MEASURED). A form measured below 4e-5 in every part is dropped: its corrections
+      and rad), and the image noise's factor (pixel_factor), weigh the priors and the pixels again
+      and the adjustment is solved again from its solution (the kept observations, plain least
+      squares, the tight tolerances), until every part changes by 25 % or less and the pixels'
+      factor by 10 % or less (its origin then MEASURED). Both asked on an arm of 6 joints or more,
+      the joints alone take the robot's error (robot_error_confounded). A form measured below 4e-5 in every part is dropped: its corrections
       are no longer estimated (exact readings, or no model residual). The estimate, covariance and
       statistics are those of the last solve.
     */
     vpSelfCalibNoiseModel noise;
     //! The solves again of that measurement (0: the first solve's levels agreed, or nothing measured).
     unsigned int robot_rounds = 0;
+    /*!
+      With the robot's error measured in full mode: the image noise's sd the pixels were weighed at
+      in the last solve, over noise.pixel_sd. Its variance component is measured in the same rounds
+      as the robot's (a stated pixel_sd too small is then measured as such rather than taken up by
+      the robot's corrections), and the covariance is that of the measured weights, not scaled by
+      sigma0 again. 1 otherwise.
+    */
+    double pixel_factor = 1;
+    /*!
+      The joint corrections and the model residual move the cameras the same way (on a 6-joint arm
+      both span each view's 6-D displacement): the images cannot split the robot's error between
+      them. One level was measured, taken by the joint readings, and the model residual dropped.
+    */
+    bool robot_error_confounded = false;
     /*!
       Empty when the robot's error measured settled (or nothing was measured); else what did not:
       a form that could not be measured (redundancy below 1), levels still moving after the last
