@@ -240,76 +240,106 @@ double noiseOf(const Context &c, const Result &res)
 }
 
 /*
-  The image displacement of the points a view k sees, per unit of the relative pose T = c_0 M c_k
-  (position, then the left rotation perturbation, both in c_0's frame): a point X_k of camera k
-  (X_0 = R_T X_k + t_T) moves by dX_k = -R_T^T dt + [X_k]x R_T^T dphi, its pixel by
-  f / Z (dX - x dZ, dY - y dZ). Returned: W = sum over the points of J^T J (6 x 6), so that the sum of
-  the squared pixel displacements is dT^T W dT; taken whole, with the cross terms: the data determine
-  the combination of position and rotation the images see (a camera shifted sideways and turned back
-  towards the scene), so the two parts counted apart would overstate the error.
+  The pixel of a point X (f frame) in view k moves by J_k dT_k when the relative pose
+  T_k = c_0 M c_k moves by dT_k (position, then the left rotation perturbation, both in c_0's
+  frame): X_k = cMf X moves by -R_T^T dt + [X_k]x R_T^T dphi, its pixel by f / Z (dX - x dZ,
+  dY - y dZ); and by K_k dX when the point moves (K_k = f / Z P R_cf). Taken whole, with the cross
+  terms: the data determine the combination of position and rotation the images see.
 */
-Eigen::Matrix<double, 6, 6> imageWeight(const Eigen::Matrix3d &R_T, const std::vector<Eigen::Vector3d> &Xk, double f,
-                                        unsigned int &count)
+struct PixelJacobians {
+  Eigen::Matrix<double, 2, 6> pose;
+  Eigen::Matrix<double, 2, 3> point;
+};
+
+bool pixelJacobians(const vpSelfCalib::Rigid &cMf, const Eigen::Matrix3d &R_T, const Eigen::Vector3d &X, double f,
+                    PixelJacobians &J)
 {
-  Eigen::Matrix<double, 6, 6> W = Eigen::Matrix<double, 6, 6>::Zero();
-  for (const Eigen::Vector3d &X : Xk) {
-    if (!(X.z() > 0))
-      continue;
-    Eigen::Matrix<double, 3, 6> G;
-    G.leftCols(3) = -R_T.transpose();
-    G.rightCols(3) = vpSelfCalib::skew(X) * R_T.transpose();
-    Eigen::Matrix<double, 2, 3> P;
-    P << 1, 0, -X.x() / X.z(), 0, 1, -X.y() / X.z();
-    const Eigen::Matrix<double, 2, 6> J = (f / X.z()) * P * G;
-    W += J.transpose() * J;
-    ++count;
-  }
-  return W;
+  const Eigen::Vector3d Xk = cMf * X;
+  if (!(Xk.z() > 0))
+    return false;
+  Eigen::Matrix<double, 2, 3> P;
+  P << 1, 0, -Xk.x() / Xk.z(), 0, 1, -Xk.y() / Xk.z();
+  Eigen::Matrix<double, 3, 6> G;
+  G.leftCols(3) = -R_T.transpose();
+  G.rightCols(3) = vpSelfCalib::skew(Xk) * R_T.transpose();
+  J.pose = (f / Xk.z()) * P * G;
+  J.point = (f / Xk.z()) * P * cMf.R;
+  return true;
 }
 
 /*
   The calibrated model's error on new views like the calibration ones from its covariance C (the
-  estimated parameters), propagated to the relative camera poses of the calibration views
-  (c_0 M c_k) and to the pixels of the points each view sees: the mean square per coordinate is
-  d^T Q d, d ~ N(0, C), a weighted sum of chi-squares with the eigenvalues of L^T Q L (C = L L^T).
-  Returns its mean (the variance) and its 99.9 % quantile. The parameters left at nominal by the
-  data do not enter: on views of this geometry their error is what the estimated parameters and the
-  scene points absorb (the set's bias), and what is left of it is in the calibrated model's own fit,
-  which fit-worse-than-nominal compares with the nominal model's.
+  estimated parameters d ~ N(0, C)), propagated to the relative camera poses of the calibration
+  views (c_0 M c_k, view 0 fixed), to the pixels of the points each view sees, and then with each
+  point triangulated again from its views (the part of the pixels' displacement a shift of the
+  point explains removed, as the misfit it is compared with triangulates each model's points): the
+  mean square per coordinate is d^T Q d, a weighted sum of chi-squares with the eigenvalues of
+  L^T Q L (C = L L^T). Returns its mean (the variance) and its 99.9 % quantile. The parameters left
+  at nominal by the data do not enter: on views of this geometry their error is what the estimated
+  parameters and the scene points absorb (the set's bias), and what is left of it is in the
+  calibrated model's own fit, which fit-worse-than-nominal compares with the nominal model's.
 */
 void predictedError(const Context &c, const Result &res, const std::map<int, vpColVector> &points, const vpMatrix &C,
                     double &mean_square, double &quantile)
 {
   const std::vector<unsigned int> &id = res.identifiability.identified;
-  const int P = static_cast<int>(id.size());
+  const int P = static_cast<int>(id.size()), K = static_cast<int>(c.calibration.size());
   Eigen::MatrixXd S(P, P), Q = Eigen::MatrixXd::Zero(P, P);
   for (int i = 0; i < P; ++i)
     for (int j = 0; j < P; ++j)
       S(i, j) = C[i][j];
+  // Per view: cMf, the relative rotation and the relative pose's Jacobian (6 x P; view 0: 0).
   const vpSelfCalib::Rigid A = vpSelfCalib::rigidFromVisp(res.calibrated.get_fMc(c.calibration[0].q));
   const vpMatrix JA = res.calibrated.getJacobian(c.calibration[0].q);
-  unsigned int count = 0;
-  for (size_t k = 1; k < c.calibration.size(); ++k) {
-    const View &v = c.calibration[k];
-    const vpSelfCalib::Rigid B = vpSelfCalib::rigidFromVisp(res.calibrated.get_fMc(v.q)), cMf = B.inverse();
-    std::vector<Eigen::Vector3d> Xk;
-    for (const auto &o : v.points) {
-      const auto X = points.find(o.id);
-      if (X != points.end())
-        Xk.push_back(cMf * Eigen::Vector3d(X->second[0], X->second[1], X->second[2]));
-    }
-    const Eigen::Matrix<double, 6, 6> W = imageWeight(A.R.transpose() * B.R, Xk, res.camera.get_px(), count);
-    const vpMatrix JB = res.calibrated.getJacobian(v.q);
-    Eigen::MatrixXd JAs(6, P), JBs(6, P), Jt, Jr, G(6, P);
+  std::vector<vpSelfCalib::Rigid> cMf(K);
+  std::vector<Eigen::Matrix3d> R_T(K);
+  std::vector<Eigen::MatrixXd> G(K, Eigen::MatrixXd::Zero(6, P));
+  for (int k = 0; k < K; ++k) {
+    const vpSelfCalib::Rigid B = vpSelfCalib::rigidFromVisp(res.calibrated.get_fMc(c.calibration[k].q));
+    cMf[k] = B.inverse();
+    R_T[k] = A.R.transpose() * B.R;
+    if (k == 0)
+      continue;
+    const vpMatrix JB = res.calibrated.getJacobian(c.calibration[k].q);
+    Eigen::MatrixXd JAs(6, P), JBs(6, P), Jt, Jr;
     for (int j = 0; j < P; ++j)
       for (unsigned int a = 0; a < 6; ++a) {
         JAs(a, j) = JA[a][id[j]];
         JBs(a, j) = JB[a][id[j]];
       }
     vpSelfCalib::relativePoseJacobian(A, JAs, B, JBs, Jt, Jr);
-    G.topRows(3) = Jt;
-    G.bottomRows(3) = Jr;
-    Q += G.transpose() * W * G;
+    G[k].topRows(3) = Jt;
+    G[k].bottomRows(3) = Jr;
+  }
+  // Per point: its pixels' displacement over the views that see it, less what the point's own shift explains.
+  std::map<int, std::vector<int>> seen;
+  for (int k = 0; k < K; ++k)
+    for (const auto &o : c.calibration[k].points)
+      seen[o.id].push_back(k);
+  unsigned int count = 0;
+  const double f = res.camera.get_px();
+  for (const auto &e : seen) {
+    const auto X = points.find(e.first);
+    if (X == points.end() || e.second.size() < 2)
+      continue;
+    const Eigen::Vector3d Xf(X->second[0], X->second[1], X->second[2]);
+    const int n = static_cast<int>(e.second.size());
+    Eigen::MatrixXd D(2 * n, P), Kp(2 * n, 3);
+    int rows = 0;
+    for (int k : e.second) {
+      PixelJacobians J;
+      if (!pixelJacobians(cMf[k], R_T[k], Xf, f, J))
+        continue;
+      D.middleRows(rows, 2) = J.pose * G[k];
+      Kp.middleRows(rows, 2) = J.point;
+      rows += 2;
+    }
+    if (rows < 4)
+      continue;
+    const Eigen::MatrixXd Dr = D.topRows(rows), Kr = Kp.topRows(rows);
+    const Eigen::MatrixXd Res = Dr - Kr * Kr.colPivHouseholderQr().solve(Dr);
+    Q += Res.transpose() * Res;
+    count += static_cast<unsigned int>(rows / 2);
   }
   mean_square = quantile = 0;
   if (count == 0)
