@@ -74,7 +74,8 @@ BENCHES = [
      "The bundle method on arms with one joint that barely moves (Panda joint 3, PUMA joint 5, within "
      "+-0.5 deg): the estimated set decided from the data's information (what is left at nominal, the "
      "same set over draws), the held-out relative-pose error against the nominal model's and the "
-     "Cramer-Rao bound of the set estimated."),
+     "Cramer-Rao bound of the set estimated; the joint readings trusted (`--joint-sd 0`: the simulated "
+     "robot has no reading error)."),
     ("bench-robot-error", ["--seeds", "2", "--draws", "3"],
      "The bundle method's robot error measured (noise.measure_joint_sd and measure_model_sd: the joint "
      "readings modelled from a prior and measured with the image noise by Helmert's variance "

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iomanip>
 #include <limits>
 #include <set>
@@ -94,6 +95,55 @@ Trial trial(const Eigen::MatrixXd &M, const std::vector<int> &cols, const Adjust
   t.sd = (D.array() * Cs.diagonal().cwiseMax(0).cwiseSqrt().array()).matrix();
   t.fraction = Cs.diagonal().cwiseMax(1e-300).cwiseInverse();
   return t;
+}
+
+/*
+  The set's bias: how the estimated corrections (out.identified) absorb an error of 1 in each one the
+  data left at nominal, -M_ee^-1 M_el (the scale direction held, as trial() does); columns in
+  out.unidentifiable's order, 0 for the entries of another cause.
+*/
+vpMatrix setBias(const Eigen::MatrixXd &M, const vpKinematicIdentification::Identifiability &out,
+                 const std::function<int(unsigned int)> &column, const Adjustment &a, bool gauge)
+{
+  const int e = static_cast<int>(out.identified.size()), l = static_cast<int>(out.unidentifiable.size());
+  vpMatrix bias(static_cast<unsigned int>(e), static_cast<unsigned int>(l), 0.0);
+  if (e == 0 || l == 0)
+    return bias;
+  std::vector<int> cols;
+  for (unsigned int i : out.identified)
+    cols.push_back(column(i));
+  Eigen::MatrixXd See(e, e);
+  for (int i = 0; i < e; ++i)
+    for (int j = 0; j < e; ++j)
+      See(i, j) = M(cols[i], cols[j]);
+  const Eigen::VectorXd D = See.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+  Eigen::MatrixXd Z = Eigen::MatrixXd::Identity(e, e);
+  if (gauge && e > 1) {
+    const Eigen::VectorXd ds = (D.asDiagonal() * scaleDirection(a.state, cols)).eval();
+    if (ds.norm() > 0) {
+      const Eigen::HouseholderQR<Eigen::MatrixXd> qr(ds / ds.norm());
+      Z = (qr.householderQ() * Eigen::MatrixXd::Identity(e, e)).rightCols(e - 1);
+    }
+  }
+  const Eigen::MatrixXd R = Z.transpose() * D.asDiagonal() * See * D.asDiagonal() * Z;
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(0.5 * (R + R.transpose()));
+  if (ldlt.info() != Eigen::Success)
+    return bias;
+  for (int k = 0; k < l; ++k) {
+    const vpKinematicIdentification::Unidentifiable &u = out.unidentifiable[k];
+    if (u.cause != vpKinematicIdentification::CAUSE_DATA)
+      continue;
+    const int c = column(u.index);
+    if (c >= M.cols())
+      continue;
+    Eigen::VectorXd m(e);
+    for (int i = 0; i < e; ++i)
+      m(i) = M(cols[i], c);
+    const Eigen::VectorXd b = -(D.asDiagonal() * Z * ldlt.solve(Z.transpose() * (D.asDiagonal() * m))).eval();
+    for (int i = 0; i < e; ++i)
+      bias[i][k] = std::isfinite(b(i)) ? b(i) : 0.0;
+  }
+  return bias;
 }
 
 //! The nominal tolerance of a chain parameter (its block and component).
@@ -268,6 +318,7 @@ vpKinematicIdentification::Identifiability decideSet(Adjustment &a, const vpKine
   out.rank = static_cast<unsigned int>(out.identified.size());
   std::sort(out.unidentifiable.begin(), out.unidentifiable.end(),
             [](const Ident::Unidentifiable &x, const Ident::Unidentifiable &y) { return x.index < y.index; });
+  out.bias = setBias(M, out, column, a, gauge);
   return out;
 }
 

@@ -125,6 +125,14 @@ public:
       parameters are above the threshold, dependent ones far below.
     */
     std::vector<double> new_direction;
+    /*!
+      The set's bias (vpKinematicBundleAdjustment's set from the data; empty otherwise): rows the
+      identified parameters, columns the unidentifiable entries (both in their lists' order), how far
+      an error of 1 in a parameter left at nominal by the data moves each estimated one when the
+      estimated ones absorb it, -M_ee^-1 M_el of the corrections' marginal information at the start
+      values (the scale direction held as in the solve; 0 in the columns of the other causes).
+    */
+    vpMatrix bias;
   };
 
   //! A pair of identified parameters whose correlation exceeds the reporting threshold.

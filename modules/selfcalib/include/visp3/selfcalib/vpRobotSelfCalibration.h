@@ -308,11 +308,13 @@ public:
     /*!
       px, the calibrated model's own predicted error on new views (BUNDLE_ADJUSTMENT, PAPER): its
       covariance propagated to the relative camera poses of the calibration views (c_0 M c_k), then
-      to the pixels of the points each view sees (first order, the pose's 6 x 6 covariance whole:
-      position and rotation errors the images cannot tell apart partly cancel), RMS per coordinate.
-      Above 2 / 3.29 of fit_nominal_rms, the model's own uncertainty leaves more than a 0.1 % chance
-      that it does worse than twice the nominal model on new views (DOUBTFUL,
-      expected-worse-than-nominal). 0 when not computed.
+      to the pixels of the points each view sees (first order, the pose's 6 x 6 covariance whole),
+      each point triangulated again from its views (the part of the displacement a shift of the
+      point explains removed, as fit_nominal_rms triangulates the nominal model's points), RMS per
+      coordinate. When the 99.9 % quantile of that error (a weighted sum of chi-squares) exceeds
+      twice fit_nominal_rms, the model's own uncertainty leaves more than a 0.1 % chance that it
+      does worse than twice the nominal model on new views (DOUBTFUL, expected-worse-than-nominal).
+      0 when not computed.
     */
     double predicted_rms = 0;
     double fx = 0, fx_sd = 0;
