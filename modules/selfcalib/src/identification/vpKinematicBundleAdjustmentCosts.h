@@ -237,6 +237,21 @@ struct KnownPointCost {
   double L_[3], w;
 };
 
+//! (X - (R s L + t)) / sd: a known point with the layout's scale s free (blocks fMo, s, X).
+struct ScaledKnownPointCost {
+  ScaledKnownPointCost(const vpColVector &L, double sd) : L_{L[0], L[1], L[2]}, w(1 / sd) {}
+  template <typename T> bool operator()(const T *o, const T *s, const T *X, T *r) const
+  {
+    const T L[3] = {s[0] * T(L_[0]), s[0] * T(L_[1]), s[0] * T(L_[2])};
+    T p[3];
+    ceres::AngleAxisRotatePoint(o + 3, L, p);
+    for (int i = 0; i < 3; ++i)
+      r[i] = (X[i] - (p[i] + o[i])) * T(w);
+    return true;
+  }
+  double L_[3], w;
+};
+
 //! (|X_a - X_b| - L) / sd: the yardstick fixes the scale.
 struct YardstickCost {
   YardstickCost(double length, double sd) : L(length), w(1 / sd) {}
