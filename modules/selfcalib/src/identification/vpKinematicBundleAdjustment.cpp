@@ -240,8 +240,9 @@ void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::
 }
 
 /*
-  Stage 7, Settings::measure_layout_scale: from the solution, one more plain least-squares solve with
-  the known layout's scale free, and its sd from the covariance with every other block kept as in
+  Stage 7, Settings::measure_layout_scale (hand-eye-only mode: the robot's metric motion is the scale's
+  reference; in the full mode a wrong size scales the kinematic corrections, beyond their tolerance):
+  from the solution, one more plain least-squares solve with the known layout's scale free, and its sd from the covariance with every other block kept as in
   stage 6 (scaled as res's covariance). The estimate in res is not changed. A singular information
   (the views do not determine the scale) gives an infinite sd.
 */
@@ -253,9 +254,7 @@ void measureLayoutScale(Adjustment &a, const vpSelfCalibDataset::Yardstick &yard
   std::shared_ptr<ceres::ParameterBlockOrdering> order;
   KBA::ScaleSource source = res.scale_source;
   std::unique_ptr<ceres::Problem> problem = buildProblem(a, yardstick, opt, 0, order, source);
-  // The layout the only reference of the scale (eye-to-hand, the kinematics estimated): a wrong size
-  // scales the model, which the corrections' tolerance check sees; nothing to measure here.
-  if (!problem || !problem->HasParameterBlock(a.layout_scale.data()) || source == KBA::SCALE_KNOWN_POINTS)
+  if (!problem || !problem->HasParameterBlock(a.layout_scale.data()))
     return;
   ceres::Solver::Options so = solverOptions(opt.max_iterations, true, ceres::DENSE_SCHUR);
   so.linear_solver_ordering = order;
@@ -711,7 +710,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     if (solve && !opt.hand_eye_only && (noise.measure_joint_sd || noise.measure_model_sd))
       settleRobotError(a, yardstick, opt, distortion, start.getParameterNames(), solved, res);
     res.seconds_covariance = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc).count();
-    if (solve && opt.measure_layout_scale && a.has_object)
+    if (solve && opt.measure_layout_scale && opt.hand_eye_only && a.has_object)
       measureLayoutScale(a, yardstick, opt, res);
   }
   res.status = KBA::OK;
