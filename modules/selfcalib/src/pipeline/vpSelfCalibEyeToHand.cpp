@@ -246,15 +246,13 @@ void eyeToHandResult(Result &res)
 
 void eyeToHandWithoutLayout(Result &res)
 {
-  vpSelfCalibDataCheck::Finding f;
-  f.severity = vpSelfCalibDataCheck::WARNING;
-  f.code = "target-layout-unknown";
-  f.message = "the camera is fixed in the world and the target's layout is not given: bMc started at the "
-              "identity and the target's points were reconstructed from the images alone; with a board on the "
-              "tool, give it (calibrate --board SPEC --board-geometry): its layout starts bMc where the board's "
-              "poses put it and fixes the target's shape";
-  res.findings.push_back(f);
+  const std::string text =
+      "the camera is fixed in the world and the target's layout is not given: bMc started at the identity and "
+      "the target's points were reconstructed from the images alone; with a board on the tool, give it "
+      "(calibrate --board SPEC --board-geometry): its layout starts bMc where the board's poses put it and fixes "
+      "the target's shape";
+  res.findings.push_back({vpSelfCalibDataCheck::WARNING, "target-layout-unknown", text});
   if (res.status != vpRobotSelfCalibration::OK)
-    res.message += "; " + f.message;
+    res.message += "; " + text;
 }
 } // namespace vpSelfCalibPipeline
