@@ -100,20 +100,25 @@ void checkParameterLists(const vpKinematicChain &nominal, const vpSelfCalibDatas
   for (const std::string &f : freed)
     if (std::find(fixed.begin(), fixed.end(), f) != fixed.end())
       throw CLI::ValidationError("--free", "'" + f + "' is both fixed and freed: choose one");
-  // Every parameter the method estimates fixed (eMc's six with hand-eye), and no intrinsics: nothing
-  // is left to calibrate.
-  if (intrinsics_estimated || fixed.empty())
+  // Every parameter the method estimates fixed (eMc's six with hand-eye): nothing is left to
+  // calibrate, or only the intrinsics, which the adjustment estimates with the robot's parameters only.
+  if (fixed.empty())
     return;
   const std::vector<std::string> names = nominal.getParameterNames();
   const size_t estimated = static_cast<size_t>(std::count_if(names.begin(), names.end(), [&](const std::string &n) {
     return (!hand_eye || n.rfind("eMc.", 0) == 0) && std::find(fixed.begin(), fixed.end(), n) == fixed.end();
   }));
-  if (estimated == 0)
-    throw CLI::ValidationError("--fix", "every parameter the " + std::string(hand_eye ? "hand-eye" : "bundle") +
-                                            " method estimates is fixed (" +
-                                            (hand_eye ? std::string("the six of eMc, bMc with the camera in the world")
-                                                      : std::to_string(names.size()) + " parameters") +
-                                            ") and the intrinsics are known: nothing is left to calibrate; fix fewer "
-                                            "parameters (" +
-                                            (hand_eye ? "e.g. --fix eMc.tz" : "e.g. --fix 'j1.*'") + ")");
+  if (estimated > 0)
+    return;
+  const std::string what = "every parameter the " + std::string(hand_eye ? "hand-eye" : "bundle") +
+                           " method estimates is fixed (" +
+                           (hand_eye ? std::string("the six of eMc, bMc with the camera in the world")
+                                     : std::to_string(names.size()) + " parameters") + ")";
+  const std::string fewer = std::string("fix fewer parameters (") + (hand_eye ? "e.g. --fix eMc.tz" : "e.g. --fix 'j1.*'") + ")";
+  if (intrinsics_estimated)
+    throw CLI::ValidationError("--fix", what + ": only the intrinsics (--estimate, --focal shared) would be left, "
+                                               "and this tool calibrates them with the robot's parameters, not alone; " +
+                                            fewer + ", or calibrate the camera alone with a camera calibration (a "
+                                                    "board seen in several views)");
+  throw CLI::ValidationError("--fix", what + " and the intrinsics are known: nothing is left to calibrate; " + fewer);
 }

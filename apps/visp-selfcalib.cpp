@@ -28,6 +28,7 @@
 #include <new>
 #include <string>
 
+#include <visp3/core/vpConfig.h>
 #include <visp3/core/vpException.h>
 
 #include "acquireCommand.h"
@@ -108,6 +109,10 @@ int run(int argc, char **argv)
                "import a dataset, calibrate, verify, predict camera poses and export the calibrated model.",
                kProgram);
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string(kProgram) + " " + VISP_SELFCALIB_VERSION_STRING + " (ViSP " +
+                                         std::to_string(VISP_VERSION_MAJOR) + "." + std::to_string(VISP_VERSION_MINOR) +
+                                         "." + std::to_string(VISP_VERSION_PATCH) + ")",
+                       "print the version and exit");
   app.footer("MODEL: " + modelHelp() + ". DATASET: a dataset YAML file (doc/formats.md).\n"
              "'visp-selfcalib COMMAND --help' describes a command and its options.\n"
              "Exit codes: 0 success, 1 bad input (message on stderr), 2 bad usage, 3 no trustworthy\n"

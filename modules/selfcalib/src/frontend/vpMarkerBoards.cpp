@@ -463,6 +463,23 @@ vpBoardDetector::Result detectTags(const cv::Mat &img, const Options &o)
   return res;
 }
 
+/*
+  A bundle file's scalar as T, or the error naming the key, the tag and what was expected (yaml-cpp's
+  own text is "bad conversion").
+*/
+template <typename T>
+T bundleValue(const YAML::Node &n, const std::string &where, const std::string &key, const std::string &expected)
+{
+  try {
+    return n.as<T>();
+  } catch (const YAML::BadConversion &) {
+    const std::string got = n.IsScalar() ? "'" + n.Scalar() + "'" : n.IsSequence() ? "a list" : "a map";
+    throw vpSelfCalibException(vpSelfCalibException::parseError, where + key + ": expected " + expected + ", got " +
+                                                                     got + " (line " + std::to_string(n.Mark().line + 1) +
+                                                                     ")");
+  }
+}
+
 // parse(): the YAML bundle file.
 Options readBundle(const std::string &file, const std::string &where)
 {
@@ -487,7 +504,8 @@ Options readBundle(const std::string &file, const std::string &where)
     if (!root["family"] || !root["tags"] || !root["tags"].IsSequence() || root["tags"].size() == 0)
       throw vpSelfCalibException(vpSelfCalibException::parseError,
                                  where + file + ": expected 'family' and a list 'tags' of {id, size, pose}");
-    const std::string family = root["family"].as<std::string>();
+    const std::string family = bundleValue<std::string>(root["family"], where + file + ": ", "family",
+                                                        "an AprilTag family such as 36h11");
     o.dictionary = vpSelfCalib::aprilTagFamily(family);
     if (o.dictionary.empty())
       o.dictionary = family; // check() names it
@@ -498,10 +516,12 @@ Options readBundle(const std::string &file, const std::string &where)
                                    where + file + ": tag " + std::to_string(k + 1) +
                                        ": expected {id: N, size: M, pose: [tx, ty, tz, tux, tuy, tuz]}");
       Options::BundleTag b;
-      b.id = t["id"].as<int>();
-      b.size = t["size"].as<double>();
+      const std::string tag = where + file + ": tag " + std::to_string(k + 1) + ": ";
+      b.id = bundleValue<int>(t["id"], tag, "id", "the tag's id as a whole number");
+      b.size = bundleValue<double>(t["size"], tag, "size", "the tag's side in m as a number (e.g. 0.04)");
       for (unsigned int i = 0; i < 6; ++i)
-        b.bMt[i] = t["pose"][i].as<double>();
+        b.bMt[i] = bundleValue<double>(t["pose"][i], tag, "pose[" + std::to_string(i) + "]",
+                                       "a number (tx, ty, tz in m, then theta u in rad)");
       o.bundle.push_back(b);
       o.tag_ids.push_back(b.id);
     }

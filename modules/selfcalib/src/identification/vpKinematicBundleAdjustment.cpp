@@ -240,6 +240,44 @@ void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::
 }
 
 /*
+  Stage 7, Settings::measure_layout_scale (hand-eye-only mode: the robot's metric motion is the scale's
+  reference; in the full mode a wrong size scales the kinematic corrections, beyond their tolerance):
+  from the solution, one more plain least-squares solve with the known layout's scale free, and its sd from the covariance with every other block kept as in
+  stage 6 (scaled as res's covariance). The estimate in res is not changed. A singular information
+  (the views do not determine the scale) gives an infinite sd.
+*/
+void measureLayoutScale(Adjustment &a, const vpSelfCalibDataset::Yardstick &yardstick, const KBA::Options &opt,
+                        KBA::Result &res)
+{
+  a.free_layout_scale = true;
+  a.layout_scale[0] = 1;
+  std::shared_ptr<ceres::ParameterBlockOrdering> order;
+  KBA::ScaleSource source = res.scale_source;
+  std::unique_ptr<ceres::Problem> problem = buildProblem(a, yardstick, opt, 0, order, source);
+  if (!problem || !problem->HasParameterBlock(a.layout_scale.data()))
+    return;
+  ceres::Solver::Options so = solverOptions(opt.max_iterations, true, ceres::DENSE_SCHUR);
+  so.linear_solver_ordering = order;
+  so.num_threads = static_cast<int>(opt.num_threads);
+  ceres::Solver::Summary summary;
+  vpSelfCalib::solve(so, problem.get(), &summary);
+  a.state.update(true);
+  if (!summary.IsSolutionUsable() || !std::isfinite(a.layout_scale[0]))
+    return;
+  res.has_layout_scale = true;
+  res.layout_scale = a.layout_scale[0];
+  const MarginalBlocks blocks = marginalBlocks(a, *problem, yardstick);
+  Eigen::MatrixXd full;
+  if (!marginalCovariance(*problem, blocks.kept, blocks.eliminated, full, nullptr)) {
+    res.layout_scale_sd = std::numeric_limits<double>::infinity();
+    return;
+  }
+  const double factor = res.covariance_scaled ? res.sigma0 * res.sigma0 : 1.0;
+  const Eigen::Index last = full.rows() - 1;
+  res.layout_scale_sd = std::sqrt(std::max(0.0, factor * full(last, last)));
+}
+
+/*
   The robot's error of a full-mode noise model put in the adjustment: the priors' sds (a.joint_sd)
   and, for a form dropped (joint readings exact, or no model residual), its part of every view's
   correction removed. Only forms already modelled are kept.
@@ -705,6 +743,8 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     if (solve && !opt.hand_eye_only && (noise.measure_joint_sd || noise.measure_model_sd))
       settleRobotError(a, yardstick, opt, distortion, start.getParameterNames(), solved, res);
     res.seconds_covariance = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc).count();
+    if (solve && opt.measure_layout_scale && opt.hand_eye_only && a.has_object)
+      measureLayoutScale(a, yardstick, opt, res);
   }
   res.status = KBA::OK;
   std::ostringstream os;

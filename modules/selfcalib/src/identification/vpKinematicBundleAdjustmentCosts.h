@@ -222,12 +222,12 @@ private:
   std::vector<double> sd_;
 };
 
-//! (X - (R(o_r) L + o_t)) / sd: a point of known geometry L (object frame) and the object's pose o.
-struct KnownPointCost {
-  KnownPointCost(const vpColVector &L, double sd) : L_{L[0], L[1], L[2]}, w(1 / sd) {}
-  template <typename T> bool operator()(const T *o, const T *X, T *r) const
+//! (X - (R s L + t)) / sd: a known point with the layout's scale s free (blocks fMo, s, X).
+struct ScaledKnownPointCost {
+  ScaledKnownPointCost(const vpColVector &L, double sd) : L_{L[0], L[1], L[2]}, w(1 / sd) {}
+  template <typename T> bool operator()(const T *o, const T *s, const T *X, T *r) const
   {
-    const T L[3] = {T(L_[0]), T(L_[1]), T(L_[2])};
+    const T L[3] = {s[0] * T(L_[0]), s[0] * T(L_[1]), s[0] * T(L_[2])};
     T p[3];
     ceres::AngleAxisRotatePoint(o + 3, L, p);
     for (int i = 0; i < 3; ++i)
@@ -235,6 +235,17 @@ struct KnownPointCost {
     return true;
   }
   double L_[3], w;
+};
+
+//! (X - (R(o_r) L + o_t)) / sd: a point of known geometry L (object frame) and the object's pose o.
+struct KnownPointCost {
+  KnownPointCost(const vpColVector &L, double sd) : scaled(L, sd) {}
+  template <typename T> bool operator()(const T *o, const T *X, T *r) const
+  {
+    const T one[1] = {T(1)};
+    return scaled(o, one, X, r);
+  }
+  ScaledKnownPointCost scaled;
 };
 
 //! (|X_a - X_b| - L) / sd: the yardstick fixes the scale.

@@ -279,7 +279,11 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
   }
   if (!problem->HasParameterBlock(a.in))
     return nullptr;
-  const bool use_yardstick = a.has_yardstick && problem->HasParameterBlock(a.X[yardstick.id_a].data()) &&
+  // With the layout's scale free (measureLayoutScale) a yardstick between two of its points is part
+  // of the layout (a board's row at its declared size): left out, or it would hold the scale.
+  const bool layout_yardstick = a.free_layout_scale && opt.known_points.count(yardstick.id_a) &&
+                                opt.known_points.count(yardstick.id_b);
+  const bool use_yardstick = a.has_yardstick && !layout_yardstick && problem->HasParameterBlock(a.X[yardstick.id_a].data()) &&
                              problem->HasParameterBlock(a.X[yardstick.id_b].data());
   // Eye-to-hand with a target of known points: its layout fixes the scale.
   bool known = false;
@@ -314,13 +318,21 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
   }
   if (a.has_object) {
     for (const auto &e : opt.known_points)
-      if (a.X.count(e.first) && problem->HasParameterBlock(a.X[e.first].data()))
-        problem->AddResidualBlock(new ceres::AutoDiffCostFunction<KnownPointCost, 3, 6, 3>(
-                                      new KnownPointCost(e.second, opt.known_points_sd)),
-                                  nullptr, a.object.data(), a.X[e.first].data());
+      if (a.X.count(e.first) && problem->HasParameterBlock(a.X[e.first].data())) {
+        if (a.free_layout_scale)
+          problem->AddResidualBlock(new ceres::AutoDiffCostFunction<ScaledKnownPointCost, 3, 6, 1, 3>(
+                                        new ScaledKnownPointCost(e.second, opt.known_points_sd)),
+                                    nullptr, a.object.data(), a.layout_scale.data(), a.X[e.first].data());
+        else
+          problem->AddResidualBlock(new ceres::AutoDiffCostFunction<KnownPointCost, 3, 6, 3>(
+                                        new KnownPointCost(e.second, opt.known_points_sd)),
+                                    nullptr, a.object.data(), a.X[e.first].data());
+      }
+    const int group = 4 + static_cast<int>(std::max(a.state.delta.size(), a.state.dq.size()));
     if (problem->HasParameterBlock(a.object.data()))
-      order->AddElementToGroup(a.object.data(),
-                               4 + static_cast<int>(std::max(a.state.delta.size(), a.state.dq.size())));
+      order->AddElementToGroup(a.object.data(), group);
+    if (problem->HasParameterBlock(a.layout_scale.data()))
+      order->AddElementToGroup(a.layout_scale.data(), group + 1);
   }
   if (a.free_in.empty())
     problem->SetParameterBlockConstant(a.in);
@@ -349,6 +361,8 @@ MarginalBlocks marginalBlocks(Adjustment &a, ceres::Problem &problem, const vpSe
     b.kept.push_back(d.data());
   if (a.has_object && problem.HasParameterBlock(a.object.data()))
     b.kept.push_back(a.object.data());
+  if (a.free_layout_scale && problem.HasParameterBlock(a.layout_scale.data()))
+    b.kept.push_back(a.layout_scale.data()); // after the object's block: the last one kept
   for (const auto &e : a.X.index())
     if (!ends.count(a.X[e.first].data()) && problem.HasParameterBlock(a.X[e.first].data()))
       b.eliminated.push_back(a.X[e.first].data());

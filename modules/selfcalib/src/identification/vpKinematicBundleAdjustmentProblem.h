@@ -92,6 +92,9 @@ struct Adjustment {
   //! Known geometry (Options::known_points): the object's pose (t, theta u) in f, when used.
   std::array<double, 6> object{0, 0, 0, 0, 0, 0};
   bool has_object = false;
+  //! The known layout's scale (Settings::measure_layout_scale), a parameter when free_layout_scale.
+  std::array<double, 1> layout_scale{1};
+  bool free_layout_scale = false;
 
   bool reproject(size_t n, double uv[2])
   {

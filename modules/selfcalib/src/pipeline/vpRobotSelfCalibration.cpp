@@ -315,6 +315,8 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
     o.bundle.eye_to_hand = joints;
     Result res = runMounted(model, joints ? input : inverted, o, progress);
     vpSelfCalibPipeline::eyeToHandResult(res);
+    if (opt.bundle.known_points.size() < 4)
+      vpSelfCalibPipeline::eyeToHandWithoutLayout(res);
     std::ostringstream start;
     start << "eye-to-hand, bMc started "
           << (median_px > 0 ? "from the target's poses (PnP and closed forms, median " : "at the identity (no target of known points)");

@@ -244,4 +244,16 @@ void eyeToHandResult(Result &res)
     res.eMo_sd = res.bundle.object_sd.size() == 6 ? res.bundle.object_sd : vpColVector(6, 0.0);
   }
 }
+
+void eyeToHandWithoutLayout(Result &res)
+{
+  const std::string text =
+      "the camera is fixed in the world and the target's layout is not given: bMc started at the identity and "
+      "the target's points were reconstructed from the images alone; with a board on the tool, give it "
+      "(calibrate --board SPEC --board-geometry): its layout starts bMc where the board's poses put it and fixes "
+      "the target's shape";
+  res.findings.push_back({vpSelfCalibDataCheck::WARNING, "target-layout-unknown", text});
+  if (res.status != vpRobotSelfCalibration::OK)
+    res.message += "; " + text;
+}
 } // namespace vpSelfCalibPipeline

@@ -367,6 +367,13 @@ bool bundleFrom(const Context &c, const vpKinematicChain &start, const std::map<
   if (res.bundle.status != vpKinematicBundleAdjustment::OK) {
     res.status = vpRobotSelfCalibration::IDENTIFICATION_FAILED;
     res.message = label + ": " + res.bundle.message;
+    // A camera fixed in the world, declared on the flange: the target moves with the tool, and no
+    // rigid scene fits the views.
+    if (res.bundle.status == vpKinematicBundleAdjustment::RANK_DEFICIENT &&
+        c.dataset.camera_mount != vpSelfCalibDataset::CAMERA_IN_WORLD && !bo.eye_to_hand && !bo.controller_poses_inverted)
+      res.message += "; or the dataset's camera_mount is wrong: it says effector (a camera on the flange seeing a "
+                     "scene fixed in the world); a camera fixed in the world seeing a target on the tool is "
+                     "camera_mount: world";
     return false;
   }
   const unsigned int total = countObservations(views);

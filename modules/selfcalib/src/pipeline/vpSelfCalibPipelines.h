@@ -236,6 +236,9 @@ bool eyeToHandStart(const vpSelfCalibDataset &inverted, unsigned int num_views, 
                     vpHomogeneousMatrix &bMc, vpHomogeneousMatrix &eMo, double &median_px);
 //! The result in eye-to-hand terms: eMc -> bMc, the known object's pose -> eMo (has_eMc false).
 void eyeToHandResult(Result &result);
+//! Eye-to-hand without the target's layout: the finding target-layout-unknown (with a board: --board-geometry),
+//! said in the message of a run that is not ok.
+void eyeToHandWithoutLayout(Result &res);
 /*!
   The dataset's views for their joints where they have them (their controller poses dropped), so
   that eyeToHandAsEyeInHand() inverts the model's end-effector poses: the full kinematics method's.

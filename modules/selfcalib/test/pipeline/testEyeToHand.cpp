@@ -108,6 +108,91 @@ TEST(EyeToHand, PoseErrorIsModelledAndSdAreHonest)
   }
 }
 
+namespace
+{
+std::map<int, vpColVector> scaled(const std::map<int, vpColVector> &layout, double k)
+{
+  std::map<int, vpColVector> out;
+  for (const auto &e : layout)
+    out[e.first] = k * e.second;
+  return out;
+}
+
+bool hasFinding(const RSC::Result &r, const std::string &code)
+{
+  for (const auto &f : r.findings)
+    if (f.code == code)
+      return true;
+  return false;
+}
+} // namespace
+
+// The board declared at its size: the layout's scale measured 1; declared 25 % too large: measured
+// 0.8 (the true size over the declared one), exactly on noise-free data, and the run is doubtful.
+TEST(EyeToHand, NoiseFreeBoardSizeIsMeasured)
+{
+  vpSelfCalibSimulator::EyeToHandOptions so;
+  so.pixel_noise_sd = 0;
+  vpSelfCalibSimulator::EyeToHandTruth truth;
+  const vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(so, truth);
+  const RSC::Result right = calibrate(ds, truth.layout, 0.2, true);
+  ASSERT_EQ(right.status, RSC::OK) << right.message;
+  ASSERT_TRUE(right.bundle.has_layout_scale);
+  EXPECT_NEAR(right.bundle.layout_scale, 1.0, 1e-7);
+  EXPECT_FALSE(hasFinding(right, "board-size-mismatch"));
+  const RSC::Result wrong = calibrate(ds, scaled(truth.layout, 1.25), 0.2);
+  ASSERT_TRUE(wrong.bundle.has_layout_scale) << wrong.message;
+  EXPECT_NEAR(wrong.bundle.layout_scale, 0.8, 1e-6);
+  EXPECT_EQ(wrong.status, RSC::DOUBTFUL) << wrong.message;
+  EXPECT_TRUE(hasFinding(wrong, "board-size-mismatch")) << wrong.message;
+}
+
+// 2 mm / 2 mrad of pose error, 0.2 px, 4 seeds: the right size measured within 3.5 sd of 1 and not
+// doubted; 20 % too small a declared size doubted on every seed, the measure within 3.5 sd of 1.25.
+TEST(EyeToHand, BoardSizeDoubtHoldsOverSeeds)
+{
+  for (unsigned int seed = 1; seed <= 4; ++seed) {
+    vpSelfCalibSimulator::EyeToHandOptions so;
+    so.seed = seed;
+    so.pose_sd_translation = 0.002;
+    so.pose_sd_rotation = 0.002;
+    vpSelfCalibSimulator::EyeToHandTruth truth;
+    const vpSelfCalibDataset ds = vpSelfCalibSimulator::simulateEyeToHand(so, truth);
+    const RSC::Result right = calibrate(ds, truth.layout, 0.2);
+    ASSERT_TRUE(right.bundle.has_layout_scale) << right.message;
+    EXPECT_LT(std::fabs(right.bundle.layout_scale - 1), 3.5 * right.bundle.layout_scale_sd) << "seed " << seed;
+    EXPECT_FALSE(hasFinding(right, "board-size-mismatch")) << "seed " << seed << ": " << right.message;
+    const RSC::Result wrong = calibrate(ds, scaled(truth.layout, 0.8), 0.2);
+    ASSERT_TRUE(wrong.bundle.has_layout_scale) << wrong.message;
+    EXPECT_LT(std::fabs(wrong.bundle.layout_scale - 1.25), 3.5 * wrong.bundle.layout_scale_sd) << "seed " << seed;
+    EXPECT_TRUE(hasFinding(wrong, "board-size-mismatch")) << "seed " << seed << ": " << wrong.message;
+  }
+}
+
+// The scaled layout residual: at s = 1 the plain one, and its s derivative (automatic) against a
+// central difference.
+TEST(EyeToHand, ScaledKnownPointCostMatchesAndItsScaleDerivativeIsRight)
+{
+  const vpColVector L({0.03, -0.02, 0.001});
+  const double o[6] = {0.1, -0.2, 0.5, 0.3, -0.1, 0.2}, X[3] = {0.12, -0.25, 0.49};
+  double r0[3], r1[3], rp[3], rm[3];
+  const double one = 1, s = 0.9, h = 1e-6, sp = s + h, sm = s - h;
+  vpKinematicBundle::KnownPointCost(L, 1e-3)(o, X, r0);
+  vpKinematicBundle::ScaledKnownPointCost(L, 1e-3)(o, &one, X, r1);
+  for (int i = 0; i < 3; ++i)
+    EXPECT_DOUBLE_EQ(r0[i], r1[i]);
+  ceres::AutoDiffCostFunction<vpKinematicBundle::ScaledKnownPointCost, 3, 6, 1, 3> f(
+      new vpKinematicBundle::ScaledKnownPointCost(L, 1e-3));
+  const double *params[3] = {o, &s, X};
+  double r[3], J0[18], J1[3], J2[9];
+  double *J[3] = {J0, J1, J2};
+  ASSERT_TRUE(f.Evaluate(params, r, J));
+  vpKinematicBundle::ScaledKnownPointCost(L, 1e-3)(o, &sp, X, rp);
+  vpKinematicBundle::ScaledKnownPointCost(L, 1e-3)(o, &sm, X, rm);
+  for (int i = 0; i < 3; ++i)
+    EXPECT_NEAR(J1[i], (rp[i] - rm[i]) / (2 * h), 1e-6 * (1 + std::fabs(J1[i])));
+}
+
 // The paper's method needs a moving camera; the bundle method needs the target's layout.
 TEST(EyeToHand, PaperAndBundleWithoutLayoutAreRefused)
 {

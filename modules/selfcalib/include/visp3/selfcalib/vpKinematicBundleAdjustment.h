@@ -219,6 +219,16 @@ public:
       lets the points take the board's shape from the images (and the focal length with it).
     */
     double known_points_sd = 1e-5;
+    /*!
+      With known points in hand-eye-only mode (the robot's metric motion fixes the scale; in the full
+      mode a wrong size scales the kinematic corrections instead): after the solve, measure the scale
+      of the declared layout. One more
+      adjustment from the solution frees a factor s on the layout (every known point s L_j), and
+      Result::layout_scale and its sd come from its covariance; the estimate is not changed. A
+      layout declared at the wrong size (a board's spacing mistyped) gives s away from 1 when the
+      views determine it; poses on a sphere about the board leave it undetermined (a large sd). On by default.
+    */
+    bool measure_layout_scale = true;
     unsigned int num_threads = 1;       //!< more is faster on large problems, but not bit-reproducible
     void check() const; //!< throws vpSelfCalibException on a setting out of range
   };
@@ -266,6 +276,15 @@ public:
     vpPoseVector object_pose;
     vpMatrix object_covariance;
     vpColVector object_sd;
+    /*!
+      Settings::measure_layout_scale with known points and a covariance: the layout's scale s the
+      views measure (1: the declared size), its sd (scaled as the covariance; infinite when the views
+      do not determine it), and whether it was measured (false: no known points, not hand-eye-only
+      mode, or the solve failed).
+    */
+    bool has_layout_scale = false;
+    double layout_scale = 1;
+    double layout_scale_sd = 0;
     vpColVector sd;                          //!< per chain parameter (0 for those not estimated)
     //! Estimated intrinsics: "fx", "mu", "u0", "v0", then "kud" or OpenCV's "k1", "k2", "p1", "p2", "k3".
     std::vector<std::string> intrinsic_names;
