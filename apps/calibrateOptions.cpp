@@ -81,7 +81,8 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
                 "e.g. 0.002,0.002: each pose gets a correction with that prior, and the sd are\n"
                 "widened by sigma0 when the residuals say the noise is larger; bundle-adjustment: the\n"
                 "kinematic model's own residual (each camera pose corrected in its own frame with that\n"
-                "prior; default: measured, see --joint-sd); auto (hand-eye's default): measured from\n"
+                "prior; stated, or measured with --joint-sd auto on arms of fewer than 6 joints);\n"
+                "auto (hand-eye's default): measured from\n"
                 "the corrections (variance components), from the dataset's robot_error or 1 mm /\n"
                 "1 mrad, runs again until it settles within 10 %; 0: the robot is exact (no error\n"
                 "modelled: the controller poses, or the joint readings and the model)")
@@ -99,9 +100,11 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
              a.joint_sd.push_back(std::stod(v));
        },
        "bundle-adjustment: the joint readings' error (rad). auto: measured (variance\n"
-       "components inside the bundle adjustment, the priors re-weighed until they settle\n"
-       "within 25 %) from the dataset's robot_error, else from 3e-4 rad with the model's\n"
-       "residual from 0.2 mm / 0.2 mrad; a level below 4e-5 is dropped (exact). S: stated,\n"
+       "components inside the bundle adjustment, with the image noise's own factor, the\n"
+       "priors re-weighed until they settle within 25 %) from the dataset's robot_error, else\n"
+       "from 3e-4 rad; on arms of fewer than 6 joints the model's residual too, from 0.2 mm /\n"
+       "0.2 mrad (on 6 or more the joints take the whole error: the images cannot split it);\n"
+       "a level below 4e-5 is dropped (exact). S: stated,\n"
        "one value for every joint or one per joint, e.g. 1e-4: each view gets joint\n"
        "corrections with that prior, and the sd are widened by sigma0 when the residuals say\n"
        "the noise is larger. 0: the joint readings and the model are exact (no error\n"
