@@ -161,7 +161,7 @@ int calibrate(const CalibrateArgs &a)
   if (!world_bundle && (world || co.method == vpRobotSelfCalibration::HAND_EYE))
     refuseBundleOptions(a); // before the front end runs, when the method is known
   const vpKinematicChain nominal = vpKinematicChain::fromPresetOrFile(ds.robot);
-  co.prior = nominal; // the front end's matching is guided by the nominal kinematics
+  co.prior = nominal; // the front end's prior: the nominal kinematics with eMc and f measured from the images
   const bool hand_eye = world ? !world_bundle : co.method == vpRobotSelfCalibration::HAND_EYE;
   checkParameterLists(nominal, ds, po, hand_eye,
                       !a.estimate.empty() || (po.focal_mode == vpRobotSelfCalibration::FOCAL_AUTO ? !ds.focal_known

@@ -91,6 +91,15 @@ BENCHES = [
      "height), its progress stamped stage by stage (image front end, the calibration on every view, "
      "each fold of the cross-validation, the report), wall and CPU time, and what it gives: eMc against "
      "the truth, f, the calibration's and the held-out RMS. Target: under 30 s on 2 cores."),
+    ("bench-start", ["--seeds", "2"],
+     "Whether a self-calibration depends on where it starts: the simulated Viper850, 12 views, the focal "
+     "length self-calibrated by the bundle method from six starts (a focal guess of 0.5x, 1x and 2x the "
+     "truth, each with the model's eMc guess right and turned by 90 deg), each answer against the "
+     "reference start's (1x, eMc right) in units of its sd. Three scenes: the simulated points (no front "
+     "end), rendered images with the reference start's tracks fixed (the start alone), and rendered "
+     "images with the front end run from each start as calibrate runs it (its prior measured from the "
+     "images: the observations each start finds, those it shares with the reference's, whether the "
+     "prior guided the matching)."),
     ("bench-eye-to-hand", [],
      "A camera fixed in the world and a board on the tool of a 6-axis (UR5) and a 7-axis (Panda) arm "
      "(simulated points data, a 1280 x 720 camera), calibrated by the hand-eye method (controller poses, "

@@ -253,7 +253,7 @@ int main(int argc, char **argv)
     vpSelfCalibDataset data = ds;
     vpSelfCalibImageCorrespondences::Options co;
     co.method = vpRobotSelfCalibration::methodFromName(method);
-    co.prior = nominal; // the front end's matching is guided by the nominal kinematics
+    co.prior = nominal; // the front end's prior: the nominal kinematics with eMc and f measured from the images
     vpSelfCalibImageCorrespondences::Result cr;
     if (acquisition != "points") {
       vpSelfCalibRenderer::Options ro;

@@ -131,7 +131,7 @@ Features detectFeatures(const std::vector<cv::Mat> &mats, const std::vector<cv::
         desc.row(static_cast<int>(order[r])).copyTo(f.desc[k].row(static_cast<int>(r)));
       }
       // Distinctiveness, for the guided search's ratio test (see searchGuided).
-      if (((opt.guided && !opt.prior.empty()) || opt.complete_tracks) && f.kp[k].size() >= 2)
+      if (((opt.guided && (!opt.prior.empty() || opt.measure_prior)) || opt.complete_tracks) && f.kp[k].size() >= 2)
         f.self_nn[k] = nearestOtherSquared(f.desc[k], opt.detector == FrontEnd::SIFT);
     });
   for (size_t k = 0; k < m; ++k) {

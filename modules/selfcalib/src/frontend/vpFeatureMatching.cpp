@@ -3,6 +3,9 @@
  * candidate matches, and their geometric verification (vpFundamentalMatrix, OpenCV's USAC).
  */
 #include "vpFeatureMatching.h"
+#include "vpFeatureTracks.h"
+
+#include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <visp3/selfcalib/vpFundamentalMatrix.h>
 
@@ -13,6 +16,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -427,6 +431,101 @@ std::vector<std::vector<Match>> verifyPairs(const Features &f, const FrontEnd::O
   return out;
 }
 
+// Verified matches already found without a prior (the pilot's), by pair.
+using Known = std::map<std::pair<size_t, size_t>, std::vector<Match>>;
+
+// The verified matches of every pair of `list` matched without a prior, those of `known` reused (a
+// pair's matches do not depend on when it is matched: its RANSAC has its own seed).
+std::vector<std::vector<Match>> unguidedPairs(const Features &f, const FrontEnd::Options &opt, const Pairs &list,
+                                              const Known &known)
+{
+  Pairs todo;
+  for (const auto &p : list)
+    if (!known.count(p))
+      todo.push_back(p);
+  std::vector<std::vector<Match>> found =
+      verifyPairs(f, opt, todo, [&](size_t i, size_t j) { return matchUnguided(f, i, j, opt); });
+  std::vector<std::vector<Match>> out;
+  size_t t = 0;
+  for (const auto &p : list) {
+    const auto k = known.find(p);
+    out.push_back(k != known.end() ? k->second : std::move(found[t++]));
+  }
+  return out;
+}
+
+//! Features of each image the pilot's reference view is chosen on: the strongest.
+const size_t kContentFeatures = 300;
+
+// The pilot's reference view by image content alone (see the class): the kContentFeatures strongest
+// features of every image (by detector response) matched without a prior with every other image's
+// (ratio test, mutual); the view with the most candidate matches over its pairs, the first of equals.
+size_t referenceByContent(const Features &f, const FrontEnd::Options &opt)
+{
+  const size_t m = f.kp.size();
+  Features strong;
+  strong.kp.resize(m);
+  strong.desc.resize(m);
+  for (size_t i = 0; i < m; ++i) {
+    std::vector<size_t> order(f.kp[i].size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return f.kp[i][a].response > f.kp[i][b].response; });
+    order.resize(std::min(order.size(), kContentFeatures));
+    for (size_t k : order) {
+      strong.kp[i].push_back(f.kp[i][k]);
+      strong.desc[i].push_back(f.desc[i].row(static_cast<int>(k)));
+    }
+  }
+  Pairs all;
+  for (size_t i = 0; i < m; ++i)
+    for (size_t j = i + 1; j < m; ++j)
+      all.push_back({i, j});
+  std::vector<size_t> count(all.size(), 0);
+  parallelFor(all.size(), threadCount(opt),
+              [&](size_t p) { count[p] = matchUnguided(strong, all[p].first, all[p].second, opt).size(); });
+  std::vector<size_t> score(m, 0);
+  for (size_t p = 0; p < all.size(); ++p) {
+    score[all[p].first] += count[p];
+    score[all[p].second] += count[p];
+  }
+  return static_cast<size_t>(std::max_element(score.begin(), score.end()) - score.begin());
+}
+
+// The prior measured from a pilot (Options::measure_prior, see the class): the reference view by
+// content matched with every other image without a prior, its verified matches (kept in `known`)
+// made into tracks (not completed), given to measure_prior. Throws vpSelfCalibException when the
+// prior it returns has not one pose per image.
+FrontEnd::Prior measurePrior(const Features &f, const FrontEnd::Options &opt, Known &known, FrontEnd::Result &res)
+{
+  const size_t m = f.kp.size(), r = referenceByContent(f, opt);
+  Pairs pairs;
+  for (size_t k = 0; k < m; ++k)
+    if (k != r)
+      pairs.push_back({std::min(r, k), std::max(r, k)});
+  const std::vector<std::vector<Match>> verified = unguidedPairs(f, opt, pairs, known);
+  res.pilot_reference = static_cast<int>(r);
+  for (size_t p = 0; p < pairs.size(); ++p) {
+    known[pairs[p]] = verified[p];
+    res.pilot_matches += static_cast<unsigned int>(verified[p].size());
+  }
+  TrackOptions to;
+  to.tolerance = opt.track_tolerance;
+  to.seed = opt.seed;
+  to.complete = false;
+  to.ratio = opt.ratio;
+  to.guided_ratio = opt.guided_ratio;
+  to.threads = threadCount(opt);
+  FrontEnd::Result pilot;
+  buildTracks(f, pairs, verified, to, pilot);
+  FrontEnd::Prior prior = opt.measure_prior(pilot.observations);
+  if (!prior.empty() && prior.fMc.size() != m)
+    throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                               "vpFeatureFrontEnd: measure_prior returned " + std::to_string(prior.fMc.size()) +
+                                   " camera poses for " + std::to_string(m) + " images");
+  return prior;
+}
+
 // The half-width (px) of the guided search's band at depth z: the prior's uncertainty (3 sd) plus
 // ransac_threshold.
 double bandOf(const PriorGeometry &g, const FrontEnd::Options &opt, double z)
@@ -527,7 +626,7 @@ bool priorAgrees(const ProbeCheck &c, const FrontEnd::Options &opt, FrontEnd::Re
 // The kinematics-guided matching (see the class): true with the selected pairs and their verified
 // matches, false (res.warnings says why) when the prior disagrees with the images.
 bool matchWithPrior(const Features &f, const FrontEnd::Options &opt, unsigned int width, unsigned int height,
-                    Pairs &pairs, std::vector<std::vector<Match>> &verified, FrontEnd::Result &res)
+                    const Known &known, Pairs &pairs, std::vector<std::vector<Match>> &verified, FrontEnd::Result &res)
 {
   const size_t m = f.kp.size();
   const PriorGeometry g(opt.prior, width, height);
@@ -543,8 +642,7 @@ bool matchWithPrior(const Features &f, const FrontEnd::Options &opt, unsigned in
       O[i][j] = O[j][i] = g.overlap(i, j, depth);
   const Pairs selected = selectPairs(O, opt);
   const Pairs probes = chooseProbes(selected, O, g, opt);
-  const std::vector<std::vector<Match>> probe_matches =
-      verifyPairs(f, opt, probes, [&](size_t i, size_t j) { return matchUnguided(f, i, j, opt); });
+  const std::vector<std::vector<Match>> probe_matches = unguidedPairs(f, opt, probes, known);
   const ProbeCheck c = checkProbes(f, g, opt, probes, probe_matches, depth);
   if (!priorAgrees(c, opt, res))
     return false;
@@ -582,15 +680,24 @@ void matchImages(const Features &f, const FrontEnd::Options &opt, unsigned int w
   const size_t m = f.kp.size();
   pairs.clear();
   bool done = false;
-  if (opt.guided && !opt.prior.empty()) {
-    done = matchWithPrior(f, opt, width, height, pairs, verified, res);
+  Known known;
+  FrontEnd::Options measured;
+  const FrontEnd::Options *use = &opt;
+  if (opt.guided && opt.prior.empty() && opt.measure_prior && m >= 3) {
+    measured = opt;
+    measured.prior = measurePrior(f, opt, known, res);
+    measured.check();
+    use = &measured;
+  }
+  if (use->guided && !use->prior.empty()) {
+    done = matchWithPrior(f, *use, width, height, known, pairs, verified, res);
     res.fallback = !done;
   }
   if (!done) {
     for (size_t i = 0; i < m; ++i)
       for (size_t j = i + 1; j < m; ++j)
         pairs.push_back({i, j});
-    verified = verifyPairs(f, opt, pairs, [&](size_t i, size_t j) { return matchUnguided(f, i, j, opt); });
+    verified = unguidedPairs(f, opt, pairs, known);
   }
   res.pairs_matched = static_cast<unsigned int>(pairs.size());
   res.matches.assign(m, std::vector<unsigned int>(m, 0));

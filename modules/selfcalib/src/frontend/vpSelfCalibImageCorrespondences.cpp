@@ -7,12 +7,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <set>
 #include <sstream>
 #include <utility>
 
 #include <visp3/io/vpImageIo.h>
 
+#include "../pipeline/vpSelfCalibPipelines.h" // measuredStart
+
 #include <opencv2/imgproc.hpp>
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
 
 bool vpSelfCalibImageCorrespondences::needsFrontEnd(const vpSelfCalibDataset &dataset)
 {
@@ -40,19 +47,209 @@ vpFeatureFrontEnd::Prior vpSelfCalibImageCorrespondences::makePrior(const vpKine
 
 namespace
 {
-// The front end's options with the model's prior when the caller asked for one.
+/*
+  The epipolar residual of one match (pixel a in view i, pixel b in view k) under the robot's
+  end-effector motion A = e_kMe_i and eMc: the camera's motion c_kMc_i = eMc^-1 A eMc = (R, t),
+  E = [t]x R, the Sampson distance of the normalized rays x_a = ((u - u0) / f, (v - v0) / (mu f), 1)
+  and x_b, in px (f fixed):
+      r = f (x_b^T E x_a) / sqrt((E x_a)_1^2 + (E x_a)_2^2 + (E^T x_b)_1^2 + (E^T x_b)_2^2).
+  eMc = (R0 exp([w]x), t0 + dt) about the measured start (R0, t0). (f is not refined here: with the
+  robot's own error left in the residual, the epipolar distance is smallest at a wrong f, small in
+  px, large in normalized units.)
+*/
+struct EpipolarThroughRobot {
+  Eigen::Matrix3d RA, R0;
+  Eigen::Vector3d tA, t0;
+  Eigen::Vector3d a, b; // the normalized rays of the two pixels
+  double f;
+  template <typename T> bool operator()(const T *w, const T *dt, T *residual) const
+  {
+    using M3 = Eigen::Matrix<T, 3, 3>;
+    using V3 = Eigen::Matrix<T, 3, 1>;
+    M3 dR;
+    ceres::AngleAxisToRotationMatrix(w, dR.data());
+    const M3 Rc = R0.cast<T>() * dR;
+    const V3 tc = t0.cast<T>() + V3(dt[0], dt[1], dt[2]);
+    // c_kMc_i = eMc^-1 A eMc: R = Rc^T RA Rc, t = Rc^T (RA tc + tA - tc).
+    const M3 R = Rc.transpose() * RA.cast<T>() * Rc;
+    const V3 t = Rc.transpose() * (RA.cast<T>() * tc + tA.cast<T>() - tc);
+    M3 tx;
+    tx << T(0), -t(2), t(1), t(2), T(0), -t(0), -t(1), t(0), T(0);
+    const M3 E = tx * R;
+    const V3 xa = a.cast<T>(), xb = b.cast<T>();
+    const V3 Ea = E * xa, Etb = E.transpose() * xb;
+    const T den = Ea(0) * Ea(0) + Ea(1) * Ea(1) + Etb(0) * Etb(0) + Etb(1) * Etb(1);
+    residual[0] = T(f) * xb.dot(Ea) / ceres::sqrt(den + T(1e-30));
+    return true;
+  }
+};
+
+//! Scene points measurePrior() measures the start on, at most.
+const size_t kPriorPoints = 400;
+
+//! Matches a pair of views contributes to refineEMc() (every n-th by id: a fixed, even sample).
+const size_t kRefineMatchesPerPair = 60;
+
+/*
+  eMc refined on the pilot's observations at the focal length f: every pair of views sharing 15 ids
+  or more, at most kRefineMatchesPerPair of its matches, the epipolar residuals through the robot
+  (EpipolarThroughRobot, Cauchy loss of scale 2 px: a few wrong matches and the kinematics' own
+  error); Ceres. The measured start's eMc is the start. False (eMc unchanged) when Ceres finds no
+  usable solution or too few matches.
+*/
+bool refineEMc(const std::vector<vpSelfCalibDataset::View> &views, const vpCameraParameters &cam, double f,
+               vpSelfCalib::Rigid &eMc)
+{
+  const double mu = cam.get_py() / cam.get_px();
+  const auto ray = [&](const vpImagePoint &p) {
+    return Eigen::Vector3d((p.get_u() - cam.get_u0()) / f, (p.get_v() - cam.get_v0()) / (mu * f), 1);
+  };
+  double w[3] = {0, 0, 0}, dt[3] = {0, 0, 0};
+  ceres::Problem problem;
+  size_t residuals = 0;
+  for (size_t i = 0; i < views.size(); ++i)
+    for (size_t k = i + 1; k < views.size(); ++k) {
+      std::map<int, vpImagePoint> in_i;
+      for (const auto &o : views[i].points)
+        in_i[o.id] = o.ip;
+      std::vector<std::pair<vpImagePoint, vpImagePoint>> common;
+      for (const auto &o : views[k].points)
+        if (in_i.count(o.id))
+          common.push_back({in_i[o.id], o.ip});
+      if (common.size() < 15)
+        continue;
+      const vpSelfCalib::Rigid A = vpSelfCalib::rigidFromVisp(views[k].fMe.inverse() * views[i].fMe); // e_kMe_i
+      const size_t step = std::max<size_t>(1, common.size() / kRefineMatchesPerPair);
+      for (size_t c = 0; c < common.size(); c += step) {
+        auto *r = new EpipolarThroughRobot{A.R, eMc.R, A.t, eMc.t, ray(common[c].first), ray(common[c].second), f};
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<EpipolarThroughRobot, 1, 3, 3>(r),
+                                 new ceres::CauchyLoss(2.0), w, dt);
+        ++residuals;
+      }
+    }
+  if (residuals < 30)
+    return false;
+  ceres::Solver::Options so;
+  so.max_num_iterations = 50;
+  so.num_threads = 1;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  if (!summary.IsSolutionUsable())
+    return false;
+  Eigen::Matrix3d dR;
+  ceres::AngleAxisToRotationMatrix(w, dR.data());
+  eMc.R = eMc.R * dR;
+  eMc.t += Eigen::Vector3d(dt[0], dt[1], dt[2]);
+  return true;
+}
+} // namespace
+
+vpFeatureFrontEnd::Prior vpSelfCalibImageCorrespondences::measurePrior(
+    const vpKinematicChain &model, const vpSelfCalibDataset &dataset,
+    const std::vector<std::vector<vpSelfCalibDataset::Observation>> &pilot, double threshold_px, std::string &how)
+{
+  if (pilot.size() != dataset.views.size())
+    throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                               "vpSelfCalibImageCorrespondences::measurePrior: " + std::to_string(pilot.size()) +
+                                   " views of observations for " + std::to_string(dataset.views.size()) + " views");
+  // At most kPriorPoints scene points (every n-th id): the start's RANSACs cost with the points, and
+  // a few hundred spread over the images measure a start as well as thousands.
+  std::set<int> ids;
+  for (const auto &view : pilot)
+    for (const auto &o : view)
+      ids.insert(o.id);
+  std::set<int> kept;
+  const size_t every = (ids.size() + kPriorPoints - 1) / kPriorPoints;
+  size_t n = 0;
+  for (int id : ids)
+    if (n++ % std::max<size_t>(every, 1) == 0)
+      kept.insert(id);
+  std::vector<vpSelfCalibDataset::View> views(dataset.views.size());
+  for (size_t k = 0; k < views.size(); ++k) {
+    const vpSelfCalibDataset::View &v = dataset.views[k];
+    if (v.q.size() == model.getNumJoints() && v.q.size() > 0)
+      views[k].fMe = model.get_fMe(v.q);
+    else if (v.q.size() == 0 && v.has_fMe)
+      views[k].fMe = v.fMe;
+    else {
+      how = "view " + std::to_string(k) + " has neither the model's joints nor an end-effector pose";
+      return vpFeatureFrontEnd::Prior();
+    }
+    views[k].has_fMe = true;
+    for (const auto &o : pilot[k])
+      if (kept.count(o.id))
+        views[k].points.push_back(o);
+  }
+  // A known focal length: the pixels through the lens; else a pinhole camera's (the start's rule).
+  const vpSelfCalib::CameraModel lens = vpSelfCalibPipeline::lensOf(dataset);
+  const std::vector<vpSelfCalibDataset::View> pixels =
+      dataset.focal_known ? vpSelfCalibPipeline::undistorted(views, lens) : views;
+  const vpSelfCalibPipeline::MeasuredStart m =
+      vpSelfCalibPipeline::measuredStart(pixels, lens, dataset.width, {}, dataset.focal_known, threshold_px);
+  how = m.how;
+  if (!m.has_eMc)
+    return vpFeatureFrontEnd::Prior();
+  vpSelfCalib::Rigid eMc = m.eMc;
+  const double f = m.has_fx ? m.fx : dataset.cam.get_px();
+  if (refineEMc(pixels, dataset.cam, f, eMc))
+    how += "; eMc refined on the epipolar geometry of every pair";
+  vpFeatureFrontEnd::Prior prior;
+  for (const vpSelfCalibDataset::View &v : views)
+    prior.fMc.push_back(v.fMe * vpSelfCalib::toVisp(eMc));
+  prior.cam = dataset.cam;
+  if (m.has_fx) {
+    const double mu = dataset.cam.get_py() / dataset.cam.get_px();
+    prior.cam.initPersProjWithoutDistortion(f, mu * f, dataset.cam.get_u0(), dataset.cam.get_v0());
+  }
+  return prior;
+}
+
+namespace
+{
+/*
+  The front end's options with the caller's prior (Options::prior): on a camera on the effector,
+  measured from a pilot of the images (measurePrior()), the model's guess when the pilot does not
+  measure it (a warning in `notes`); a camera in the world: the guess. `how` gets what made it.
+*/
 vpFeatureFrontEnd::Options withPrior(const vpSelfCalibImageCorrespondences::Options &options,
-                                     const vpSelfCalibDataset &dataset)
+                                     const vpSelfCalibDataset &dataset, std::vector<std::string> &notes,
+                                     std::string &how)
 {
   vpFeatureFrontEnd::Options fo = options.front_end;
   // The yardstick's dots are looked for only when the dataset declares a yardstick: dots found in a
   // scene that has none would be a false yardstick.
   fo.yardstick = fo.yardstick && dataset.yardstick.length > 0;
-  if (options.prior && fo.prior.empty() && fo.features) {
-    const vpFeatureFrontEnd::Prior p = vpSelfCalibImageCorrespondences::makePrior(*options.prior, dataset);
-    fo.prior.fMc = p.fMc;
-    fo.prior.cam = p.cam;
+  if (!options.prior || !fo.prior.empty() || !fo.features || fo.measure_prior)
+    return fo;
+  const vpFeatureFrontEnd::Prior guess = vpSelfCalibImageCorrespondences::makePrior(*options.prior, dataset);
+  if (guess.empty())
+    return fo;
+  if (dataset.camera_mount != vpSelfCalibDataset::CAMERA_ON_EFFECTOR || !fo.guided) {
+    fo.prior.fMc = guess.fMc;
+    fo.prior.cam = guess.cam;
+    how = "the model's eMc guess and the dataset's camera";
+    return fo;
   }
+  const vpKinematicChain model = *options.prior;
+  const double threshold = std::max(1.0, fo.ransac_threshold);
+  fo.measure_prior = [model, dataset, guess, threshold, &notes, &how](
+                         const std::vector<std::vector<vpSelfCalibDataset::Observation>> &pilot) {
+    std::string start;
+    vpFeatureFrontEnd::Prior measured =
+        vpSelfCalibImageCorrespondences::measurePrior(model, dataset, pilot, threshold, start);
+    if (!measured.empty()) {
+      how = "measured from the images: eMc and f from " + start;
+      measured.rotation_sd = guess.rotation_sd;
+      measured.translation_sd = guess.translation_sd;
+      return measured;
+    }
+    how = "the model's eMc guess and the dataset's camera (" + start + ")";
+    notes.push_back("the front end's prior could not be measured from the images (" + start +
+                    "): the model's eMc guess and the dataset's focal length guide the matching; if they are far "
+                    "off, the probe check may not see it");
+    vpFeatureFrontEnd::Prior p = guess;
+    return p;
+  };
   return fo;
 }
 // Options that cannot work, refused before any image is read.
@@ -82,8 +279,11 @@ vpSelfCalibImageCorrespondences::Result vpSelfCalibImageCorrespondences::fromDat
     if (options.board)
       runOnImages(dataset, readImages(dataset), options, result);
     else {
-      result.front_end = vpFeatureFrontEnd::fillDataset(dataset, withPrior(options, dataset));
+      std::vector<std::string> notes;
+      const vpFeatureFrontEnd::Options fo = withPrior(options, dataset, notes, result.prior);
+      result.front_end = vpFeatureFrontEnd::fillDataset(dataset, fo);
       result.front_end_ran = true;
+      result.warnings.insert(result.warnings.end(), notes.begin(), notes.end());
       result.warnings.insert(result.warnings.end(), result.front_end.warnings.begin(), result.front_end.warnings.end());
     }
   }
@@ -116,7 +316,8 @@ void vpSelfCalibImageCorrespondences::runOnImages(vpSelfCalibDataset &dataset,
                                                   const Options &options, Result &result)
 {
   // The board only masked: found in every image, its region out of the front end's masks.
-  vpFeatureFrontEnd::Options front_end = withPrior(options, dataset);
+  std::vector<std::string> notes;
+  vpFeatureFrontEnd::Options front_end = withPrior(options, dataset, notes, result.prior);
   front_end.masks = vpFeatureFrontEnd::viewMasks(dataset, front_end.masks, "vpSelfCalibImageCorrespondences");
   if (options.board && options.mask_board) {
     const vpBoardDetector detector(*options.board);
@@ -148,6 +349,7 @@ void vpSelfCalibImageCorrespondences::runOnImages(vpSelfCalibDataset &dataset,
   if (!options.board || options.mask_board || options.front_end.features || !options.front_end.dot_grids.empty()) {
     result.front_end = vpFeatureFrontEnd::process(images, front_end);
     result.front_end_ran = true;
+    result.warnings.insert(result.warnings.end(), notes.begin(), notes.end());
     result.warnings.insert(result.warnings.end(), result.front_end.warnings.begin(), result.front_end.warnings.end());
     for (size_t k = 0; k < dataset.views.size(); ++k)
       dataset.views[k].points = result.front_end.observations[k];

@@ -12,6 +12,7 @@
 #include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,15 @@
        repeated texture would offer the twin in the other image too). In two stages: the 400 strongest features of image i first, whose verified matches
        estimate the pair's F; then every feature, within the band and within
        2 ransac_threshold + 1 px of its epipolar line under that F;
+     - a prior measured from the images (Options::measure_prior, when Options::prior is empty): a
+       pilot first, matched without any prior: the reference view, the one whose 300 strongest
+       features find the most candidate matches (ratio test, mutual) among the other images'
+       strongest (image content alone), matched with every other image; its verified matches
+       become tracks (not completed), which measure_prior turns into a prior (e.g. the camera's
+       motions against the robot's: vpSelfCalibImageCorrespondences). That prior then guides the
+       matching as a given one does (probes and checks included); the pilot's verified matches are
+       reused wherever the same pair is matched without a prior (probes, fallback). An empty
+       measured prior: every pair unguided;
      - fallback: when the prior disagrees with the images (prior_agreement < min_prior_agreement,
        or the guided search finds fewer than half the probes' unguided matches on the probe pairs),
        every pair is matched without the prior and Result::warnings says why.
@@ -154,6 +164,13 @@ public:
     //! everywhere.
     std::vector<vpImage<unsigned char>> masks;
     Prior prior;                      //!< kinematic prior (step 2); empty: every pair, unguided
+    /*!
+      A prior measured from the images (step 2), used when `prior` is empty and `guided` is on: it is
+      given the pilot's observations (per image, tracks of the reference view with every other, ids
+      0, 1, ...) and returns the prior that guides the matching (empty: every pair unguided).
+      Unset: no pilot.
+    */
+    std::function<Prior(const std::vector<std::vector<vpSelfCalibDataset::Observation>> &pilot)> measure_prior;
     bool guided = true;               //!< use the prior when there is one
     unsigned int neighbours = 8;      //!< guided: images each image is matched with, most overlapping first
     double min_overlap = 0.25;        //!< guided: predicted overlap a neighbour needs (0-1)
@@ -185,6 +202,9 @@ public:
     unsigned int tracks_merged = 0;              //!< tracks joined to another (whole) by the completion
     bool guided = false;             //!< the prior guided the matching (false: none, or fallback)
     bool fallback = false;           //!< a prior was given and rejected (see warnings)
+    //! Options::measure_prior ran: the pilot's reference view (-1: no pilot) and its verified matches.
+    int pilot_reference = -1;
+    unsigned int pilot_matches = 0;
     double prior_agreement = -1;     //!< fraction of the probes' unguided matches inside the predicted band (-1: not measured)
     double depth_min = 0, depth_max = 0; //!< guided: scene depth range used (m)
     //! What the caller should tell the user (the prior rejected and why, masks ignored...).

@@ -68,10 +68,16 @@ public:
     bool mask_board = false;
     double mask_margin = 15; //!< px: the board's mask reaches this far beyond its outer points
     /*!
-      The nominal robot model as the front end's kinematic prior (vpFeatureFrontEnd, step 2): when
-      set and front_end.prior is empty, makePrior() predicts every view's camera pose from it and
-      the matching is guided by it (and falls back to unguided matching, with a warning, when the
-      images disagree with it). Unset: every pair matched without a prior.
+      The nominal robot model as the front end's kinematic prior (vpFeatureFrontEnd, step 2), when
+      set and front_end.prior is empty. With the camera on the effector (and front_end.guided), the
+      prior is measured from the images, not taken from the guess: the front end's pilot (the
+      reference view with every other image, matched without a prior) gives tracks from which
+      measurePrior() measures eMc and, when it is self-calibrated, the focal length (the measured
+      start of the calibration: the camera's motions against the robot's), and every view's camera
+      pose is predicted from the model's end-effector poses and that eMc. When they cannot be
+      measured, makePrior() predicts from the model's eMc guess and the dataset's focal length, with
+      a warning. The camera in the world: makePrior(). The matching falls back to unguided, with a
+      warning, when the images disagree with the prior. Unset: every pair matched without a prior.
     */
     std::optional<vpKinematicChain> prior;
     //! The calibration method. Unset (default): HAND_EYE when a view (after leaving out those
@@ -102,6 +108,9 @@ public:
     //! and reason), a declared yardstick replaced by the board, the front end's warnings (a
     //! kinematic prior rejected).
     std::vector<std::string> warnings;
+    //! What the front end's prior was made from (Options::prior): measured from the images, or the
+    //! model's guess and why; empty when there was none.
+    std::string prior;
     vpRobotSelfCalibration::Method method = vpRobotSelfCalibration::BUNDLE_ADJUSTMENT;
   };
 
@@ -112,6 +121,24 @@ public:
     neither joints nor fMe, or the joints do not fit the model.
   */
   static vpFeatureFrontEnd::Prior makePrior(const vpKinematicChain &model, const vpSelfCalibDataset &dataset);
+
+  /*!
+    The front end's prior measured from a pilot's observations (per view of the dataset, ids shared
+    across views; at most 400 of the ids, every n-th, are used): the measured start of the calibration (two-view motions against the
+    end-effector's, OpenCV's hand-eye closed forms, a self-calibrated focal length where the two
+    agree best) on the views' end-effector poses (the model's forward kinematics at the joints, or
+    the controller poses fMe), at RANSAC threshold threshold_px; then eMc refined (Ceres) on the
+    epipolar distances of the matches of every pair of views through the robot's motions, at that
+    focal length (Cauchy loss, 2 px). Each view's camera pose is its
+    end-effector pose times the measured eMc; the camera is the dataset's, its focal length the
+    measured one when the dataset's is not known. Depends on neither the model's eMc nor the
+    dataset's focal guess. Empty when they cannot be measured (too few views sharing points, the
+    end-effector rotating about one axis only); `how` says what measured them or why not. Throws
+    vpSelfCalibException when pilot has not one entry per view.
+  */
+  static vpFeatureFrontEnd::Prior measurePrior(const vpKinematicChain &model, const vpSelfCalibDataset &dataset,
+                                               const std::vector<std::vector<vpSelfCalibDataset::Observation>> &pilot,
+                                               double threshold_px, std::string &how);
 
   /*!
     The mask (255: features may be found, 0: not) of a board found in an image of height x width:
