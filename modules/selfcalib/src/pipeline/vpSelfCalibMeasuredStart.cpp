@@ -58,11 +58,6 @@ const int kIterations = 1000;
   them; the search about the best rung scores every pair.
 */
 const size_t kRungPairs = 8;
-/*!
-  The search about the best rung stops once its bracket on log f is this narrow (f within 0.1 %,
-  far below the spread of the bundle adjustment's f, which starts from it).
-*/
-const double kFocalLogWidth = 2e-3;
 
 double angleOf(const Eigen::Matrix3d &R) { return logSO3(R).norm(); }
 
@@ -524,10 +519,9 @@ MeasuredStart measuredStart(const std::vector<View> &views, const CameraModel &l
   std::vector<Pair> few = rungPairs(pairs);
   const auto all_score = [&](double x) { return motionScore(pairs, lens, x, threshold_px); };
   const auto few_score = [&](double x) { return motionScore(few, lens, x, threshold_px, kRungIterations); };
-  double f = focal_known ? lens.px() : scanFocal(all_score, center, few_score, kFocalLogWidth);
+  double f = focal_known ? lens.px() : scanFocal(all_score, center, few_score);
   if (!focal_known && !(f > 0) && few.size() < pairs.size())
-    f = scanFocal(all_score, center, [&](double x) { return motionScore(pairs, lens, x, threshold_px, kRungIterations); },
-                  kFocalLogWidth);
+    f = scanFocal(all_score, center, [&](double x) { return motionScore(pairs, lens, x, threshold_px, kRungIterations); });
   const double score = f > 0 ? motionScore(pairs, lens, f, threshold_px) : std::numeric_limits<double>::infinity();
   if (std::isfinite(score))
     refinePairs(pairs, lens, f, threshold_px);

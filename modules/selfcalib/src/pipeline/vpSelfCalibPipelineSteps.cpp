@@ -434,10 +434,10 @@ double triangulateAll(const std::vector<View> &views, const std::vector<Rigid> &
 } // namespace
 
 double scanFocal(const std::function<double(double)> &score, double center,
-                 const std::function<double(double)> &rung_score, double log_width)
+                 const std::function<double(double)> &rung_score)
 {
   // A ladder of focal lengths from 0.3x to 4x center (steps of 2^(1/4)), then golden-section
-  // search on log f between the best rung's neighbours (20 steps, or until the bracket is log_width wide).
+  // search on log f between the best rung's neighbours.
   const std::function<double(double)> &rung = rung_score ? rung_score : score;
   double best = std::numeric_limits<double>::infinity();
   int best_k = 0;
@@ -453,7 +453,7 @@ double scanFocal(const std::function<double(double)> &score, double center,
   double a = std::log(center) + (best_k - 1) * std::log(2.0) / 4, b = a + std::log(2.0) / 2;
   const double g = (std::sqrt(5.0) - 1) / 2;
   double x1 = b - g * (b - a), x2 = a + g * (b - a), e1 = score(std::exp(x1)), e2 = score(std::exp(x2));
-  for (int it = 0; it < 20 && !(b - a < log_width); ++it) {
+  for (int it = 0; it < 20; ++it) {
     if (e1 < e2) {
       b = x2;
       x2 = x1;

@@ -120,12 +120,10 @@ bool bundleFrom(const Context &context, const vpKinematicChain &start, const std
   The focal length (px) that minimises score(f): a ladder of rungs from 0.3x to 4x `center` (steps
   of 2^(1/4)), then a golden-section search on log f between the best rung's neighbours; 0 when no
   rung has a finite score. `rung_score`, when given, scores the rungs instead (a cheaper score that
-  ranks the rungs as score does: most rungs are far from the optimum). The search takes 20 steps
-  (the bracket 2e-5 wide on log f), fewer when `log_width` > 0: it stops once the bracket is
-  narrower (f within log_width / 2 relative of the search's optimum).
+  ranks the rungs as score does: most rungs are far from the optimum).
 */
 double scanFocal(const std::function<double(double)> &score, double center,
-                 const std::function<double(double)> &rung_score = {}, double log_width = 0);
+                 const std::function<double(double)> &rung_score = {});
 
 //! A start from the camera poses the robot predicts (see predictedStart()).
 struct PredictedStart {
