@@ -51,10 +51,11 @@ void findYardstickUnused(const Context &c, Result &res)
                                    "the yardstick is in the data but its points were rejected (wrong matches, or "
                                    "not placed by the reconstruction): the scale is the nominal model's; check the "
                                    "yardstick's observations"});
-  // Hand-eye: the robot's motion sets the scale and the yardstick is measured against it (no known
-  // layout); ends whose observations contradict the robot at the declared length are rejected.
+  // Hand-eye, the camera on the flange: the robot's motion sets the scale and the yardstick is measured
+  // against it (no known layout); ends whose observations contradict the robot at the declared length
+  // are rejected.
   if (res.status == vpRobotSelfCalibration::OK && c.options.method == vpRobotSelfCalibration::HAND_EYE &&
-      c.dataset.yardstick.isSet() && !unseen && c.options.bundle.measure_layout_scale &&
+      c.dataset.camera_mount == vpSelfCalibDataset::CAMERA_ON_EFFECTOR && c.dataset.yardstick.isSet() && !unseen && c.options.bundle.measure_layout_scale &&
       c.bundle.known_points.empty() && res.bundle.has_covariance && !res.bundle.has_layout_scale) {
     std::ostringstream length;
     length << c.dataset.yardstick.length;
