@@ -94,7 +94,10 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
        "--joint-sd",
        [&a](const std::vector<std::string> &values) {
          for (const std::string &v : values)
-           if (v == "auto")
+           if (v == "auto" && values.size() > 1) // auto,auto or auto,1e-4: one or the other
+             throw CLI::ValidationError("--joint-sd", "auto (measured) comes alone, once; or give the error (rad), "
+                                                      "one value for every joint or one per joint, or 0");
+           else if (v == "auto")
              a.joint_sd_auto = true;
            else
              a.joint_sd.push_back(std::stod(v));

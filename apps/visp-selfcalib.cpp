@@ -109,10 +109,10 @@ int run(int argc, char **argv)
                "import a dataset, calibrate, verify, predict camera poses and export the calibrated model.",
                kProgram);
   app.require_subcommand(1);
-  app.set_version_flag("--version", std::string(kProgram) + " " + VISP_SELFCALIB_VERSION_STRING + " (ViSP " +
-                                         std::to_string(VISP_VERSION_MAJOR) + "." + std::to_string(VISP_VERSION_MINOR) +
-                                         "." + std::to_string(VISP_VERSION_PATCH) + ")",
-                       "print the version and exit");
+  const std::string version = std::string(kProgram) + " " + VISP_SELFCALIB_VERSION_STRING + " (ViSP " +
+                              std::to_string(VISP_VERSION_MAJOR) + "." + std::to_string(VISP_VERSION_MINOR) + "." +
+                              std::to_string(VISP_VERSION_PATCH) + ")";
+  app.set_version_flag("--version", version, "print the version and exit");
   app.footer("MODEL: " + modelHelp() + ". DATASET: a dataset YAML file (doc/formats.md).\n"
              "'visp-selfcalib COMMAND --help' describes a command and its options.\n"
              "Exit codes: 0 success, 1 bad input (message on stderr), 2 bad usage, 3 no trustworthy\n"
@@ -120,6 +120,9 @@ int run(int argc, char **argv)
              "fails its checks); calibrate's last line says which and what to do.");
   Args args;
   addCommands(app, args);
+  // 'COMMAND --version' prints the version too, before any required argument is asked for.
+  for (CLI::App *sub : app.get_subcommands([](CLI::App *) { return true; }))
+    sub->set_version_flag("--version", version, "print the version and exit");
   if (argc == 2 && std::string(argv[1]) == "help") {
     std::cout << app.help();
     return 0;

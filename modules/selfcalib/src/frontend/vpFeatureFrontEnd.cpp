@@ -106,6 +106,11 @@ std::vector<cv::Mat> toMasks(const std::vector<vpImage<unsigned char>> &images, 
                                      std::to_string(images[0].getWidth()) + " x " +
                                      std::to_string(images[0].getHeight()));
     masks.push_back(toMat(opt.masks[k]));
+    if (cv::countNonZero(masks.back()) == 0)
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpFeatureFrontEnd: mask " + std::to_string(k) +
+                                     " is black all over: it hides every pixel, so no feature can be found "
+                                     "(a mask is white where features are looked for, black where they are not)");
   }
   return masks;
 }

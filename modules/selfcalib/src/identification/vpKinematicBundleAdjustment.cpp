@@ -242,8 +242,9 @@ void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::
 /*
   Stage 7, Settings::measure_layout_scale (hand-eye-only mode: the robot's metric motion is the scale's
   reference; in the full mode a wrong size scales the kinematic corrections, beyond their tolerance):
-  from the solution, one more plain least-squares solve with the known layout's scale free, and its sd from the covariance with every other block kept as in
-  stage 6 (scaled as res's covariance). The estimate in res is not changed. A singular information
+  from the solution, one more plain least-squares solve with the known layout's scale free (without a
+  layout, the yardstick's: its declared length times the scale), and its sd from the covariance with
+  every other block kept as in stage 6 (scaled as res's covariance). The estimate in res is not changed. A singular information
   (the views do not determine the scale) gives an infinite sd.
 */
 void measureLayoutScale(Adjustment &a, const vpSelfCalibDataset::Yardstick &yardstick, const KBA::Options &opt,
@@ -743,7 +744,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     if (solve && !opt.hand_eye_only && (noise.measure_joint_sd || noise.measure_model_sd))
       settleRobotError(a, yardstick, opt, distortion, start.getParameterNames(), solved, res);
     res.seconds_covariance = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc).count();
-    if (solve && opt.measure_layout_scale && opt.hand_eye_only && a.has_object)
+    if (solve && opt.measure_layout_scale && opt.hand_eye_only && (a.has_object || a.has_yardstick))
       measureLayoutScale(a, yardstick, opt, res);
   }
   res.status = KBA::OK;

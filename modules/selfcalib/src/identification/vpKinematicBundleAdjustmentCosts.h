@@ -260,6 +260,18 @@ struct YardstickCost {
   double L, w;
 };
 
+//! (|X_a - X_b| - s L) / sd: the yardstick's declared length L times a free scale s (its measure).
+struct ScaledYardstickCost {
+  ScaledYardstickCost(double length, double sd) : L(length), w(1 / sd) {}
+  template <typename T> bool operator()(const T *a, const T *b, const T *s, T *r) const
+  {
+    const T dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    r[0] = (ceres::sqrt(dx * dx + dy * dy + dz * dz) - s[0] * T(L)) * T(w);
+    return true;
+  }
+  double L, w;
+};
+
 //! s^T (rho - rho0) / |s|^2 / 1e-8: the relative scale of the model held at its start value.
 class ScaleCost : public ceres::CostFunction
 {

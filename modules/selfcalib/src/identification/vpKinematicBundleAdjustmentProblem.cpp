@@ -293,7 +293,14 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
                  : use_yardstick  ? KBA::SCALE_YARDSTICK
                  : (opt.eye_to_hand && known) ? KBA::SCALE_KNOWN_POINTS
                                               : KBA::SCALE_NOMINAL;
-  if (use_yardstick)
+  // With the scale free and no known layout, the yardstick is what is measured: its declared length
+  // times the free scale (measureLayoutScale), the robot's metric motion the only reference.
+  const bool scaled_yardstick = use_yardstick && a.free_layout_scale && !known;
+  if (scaled_yardstick)
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<ScaledYardstickCost, 1, 3, 3, 1>(
+                                  new ScaledYardstickCost(yardstick.length, opt.yardstick_sd)),
+                              nullptr, a.X[yardstick.id_a].data(), a.X[yardstick.id_b].data(), a.layout_scale.data());
+  else if (use_yardstick)
     problem->AddResidualBlock(new ceres::AutoDiffCostFunction<YardstickCost, 1, 3, 3>(
                                   new YardstickCost(yardstick.length, opt.yardstick_sd)),
                               nullptr, a.X[yardstick.id_a].data(), a.X[yardstick.id_b].data());
@@ -333,6 +340,9 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
       order->AddElementToGroup(a.object.data(), group);
     if (problem->HasParameterBlock(a.layout_scale.data()))
       order->AddElementToGroup(a.layout_scale.data(), group + 1);
+  } else if (scaled_yardstick) {
+    const int group = 5 + static_cast<int>(std::max(a.state.delta.size(), a.state.dq.size()));
+    order->AddElementToGroup(a.layout_scale.data(), group);
   }
   if (a.free_in.empty())
     problem->SetParameterBlockConstant(a.in);

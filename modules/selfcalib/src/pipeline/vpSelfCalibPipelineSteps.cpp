@@ -51,6 +51,21 @@ void findYardstickUnused(const Context &c, Result &res)
                                    "the yardstick is in the data but its points were rejected (wrong matches, or "
                                    "not placed by the reconstruction): the scale is the nominal model's; check the "
                                    "yardstick's observations"});
+  // Hand-eye, the camera on the flange: the robot's motion sets the scale and the yardstick is measured
+  // against it (no known layout); ends whose observations contradict the robot at the declared length
+  // are rejected.
+  if (res.status == vpRobotSelfCalibration::OK && c.options.method == vpRobotSelfCalibration::HAND_EYE &&
+      c.dataset.camera_mount == vpSelfCalibDataset::CAMERA_ON_EFFECTOR && c.dataset.yardstick.isSet() && !unseen && c.options.bundle.measure_layout_scale &&
+      c.bundle.known_points.empty() && res.bundle.has_covariance && !res.bundle.has_layout_scale) {
+    std::ostringstream length;
+    length << c.dataset.yardstick.length;
+    res.findings.push_back(Finding{vpSelfCalibDataCheck::WARNING, "yardstick-unused",
+                                   "the yardstick is in the data but not measured: its ends' observations were "
+                                   "rejected, or are not in the adjustment (at its declared length of " +
+                                       length.str() +
+                                       " m they may contradict the robot's motion, which sets the scale here): "
+                                       "check the yardstick's length and end ids"});
+  }
 }
 
 // Parameters that poses spread over the joint ranges identify but these poses do not.

@@ -293,3 +293,39 @@ TEST(PlanarScene, BundleMethodOnABoardWithItsLayoutUnknown)
                                          << std::sqrt(p2 / 5);
   }
 }
+
+/*
+  A yardstick declared at the wrong length (a board's first row at a mistyped spacing, no layout
+  given): the hand-eye method measures it against the robot's metric motion. Poses with 2 mm / 2 mrad
+  of stated error, 0.2 px, 3 seeds: the right length (0.36 m) measures within 3.5 sd of 1 and is not
+  doubted; 0.288 m (20 % too short) measures within 3.5 sd of 1.25 and is doubted
+  (board-size-mismatch).
+*/
+TEST(PlanarScene, HandEyeMeasuresTheYardsticksLength)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 93, 0.0);
+  const CameraModel lens = CameraModel(Distortion::OPENCV, kLens).withoutDistortion();
+  auto hasFinding = [](const vpRobotSelfCalibration::Result &r, const std::string &code) {
+    for (const auto &f : r.findings)
+      if (f.code == code)
+        return true;
+    return false;
+  };
+  vpRobotSelfCalibration::Options o = handEye(true);
+  o.noise.pose_sd_translation = o.noise.pose_sd_rotation = 0.002;
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    PlaneData p = tiltedPlane(sim, lens, 0.2, seed + 40);
+    p.ds.yardstick = {0.36, 24, 30}; // inside the grid, seen in every view
+    const auto right = vpRobotSelfCalibration::run(sim.getNominalChain(), p.ds, o);
+    ASSERT_EQ(right.status, vpRobotSelfCalibration::OK) << seed << ": " << right.message;
+    ASSERT_TRUE(right.bundle.has_layout_scale) << right.message;
+    EXPECT_LT(std::fabs(right.bundle.layout_scale - 1), 3.5 * right.bundle.layout_scale_sd) << seed;
+    EXPECT_FALSE(hasFinding(right, "board-size-mismatch")) << seed << ": " << right.message;
+    p.ds.yardstick.length = 0.288;
+    const auto wrong = vpRobotSelfCalibration::run(sim.getNominalChain(), p.ds, o);
+    ASSERT_TRUE(wrong.bundle.has_layout_scale) << seed << ": " << wrong.message;
+    EXPECT_LT(std::fabs(wrong.bundle.layout_scale - 1.25), 3.5 * wrong.bundle.layout_scale_sd) << seed;
+    EXPECT_EQ(wrong.status, vpRobotSelfCalibration::DOUBTFUL) << seed << ": " << wrong.message;
+    EXPECT_TRUE(hasFinding(wrong, "board-size-mismatch")) << seed << ": " << wrong.message;
+  }
+}

@@ -226,7 +226,10 @@ public:
       adjustment from the solution frees a factor s on the layout (every known point s L_j), and
       Result::layout_scale and its sd come from its covariance; the estimate is not changed. A
       layout declared at the wrong size (a board's spacing mistyped) gives s away from 1 when the
-      views determine it; poses on a sphere about the board leave it undetermined (a large sd). On by default.
+      views determine it; poses on a sphere about the board leave it undetermined (a large sd).
+      Without known points, a yardstick (both ends observed) is measured the same way: its
+      declared length times s, s the length the views measure over the declared one (a board's
+      first row taken as the yardstick at a mistyped spacing). On by default.
     */
     bool measure_layout_scale = true;
     unsigned int num_threads = 1;       //!< more is faster on large problems, but not bit-reproducible
@@ -277,10 +280,10 @@ public:
     vpMatrix object_covariance;
     vpColVector object_sd;
     /*!
-      Settings::measure_layout_scale with known points and a covariance: the layout's scale s the
-      views measure (1: the declared size), its sd (scaled as the covariance; infinite when the views
-      do not determine it), and whether it was measured (false: no known points, not hand-eye-only
-      mode, or the solve failed).
+      Settings::measure_layout_scale with known points (or a yardstick) and a covariance: the
+      layout's (the yardstick's) scale s the views measure (1: the declared size), its sd (scaled
+      as the covariance; infinite when the views do not determine it), and whether it was measured
+      (false: neither known points nor a yardstick, not hand-eye-only mode, or the solve failed).
     */
     bool has_layout_scale = false;
     double layout_scale = 1;
