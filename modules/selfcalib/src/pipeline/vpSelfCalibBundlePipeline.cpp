@@ -20,26 +20,27 @@ namespace
   (startFromData()) moves with the draw, by centimetres where the views barely turn about a joint,
   and the information at it, and a decision near a margin, with it. The caller's model when the
   measured eMc is within the hand-eye tolerance of its guess (the guess is as good a start for the
-  decision as any within the tolerance); otherwise the measured eMc rounded to that tolerance (its
-  translation to multiples of the translation tolerance, its theta-u vector to multiples of the
-  rotation tolerance), so that draws a fraction of the tolerance apart decide at the same values.
+  decision as any within the tolerance); otherwise the guess corrected by the measured eMc rounded
+  to that tolerance in the guess's frame (guess^-1 measured: its translation to multiples of the
+  translation tolerance, its theta-u vector to multiples of the rotation tolerance), so that draws a
+  fraction of the tolerance apart decide at the same values unless the correction lies near half a
+  step (a guess off by a turn of the axes, the common mistake, is corrected by whole steps).
 */
 vpKinematicChain decisionModel(const Context &c)
 {
   if (!c.eMc_from_data)
     return c.nominal;
   const double tt = c.options.tolerance_hand_eye_translation, tr = c.options.tolerance_hand_eye_rotation;
-  const vpHomogeneousMatrix measured = c.nominal.get_eMc_corrected();
-  if (translationDistance(c.guess.get_eMc_corrected(), measured) <= tt &&
-      rotationDistance(c.guess.get_eMc_corrected(), measured) <= tr)
+  const vpHomogeneousMatrix guess = c.guess.get_eMc_corrected(), measured = c.nominal.get_eMc_corrected();
+  if (translationDistance(guess, measured) <= tt && rotationDistance(guess, measured) <= tr)
     return c.guess;
-  vpPoseVector p(measured);
+  vpPoseVector d(guess.inverse() * measured);
   for (unsigned int i = 0; i < 6; ++i) {
     const double step = i < 3 ? tt : tr;
-    p[i] = step * std::round(p[i] / step);
+    d[i] = step * std::round(d[i] / step);
   }
   vpKinematicChain out = c.nominal;
-  out.set_eMc(p); // the measured start's eMc corrections are zero
+  out.set_eMc(vpPoseVector(guess * vpHomogeneousMatrix(d))); // the measured start's eMc corrections are zero
   return out;
 }
 } // namespace
