@@ -69,96 +69,16 @@
 #include "benchCommon.h"
 #include "benchPaper.h"
 #include "selfcalibCli.h"
+#include "testStuckJoint.h"
 
 namespace
 {
 constexpr unsigned int kHeldOut = 10;
-constexpr double kStuck = 0.5 * M_PI / 180.0; // rad, half the stuck joint's range
-
-unsigned int stuckJoint(const std::string &robot) { return robot == "panda" ? 2 : 4; }
-
-vpColVector home(const std::string &robot, const vpKinematicChain &chain)
-{
-  if (robot == "panda")
-    return vpColVector({0, -0.5, 0, -2.2, 0, 1.9, 0.785});
-  return vpSelfCalibSimulator::homeConfiguration(chain);
-}
-
-vpSelfCalibSimulator makeSim(const std::string &robot, unsigned int seed)
-{
-  const vpKinematicChain chain = vpKinematicChain::preset(robot);
-  vpSelfCalibSimulator::Options so;
-  so.seed = seed;
-  so.pixel_noise_sd = 0;
-  so.home = home(robot, chain);
-  return vpSelfCalibSimulator(chain, so);
-}
-
-/*
-  One configuration: the joints drawn around the home (the stuck one within +-kStuck of its home
-  value, the others within +-0.5 rad), then the others moved by damped Gauss-Newton steps so that the
-  optical axis passes through the scene centre at a drawn distance; kept when within the limits and
-  every scene point is in view.
-*/
-bool drawConfiguration(const vpSelfCalibSimulator &sim, const vpColVector &q0, unsigned int stuck, std::mt19937_64 &rng,
-                       vpColVector &q, double stuck_range = kStuck)
-{
-  const vpKinematicChain &chain = sim.getNominalChain();
-  const unsigned int n = chain.getNumJoints();
-  std::uniform_real_distribution<double> u(-1, 1);
-  q = q0;
-  for (unsigned int j = 0; j < n; ++j)
-    q[j] += j == stuck ? stuck_range * u(rng) : 0.5 * u(rng);
-  const vpColVector c = sim.getSceneCentre();
-  const double dist = 0.6 + 0.2 * 0.5 * (u(rng) + 1);
-  auto residual = [&](const vpColVector &x) {
-    const vpHomogeneousMatrix cMf = chain.get_fMc(x).inverse();
-    vpColVector X(4);
-    for (unsigned int a = 0; a < 3; ++a)
-      X[a] = c[a];
-    X[3] = 1;
-    const vpColVector Xc = cMf * X;
-    return vpColVector({Xc[0] / Xc[2], Xc[1] / Xc[2], (Xc[2] - dist) / dist});
-  };
-  for (int it = 0; it < 30; ++it) {
-    const vpColVector r = residual(q);
-    if (r.frobeniusNorm() < 1e-9)
-      break;
-    vpMatrix J(3, n - 1);
-    unsigned int col = 0;
-    for (unsigned int j = 0; j < n; ++j) {
-      if (j == stuck)
-        continue;
-      vpColVector qe = q;
-      qe[j] += 1e-6;
-      const vpColVector d = (residual(qe) - r) / 1e-6;
-      for (unsigned int a = 0; a < 3; ++a)
-        J[a][col] = d[a];
-      ++col;
-    }
-    const vpColVector step = J.pseudoInverse() * r;
-    col = 0;
-    for (unsigned int j = 0; j < n; ++j)
-      if (j != stuck)
-        q[j] -= std::max(-0.3, std::min(0.3, step[col++]));
-  }
-  return residual(q).frobeniusNorm() < 1e-6 && chain.isInJointLimits(q) && sim.isVisible(q);
-}
-
-std::vector<vpColVector> configurations(const vpSelfCalibSimulator &sim, const vpColVector &q0, unsigned int stuck,
-                                        unsigned int count, unsigned int seed, double stuck_range = kStuck)
-{
-  std::mt19937_64 rng(7919ULL * seed + 17);
-  std::vector<vpColVector> out;
-  for (unsigned int attempt = 0; out.size() < count && attempt < 200 * count; ++attempt) {
-    vpColVector q;
-    if (drawConfiguration(sim, q0, stuck, rng, q, stuck_range))
-      out.push_back(q);
-  }
-  if (out.size() < count)
-    throw std::runtime_error("no feasible configurations around the home");
-  return out;
-}
+using selfcalib_test::configurations;
+using selfcalib_test::home;
+using selfcalib_test::kStuck;
+using selfcalib_test::makeStuckSim;
+using selfcalib_test::stuckJoint;
 
 vpSelfCalibDataset noisy(const vpSelfCalibDataset &ds0, double noise, uint64_t seed)
 {
@@ -391,7 +311,7 @@ void addErrors(const std::vector<double> &e_nom, const std::vector<double> &e1, 
 */
 void addPosesRun(const std::string &robot, unsigned int seed, double noise, unsigned int views, AddRow &row)
 {
-  const vpSelfCalibSimulator clean = makeSim(robot, seed);
+  const vpSelfCalibSimulator clean = makeStuckSim(robot, seed);
   const unsigned int stuck = stuckJoint(robot);
   const std::vector<vpColVector> q = configurations(clean, home(robot, clean.getNominalChain()), stuck, views + kHeldOut, seed);
   const vpRobotSelfCalibration::FocalMode mode = vpRobotSelfCalibration::FOCAL_KNOWN;
@@ -491,7 +411,7 @@ bool sameSetCheck(const std::vector<std::string> &robots, const std::vector<doub
       std::string counts;
       std::map<std::string, unsigned int> all;
       for (unsigned int g = 1; g <= geometries; ++g) {
-        const vpSelfCalibSimulator clean = makeSim(robot, g);
+        const vpSelfCalibSimulator clean = makeStuckSim(robot, g);
         const std::vector<vpColVector> q =
             configurations(clean, home(robot, clean.getNominalChain()), stuck, views + kHeldOut, g);
         const vpSelfCalibDataset ds0 = bench::pipelineDataset(clean, q, vpRobotSelfCalibration::FOCAL_KNOWN);
@@ -634,7 +554,7 @@ int main(int argc, char **argv)
           for (const double noise : noises) {
             Row row;
             for (unsigned int seed = 1; seed <= seeds; ++seed) {
-              const vpSelfCalibSimulator clean = makeSim(robot, seed);
+              const vpSelfCalibSimulator clean = makeStuckSim(robot, seed);
               const std::vector<vpColVector> q =
                   configurations(clean, home(robot, clean.getNominalChain()), stuck, views + kHeldOut, seed);
               const std::vector<vpColVector> held(q.begin() + views, q.end());

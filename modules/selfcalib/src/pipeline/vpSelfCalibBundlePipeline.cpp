@@ -5,6 +5,7 @@
 #include "vpSelfCalibPipelines.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "../core/vpSelfCalibMath.h"
 
@@ -12,6 +13,38 @@ using namespace vpSelfCalib;
 
 namespace vpSelfCalibPipeline
 {
+namespace
+{
+/*
+  The model the estimated set is decided at: values no noise draw moves. eMc measured from the data
+  (startFromData()) moves with the draw, by centimetres where the views barely turn about a joint,
+  and the information at it, and a decision near a margin, with it. The caller's model when the
+  measured eMc is within the hand-eye tolerance of its guess (the guess is as good a start for the
+  decision as any within the tolerance); otherwise the guess corrected by the measured eMc rounded
+  to that tolerance in the guess's frame (guess^-1 measured: its translation to multiples of the
+  translation tolerance, its theta-u vector to multiples of the rotation tolerance), so that draws a
+  fraction of the tolerance apart decide at the same values unless the correction lies near half a
+  step (a guess off by a turn of the axes, the common mistake, is corrected by whole steps).
+*/
+vpKinematicChain decisionModel(const Context &c)
+{
+  if (!c.eMc_from_data)
+    return c.nominal;
+  const double tt = c.options.tolerance_hand_eye_translation, tr = c.options.tolerance_hand_eye_rotation;
+  const vpHomogeneousMatrix guess = c.guess.get_eMc_corrected(), measured = c.nominal.get_eMc_corrected();
+  if (translationDistance(guess, measured) <= tt && rotationDistance(guess, measured) <= tr)
+    return c.guess;
+  vpPoseVector d(guess.inverse() * measured);
+  for (unsigned int i = 0; i < 6; ++i) {
+    const double step = i < 3 ? tt : tr;
+    d[i] = step * std::round(d[i] / step);
+  }
+  vpKinematicChain out = c.nominal;
+  out.set_eMc(vpPoseVector(guess * vpHomogeneousMatrix(d))); // the measured start's eMc corrections are zero
+  return out;
+}
+} // namespace
+
 void runBundle(const Context &c, Result &res)
 {
   if (c.bundle.eye_to_hand) {
@@ -66,22 +99,24 @@ void runBundle(const Context &c, Result &res)
   }
   c.report("identification from the multi-view poses", 0, 1);
   // The set the bundle adjustment estimates, decided from what its data determine at the nominal
-  // model, so that the start identification estimates within it and a parameter the data leave out
-  // stays nominal instead of taking the start's value. With f known, the points are triangulated
-  // through the nominal model's camera poses: their scale is the model's, where the multi-view
-  // points' scale (one noisy baseline) moves every predicted sd by several percent from one noise
-  // draw to the next, and a decision near the tolerance with it.
+  // model (decisionModel(): not at the eMc measured from this draw), so that the start
+  // identification estimates within it and a parameter the data leave out stays nominal instead of
+  // taking the start's value. With f known, the points are triangulated through that model's camera
+  // poses: their scale is the model's, where the multi-view points' scale (one noisy baseline)
+  // moves every predicted sd by several percent from one noise draw to the next, and a decision
+  // near the tolerance with it.
   vpKinematicBundleAdjustment::Options bo = c.bundle;
-  std::map<int, vpColVector> set_points = pointsInF(res, c.nominal.get_fMc(cal[0].q), s);
+  const vpKinematicChain at = decisionModel(c);
+  std::map<int, vpColVector> set_points = pointsInF(res, at.get_fMc(cal[0].q), s);
   if (c.mode == vpRobotSelfCalibration::FOCAL_KNOWN) {
     std::vector<Rigid> fMc;
     for (const View &v : cal)
-      fMc.push_back(rigidFromVisp(c.nominal.get_fMc(v.q)));
+      fMc.push_back(rigidFromVisp(at.get_fMc(v.q)));
     PredictedStart p = predictedStart(cal, fMc, lensOf(c.dataset), true);
     if (p.ok)
       set_points = std::move(p.points);
   }
-  bo.estimated_set = vpKinematicBundleAdjustment::estimatedSet(c.nominal, startCamera(c, res.multiview.fx), cal,
+  bo.estimated_set = vpKinematicBundleAdjustment::estimatedSet(at, startCamera(c, res.multiview.fx), cal,
                                                                c.dataset.yardstick, set_points, c.bundle, c.noise);
   // The start identification estimates exactly that set (fixing the others instead would let the
   // rule take a redundant twin of each in its place, which the bundle adjustment would then keep at
