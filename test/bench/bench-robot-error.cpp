@@ -241,7 +241,8 @@ void print(const std::vector<Row> &rows)
     std::ostringstream st;
     for (const auto &s : r.statuses)
       st << (st.tellp() > 0 ? ", " : "") << s.first << " " << s.second;
-    std::string joint = "(trusted)", model = "(trusted)";
+    const bool told = r.calibration == "told the true levels";
+    std::string joint = told ? "(stated)" : "(trusted)", model = told ? "(stated)" : "(trusted)";
     if (r.calibration == "default (measured)") {
       joint = r.joint_ratio.count() ? meanRange(r.joint_ratio, 1, 2) + (r.joint_true > 0 ? "" : " mrad") : "";
       if (r.joint_exact)
