@@ -23,7 +23,6 @@
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -34,50 +33,14 @@
 #include <visp3/selfcalib/vpSelfCalibRenderer.h>
 #include <visp3/selfcalib/vpSelfCalibSimulator.h>
 
+#include "../../modules/selfcalib/test/testPlaneDraws.h"
 #include "benchCommon.h"
 #include "selfcalibCli.h"
 
 namespace
 {
-const char *kBoard = "charuco:7x5:0.02:0.015:DICT_6X6_250"; // simulate --target charuco's board
-const unsigned int kPoses = 20, kHeldOut = 6;
-
-//! The board's corners (frame f) at the renderer's board pose.
-std::map<int, vpColVector> boardCorners(const vpSelfCalibSimulator &sim, const vpBoardDetector &det)
-{
-  vpSelfCalibRenderer::Options ro;
-  ro.scene = vpSelfCalibRenderer::CHARUCO;
-  const vpHomogeneousMatrix fMb = vpSelfCalibRenderer(sim, ro).getBoardPose();
-  std::map<int, vpColVector> X;
-  for (const auto &e : det.getLayout()) {
-    const vpColVector p = fMb * vpColVector({e.second[0], e.second[1], e.second[2], 1.0});
-    X[e.first] = vpColVector({p[0], p[1], p[2]});
-  }
-  return X;
-}
-
-//! The corners in the true camera at each configuration, with Gaussian noise (px), those in the image.
-std::vector<vpSelfCalibDataset::View> project(const vpSelfCalibSimulator &sim, const std::map<int, vpColVector> &X,
-                                              const std::vector<vpColVector> &q, double sd, std::mt19937_64 &rng)
-{
-  std::normal_distribution<double> gauss(0, sd > 0 ? sd : 1);
-  const vpCameraParameters cam = sim.getCamera();
-  std::vector<vpSelfCalibDataset::View> views;
-  for (const vpColVector &qk : q) {
-    vpSelfCalibDataset::View v;
-    v.q = qk;
-    const vpHomogeneousMatrix cMf = sim.getTrueChain().get_fMc(qk).inverse();
-    for (const auto &e : X) {
-      const vpColVector p = cMf * vpColVector({e.second[0], e.second[1], e.second[2], 1.0});
-      const double u = cam.get_u0() + cam.get_px() * p[0] / p[2] + (sd > 0 ? gauss(rng) : 0.0);
-      const double w = cam.get_v0() + cam.get_py() * p[1] / p[2] + (sd > 0 ? gauss(rng) : 0.0);
-      if (p[2] > 0 && u >= 0 && w >= 0 && u < sim.getOptions().width && w < sim.getOptions().height)
-        v.points.push_back({e.first, vpImagePoint(w, u)});
-    }
-    views.push_back(v);
-  }
-  return views;
-}
+const char *kBoard = "charuco:7x5:0.02:0.015:DICT_6X6_250"; // simulate --target charuco's board (PlaneDraw's)
+const unsigned int kPoses = 20, kHeldOut = 6;                 // PlaneDraw's
 
 //! The views of the reconstruction more than 2 deg off the truth (c_kMc_0), and the largest error (deg).
 unsigned int wrongViews(const vpMultiViewReconstruction::Result &r, const vpSelfCalibSimulator &sim,
@@ -157,7 +120,6 @@ int main(int argc, char **argv)
     const int parsed = selfcalibCli::parse(app, argc, argv);
     if (parsed >= 0)
       return parsed;
-    const vpBoardDetector det(vpBoardDetector::parse(kBoard));
     bench::Csv csv(csv_path, "seed,draw,mv_wrong_views,mv_worst_deg,mv_sigma0,mv_sigma0_high,mv_outliers,mv_measured_px,status,"
                              "outliers,bundle_sigma0,bundle_sigma0_high,eMc_ratio,heldout_ratio,wrong");
     std::cout << "bench-plane-scan: " << kBoard << " corners as points (layout unknown), viper850, " << seeds
@@ -166,24 +128,13 @@ int main(int argc, char **argv)
     const auto t_start = std::chrono::steady_clock::now();
     Counts c;
     for (unsigned int seed = first_seed; seed < first_seed + seeds; ++seed) {
-      vpSelfCalibSimulator::Options so;
-      so.seed = seed;
-      so.pixel_noise_sd = 0;
-      const vpSelfCalibSimulator sim(vpKinematicChain::preset("viper850"), so);
-      const std::vector<vpColVector> q = sim.generateConfigurations(kPoses);
-      const std::vector<vpColVector> cal(q.begin(), q.end() - kHeldOut), held(q.end() - kHeldOut, q.end());
-      const std::map<int, vpColVector> X = boardCorners(sim, det);
       for (unsigned int d = 0; d < draws; ++d) {
         std::cerr << "seed " << seed << "/" << first_seed + seeds - 1 << ", draw " << d + 1 << "/" << draws
                   << "      \r" << std::flush;
-        std::mt19937_64 rng(7919ULL * seed + d);
-        vpSelfCalibDataset ds;
-        ds.cam = sim.getCamera();
-        ds.width = sim.getOptions().width;
-        ds.height = sim.getOptions().height;
-        ds.focal_known = true;
-        ds.yardstick = det.getYardstick();
-        ds.views = project(sim, X, cal, noise, rng);
+        const selfcalib_test::PlaneDraw p(seed, d, noise);
+        const vpSelfCalibSimulator &sim = p.sim;
+        const vpSelfCalibDataset &ds = p.ds;
+        const std::vector<vpColVector> &cal = p.cal, &held = p.held;
         vpRobotSelfCalibration::Options po;
         po.num_calibration_poses = static_cast<unsigned int>(ds.views.size());
         po.noise.pixel_sd = stated > 0 ? stated : noise;

@@ -824,7 +824,7 @@ bool planeStart(const State &s, State &p, double fx)
 {
   std::vector<Rigid> ckMc0;
   std::vector<bool> posed;
-  Eigen::Vector3d n;
+  Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
   if (!choosePlaneMotions(planarPairs(s, fx), ckMc0, posed, n))
     return false;
   collectObservations(p);
