@@ -22,6 +22,8 @@ namespace vpSelfCalibPipeline
   rejected. A noise stated too small alone raises sigma0, not the rejections (the test runs at the
   measured noise); wrong matches alone raise the rejections, not sigma0; both at once also make it,
   which measuring the noise (sigma0 then near 1) clears. False for a reconstruction that failed.
+  The assessment doubts a run on it when the bundle adjustment that started from it does not explain
+  the images either (checkMultiViewFit).
 */
 constexpr double kMultiViewSigma0Factor = 1.5, kMultiViewRejected = 0.01;
 
