@@ -246,6 +246,46 @@ bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eige
   return true;
 }
 
+std::vector<PlaneMotion> homographyMotions(const Eigen::Matrix3d &H, double fx, double u0, double v0, double mu,
+                                           const std::vector<Eigen::Vector2d> &xa,
+                                           const std::vector<Eigen::Vector2d> &xb)
+{
+  std::vector<PlaneMotion> out;
+  const cv::Matx33d K(fx, 0, u0, 0, mu * fx, v0, 0, 0, 1);
+  cv::Matx33d Hc;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      Hc(i, j) = H(i, j);
+  std::vector<cv::Mat> Rs, ts, ns;
+  std::vector<cv::Point2f> pa, pb;
+  for (size_t i = 0; i < xa.size() && i < xb.size(); ++i) {
+    pa.emplace_back(static_cast<float>(xa[i](0)), static_cast<float>(xa[i](1)));
+    pb.emplace_back(static_cast<float>(xb[i](0)), static_cast<float>(xb[i](1)));
+  }
+  std::vector<int> visible;
+  try {
+    cv::decomposeHomographyMat(Hc, K, Rs, ts, ns);
+    cv::filterHomographyDecompByVisibleRefpoints(Rs, ns, pa, pb, visible);
+  } catch (const cv::Exception &) {
+    return out; // a degenerate homography: no motion
+  }
+  for (int v : visible) {
+    const size_t i = static_cast<size_t>(v);
+    PlaneMotion m;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c)
+        m.bMa.R(r, c) = Rs[i].at<double>(r, c);
+      m.bMa.t(r) = ts[i].at<double>(r);
+      m.normal(r) = ns[i].at<double>(r);
+    }
+    if (m.bMa.R.allFinite() && m.bMa.t.allFinite() && m.normal.allFinite() && m.normal.norm() > 0) {
+      m.normal.normalize();
+      out.push_back(m);
+    }
+  }
+  return out;
+}
+
 bool fitPoseRansac(const std::vector<Eigen::Vector3d> &X, const std::vector<Eigen::Vector2d> &uv, double fx, double u0,
                    double v0, double mu, double threshold, int max_iterations, uint64_t seed, uint64_t stream,
                    Rigid &cMw, std::vector<int> &inliers)

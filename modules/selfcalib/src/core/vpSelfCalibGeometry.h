@@ -115,6 +115,26 @@ bool fitHomography(const std::vector<Eigen::Vector2d> &a, const std::vector<Eige
                    std::vector<bool> &inliers);
 
 /*!
+  A camera motion a plane's homography allows: c_bMc_a with its translation over the plane's distance
+  from camera a (t / d), and the plane's unit normal n in frame a (n . X = d for the plane's points X).
+*/
+struct PlaneMotion {
+  Rigid bMa;
+  Eigen::Vector3d normal;
+};
+
+/*!
+  The motions of a homography H of pixels a -> b at the pinhole camera (fx, mu fx, u0, v0) that keep
+  the given normalized points of both views (x / z, y / z: inliers of H) in front of the cameras:
+  OpenCV's decomposition (decomposeHomographyMat: H = K (R + t n^T / d) K^-1, four solutions) filtered
+  by filterHomographyDecompByVisibleRefpoints; usually two remain, one of them the true motion (the
+  other has another normal). Empty when OpenCV finds none.
+*/
+std::vector<PlaneMotion> homographyMotions(const Eigen::Matrix3d &H, double fx, double u0, double v0, double mu,
+                                           const std::vector<Eigen::Vector2d> &xa,
+                                           const std::vector<Eigen::Vector2d> &xb);
+
+/*!
   The pose cMw of a calibrated pinhole camera (K: fx, u0, v0, mu fx; no distortion) from 3-D points
   (frame w) and their pixels, by OpenCV's USAC PnP (solvePnPRansac with cv::UsacParams: P3P samples,
   local optimisation, final refinement on the inliers), inlier threshold in px, at most

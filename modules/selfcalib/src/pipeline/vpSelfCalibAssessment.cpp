@@ -16,6 +16,7 @@
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
 
+#include "vpSelfCalibMultiViewFit.h"
 #include "vpSelfCalibPipelines.h"
 
 namespace vpSelfCalibPipeline
@@ -478,6 +479,31 @@ void checkNoise(const Context &c, Result &res)
 }
 
 /*
+  The multi-view step's own fit (multiViewMisfit) when the bundle adjustment that started from it
+  does not explain the images either (its sigma0 above its 99.9 % interval): a doubt, with what to
+  do. A bundle adjustment at the noise has left the start's misfit behind (the hand-eye method on a
+  plane with f self-calibrated: the reconstruction's sigma0 1.6 with 11 of 824 observations
+  rejected, the final fit at 0.18 px with none).
+*/
+void checkMultiViewFit(const Context &c, Result &res)
+{
+  const vpMultiViewReconstruction::Result &mv = res.multiview;
+  const vpKinematicBundleAdjustment::Result &b = res.bundle;
+  const unsigned int total = mv.num_observations + mv.num_outliers;
+  if (multiViewMisfit(mv) && b.sigma0_high > 0 && b.sigma0 > b.sigma0_high)
+    add(res, vpSelfCalibDataCheck::DOUBT, "multiview-misfit",
+        "the multi-view reconstruction, the start of the calibration, does not explain the images: sigma0 " +
+            fixed(mv.sigma0, 2) + " (99.9 % interval [" + fixed(mv.sigma0_low, 2) + ", " + fixed(mv.sigma0_high, 2) +
+            "]) with " + std::to_string(mv.num_outliers) + " of " + std::to_string(total) +
+            " observations rejected, and the bundle adjustment that started from it neither (sigma0 " +
+            fixed(b.sigma0, 2) + "): a reconstruction in a local minimum (on a flat scene, views on the wrong one "
+            "of a plane's two motions), or wrong matches with an image noise of " +
+            fixed(mv.measured.pixel_sd, 3) + " px where " + fixed(c.noise.pixel_sd, 3) +
+            " px was stated; measure the noise (calibrate --pixel-sd auto), give the board's layout "
+            "(--board-geometry) or add views of a scene with depth");
+}
+
+/*
   Without robot error modelled: are the residuals image noise, or each view's own camera
   displacement? The bundle adjustment re-posed each camera alone (Result::reposed_rms, repose_f).
   Beyond the F test's 99.9 % quantile the robot's poses (or joints) are off by more than the image
@@ -648,6 +674,7 @@ void assess(const Context &c, Result &res)
   checkFit(c, res);
   checkHeldOut(c, res);
   checkNoise(c, res);
+  checkMultiViewFit(c, res);
   checkRobotError(c, res);
   checkUnmodelledRobotError(c, res);
   checkLayoutScale(c, res);

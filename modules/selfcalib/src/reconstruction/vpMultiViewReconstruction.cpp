@@ -713,6 +713,180 @@ vpMultiViewReconstruction::Status robustSolve(State &s)
 }
 
 /*
+  The plane's start. On a plane each pair's two-view motion is ambiguous: its homography decomposes
+  into two motions that explain the pair's points alike, and the two-view step keeps one of them per
+  pair. A start whose pairs took different ones is bent, and the robust solve can end in a local
+  minimum (most views 5-35 deg off, sigma0 about 2, some of the good observations trimmed as
+  outliers). The plane's normal in view 0 is the same in every pair (view 0 and the plane are
+  shared), the other motion's is not: here every pair (0, k) whose homography explains planar_ratio
+  of its points or more (the two-view step's rule) gives its motions (core homographyMotions); the
+  normal nearest to a motion of the most pairs (the smallest median angle) is the plane's, and each
+  pair takes the motion with that normal when it is less than half as far from it as the pair's
+  other motions. The translations t / d share the plane's distance d from camera 0, so they are
+  consistent without scale chaining, and the points are the rays of the view that sees them first
+  met with the plane n . X = d.
+*/
+
+//! Per view k: the motions of pair (0, k)'s homography at focal length fx when it explains the pair.
+std::vector<std::vector<PlaneMotion>> planarPairs(const State &s, double fx)
+{
+  std::vector<std::vector<PlaneMotion>> motions(s.m);
+  const CameraModel camera = pinhole(s, fx);
+  const double threshold =
+      std::max(s.opt.twoview.ransac.inlier_threshold, s.noise.outlier_threshold * s.noise.pixel_sd);
+  for (unsigned int k = 1; k < s.m; ++k) {
+    std::vector<Eigen::Vector2d> a, b, xa, xb;
+    for (size_t j = 0; j < s.p0[k - 1].size(); ++j) {
+      a.push_back(pixel(s.p0[k - 1][j]));
+      b.push_back(pixel(s.pk[k - 1][j]));
+    }
+    Eigen::Matrix3d H;
+    std::vector<bool> in;
+    if (a.size() < 8 || !fitHomography(a, b, threshold, 2000, 0.999, H, in))
+      continue;
+    for (size_t j = 0; j < a.size(); ++j)
+      if (in[j]) {
+        xa.push_back(camera.unproject(a[j]));
+        xb.push_back(camera.unproject(b[j]));
+      }
+    if (xa.size() >= 8 && xa.size() >= s.opt.twoview.planar_ratio * a.size())
+      motions[k] = homographyMotions(H, fx, s.u0, s.v0, s.mu, xa, xb);
+  }
+  return motions;
+}
+
+//! The angle (rad) from n to the nearest normal of `motions`, and its index (infinite when empty).
+double angleToNearest(const std::vector<PlaneMotion> &motions, const Eigen::Vector3d &n, size_t &which)
+{
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < motions.size(); ++i) {
+    const double a = std::acos(std::clamp(motions[i].normal.dot(n), -1.0, 1.0));
+    if (a < best) {
+      best = a;
+      which = i;
+    }
+  }
+  return best;
+}
+
+/*
+  The plane's motion of each pair (c_kMc_0, translation over d; posed false for the others) and its
+  normal; false when fewer than 3 pairs are planar or fewer than 3 take a motion.
+*/
+bool choosePlaneMotions(const std::vector<std::vector<PlaneMotion>> &motions, std::vector<Rigid> &ckMc0,
+                        std::vector<bool> &posed, Eigen::Vector3d &normal)
+{
+  std::vector<size_t> planar;
+  for (size_t k = 0; k < motions.size(); ++k)
+    if (!motions[k].empty())
+      planar.push_back(k);
+  if (planar.size() < 3)
+    return false;
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t k : planar)
+    for (const PlaneMotion &c : motions[k]) {
+      std::vector<double> angles;
+      size_t which = 0;
+      for (size_t l : planar)
+        if (l != k)
+          angles.push_back(angleToNearest(motions[l], c.normal, which));
+      const double a = median(angles);
+      if (a < best) {
+        best = a;
+        normal = c.normal;
+      }
+    }
+  ckMc0.assign(motions.size(), Rigid());
+  posed.assign(motions.size(), false);
+  unsigned int count = 0;
+  for (size_t k : planar) {
+    size_t which = 0;
+    const double d = angleToNearest(motions[k], normal, which);
+    double other = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < motions[k].size(); ++i)
+      if (i != which)
+        other = std::min(other, std::acos(std::clamp(motions[k][i].normal.dot(normal), -1.0, 1.0)));
+    if (d < 0.5 * other) {
+      ckMc0[k] = motions[k][which].bMa;
+      posed[k] = true;
+      ++count;
+    }
+  }
+  return count >= 3;
+}
+
+/*
+  The plane's start in p (collected, the pairs and the two-view f of s) at focal length fx: the poses
+  of choosePlaneMotions, the reference view the one farthest from view 0 (its baseline the unit), the
+  points on the plane. False when the data do not say plane.
+*/
+bool planeStart(const State &s, State &p, double fx)
+{
+  std::vector<Rigid> ckMc0;
+  std::vector<bool> posed;
+  Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
+  if (!choosePlaneMotions(planarPairs(s, fx), ckMc0, posed, n))
+    return false;
+  collectObservations(p);
+  p.ids = s.ids;
+  p.p0 = s.p0;
+  p.pk = s.pk;
+  p.res.pairs = s.res.pairs;
+  p.res.fx = fx;
+  p.res.seconds_twoview = s.res.seconds_twoview;
+  unsigned int ref = 0;
+  for (unsigned int k = 1; k < p.m; ++k)
+    if (posed[k] && (ref == 0 || ckMc0[k].t.norm() > ckMc0[ref].t.norm()))
+      ref = k;
+  const double unit = ckMc0[ref].t.norm();
+  if (!(unit > 0))
+    return false;
+  p.res.reference_view = ref;
+  std::vector<Rigid> c0Mc(p.m); // camera k in frame 0, the plane's distance d from camera 0 the unit
+  for (unsigned int k = 0; k < p.m; ++k)
+    if (k == 0 || posed[k]) {
+      p.res.posed[k] = true;
+      Rigid M = ckMc0[k];
+      c0Mc[k] = M.inverse();
+      M.t /= unit;
+      p.res.cMc0[k] = toVisp(M);
+    }
+  const CameraModel camera = pinhole(p, fx);
+  for (unsigned int k = 0; k < p.m; ++k)
+    for (const auto &e : p.byId[k]) {
+      if (!p.res.posed[k] || p.Xinit.count(e.first))
+        continue;
+      // The ray C + lambda D (frame 0) meets n . X = 1 at lambda = (1 - n . C) / (n . D), in front.
+      const Eigen::Vector3d C = c0Mc[k].t, D = c0Mc[k].R * camera.ray(pixel(e.second));
+      const double lambda = (1 - n.dot(C)) / n.dot(D);
+      if (lambda > 0 && std::isfinite(lambda))
+        p.Xinit[e.first] = (C + lambda * D) / unit;
+    }
+  return true;
+}
+
+/*
+  The truncated quadratic (MSAC) cost of a reconstruction over every input observation of the
+  points it adjusted: min(e^2, T^2), e its whitened error and T the outlier threshold (stated sds);
+  T^2 for an observation of a view left out or of a point not placed. The lower of two starts is kept.
+*/
+double startScore(State &s)
+{
+  const double T2 = s.noise.outlier_threshold * s.noise.outlier_threshold;
+  double score = 0;
+  for (unsigned int k = 0; k < s.m; ++k)
+    for (const auto &e : s.byId[k]) {
+      if (s.later.count(e.first))
+        continue;
+      const Observation o{k, e.first, e.second.get_u(), e.second.get_v()};
+      const double w = s.res.posed[k] && s.X->count(e.first) ? whitened(s, o, (*s.X)[e.first])
+                                                               : std::numeric_limits<double>::infinity();
+      score += std::min(w * w, T2);
+    }
+  return score;
+}
+
+/*
   Points left out of the bundle adjustment: the midpoint of their rays from the posed views
   (triangulateMidpoint), in three rounds; after each, the views whose whitened error against the
   midpoint exceeds max(outlier_threshold, 20 / (round + 1)) are left out of the next (the threshold
@@ -855,19 +1029,30 @@ vpMultiViewReconstruction::Result vpMultiViewReconstruction::reconstruct(const s
   opt.check();
   noise.check("vpMultiViewReconstruction");
   const QuietCeres quiet;
-  State s(views, yardstick, opt, noise);
-  collectObservations(s);
-  twoViewPoses(s);
-  if (!triangulatePairs(s))
-    return std::move(s.res);
-  chainScales(s);
-  initializePointsNotSeenFromView0(s);
-  setUpBundle(s);
-  const Status status = robustSolve(s);
+  auto start = std::make_unique<State>(views, yardstick, opt, noise);
+  collectObservations(*start);
+  twoViewPoses(*start);
+  if (!triangulatePairs(*start))
+    return std::move(start->res);
+  chainScales(*start);
+  initializePointsNotSeenFromView0(*start);
+  setUpBundle(*start);
+  const double fx_start = start->res.fx;
+  const Status status = robustSolve(*start);
   if (status != OK) {
-    s.res.status = status;
-    return std::move(s.res);
+    start->res.status = status;
+    return std::move(start->res);
   }
+  // On a plane, the start from the plane's homographies too; the lower cost is kept.
+  auto plane = std::make_unique<State>(views, yardstick, opt, noise);
+  if (planeStart(*start, *plane, fx_start)) {
+    setUpBundle(*plane);
+    if (robustSolve(*plane) == OK && startScore(*plane) < startScore(*start)) {
+      plane->res.seconds_bundle += start->res.seconds_bundle;
+      start = std::move(plane);
+    }
+  }
+  State &s = *start;
   // Cheirality after the last solve: an observation of a point behind its camera is an outlier
   // (the points left with fewer than two observations are dropped).
   for (size_t n = 0; n < s.obs.size(); ++n)
