@@ -51,13 +51,6 @@ const double kMinPairRotation = 0.035;
 */
 const int kRungIterations = 250;
 const int kIterations = 1000;
-/*!
-  The rungs of the focal scan score at most this many pairs measured by the five-point RANSAC (those
-  that share the most points with view r among those that rotate; a plane's pairs, a homography's
-  decomposition, are all kept): most rungs are far from the optimum and a median over 8 pairs ranks
-  them; the search about the best rung scores every pair.
-*/
-const size_t kRungPairs = 8;
 
 double angleOf(const Eigen::Matrix3d &R) { return logSO3(R).norm(); }
 
@@ -267,29 +260,6 @@ void choosePlaneMotions(std::vector<Pair> &pairs)
     p->ckMc0 = p->plane_motions[which];
     p->planar = p->posed = true;
   }
-}
-
-/*
-  The pairs the rungs of the focal scan score: every plane's pair and, of the others, the kRungPairs
-  that share the most points with view r, those that rotate kMinPairRotation or more first (the
-  score's median is over them).
-*/
-std::vector<Pair> rungPairs(const std::vector<Pair> &pairs)
-{
-  std::vector<const Pair *> others;
-  std::vector<Pair> out;
-  for (const Pair &p : pairs)
-    if (p.H.empty())
-      others.push_back(&p);
-    else
-      out.push_back(p);
-  std::stable_sort(others.begin(), others.end(), [](const Pair *a, const Pair *b) {
-    const bool ra = a->robot_angle >= kMinPairRotation, rb = b->robot_angle >= kMinPairRotation;
-    return ra != rb ? ra : a->p0.size() > b->p0.size();
-  });
-  for (size_t i = 0; i < std::min(others.size(), kRungPairs); ++i)
-    out.push_back(*others[i]);
-  return out;
 }
 
 /*
@@ -515,13 +485,9 @@ MeasuredStart measuredStart(const std::vector<View> &views, const CameraModel &l
     return out;
   }
   findPlanes(pairs, threshold_px);
-  // The rungs on the best pairs (all of them when these leave every rung unscored), the search on all.
-  std::vector<Pair> few = rungPairs(pairs);
-  const auto all_score = [&](double x) { return motionScore(pairs, lens, x, threshold_px); };
-  const auto few_score = [&](double x) { return motionScore(few, lens, x, threshold_px, kRungIterations); };
-  double f = focal_known ? lens.px() : scanFocal(all_score, center, few_score);
-  if (!focal_known && !(f > 0) && few.size() < pairs.size())
-    f = scanFocal(all_score, center, [&](double x) { return motionScore(pairs, lens, x, threshold_px, kRungIterations); });
+  const double f = focal_known ? lens.px()
+                                : scanFocal([&](double x) { return motionScore(pairs, lens, x, threshold_px); }, center,
+                                            [&](double x) { return motionScore(pairs, lens, x, threshold_px, kRungIterations); });
   const double score = f > 0 ? motionScore(pairs, lens, f, threshold_px) : std::numeric_limits<double>::infinity();
   if (std::isfinite(score))
     refinePairs(pairs, lens, f, threshold_px);

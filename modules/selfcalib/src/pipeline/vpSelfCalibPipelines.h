@@ -273,8 +273,7 @@ struct MeasuredStart {
   length the one whose median reprojection error through the robot is lowest (scanFocal() around the
   image width); else the two-view motions of the pairs (view r, view k) sharing 15 points or more, r
   the view with the most such pairs (OpenCV's five-point RANSAC, threshold_px), the focal length the one at which their rotation angles
-  agree best with the end-effector's (median; the scan's rungs score the 8 pairs that share the most
-  points, the search about the best rung every pair), eMc's rotation by OpenCV's closed forms and its
+  agree best with the end-effector's (median), eMc's rotation by OpenCV's closed forms and its
   translation with the pairs' scales by linear least squares. Depends on neither the model's eMc nor
   lens's focal length. has_eMc false (how says why) when too few views are posed. Throws
   vpSelfCalibException when a view has no fMe.
