@@ -70,6 +70,13 @@ BENCHES = [
      "Eye-in-hand on a rendered ChArUco board (corners found by the board front end, then Gaussian "
      "noise added): held-out error against the Cramer-Rao bound, the board's layout unknown (its points "
      "are scene points) and known (`--board-geometry`), f known and shared."),
+    ("bench-plane-scan", [],
+     "A flat scene of unknown layout: a ChArUco 7 x 5 board's 24 corners given as plain scene points "
+     "(no layout), simulated Viper850, 14 calibration + 6 held-out poses, f known, 0.2 px, 12 seeds x 6 "
+     "noise draws, each calibrated by the default (bundle) pipeline: multi-view reconstructions with a "
+     "view more than 2 deg off the truth, sigma0 against its interval, and each final answer by status, "
+     "right or wrong (wrong: an eMc component beyond 3 sd of the truth, or the held-out positions beyond "
+     "3 predicted sd)."),
     ("bench-estset", ["--stable-geometries", "2"],
      "The bundle method on arms with one joint that barely moves (Panda joint 3, PUMA joint 5, within "
      "+-0.5 deg): the estimated set decided from the data's information (what is left at nominal, the "
