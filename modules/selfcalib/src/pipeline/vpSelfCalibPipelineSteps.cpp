@@ -40,6 +40,19 @@ void findOutliers(const Context &c, Result &res)
   }
 }
 
+// No yardstick in the data: the bundle method keeps the nominal model's scale, which no sd counts.
+void findScaleNominal(const Context &c, Result &res)
+{
+  if (res.status == vpRobotSelfCalibration::OK && c.options.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT &&
+      !c.dataset.yardstick.isSet() && res.bundle.scale_source == vpKinematicBundleAdjustment::SCALE_NOMINAL)
+    res.findings.push_back(Finding{vpSelfCalibDataCheck::WARNING, "scale-nominal",
+                                   "no yardstick in the data: the scale is the nominal model's, so every length "
+                                   "calibrated (link lengths, eMc's translation, the scene) carries the nominal "
+                                   "model's own scale error, which the reported sd do not count; show a yardstick "
+                                   "(two points a known distance apart, or a board with --board) in two views or "
+                                   "more"});
+}
+
 // A yardstick in the data that the bundle adjustment could not use.
 void findYardstickUnused(const Context &c, Result &res)
 {
@@ -534,6 +547,7 @@ void checkResult(const Context &c, Result &res)
 {
   findOutliers(c, res);
   findYardstickUnused(c, res);
+  findScaleNominal(c, res);
   if (res.status != vpRobotSelfCalibration::OK || c.options.method == vpRobotSelfCalibration::HAND_EYE)
     return;
   findIdentifiabilityLost(c, res);

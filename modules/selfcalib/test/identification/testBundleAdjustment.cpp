@@ -383,6 +383,14 @@ TEST(KinematicBundleAdjustment, WithoutYardstickTheNominalScaleIsKeptAndReported
   EXPECT_FALSE(r.multiview.metric);
   EXPECT_EQ(r.bundle.scale_source, vpKinematicBundleAdjustment::SCALE_NOMINAL);
   EXPECT_NE(r.message.find("nominal scale"), std::string::npos) << r.message;
+  EXPECT_TRUE(std::any_of(r.findings.begin(), r.findings.end(),
+                          [](const vpSelfCalibDataCheck::Finding &f) { return f.code == "scale-nominal"; }));
+  // With the yardstick the scale is measured and nothing is said of it.
+  const auto y = vpRobotSelfCalibration::run(sim.getNominalChain(), sim.makeDataset(sim.generateConfigurations(18)),
+                                             vpRobotSelfCalibration::Options());
+  ASSERT_EQ(y.status, vpRobotSelfCalibration::OK) << y.message;
+  EXPECT_FALSE(std::any_of(y.findings.begin(), y.findings.end(),
+                           [](const vpSelfCalibDataCheck::Finding &f) { return f.code == "scale-nominal"; }));
   // Orientations do not depend on the scale: the held-out rotations are exact.
   const auto ver = slice(ds, 15, 18);
   const auto v = vpCalibrationVerifier::verify(r.calibrated, r.camera, ver, ds.yardstick, {}, sim.getTrueCameraPoses(ver));
