@@ -32,6 +32,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
+#include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
 
 using namespace vpSelfCalib;
@@ -173,37 +174,28 @@ void findPlanes(std::vector<Pair> &pairs, double threshold_px)
 }
 
 /*
-  A plane's pair at the camera K: the homography's decompositions (OpenCV's) that keep its inliers
-  in front of both cameras, with the plane's normal in view r of each; choosePlaneMotions() keeps one.
+  A plane's pair at the camera (f, the lens's u0, v0, mu): the homography's motions that keep its
+  inliers in front of both cameras (core homographyMotions), with the plane's normal in view r of
+  each and the translation's direction; choosePlaneMotions() keeps one.
 */
-void planeMotions(Pair &p, const cv::Mat &K)
+void planeMotions(Pair &p, double f, const CameraModel &lens)
 {
   p.plane_motions.clear();
   p.normals.clear();
-  std::vector<cv::Mat> Rs, ts, ns;
-  cv::decomposeHomographyMat(p.H, K, Rs, ts, ns);
-  std::vector<cv::Point2f> a, b; // normalized coordinates of the inliers
-  const cv::Mat Kinv = K.inv();
+  Eigen::Matrix3d H;
+  cv::cv2eigen(p.H, H);
+  const double fy = lens.mu() * f;
+  std::vector<Eigen::Vector2d> a, b; // normalized coordinates of the inliers
   for (size_t i = 0; i < p.h_inliers0.size(); ++i) {
-    const cv::Mat x0 = Kinv * (cv::Mat_<double>(3, 1) << p.h_inliers0[i].x, p.h_inliers0[i].y, 1);
-    const cv::Mat xk = Kinv * (cv::Mat_<double>(3, 1) << p.h_inliersk[i].x, p.h_inliersk[i].y, 1);
-    a.emplace_back(static_cast<float>(x0.at<double>(0)), static_cast<float>(x0.at<double>(1)));
-    b.emplace_back(static_cast<float>(xk.at<double>(0)), static_cast<float>(xk.at<double>(1)));
+    a.emplace_back((p.h_inliers0[i].x - lens.u0()) / f, (p.h_inliers0[i].y - lens.v0()) / fy);
+    b.emplace_back((p.h_inliersk[i].x - lens.u0()) / f, (p.h_inliersk[i].y - lens.v0()) / fy);
   }
-  std::vector<int> keep;
-  cv::filterHomographyDecompByVisibleRefpoints(Rs, ns, a, b, keep);
-  for (int i : keep) {
-    Rigid M;
-    Eigen::Vector3d n;
-    cv::cv2eigen(Rs[static_cast<size_t>(i)], M.R);
-    cv::cv2eigen(ts[static_cast<size_t>(i)], M.t);
-    cv::cv2eigen(ns[static_cast<size_t>(i)], n);
-    if (M.R.allFinite() && M.t.allFinite() && n.allFinite() && M.t.norm() > 0) {
-      M.t.normalize();
-      p.plane_motions.push_back(M);
-      p.normals.push_back(n.normalized());
+  for (PlaneMotion &m : homographyMotions(H, f, lens.u0(), lens.v0(), lens.mu(), a, b))
+    if (m.bMa.t.norm() > 0) {
+      m.bMa.t.normalize();
+      p.plane_motions.push_back(m.bMa);
+      p.normals.push_back(m.normal);
     }
-  }
 }
 
 /*
@@ -276,7 +268,7 @@ double motionScore(std::vector<Pair> &pairs, const CameraModel &lens, double f, 
     p.posed = p.planar = false;
     p.plane_motions.clear();
     if (!p.H.empty()) {
-      planeMotions(p, K);
+      planeMotions(p, f, lens);
       continue;
     }
     cv::Mat mask, R, t;
