@@ -33,6 +33,8 @@ size_t boardPointsObserved(const std::map<int, vpColVector> &layout, const vpSel
 void refuseBundleOptions(const CalibrateArgs &a);
 //! --pose-sd T,R and --joint-sd into the noise model once the method is known.
 void stateRobotError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po);
+//! A misfit doubt on a run with fixed parameters: a doubt naming them put first (calibrateChecks.cpp).
+void leadWithFixedParameters(vpRobotSelfCalibration::Result &r);
 //! --fix / --free and the dataset's fix: / free: against the model's parameter names (usage errors).
 void checkParameterLists(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds,
                          const vpRobotSelfCalibration::Options &po, bool hand_eye, bool intrinsics_estimated);

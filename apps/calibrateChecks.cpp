@@ -122,3 +122,41 @@ void checkParameterLists(const vpKinematicChain &nominal, const vpSelfCalibDatas
                                                     "board seen in several views)");
   throw CLI::ValidationError("--fix", what + " and the intrinsics are known: nothing is left to calibrate; " + fewer);
 }
+
+/*
+  A doubt of misfit (residuals, corrections, predictions) on a run whose user fixed parameters: a
+  fixed value that is wrong cannot be corrected and its error goes into the residuals and the other
+  estimates, which the misfit checks then name as a wrong model, unmodelled joint error or the like.
+  The fixed parameters lead: a doubt naming them goes first (in the output, the status line and
+  results.yaml).
+*/
+void leadWithFixedParameters(vpRobotSelfCalibration::Result &r)
+{
+  if (r.status != vpRobotSelfCalibration::DOUBTFUL)
+    return;
+  static const std::set<std::string> misfit = {
+      "residuals-too-large",          "robot-error-unmodelled",      "correction-beyond-tolerance",
+      "fit-worse-than-nominal",       "held-out-worse-than-nominal", "cross-validation-worse-than-nominal",
+      "yardstick-not-reproduced",     "robot-corrections-stand-in",  "expected-worse-than-nominal"};
+  const bool misfits = std::any_of(r.findings.begin(), r.findings.end(), [](const vpSelfCalibDataCheck::Finding &f) {
+    return f.severity == vpSelfCalibDataCheck::DOUBT && misfit.count(f.code);
+  });
+  std::vector<std::string> fixed;
+  for (const auto &u : r.identifiability.unidentifiable)
+    if (u.cause == vpKinematicIdentification::CAUSE_FIXED)
+      fixed.push_back(u.name);
+  if (!misfits || fixed.empty())
+    return;
+  std::string names;
+  for (size_t i = 0; i < fixed.size() && i < 6; ++i)
+    names += (i ? ", " : "") + fixed[i];
+  if (fixed.size() > 6)
+    names += " and " + std::to_string(fixed.size() - 6) + " more";
+  r.findings.insert(r.findings.begin(),
+                    {vpSelfCalibDataCheck::DOUBT, "fixed-parameters-misfit",
+                     "the model does not fit the data with " + std::to_string(fixed.size()) + " parameter" +
+                         (fixed.size() > 1 ? "s" : "") + " fixed at their nominal values by --fix or the dataset's "
+                         "fix: (" + names + "): a fixed value that is wrong is not corrected and its error goes "
+                         "into the residuals and the other estimates; run without fixing them (or fix fewer) "
+                         "before reading the doubts below"});
+}

@@ -210,7 +210,7 @@ int calibrate(const CalibrateArgs &a)
   const vpSelfCalibProtocol::Options protocol_options = protocolOptions(a, co);
   const vpSelfCalibProtocol::Plan plan =
       vpSelfCalibProtocol::plan(protocol_options, static_cast<unsigned int>(ds.views.size()));
-  const vpSelfCalibProtocol::Result p =
+  vpSelfCalibProtocol::Result p =
       vpSelfCalibProtocol::run(nominal, ds, po, plan, protocol_options, printEvent);
   if (!p.calibrated()) {
     std::cerr << (p.run.status == vpRobotSelfCalibration::DEGENERATE_DATA ? "calibration refused: "
@@ -220,6 +220,7 @@ int calibrate(const CalibrateArgs &a)
     printStatus(p.run, false);
     return 3;
   }
+  leadWithFixedParameters(p.calibration);
   const vpRobotSelfCalibration::Result &r = p.calibration;
   for (const auto &f : r.findings)
     std::cerr << vpSelfCalibDataCheck::severityName(f.severity) << ": " << f.message << "\n";
