@@ -56,8 +56,9 @@ int checkHeldout(const std::string &dataset, const vpSelfCalibDataset &ds, const
 //! Refuses a method that needs joints (bundle, paper) on views that give controller poses: 0, or 1 after the message.
 int checkMethodData(vpRobotSelfCalibration::Method method, const vpSelfCalibDataset &ds);
 /*!
-  calibrate's last line on stdout: "status: ok", "status: doubtful: WHY (and N more checks
-  failed); ... what to do" or "status: refused: STATUS: WHY" (the message says what to do).
+  calibrate's last line on stdout: "status: ok" (", with N warnings (CODES): ..." when there are
+  warnings), "status: doubtful: WHY (and N more checks failed); ... what to do" or "status:
+  refused: STATUS: WHY" (the message says what to do).
 */
 void printStatus(const vpRobotSelfCalibration::Result &r, bool calibrated);
 //! The protocol's figures on stdout, one line each.

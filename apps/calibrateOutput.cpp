@@ -269,8 +269,21 @@ void printStatus(const vpRobotSelfCalibration::Result &r, bool calibrated)
     if (f.severity == vpSelfCalibDataCheck::DOUBT)
       doubts.push_back(&f);
   if (r.status != vpRobotSelfCalibration::DOUBTFUL || doubts.empty()) {
-    std::cout << (r.status == vpRobotSelfCalibration::DOUBTFUL ? "status: doubtful: see results.yaml's findings\n"
-                                                                : "status: ok\n");
+    if (r.status == vpRobotSelfCalibration::DOUBTFUL) {
+      std::cout << "status: doubtful: see results.yaml's findings\n";
+      return;
+    }
+    // ok, and the warnings named: a reader of the last line alone learns that there are some.
+    std::string codes;
+    size_t warnings = 0;
+    for (const auto &f : r.findings)
+      if (f.severity == vpSelfCalibDataCheck::WARNING && warnings++ < 4)
+        codes += (codes.empty() ? "" : ", ") + f.code;
+    std::cout << "status: ok";
+    if (warnings > 0)
+      std::cout << ", with " << warnings << " warning" << (warnings > 1 ? "s" : "") << " (" << codes
+                << (warnings > 4 ? ", ..." : "") << "): the 'warning' lines above say what each costs";
+    std::cout << "\n";
     return;
   }
   std::cout << "status: doubtful: " << firstSentence(doubts[0]->message);
