@@ -53,6 +53,8 @@ int checkOutputDirectory(const vpSelfCalibOutputDirectory &outdir, const std::st
   image, joints or controller pose): the check would not be independent. 0, or 1 after the message.
 */
 int checkHeldout(const std::string &dataset, const vpSelfCalibDataset &ds, const std::string &heldout);
+//! Refuses controller poses (fMe) beyond any robot's reach (units other than m): 0, or 1 after the message.
+int checkControllerPoses(const std::string &dataset, const vpSelfCalibDataset &ds);
 //! Refuses a method that needs joints (bundle, paper) on views that give controller poses: 0, or 1 after the message.
 int checkMethodData(vpRobotSelfCalibration::Method method, const vpSelfCalibDataset &ds);
 /*!

@@ -182,6 +182,8 @@ int calibrate(const CalibrateArgs &a)
     return refused;
   if (const int refused = checkHeldout(dataset, ds, a.heldout))
     return refused;
+  if (const int refused = checkControllerPoses(dataset, ds))
+    return refused;
   const vpSelfCalibImageCorrespondences::Result cr = runFrontEnd(ds, co, a.board_geometry);
   cv::setNumThreads(1);
   if (cr.board_ran && !co.mask_board && cr.board_images == 0 && !cr.board.empty()) {

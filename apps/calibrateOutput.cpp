@@ -226,6 +226,25 @@ int checkHeldout(const std::string &dataset, const vpSelfCalibDataset &ds, const
   return 1;
 }
 
+int checkControllerPoses(const std::string &dataset, const vpSelfCalibDataset &ds)
+{
+  // No robot arm or gantry puts its end-effector 100 m from its base: beyond, the translations are
+  // in other units (mm typed as m), and the calibration would end doubtful for another reason.
+  constexpr double kReach = 100.0;
+  for (size_t k = 0; k < ds.views.size(); ++k) {
+    if (!ds.views[k].has_fMe)
+      continue;
+    const double d = ds.views[k].fMe.getTranslationVector().frobeniusNorm();
+    if (d > kReach) {
+      std::cerr << "error: " << dataset << ": pose " << k << "'s fMe puts the end-effector " << d
+                << " m from the robot's base: no robot reaches " << kReach << " m; fMe is (tx, ty, tz) in metres "
+                << "and theta-u in radians (a translation in mm?)\n";
+      return 1;
+    }
+  }
+  return 0;
+}
+
 int checkMethodData(vpRobotSelfCalibration::Method method, const vpSelfCalibDataset &ds)
 {
   if (method == vpRobotSelfCalibration::HAND_EYE)
