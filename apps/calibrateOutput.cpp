@@ -206,6 +206,24 @@ int checkHeldout(const std::string &dataset, const vpSelfCalibDataset &ds, const
               << ": a check on another set-up says nothing of this calibration; give views of this one\n";
     return 1;
   }
+  if (h.robot != ds.robot) {
+    // Another robot model's views say nothing of this calibration (their joints move another arm).
+    const vpKinematicChain mine = vpKinematicChain::fromPresetOrFile(ds.robot);
+    const vpKinematicChain theirs = vpKinematicChain::fromPresetOrFile(h.robot);
+    // The same arm: the same flange pose at the held-out views' joints (a copy of the model file is).
+    bool same = mine.getNumJoints() == theirs.getNumJoints();
+    for (size_t k = 0; same && k < h.views.size(); ++k)
+      if (h.views[k].q.size() == mine.getNumJoints()) {
+        const vpHomogeneousMatrix d = mine.get_fMe(h.views[k].q).inverse() * theirs.get_fMe(h.views[k].q);
+        same = d.getTranslationVector().frobeniusNorm() < 1e-9 && vpThetaUVector(d).getTheta() < 1e-9;
+      }
+    if (!same) {
+      std::cerr << "error: --heldout " << heldout << ": robot " << h.robot << ", the calibration dataset's is "
+                << ds.robot << ": a check on another robot's views says nothing of this calibration; give views of "
+                << "this robot\n";
+      return 1;
+    }
+  }
   std::vector<size_t> shared;
   for (size_t k = 0; k < h.views.size(); ++k)
     for (const vpSelfCalibDataset::View &v : ds.views)
