@@ -180,6 +180,32 @@ void addCompare(CLI::App &app, CompareArgs &a)
   c->add_flag("--force", a.force, "replace an existing --yaml file");
 }
 
+namespace
+{
+/*
+  The truth names the dataset it was simulated for (truth_of), results.yaml the dataset calibrated:
+  two different file names are most likely another simulation's truth (another seed, another
+  run), whose errors say nothing of this result. A warning: a renamed file is the same data.
+*/
+void warnOtherSimulation(const CompareArgs &a, const YAML::Node &root)
+{
+  if (!root.IsMap() || !root["truth_of"] || !root["truth_of"].IsScalar())
+    return;
+  std::string calibrated;
+  try {
+    calibrated = vpSelfCalibResultsFile::read((fs::path(a.result) / "results.yaml").string()).dataset;
+  } catch (const vpSelfCalibException &) {
+    return; // the checks below say what is wrong with the result
+  }
+  const std::string truth_of = root["truth_of"].as<std::string>();
+  if (calibrated.empty() || fs::path(calibrated).filename() == fs::path(truth_of).filename())
+    return;
+  std::cerr << "warning: " << a.result << " was calibrated on " << calibrated << " (its results.yaml), and " << a.truth
+            << " is the truth simulated for " << truth_of << ": unless one was renamed, the errors below measure "
+            << "this result against another simulation's robot\n";
+}
+} // namespace
+
 int compare(const CompareArgs &a)
 {
   const YAML::Node root = readTruthFile(a.truth);
@@ -191,6 +217,7 @@ int compare(const CompareArgs &a)
               << "\n";
     return 1;
   }
+  warnOtherSimulation(a, root);
   if (root.IsMap() && root["bMc"] && root["eMo"]) // a camera fixed in the world
     return compareEyeToHand(a, root);
   const Truth t = readTruth(root, a.truth);
