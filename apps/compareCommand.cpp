@@ -182,11 +182,7 @@ void addCompare(CLI::App &app, CompareArgs &a)
 
 namespace
 {
-/*
-  The truth names the dataset it was simulated for (truth_of), results.yaml the dataset calibrated:
-  two different file names are most likely another simulation's truth (another seed, another
-  run), whose errors say nothing of this result. A warning: a renamed file is the same data.
-*/
+//! A truth simulated for another dataset (truth_of) than the result's (results.yaml): a warning (files get renamed).
 void warnOtherSimulation(const CompareArgs &a, const YAML::Node &root)
 {
   if (!root.IsMap() || !root["truth_of"] || !root["truth_of"].IsScalar())
@@ -198,11 +194,10 @@ void warnOtherSimulation(const CompareArgs &a, const YAML::Node &root)
     return; // the checks below say what is wrong with the result
   }
   const std::string truth_of = root["truth_of"].as<std::string>();
-  if (calibrated.empty() || fs::path(calibrated).filename() == fs::path(truth_of).filename())
-    return;
-  std::cerr << "warning: " << a.result << " was calibrated on " << calibrated << " (its results.yaml), and " << a.truth
-            << " is the truth simulated for " << truth_of << ": unless one was renamed, the errors below measure "
-            << "this result against another simulation's robot\n";
+  if (!calibrated.empty() && fs::path(calibrated).filename() != fs::path(truth_of).filename())
+    std::cerr << "warning: " << a.result << " was calibrated on " << calibrated << " (its results.yaml), and " << a.truth
+              << " is the truth simulated for " << truth_of << ": unless one was renamed, the errors below measure "
+              << "this result against another simulation's robot\n";
 }
 } // namespace
 
