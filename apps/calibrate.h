@@ -33,6 +33,8 @@ size_t boardPointsObserved(const std::map<int, vpColVector> &layout, const vpSel
 void refuseBundleOptions(const CalibrateArgs &a);
 //! --pose-sd T,R and --joint-sd into the noise model once the method is known.
 void stateRobotError(const CalibrateArgs &a, vpRobotSelfCalibration::Options &po);
+//! A misfit doubt on a run with fixed parameters: a doubt naming them put first (calibrateChecks.cpp).
+void leadWithFixedParameters(vpRobotSelfCalibration::Result &r);
 //! --fix / --free and the dataset's fix: / free: against the model's parameter names (usage errors).
 void checkParameterLists(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds,
                          const vpRobotSelfCalibration::Options &po, bool hand_eye, bool intrinsics_estimated);
@@ -51,11 +53,14 @@ int checkOutputDirectory(const vpSelfCalibOutputDirectory &outdir, const std::st
   image, joints or controller pose): the check would not be independent. 0, or 1 after the message.
 */
 int checkHeldout(const std::string &dataset, const vpSelfCalibDataset &ds, const std::string &heldout);
+//! Refuses controller poses (fMe) beyond any robot's reach (units other than m): 0, or 1 after the message.
+int checkControllerPoses(const std::string &dataset, const vpSelfCalibDataset &ds);
 //! Refuses a method that needs joints (bundle, paper) on views that give controller poses: 0, or 1 after the message.
 int checkMethodData(vpRobotSelfCalibration::Method method, const vpSelfCalibDataset &ds);
 /*!
-  calibrate's last line on stdout: "status: ok", "status: doubtful: WHY (and N more checks
-  failed); ... what to do" or "status: refused: STATUS: WHY" (the message says what to do).
+  calibrate's last line on stdout: "status: ok" (", with N warnings (CODES): ..." when there are
+  warnings), "status: doubtful: WHY (and N more checks failed); ... what to do" or "status:
+  refused: STATUS: WHY" (the message says what to do).
 */
 void printStatus(const vpRobotSelfCalibration::Result &r, bool calibrated);
 //! The protocol's figures on stdout, one line each.

@@ -1,13 +1,15 @@
 /*
  * visp-selfcalib calibrate: the checks of its options against the dataset and the method (the
- * options of one method refused with another, the robot's error stated, --fix / --free names), see
- * calibrate.h.
+ * options of one method refused with another, the robot's error stated, --fix / --free names) and
+ * of its inputs (--heldout, the controller poses, the method's data), see calibrate.h.
  */
 #include "calibrate.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <set>
+#include <sstream>
 
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpKinematicIdentification.h>
@@ -121,4 +123,159 @@ void checkParameterLists(const vpKinematicChain &nominal, const vpSelfCalibDatas
                                             fewer + ", or calibrate the camera alone with a camera calibration (a "
                                                     "board seen in several views)");
   throw CLI::ValidationError("--fix", what + " and the intrinsics are known: nothing is left to calibrate; " + fewer);
+}
+
+/*
+  A doubt of misfit (residuals, corrections, predictions) on a run whose user fixed parameters: a
+  fixed value that is wrong cannot be corrected and its error goes into the residuals and the other
+  estimates, which the misfit checks then name as a wrong model, unmodelled joint error or the like.
+  The fixed parameters lead: a doubt naming them goes first (in the output, the status line and
+  results.yaml).
+*/
+void leadWithFixedParameters(vpRobotSelfCalibration::Result &r)
+{
+  if (r.status != vpRobotSelfCalibration::DOUBTFUL)
+    return;
+  static const std::set<std::string> misfit = {
+      "residuals-too-large",          "robot-error-unmodelled",      "correction-beyond-tolerance",
+      "fit-worse-than-nominal",       "held-out-worse-than-nominal", "cross-validation-worse-than-nominal",
+      "yardstick-not-reproduced",     "robot-corrections-stand-in",  "expected-worse-than-nominal"};
+  const bool misfits = std::any_of(r.findings.begin(), r.findings.end(), [](const vpSelfCalibDataCheck::Finding &f) {
+    return f.severity == vpSelfCalibDataCheck::DOUBT && misfit.count(f.code);
+  });
+  std::vector<std::string> fixed;
+  for (const auto &u : r.identifiability.unidentifiable)
+    if (u.cause == vpKinematicIdentification::CAUSE_FIXED)
+      fixed.push_back(u.name);
+  if (!misfits || fixed.empty())
+    return;
+  std::string names;
+  for (size_t i = 0; i < fixed.size() && i < 6; ++i)
+    names += (i ? ", " : "") + fixed[i];
+  if (fixed.size() > 6)
+    names += " and " + std::to_string(fixed.size() - 6) + " more";
+  r.findings.insert(r.findings.begin(),
+                    {vpSelfCalibDataCheck::DOUBT, "fixed-parameters-misfit",
+                     "the model does not fit the data with " + std::to_string(fixed.size()) + " parameter" +
+                         (fixed.size() > 1 ? "s" : "") + " fixed at their nominal values by --fix or the dataset's "
+                         "fix: (" + names + "): a fixed value that is wrong is not corrected and its error goes "
+                         "into the residuals and the other estimates; run without fixing them (or fix fewer) "
+                         "before reading the doubts below"});
+}
+
+namespace
+{
+//! The same view: the same image file, or the same joints (or controller pose) to 1e-12.
+bool sameView(const vpSelfCalibDataset::View &a, const vpSelfCalibDataset::View &b)
+{
+  if (!a.image.empty() && !b.image.empty() && !canonical(a.image).empty() && canonical(a.image) == canonical(b.image))
+    return true;
+  if (a.q.size() != 0 && a.q.size() == b.q.size()) {
+    for (unsigned int j = 0; j < a.q.size(); ++j)
+      if (std::abs(a.q[j] - b.q[j]) > 1e-12)
+        return false;
+    return true;
+  }
+  if (a.has_fMe && b.has_fMe) {
+    for (unsigned int r = 0; r < 3; ++r)
+      for (unsigned int c = 0; c < 4; ++c)
+        if (std::abs(a.fMe[r][c] - b.fMe[r][c]) > 1e-12)
+          return false;
+    return true;
+  }
+  return false;
+}
+} // namespace
+
+int checkHeldout(const std::string &dataset, const vpSelfCalibDataset &ds, const std::string &heldout)
+{
+  if (heldout.empty())
+    return 0;
+  if (!canonical(heldout).empty() && canonical(heldout) == canonical(dataset)) {
+    std::cerr << "error: --heldout " << heldout << " is the calibration dataset itself: a check on the views "
+              << "calibrated on is not independent; give a dataset of other poses\n";
+    return 1;
+  }
+  const vpSelfCalibDataset h = vpSelfCalibDataset::loadYaml(heldout);
+  if (h.camera_mount != ds.camera_mount) {
+    std::cerr << "error: --heldout " << heldout << ": camera_mount: "
+              << vpSelfCalibDataset::cameraMountName(h.camera_mount) << ", the calibration dataset's is "
+              << vpSelfCalibDataset::cameraMountName(ds.camera_mount)
+              << ": a check on another set-up says nothing of this calibration; give views of this one\n";
+    return 1;
+  }
+  if (h.robot != ds.robot) {
+    // Another robot model's views say nothing of this calibration (their joints move another arm).
+    const vpKinematicChain mine = vpKinematicChain::fromPresetOrFile(ds.robot);
+    const vpKinematicChain theirs = vpKinematicChain::fromPresetOrFile(h.robot);
+    // The same arm: the same flange pose at the held-out views' joints (a copy of the model file is).
+    bool same = mine.getNumJoints() == theirs.getNumJoints();
+    for (size_t k = 0; same && k < h.views.size(); ++k)
+      if (h.views[k].q.size() == mine.getNumJoints()) {
+        const vpHomogeneousMatrix d = mine.get_fMe(h.views[k].q).inverse() * theirs.get_fMe(h.views[k].q);
+        same = d.getTranslationVector().frobeniusNorm() < 1e-9 && vpThetaUVector(d).getTheta() < 1e-9;
+      }
+    if (!same) {
+      std::cerr << "error: --heldout " << heldout << ": robot " << h.robot << ", the calibration dataset's is "
+                << ds.robot << ": a check on another robot's views says nothing of this calibration; give views of "
+                << "this robot\n";
+      return 1;
+    }
+  }
+  std::vector<size_t> shared;
+  for (size_t k = 0; k < h.views.size(); ++k)
+    for (const vpSelfCalibDataset::View &v : ds.views)
+      if (sameView(h.views[k], v)) {
+        shared.push_back(k);
+        break;
+      }
+  if (shared.empty())
+    return 0;
+  std::ostringstream list;
+  for (size_t i = 0; i < shared.size() && i < 10; ++i)
+    list << (i ? ", " : "") << shared[i];
+  if (shared.size() > 10)
+    list << "...";
+  std::cerr << "error: --heldout " << heldout << ": " << shared.size() << " of its " << h.views.size()
+            << " views (" << list.str() << ") are views of the calibration dataset too (the same joints or "
+            << "image): a check on them is not independent; give views not used to calibrate\n";
+  return 1;
+}
+
+int checkControllerPoses(const std::string &dataset, const vpSelfCalibDataset &ds)
+{
+  // No robot arm or gantry puts its end-effector 100 m from its base: beyond, the translations are
+  // in other units (mm typed as m), and the calibration would end doubtful for another reason.
+  constexpr double kReach = 100.0;
+  for (size_t k = 0; k < ds.views.size(); ++k) {
+    if (!ds.views[k].has_fMe)
+      continue;
+    const double d = ds.views[k].fMe.getTranslationVector().frobeniusNorm();
+    if (d > kReach) {
+      std::cerr << "error: " << dataset << ": pose " << k << "'s fMe puts the end-effector " << d
+                << " m from the robot's base: no robot reaches " << kReach << " m; fMe is (tx, ty, tz) in metres "
+                << "and theta-u in radians (a translation in mm?)\n";
+      return 1;
+    }
+  }
+  return 0;
+}
+
+int checkMethodData(vpRobotSelfCalibration::Method method, const vpSelfCalibDataset &ds)
+{
+  if (method == vpRobotSelfCalibration::HAND_EYE)
+    return 0;
+  size_t without = 0, first = ds.views.size();
+  for (size_t k = 0; k < ds.views.size(); ++k)
+    if (ds.views[k].q.size() == 0) {
+      ++without;
+      first = std::min(first, k);
+    }
+  if (without == 0)
+    return 0;
+  std::cerr << "error: --method " << vpRobotSelfCalibration::methodName(method) << " calibrates the kinematic "
+            << "model from joint readings, and " << without << " of the " << ds.views.size()
+            << " views (view " << first << " the first) give a controller pose (fMe) instead: use --method "
+            << "hand-eye (eMc and the camera from controller poses), or record the joints\n";
+  return 1;
 }

@@ -182,6 +182,8 @@ int calibrate(const CalibrateArgs &a)
     return refused;
   if (const int refused = checkHeldout(dataset, ds, a.heldout))
     return refused;
+  if (const int refused = checkControllerPoses(dataset, ds))
+    return refused;
   const vpSelfCalibImageCorrespondences::Result cr = runFrontEnd(ds, co, a.board_geometry);
   cv::setNumThreads(1);
   if (cr.board_ran && !co.mask_board && cr.board_images == 0 && !cr.board.empty()) {
@@ -210,7 +212,7 @@ int calibrate(const CalibrateArgs &a)
   const vpSelfCalibProtocol::Options protocol_options = protocolOptions(a, co);
   const vpSelfCalibProtocol::Plan plan =
       vpSelfCalibProtocol::plan(protocol_options, static_cast<unsigned int>(ds.views.size()));
-  const vpSelfCalibProtocol::Result p =
+  vpSelfCalibProtocol::Result p =
       vpSelfCalibProtocol::run(nominal, ds, po, plan, protocol_options, printEvent);
   if (!p.calibrated()) {
     std::cerr << (p.run.status == vpRobotSelfCalibration::DEGENERATE_DATA ? "calibration refused: "
@@ -220,6 +222,7 @@ int calibrate(const CalibrateArgs &a)
     printStatus(p.run, false);
     return 3;
   }
+  leadWithFixedParameters(p.calibration);
   const vpRobotSelfCalibration::Result &r = p.calibration;
   for (const auto &f : r.findings)
     std::cerr << vpSelfCalibDataCheck::severityName(f.severity) << ": " << f.message << "\n";

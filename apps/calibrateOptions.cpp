@@ -224,6 +224,12 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
     throw CLI::ValidationError("--pose-sd", "give two values, T,R (m, rad), or auto, or 0 (exact poses)");
   if (a.pose_sd.size() == 2 && !trusted && (std::stod(a.pose_sd[0]) == 0 || std::stod(a.pose_sd[1]) == 0))
     throw CLI::ValidationError("--pose-sd", "T and R are both positive (the error modelled) or both 0 (exact poses)");
+  // A robot's pose error, or its model's residual, is millimetres and milliradians: beyond 0.1 m or
+  // 0.5 rad the values are in other units (mm typed as m), and the adjustment would fail unexplained.
+  if (a.pose_sd.size() == 2 && !trusted && (std::stod(a.pose_sd[0]) > 0.1 || std::stod(a.pose_sd[1]) > 0.5))
+    throw CLI::ValidationError("--pose-sd", a.pose_sd[0] + "," + a.pose_sd[1] + " is no robot's error: T is in metres "
+                                            "(at most 0.1) and R in radians (at most 0.5); 2 mm and 2 mrad are "
+                                            "0.002,0.002");
   if (a.joint_sd_auto && !a.joint_sd.empty())
     throw CLI::ValidationError("--joint-sd", "auto (measured) comes alone; or give the error (rad), one value for every "
                                              "joint or one per joint, or 0 (exact readings)");

@@ -167,86 +167,6 @@ void printSummary(const vpRobotSelfCalibration::Result &r, unsigned int num_cali
 
 namespace
 {
-//! The same view: the same image file, or the same joints (or controller pose) to 1e-12.
-bool sameView(const vpSelfCalibDataset::View &a, const vpSelfCalibDataset::View &b)
-{
-  if (!a.image.empty() && !b.image.empty() && !canonical(a.image).empty() && canonical(a.image) == canonical(b.image))
-    return true;
-  if (a.q.size() != 0 && a.q.size() == b.q.size()) {
-    for (unsigned int j = 0; j < a.q.size(); ++j)
-      if (std::abs(a.q[j] - b.q[j]) > 1e-12)
-        return false;
-    return true;
-  }
-  if (a.has_fMe && b.has_fMe) {
-    for (unsigned int r = 0; r < 3; ++r)
-      for (unsigned int c = 0; c < 4; ++c)
-        if (std::abs(a.fMe[r][c] - b.fMe[r][c]) > 1e-12)
-          return false;
-    return true;
-  }
-  return false;
-}
-} // namespace
-
-int checkHeldout(const std::string &dataset, const vpSelfCalibDataset &ds, const std::string &heldout)
-{
-  if (heldout.empty())
-    return 0;
-  if (!canonical(heldout).empty() && canonical(heldout) == canonical(dataset)) {
-    std::cerr << "error: --heldout " << heldout << " is the calibration dataset itself: a check on the views "
-              << "calibrated on is not independent; give a dataset of other poses\n";
-    return 1;
-  }
-  const vpSelfCalibDataset h = vpSelfCalibDataset::loadYaml(heldout);
-  if (h.camera_mount != ds.camera_mount) {
-    std::cerr << "error: --heldout " << heldout << ": camera_mount: "
-              << vpSelfCalibDataset::cameraMountName(h.camera_mount) << ", the calibration dataset's is "
-              << vpSelfCalibDataset::cameraMountName(ds.camera_mount)
-              << ": a check on another set-up says nothing of this calibration; give views of this one\n";
-    return 1;
-  }
-  std::vector<size_t> shared;
-  for (size_t k = 0; k < h.views.size(); ++k)
-    for (const vpSelfCalibDataset::View &v : ds.views)
-      if (sameView(h.views[k], v)) {
-        shared.push_back(k);
-        break;
-      }
-  if (shared.empty())
-    return 0;
-  std::ostringstream list;
-  for (size_t i = 0; i < shared.size() && i < 10; ++i)
-    list << (i ? ", " : "") << shared[i];
-  if (shared.size() > 10)
-    list << "...";
-  std::cerr << "error: --heldout " << heldout << ": " << shared.size() << " of its " << h.views.size()
-            << " views (" << list.str() << ") are views of the calibration dataset too (the same joints or "
-            << "image): a check on them is not independent; give views not used to calibrate\n";
-  return 1;
-}
-
-int checkMethodData(vpRobotSelfCalibration::Method method, const vpSelfCalibDataset &ds)
-{
-  if (method == vpRobotSelfCalibration::HAND_EYE)
-    return 0;
-  size_t without = 0, first = ds.views.size();
-  for (size_t k = 0; k < ds.views.size(); ++k)
-    if (ds.views[k].q.size() == 0) {
-      ++without;
-      first = std::min(first, k);
-    }
-  if (without == 0)
-    return 0;
-  std::cerr << "error: --method " << vpRobotSelfCalibration::methodName(method) << " calibrates the kinematic "
-            << "model from joint readings, and " << without << " of the " << ds.views.size()
-            << " views (view " << first << " the first) give a controller pose (fMe) instead: use --method "
-            << "hand-eye (eMc and the camera from controller poses), or record the joints\n";
-  return 1;
-}
-
-namespace
-{
 //! The first sentence of a message (to its first ". "), at most about 300 characters.
 std::string firstSentence(const std::string &m)
 {
@@ -269,8 +189,21 @@ void printStatus(const vpRobotSelfCalibration::Result &r, bool calibrated)
     if (f.severity == vpSelfCalibDataCheck::DOUBT)
       doubts.push_back(&f);
   if (r.status != vpRobotSelfCalibration::DOUBTFUL || doubts.empty()) {
-    std::cout << (r.status == vpRobotSelfCalibration::DOUBTFUL ? "status: doubtful: see results.yaml's findings\n"
-                                                                : "status: ok\n");
+    if (r.status == vpRobotSelfCalibration::DOUBTFUL) {
+      std::cout << "status: doubtful: see results.yaml's findings\n";
+      return;
+    }
+    // ok, and the warnings named: a reader of the last line alone learns that there are some.
+    std::string codes;
+    size_t warnings = 0;
+    for (const auto &f : r.findings)
+      if (f.severity == vpSelfCalibDataCheck::WARNING && warnings++ < 4)
+        codes += (codes.empty() ? "" : ", ") + f.code;
+    std::cout << "status: ok";
+    if (warnings > 0)
+      std::cout << ", with " << warnings << " warning" << (warnings > 1 ? "s" : "") << " (" << codes
+                << (warnings > 4 ? ", ..." : "") << "): the 'warning' lines above say what each costs";
+    std::cout << "\n";
     return;
   }
   std::cout << "status: doubtful: " << firstSentence(doubts[0]->message);

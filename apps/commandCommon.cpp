@@ -195,6 +195,13 @@ bool outputRefused(const std::string &out, bool force)
     std::cerr << "error: '" << out << "' exists; use --force to replace it\n";
     return true;
   }
+  // A symbolic link whose target does not exist is not written through: the file replaces the link.
+  if (!force && fs::is_symlink(fs::symlink_status(out, ec))) {
+    std::cerr << "error: '" << out << "' is a symbolic link to '" << fs::read_symlink(out, ec).string()
+              << "', which does not exist: the file written replaces the link, not its target; use --force to "
+                 "replace the link, or give the target's path\n";
+    return true;
+  }
   return false;
 }
 

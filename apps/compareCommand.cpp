@@ -180,6 +180,27 @@ void addCompare(CLI::App &app, CompareArgs &a)
   c->add_flag("--force", a.force, "replace an existing --yaml file");
 }
 
+namespace
+{
+//! A truth simulated for another dataset (truth_of) than the result's (results.yaml): a warning (files get renamed).
+void warnOtherSimulation(const CompareArgs &a, const YAML::Node &root)
+{
+  if (!root.IsMap() || !root["truth_of"] || !root["truth_of"].IsScalar())
+    return;
+  std::string calibrated;
+  try {
+    calibrated = vpSelfCalibResultsFile::read((fs::path(a.result) / "results.yaml").string()).dataset;
+  } catch (const vpSelfCalibException &) {
+    return; // the checks below say what is wrong with the result
+  }
+  const std::string truth_of = root["truth_of"].as<std::string>();
+  if (!calibrated.empty() && fs::path(calibrated).filename() != fs::path(truth_of).filename())
+    std::cerr << "warning: " << a.result << " was calibrated on " << calibrated << " (its results.yaml), and " << a.truth
+              << " is the truth simulated for " << truth_of << ": unless one was renamed, the errors below measure "
+              << "this result against another simulation's robot\n";
+}
+} // namespace
+
 int compare(const CompareArgs &a)
 {
   const YAML::Node root = readTruthFile(a.truth);
@@ -191,6 +212,7 @@ int compare(const CompareArgs &a)
               << "\n";
     return 1;
   }
+  warnOtherSimulation(a, root);
   if (root.IsMap() && root["bMc"] && root["eMo"]) // a camera fixed in the world
     return compareEyeToHand(a, root);
   const Truth t = readTruth(root, a.truth);

@@ -148,6 +148,12 @@ int compareEyeToHand(const CompareArgs &a, const YAML::Node &root)
   const vpHomogeneousMatrix bMc_true = poseOf(root["bMc"], "bMc", a.truth), eMo_true = poseOf(root["eMo"], "eMo", a.truth);
   const fs::path dir(a.result);
   const vpSelfCalibResultsFile::Contents res = vpSelfCalibResultsFile::read((dir / "results.yaml").string());
+  if (res.bMc && res.bMc->pose.size() == 6 && (!res.eMo || res.eMo->pose.size() != 6)) {
+    std::cerr << "error: " << (dir / "results.yaml").string() << " has bMc but no eMo (the target's pose on the "
+              << "tool): calibrate estimates it from the target's layout only (--board SPEC --board-geometry), and "
+              << "compare measures the camera's view of the target with both; calibrate again with the layout\n";
+    return 1;
+  }
   if (!res.bMc || !res.eMo || res.bMc->pose.size() != 6 || res.eMo->pose.size() != 6) {
     std::cerr << "error: " << (dir / "results.yaml").string() << " has no bMc and eMo: the truth '" << a.truth
               << "' is of a camera fixed in the world; compare a result of calibrate on that simulation's dataset\n";

@@ -4,6 +4,8 @@
  */
 #include "simulate.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <functional>
 #include <fstream>
@@ -172,10 +174,14 @@ int simulate(const SimulateArgs &a)
     }
     poses = static_cast<unsigned int>(configurations.size());
   } else {
-    configurations = sim.generateConfigurations(poses, [](unsigned int d, unsigned int n) {
-      std::cerr << "configurations " << d << "/" << n << "\r" << std::flush;
+    // Progress on a terminal only, rewritten in place; nothing in a pipe or a log.
+    const bool tty = ::isatty(STDERR_FILENO) != 0;
+    configurations = sim.generateConfigurations(poses, [tty](unsigned int d, unsigned int n) {
+      if (tty)
+        std::cerr << "\r\033[Kconfigurations " << d << "/" << n << std::flush;
     });
-    std::cerr << "\n";
+    if (tty)
+      std::cerr << "\n";
   }
   vpSelfCalibDataset ds = sim.makeDataset(configurations);
   const std::vector<std::string> presets = vpKinematicChain::presetNames(); // a file: written relative to the dataset

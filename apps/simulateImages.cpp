@@ -4,6 +4,8 @@
  */
 #include "simulate.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <fstream>
 #include <iomanip>
@@ -157,6 +159,7 @@ writeImages(const std::function<vpImage<unsigned char>(unsigned int)> &render, c
   const fs::path img_dir = (parent.empty() ? fs::path(".") : parent) / (fs::path(out).stem().string() + "-images-" + runName());
   auto owned = std::make_unique<vpSelfCalibOutputDirectory>(img_dir.string());
   vpSelfCalibOutputDirectory &set = *owned;
+  const bool tty = ::isatty(STDERR_FILENO) != 0; // progress on a terminal only
   for (size_t k = 0; k < ds.views.size(); ++k) {
     std::ostringstream name;
     name << std::setw(4) << std::setfill('0') << k + 1 << ".png";
@@ -166,14 +169,17 @@ writeImages(const std::function<vpImage<unsigned char>(unsigned int)> &render, c
       vpSelfCalibFileWriter::writeImage((fs::path(set.staging()) / name.str()).string(),
                                         render(static_cast<unsigned int>(k)));
     } catch (...) {
-      std::cerr << "\n"; // after the progress line
+      if (tty)
+        std::cerr << "\n"; // after the progress line
       throw;
     }
     ds.views[k].image = (img_dir / name.str()).string();
     ds.views[k].points.clear();
-    std::cerr << "rendered " << k + 1 << "/" << ds.views.size() << "\r" << std::flush;
+    if (tty)
+      std::cerr << "\r\033[Krendered " << k + 1 << "/" << ds.views.size() << std::flush;
   }
-  std::cerr << "\n";
+  if (tty)
+    std::cerr << "\n";
   set.commit();
   return owned; // its lock held until the dataset points at it: no other run takes it for an orphan
 }

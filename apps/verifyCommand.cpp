@@ -3,6 +3,7 @@
  */
 #include "commands.h"
 
+#include <cmath>
 #include <iomanip>
 #include <filesystem>
 #include <iostream>
@@ -11,7 +12,9 @@
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpSelfCalibDataCheck.h>
 #include <visp3/selfcalib/vpSelfCalibDataset.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibImageCorrespondences.h>
+#include <visp3/selfcalib/vpSelfCalibResultsFile.h>
 
 void addVerify(CLI::App &app, ModelArgs &a)
 {
@@ -22,6 +25,74 @@ void addVerify(CLI::App &app, ModelArgs &a)
   c->add_option("MODEL", a.model, modelHelp())->type_name("NAME|FILE")->required();
   c->add_option("DATASET", a.second, "a dataset YAML file")->type_name("FILE")->required();
 }
+
+namespace
+{
+namespace fs = std::filesystem;
+
+//! The views of ds that are views of cal too: the same joints (to 1e-12), or the same image file.
+size_t sharedViews(const vpSelfCalibDataset &ds, const vpSelfCalibDataset &cal)
+{
+  size_t shared = 0;
+  std::error_code ec;
+  for (const auto &v : ds.views)
+    for (const auto &c : cal.views) {
+      bool same = !v.image.empty() && !c.image.empty() && fs::equivalent(v.image, c.image, ec);
+      if (!same && v.q.size() != 0 && v.q.size() == c.q.size()) {
+        same = true;
+        for (unsigned int j = 0; j < v.q.size(); ++j)
+          same = same && std::abs(v.q[j] - c.q[j]) <= 1e-12;
+      }
+      if (same) {
+        ++shared;
+        break;
+      }
+    }
+  return shared;
+}
+
+/*
+  The dataset a model was calibrated on (results.yaml beside the model names it) checks little: its
+  yardstick set the calibration's scale on the views calibrated on. A note for stdout's figure line
+  when the views verified are that dataset's (all, or some: a warning on stderr says which),
+  empty otherwise. Not a refusal: with --holdout the same file holds the held-out views too.
+*/
+std::string calibrationDataNote(const std::string &model, const std::string &dataset, const vpSelfCalibDataset &ds)
+{
+  std::error_code ec;
+  const fs::path results = fs::path(model).parent_path() / "results.yaml";
+  if (!fs::is_regular_file(model, ec) || !fs::is_regular_file(results, ec))
+    return "";
+  vpSelfCalibResultsFile::Contents r;
+  try {
+    r = vpSelfCalibResultsFile::read(results.string());
+  } catch (const vpSelfCalibException &) {
+    return ""; // a results.yaml that does not read says nothing about this model
+  }
+  // Written as calibrate was given it: relative to where calibrate ran, the directory above --out as a rule.
+  for (const fs::path &c : {fs::path(r.dataset), fs::absolute(model, ec).parent_path().parent_path() / r.dataset}) {
+    if (r.dataset.empty() || !fs::is_regular_file(c, ec))
+      continue;
+    size_t shared = fs::equivalent(c, dataset, ec) ? ds.views.size() : 0;
+    if (shared == 0) {
+      try {
+        shared = sharedViews(ds, vpSelfCalibDataset::loadYaml(c.string()));
+      } catch (const vpSelfCalibException &) {
+        continue;
+      }
+    }
+    if (shared == 0)
+      return "";
+    std::cerr << "warning: " << shared << " of the " << ds.views.size() << " views of '" << dataset << "' are views of "
+              << "the dataset " << model << " was calibrated on (" << results.string() << ": " << r.dataset << ", "
+              << r.calibration_views << " views calibrated on): where the yardstick set the calibration's "
+              << "scale, its 3-D error is not an independent check; verify on a dataset of other poses (calibrate "
+              << "--heldout FILE reports one too)\n";
+    return " (on views of the calibration dataset: not an independent check)";
+  }
+  return "";
+}
+} // namespace
 
 int verify(const ModelArgs &a)
 {
@@ -42,6 +113,7 @@ int verify(const ModelArgs &a)
     return 1;
   }
   vpSelfCalibDataset ds = vpSelfCalibDataset::loadYaml(dataset);
+  const std::string note = calibrationDataNote(a.model, dataset, ds);
   if (ds.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD) {
     std::cerr << "error: dataset '" << dataset << "': camera_mount: world; verify triangulates the scene through a "
               << "camera on the flange (camera_mount: effector), which this dataset does not have\n";
@@ -73,6 +145,6 @@ int verify(const ModelArgs &a)
     return 1;
   }
   std::cout << std::setprecision(6) << "yardstick length " << v.yardstick_length << " m (true " << ds.yardstick.length
-            << "), 3-D error " << 1e3 * v.yardstick_error << " mm, " << v.points.size() << " points triangulated\n";
+            << "), 3-D error " << 1e3 * v.yardstick_error << " mm, " << v.points.size() << " points triangulated" << note << "\n";
   return 0;
 }

@@ -53,7 +53,7 @@ public:
   double number(const YAML::Node &n, const std::string &key) const
   {
     if (!n.IsDefined() || n.IsNull())
-      fail(key, "missing; expected a number");
+      fail(key, n.IsDefined() ? "empty; expected a number" : "missing; expected a number");
     if (!n.IsScalar())
       fail(key, "expected a number, got " + show(n));
     double v = 0;
@@ -70,7 +70,7 @@ public:
   std::string text(const YAML::Node &n, const std::string &key) const
   {
     if (!n.IsDefined() || n.IsNull())
-      fail(key, "missing; expected a string");
+      fail(key, n.IsDefined() ? "empty; expected a string" : "missing; expected a string");
     if (!n.IsScalar())
       fail(key, "expected a string, got " + show(n));
     // yaml-cpp reads any bytes but writes invalid UTF-8 as U+FFFD: such a name or path would not

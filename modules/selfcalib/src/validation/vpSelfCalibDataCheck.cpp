@@ -362,8 +362,8 @@ void checkParallax(const vpKinematicChain &nominal, const std::vector<View> &cal
       // not determined.
       add(out, vpSelfCalibDataCheck::WARNING, "planar-scene",
           "a homography explains the matched points of every pair (" + std::to_string(pairs) +
-              " pairs): the scene is a plane (or far away compared with the camera's motion); the calibration "
-              "goes on, and its information matrix says whether the poses determine it (a self-calibrated focal "
+              " pairs): the scene is a plane (or far away compared with the camera's motion); not a refusal in "
+              "itself: the adjustment's information matrix says whether the poses determine the calibration (a self-calibrated focal "
               "length needs the plane seen at several tilts); objects at other depths make it stronger");
   }
 
