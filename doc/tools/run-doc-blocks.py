@@ -6,7 +6,9 @@
 A block is runnable when the line before its ```sh fence (blank lines aside) is
 <!-- runnable: TAGS -->, TAGS among `sim` (the simulated robot: always run), `real-data` (reads
 ../shared/data: run when DATA exists, else left out with a message) and `slow` (run only with
---slow). The blocks of a page run in order, in one fresh directory laid out like a checkout:
+--slow). With --slow, the slow blocks run with the blocks before the last of them (they prepare its
+files); the blocks after it are left out, the run without --slow runs them. The blocks of a page
+run in order, in one fresh directory laid out like a checkout:
 build/ is BUILD, modules/, tutorial/, test/ and doc/ are SRC's, and ../shared/data is DATA, so the
 commands run verbatim. Each block runs under bash -e -o pipefail. Exit 0 when every block ran and
 succeeded, 1 at the first failure (the page, the line, the output), 77 when no block could run
@@ -69,12 +71,17 @@ def main():
         os.symlink(os.path.join(os.path.abspath(a.source), d), os.path.join(work, d))
     if have_data:
         os.symlink(os.path.abspath(a.data), os.path.join(top, "shared", "data"))
+    slow_at = [i for i, (_, tags, _) in enumerate(todo) if "slow" in tags]
+    last_slow = slow_at[-1] if slow_at else -1
     ran = 0
     try:
-        for line, tags, text in todo:
+        for i, (line, tags, text) in enumerate(todo):
             where = f"{os.path.relpath(a.page, a.source)}:{line}"
             if "slow" in tags and not a.slow:
                 print(f"-- {where}: slow, not run (ctest -L slow runs it)")
+                continue
+            if a.slow and i > last_slow:
+                print(f"-- {where}: after the last slow block, not run with --slow (the run without it runs it)")
                 continue
             if "real-data" in tags and not have_data:
                 print(f"-- {where}: needs {a.data} (../shared/data), which is absent: not run")
