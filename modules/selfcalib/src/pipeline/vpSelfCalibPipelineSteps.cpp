@@ -383,7 +383,14 @@ bool bundleFrom(const Context &c, const vpKinematicChain &start, const std::map<
   c.report(label, 0, 1);
   const vpSelfCalibDataset &ds = c.dataset;
   const vpCameraParameters cam0 = startCamera(c, fx0);
-  res.bundle = vpKinematicBundleAdjustment::adjust(start, cam0, views, ds.yardstick, points, bo, c.noise);
+  // Without a yardstick the scale held is the nominal model's, not the start identification's (whose
+  // scale follows one reconstruction's, and drifts with it).
+  vpKinematicBundleAdjustment::Options o = bo;
+  if (o.scale_reference.empty() && !o.hand_eye_only && start.getNumParameters() == c.nominal.getNumParameters()) {
+    const vpColVector p = c.nominal.getParameters();
+    o.scale_reference.assign(p.data, p.data + p.size());
+  }
+  res.bundle = vpKinematicBundleAdjustment::adjust(start, cam0, views, ds.yardstick, points, o, c.noise);
   res.stage_seconds.push_back({label, res.bundle.seconds_solve});
   res.stage_seconds.push_back({"covariance", res.bundle.seconds_covariance});
   res.calibrated = res.bundle.chain;
