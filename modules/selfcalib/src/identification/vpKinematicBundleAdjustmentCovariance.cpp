@@ -197,9 +197,6 @@ void addNominalScale(const Adjustment &a, KBA::Result &res)
     for (int c = 0; c < P; ++c)
       res.covariance[r][c] += a.scale_variance * a.scale_dir(r) * a.scale_dir(c);
   res.nominal_scale_sd = std::sqrt(a.scale_variance);
-  res.scale_direction.resize(static_cast<unsigned int>(P));
-  for (int r = 0; r < P; ++r)
-    res.scale_direction[static_cast<unsigned int>(r)] = a.scale_dir(r);
 }
 
 /*

@@ -388,69 +388,6 @@ void checkPredicted(const Context &c, Result &res, const std::map<int, vpColVect
             "more varied, configurations), a yardstick, or fix the focal length if it is known");
 }
 
-/*
-  The calibrated model against the nominal one on the camera's motions between configurations spread
-  over the joint limits (pairs of a fixed draw), where a model is used, not only the calibration
-  views: its predicted error from its covariance C (the relative pose's 6 x 6 covariance,
-  relativePoseCovariance(), its trace's position and rotation parts), and the nominal model's
-  expected error, estimated from the two models' difference: the calibrated model is the truth plus
-  its own error, so E|cal - nom|^2 = E|nom - truth|^2 + E|cal - truth|^2, and the nominal model's
-  mean square error is the difference's less the predicted one. Without a yardstick the scale's
-  share (nominal_scale_sd along the scale direction) is left out of C: the calibrated model keeps
-  the nominal model's scale, so both carry that error alike.
-*/
-void checkPredictedMotion(const Context &c, Result &res, const vpMatrix &covariance)
-{
-  const std::vector<unsigned int> &id = res.identifiability.identified;
-  const unsigned int P = static_cast<unsigned int>(id.size());
-  if (P == 0 || covariance.getRows() < P)
-    return;
-  vpMatrix C(P, P);
-  const vpKinematicBundleAdjustment::Result &b = res.bundle;
-  const bool scale = b.nominal_scale_sd > 0 && b.scale_direction.size() == P;
-  for (unsigned int i = 0; i < P; ++i)
-    for (unsigned int j = 0; j < P; ++j)
-      C[i][j] = covariance[i][j] - (scale ? b.nominal_scale_sd * b.nominal_scale_sd * b.scale_direction[i] *
-                                                b.scale_direction[j]
-                                          : 0.0);
-  constexpr unsigned int kPairs = 100;
-  const std::vector<vpColVector> q =
-      vpKinematicIdentification::randomConfigurations(c.guess, 2 * kPairs, 0x6d6f7469, 1);
-  double pt = 0, pr = 0, dt = 0, dr = 0;
-  for (unsigned int k = 0; k < kPairs; ++k) {
-    const vpColVector &qa = q[2 * k], &qb = q[2 * k + 1];
-    const vpMatrix S = vpKinematicBundleAdjustment::relativePoseCovariance(res.calibrated, id, C, qa, qb);
-    pt += S[0][0] + S[1][1] + S[2][2];
-    pr += S[3][3] + S[4][4] + S[5][5];
-    const vpHomogeneousMatrix cal = res.calibrated.get_fMc(qa).inverse() * res.calibrated.get_fMc(qb);
-    const vpHomogeneousMatrix nom = c.guess.get_fMc(qa).inverse() * c.guess.get_fMc(qb);
-    dt += std::pow(vpSelfCalib::translationDistance(cal, nom), 2);
-    dr += std::pow(vpSelfCalib::rotationDistance(cal, nom), 2);
-  }
-  pt /= kPairs, pr /= kPairs, dt /= kPairs, dr /= kPairs;
-  res.predicted_motion_translation = std::sqrt(pt);
-  res.predicted_motion_rotation = std::sqrt(pr);
-  res.nominal_motion_translation = std::sqrt(std::max(0.0, dt - pt));
-  res.nominal_motion_rotation = std::sqrt(std::max(0.0, dr - pr));
-  const bool t = pt > dt - pt, r = pr > dr - pr;
-  if (!t && !r)
-    return;
-  std::string what = t ? "position " + fixed(1e3 * res.predicted_motion_translation, 1) + " mm RMS against " +
-                             fixed(1e3 * res.nominal_motion_translation, 1) + " mm"
-                       : "";
-  if (r)
-    what += (t ? ", " : "") + std::string("rotation ") + fixed(1e3 * res.predicted_motion_rotation, 2) +
-            " mrad RMS against " + fixed(1e3 * res.nominal_motion_rotation, 2) + " mrad";
-  add(res, vpSelfCalibDataCheck::DOUBT, "expected-worse-than-nominal",
-      "the calibrated model's own predicted error on the camera's motions between configurations spread over the "
-      "joint limits exceeds the nominal model's expected error (" + what +
-          "; the nominal model's from the two models' difference less the predicted error" +
-          (scale ? ", the nominal scale's share left out of both" : "") +
-          "): these " + std::to_string(c.num_calibration) + " views determine the " + std::to_string(P) +
-          " parameters estimated too poorly away from their configurations; add views (more, and more varied, "
-          "configurations; visp-selfcalib plan --from), or a yardstick");
-}
-
 // How well the calibrated and the nominal model explain the calibration views (same rule for both).
 void checkFit(const Context &c, Result &res)
 {
@@ -474,15 +411,8 @@ void checkFit(const Context &c, Result &res)
   res.fit_nominal_rms = nominal.reprojection_rms;
   res.fit_calibrated_rms = calibrated.reprojection_rms;
   // (eye-to-hand: the predicted error is the eye-in-hand relative poses', not this set-up's)
-  if (c.options.method != vpRobotSelfCalibration::HAND_EYE && !e2h && c.calibration.front().q.size() > 0) {
+  if (c.options.method != vpRobotSelfCalibration::HAND_EYE && !e2h && c.calibration.front().q.size() > 0)
     checkPredicted(c, res, calibrated.points);
-    const bool said = std::any_of(res.findings.begin(), res.findings.end(),
-                                  [](const Finding &f) { return f.code == "expected-worse-than-nominal"; });
-    const vpMatrix &C =
-        c.options.method == vpRobotSelfCalibration::PAPER ? res.identification.covariance : res.bundle.covariance;
-    if (!said)
-      checkPredictedMotion(c, res, C);
-  }
   // Eye-to-hand hand-eye with the poses' error modelled: the "nominal" bMc is a start fitted to these
   // views with the poses taken as exact (PnP), and the calibrated one, which corrects the poses, need
   // not fit the raw poses better (simulated 2 mm / 2 mrad: 2-12 % worse, with bMc within 1 sd of the

@@ -301,8 +301,6 @@ public:
       lengths) and what is propagated from them include the scale's error. 0 otherwise.
     */
     double nominal_scale_sd = 0;
-    //! With nominal_scale_sd: s, per estimated correction (the covariance's first rows), per unit relative scale.
-    vpColVector scale_direction;
     bool has_layout_scale = false;
     double layout_scale = 1;
     double layout_scale_sd = 0;

@@ -317,18 +317,6 @@ public:
       0 when not computed.
     */
     double predicted_rms = 0;
-    /*!
-      The error of the camera's motion between two configurations (c_a M c_b, pairs drawn within the
-      joint limits; BUNDLE_ADJUSTMENT, PAPER): the calibrated model's predicted from its covariance
-      (RMS of the position's error in m and of the rotation's in rad; without a yardstick the nominal
-      scale's share left out, the nominal model has it too), and the nominal model's expected one:
-      the calibrated model's own difference from the nominal model, less its predicted error
-      (E|cal - nom|^2 = E|nominal's error|^2 + E|calibrated's error|^2). When the first exceeds the
-      second, calibrating is expected to make the model worse (DOUBTFUL,
-      expected-worse-than-nominal). 0 when not computed.
-    */
-    double predicted_motion_translation = 0, predicted_motion_rotation = 0;
-    double nominal_motion_translation = 0, nominal_motion_rotation = 0;
     double fx = 0, fx_sd = 0;
     std::vector<vpTwoViewEstimator::Result> pairs;      //!< pair (1, i + 2) at index i
     std::vector<double> ratios;                         //!< PAPER: eq. 21 ratios, one per pair
