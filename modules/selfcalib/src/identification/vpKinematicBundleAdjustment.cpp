@@ -520,6 +520,8 @@ void fillAdjustment(Adjustment &a, const std::vector<vpSelfCalibDataset::View> &
   a.free_in = estimatedIntrinsics(camera, opt, a.in);
   a.scale_covariance = opt.scale_covariance;
   a.scale_covariance_chi2 = opt.scale_covariance_chi2;
+  a.tolerance = {opt.tolerance_translation, opt.tolerance_rotation, opt.tolerance_hand_eye_translation,
+                 opt.tolerance_hand_eye_rotation};
 }
 
 /*
@@ -531,10 +533,16 @@ void prepareStart(Adjustment &a, const vpSelfCalibDataset::Yardstick &yardstick,
 {
   a.state.update(true);
   a.rho0 = a.state.rho;
+  if (!opt.scale_reference.empty())
+    for (size_t i = 0; i < a.rho0.size(); ++i)
+      a.rho0[i] = opt.scale_reference[a.state.id[i]];
   a.has_yardstick = yardstick.isSet() && a.X.count(yardstick.id_a) && a.X.count(yardstick.id_b);
   // Hand-eye-only: the metric end-effector motion fixes the scale; no gauge constraint.
   if (!opt.hand_eye_only)
+  {
     a.scale_dir = scaleDirection(a.state);
+    a.scale_gauge = scaleGauge(a.state, a.scale_dir, a.tolerance, a.scale_variance);
+  }
   a.keepVisible();
   if (!opt.known_points.empty())
     startObject(opt.known_points, a);
@@ -674,6 +682,13 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   const QuietCeres quiet;
   const auto t0 = std::chrono::steady_clock::now();
   const Inputs in = checkedInputs(start, camera, views, points0, opt, given);
+  if (!opt.scale_reference.empty() && opt.scale_reference.size() != start.getNumParameters())
+    throw vpSelfCalibException(vpSelfCalibException::dimensionError,
+                               "vpKinematicBundleAdjustment: scale_reference has " +
+                                   std::to_string(opt.scale_reference.size()) + " values, the start model " +
+                                   std::to_string(start.getNumParameters()) +
+                                   " parameters: give the reference model's getParameters() (same robot), or leave it "
+                                   "empty for the start model");
   const bool confounded = solve && jointsTakeTheModelResidual(start, opt, given);
   const vpSelfCalibNoiseModel noise =
       confounded ? given.withModelError(0, 0, vpSelfCalibNoiseModel::MEASURED) : given;
@@ -700,6 +715,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   Adjustment a(X0, start, res.identifiability.identified, q, fMe, opt.hand_eye_only && noise.hasPoseError(), joint_sd,
                n_joint, camera_delta);
   a.noise = noise;
+  a.scale_prior = solve && !opt.hand_eye_only;
   a.state.inverted = opt.hand_eye_only && opt.controller_poses_inverted;
   a.state.eye_to_hand = opt.eye_to_hand;
   a.P = static_cast<int>(res.identifiability.identified.size());
@@ -822,6 +838,11 @@ void vpKinematicBundleAdjustment::Settings::check() const
 void vpKinematicBundleAdjustment::Options::check() const
 {
   Settings::check();
+  for (double v : scale_reference)
+    if (!std::isfinite(v))
+      throw vpSelfCalibException(vpSelfCalibException::badValue,
+                                 "vpKinematicBundleAdjustment: scale_reference holds a value that is not finite; give "
+                                 "the reference model's getParameters(), or leave it empty for the start model");
   if (eye_to_hand && hand_eye_only)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: eye_to_hand is the full kinematic mode's camera in the "

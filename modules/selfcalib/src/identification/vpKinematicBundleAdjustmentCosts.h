@@ -272,7 +272,7 @@ struct ScaledYardstickCost {
   double L, w;
 };
 
-//! s^T (rho - rho0) / |s|^2 / 1e-8: the relative scale of the model held at its start value.
+//! s^T (rho - rho0) / |s|^2 / 1e-8: the relative scale of the model held at rho0's (s: the gauge, scaleGauge()).
 class ScaleCost : public ceres::CostFunction
 {
 public:

@@ -181,6 +181,25 @@ void measureFullModeError(Adjustment &a, const Eigen::MatrixXd &full, int first,
 } // namespace
 
 /*
+  Without a yardstick the solve holds the scale at the reference model's (the nominal one in the
+  pipeline), whose lengths are known to their tolerance only: the scale as one more parameter with
+  that prior (scaleGauge(): the relative variance of the scale held). An error e of the scale moves
+  the corrections by e s (s: the corrections that scale every camera position by 1 + e, per unit
+  e: scaleDirection()), which the images do not see: var(e) s s^T is added to their covariance.
+*/
+void addNominalScale(const Adjustment &a, KBA::Result &res)
+{
+  const int P = a.P;
+  if (!a.scale_prior || res.scale_source != KBA::SCALE_NOMINAL || a.scale_dir.size() != P || P == 0 ||
+      !(a.scale_variance > 0))
+    return;
+  for (int r = 0; r < P; ++r)
+    for (int c = 0; c < P; ++c)
+      res.covariance[r][c] += a.scale_variance * a.scale_dir(r) * a.scale_dir(c);
+  res.nominal_scale_sd = std::sqrt(a.scale_variance);
+}
+
+/*
   Stage 6, the covariance of the corrections and the estimated intrinsics with the points
   marginalized (core marginalCovariance); the yardstick's ends, linked by their residual, stay in
   the complement as in the solve. False when the information is singular.
@@ -254,6 +273,7 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
       res.object_sd[r] = std::sqrt(std::max(0.0, res.object_covariance[r][r]));
     }
   }
+  addNominalScale(a, res);
   for (int r = 0; r < P; ++r)
     res.sd[id[r]] = std::sqrt(std::max(0.0, res.covariance[r][r]));
   for (size_t r = 0; r < a.free_in.size(); ++r) {

@@ -41,6 +41,28 @@ Eigen::VectorXd scaleDirection(const KinematicState &st, const std::vector<int> 
   return A.colPivHouseholderQr().solve(b).head(P);
 }
 
+double toleranceOf(const std::string &name, const std::array<double, 4> &tolerance)
+{
+  const bool t = name.size() > 3 && name[name.size() - 2] == 't', hand_eye = name.rfind("eMc.", 0) == 0;
+  return tolerance[(hand_eye ? 2 : 0) + (t ? 0 : 1)];
+}
+
+Eigen::VectorXd scaleGauge(const KinematicState &st, const Eigen::VectorXd &s, const std::array<double, 4> &tolerance,
+                           double &variance)
+{
+  const std::vector<std::string> names = st.chain.getParameterNames();
+  Eigen::VectorXd w(s.size());
+  double information = 0;
+  for (int r = 0; r < s.size(); ++r) {
+    const double tol = toleranceOf(names[st.id[r]], tolerance);
+    w(r) = tol > 0 ? s(r) / (tol * tol) : 0.0;
+    information += w(r) * s(r);
+  }
+  variance = information > 0 ? 1.0 / information : 0.0;
+  // Scaled so that w^T s = s^T s: the held coordinate moves as the plain one along s.
+  return information > 0 ? (w * (s.squaredNorm() / information)).eval() : s;
+}
+
 //! The intrinsics block of the camera (and, OpenCV model, the given start coefficients).
 void intrinsicsFrom(const vpCameraParameters &cam, const vpKinematicBundleAdjustment::Options &o,
                     double in[kIntrinsics])
@@ -305,7 +327,7 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
                                   new YardstickCost(yardstick.length, opt.yardstick_sd)),
                               nullptr, a.X[yardstick.id_a].data(), a.X[yardstick.id_b].data());
   else if (scale_source == KBA::SCALE_NOMINAL && gauge)
-    problem->AddResidualBlock(new ScaleCost(a.scale_dir, a.rho0), nullptr, a.state.rho.data());
+    problem->AddResidualBlock(new ScaleCost(a.scale_gauge, a.rho0), nullptr, a.state.rho.data());
   // One group per block: within a group Ceres orders blocks by address, and the address order of
   // separately allocated blocks changes from run to run (and so would the last digits).
   order->AddElementToGroup(a.state.rho.data(), 2);

@@ -36,6 +36,20 @@ using KBA = vpKinematicBundleAdjustment;
   view: to first order they scale every camera position about c and leave orientations unchanged.
 */
 Eigen::VectorXd scaleDirection(const KinematicState &st, const std::vector<int> &columns = {});
+
+//! The nominal model's tolerance of a correction by its name (tolerance: translation, rotation, eMc's translation, eMc's rotation).
+double toleranceOf(const std::string &name, const std::array<double, 4> &tolerance);
+
+/*
+  The scale held without a yardstick, as the nominal lengths' prior weighs it: with the estimated
+  corrections' errors independent of sd tol_i (their tolerance), the least-squares scale of the
+  corrections rho against the reference rho_0 along the scale direction s is
+  e = s^T T^-1 (rho - rho_0) / (s^T T^-1 s), T = diag(tol_i^2), of variance 1 / (s^T T^-1 s): the
+  best-known lengths (the joints') fix it, a guess (eMc's) barely. Returns T^-1 s scaled to
+  (T^-1 s)^T s = s^T s (the gauge held: s^T T^-1 (rho - rho_0) = 0) and the variance.
+*/
+Eigen::VectorXd scaleGauge(const KinematicState &st, const Eigen::VectorXd &s, const std::array<double, 4> &tolerance,
+                           double &variance);
 //! The intrinsics block of the camera (and, OpenCV model, the given start coefficients).
 void intrinsicsFrom(const vpCameraParameters &cam, const vpKinematicBundleAdjustment::Options &o,
                     double in[kIntrinsics]);
@@ -76,6 +90,12 @@ struct Adjustment {
   std::unique_ptr<ceres::Manifold> subset; //!< the intrinsics held constant (none when all or none are)
   std::vector<double> rho0;
   Eigen::VectorXd scale_dir;
+  Eigen::VectorXd scale_gauge;  //!< the combination held (scaleGauge())
+  double scale_variance = 0;    //!< the relative variance of the scale held (scaleGauge())
+  //! The nominal lengths' prior on the scale held counted in the covariance (adjust(), not information()).
+  bool scale_prior = false;
+  //! Options::tolerance_* (translation, rotation, eMc translation, eMc rotation).
+  std::array<double, 4> tolerance{0, 0, 0, 0};
   bool scale_covariance = false, scale_covariance_chi2 = false;
   /*!
     The robot's error measured in full mode: the image noise's sd the pixels are weighed at, over

@@ -50,6 +50,7 @@ RF::BundleAdjustment bundleOf(const vpRobotSelfCalibration::Result &r)
   a.rms_px = b.rms;
   a.sigma0 = b.sigma0;
   a.scale_from = vpKinematicBundleAdjustment::scaleSourceName(b.scale_source);
+  a.scale_sd = b.nominal_scale_sd;
   a.has_robot_pose = !b.pose_corrections.empty();
   a.robot_pose_rms_m = b.pose_rms_translation;
   a.robot_pose_rms_rad = b.pose_rms_rotation;
@@ -235,6 +236,8 @@ void emitBundle(YAML::Emitter &out, const RF::BundleAdjustment &b)
   out << YAML::Key << "observations" << YAML::Value << b.observations << YAML::Key << "dropped" << YAML::Value
       << b.dropped << YAML::Key << "rms_px" << YAML::Value << b.rms_px << YAML::Key << "sigma0" << YAML::Value
       << b.sigma0 << YAML::Key << "scale_from" << YAML::Value << YAML::DoubleQuoted << b.scale_from;
+  if (b.scale_sd > 0)
+    out << YAML::Key << "scale_sd" << YAML::Value << b.scale_sd;
   if (b.has_robot_pose) {
     out << YAML::Key << "robot_pose_rms_m" << YAML::Value << b.robot_pose_rms_m << YAML::Key << "robot_pose_rms_rad"
         << YAML::Value << b.robot_pose_rms_rad;
@@ -480,6 +483,8 @@ RF::BundleAdjustment readBundle(const In &in, const YAML::Node &n)
   b.rms_px = in.get<double>(n, "rms_px");
   b.sigma0 = in.get<double>(n, "sigma0");
   b.scale_from = in.get<std::string>(n, "scale_from");
+  if (n["scale_sd"])
+    b.scale_sd = in.get<double>(n, "scale_sd");
   b.has_robot_pose = static_cast<bool>(n["robot_pose_rms_m"]);
   if (b.has_robot_pose) {
     b.robot_pose_rms_m = in.get<double>(n, "robot_pose_rms_m");

@@ -40,17 +40,26 @@ void findOutliers(const Context &c, Result &res)
   }
 }
 
-// No yardstick in the data: the bundle method keeps the nominal model's scale, which no sd counts.
+// No yardstick in the data: the bundle method keeps the nominal model's scale, known to its lengths'
+// tolerances; the sd count it (vpKinematicBundleAdjustment::Result::nominal_scale_sd).
 void findScaleNominal(const Context &c, Result &res)
 {
-  if (res.status == vpRobotSelfCalibration::OK && c.options.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT &&
-      !c.dataset.yardstick.isSet() && res.bundle.scale_source == vpKinematicBundleAdjustment::SCALE_NOMINAL)
-    res.findings.push_back(Finding{vpSelfCalibDataCheck::WARNING, "scale-nominal",
-                                   "no yardstick in the data: the scale is the nominal model's, so every length "
-                                   "calibrated (link lengths, eMc's translation, the scene) carries the nominal "
-                                   "model's own scale error, which the reported sd do not count; show a yardstick "
-                                   "(two points a known distance apart, or a board with --board) in two views or "
-                                   "more"});
+  if (res.status != vpRobotSelfCalibration::OK || c.options.method != vpRobotSelfCalibration::BUNDLE_ADJUSTMENT ||
+      c.dataset.yardstick.isSet() || res.bundle.scale_source != vpKinematicBundleAdjustment::SCALE_NOMINAL)
+    return;
+  std::ostringstream os;
+  os << "no yardstick in the data: the scale is the nominal model's, known to ";
+  if (res.bundle.nominal_scale_sd > 0) {
+    os.setf(std::ios::fixed);
+    os.precision(2);
+    os << 100.0 * res.bundle.nominal_scale_sd << " % (1 sd, from its lengths' tolerances: a camera motion of 0.5 m "
+       << "to +- " << 500.0 * res.bundle.nominal_scale_sd << " mm)";
+  } else
+    os << "its lengths' tolerances";
+  os << "; every length calibrated (link lengths, eMc's translation, the scene) carries that error, which the "
+        "reported sd count; show a yardstick (two points a known distance apart, or a board with --board) in two "
+        "views or more to measure lengths better than the nominal model";
+  res.findings.push_back(Finding{vpSelfCalibDataCheck::WARNING, "scale-nominal", os.str()});
 }
 
 // A yardstick in the data that the bundle adjustment could not use.
@@ -383,7 +392,14 @@ bool bundleFrom(const Context &c, const vpKinematicChain &start, const std::map<
   c.report(label, 0, 1);
   const vpSelfCalibDataset &ds = c.dataset;
   const vpCameraParameters cam0 = startCamera(c, fx0);
-  res.bundle = vpKinematicBundleAdjustment::adjust(start, cam0, views, ds.yardstick, points, bo, c.noise);
+  // Without a yardstick the scale held is the nominal model's, not the start identification's (whose
+  // scale follows one reconstruction's, and drifts with it).
+  vpKinematicBundleAdjustment::Options o = bo;
+  if (o.scale_reference.empty() && !o.hand_eye_only && start.getNumParameters() == c.nominal.getNumParameters()) {
+    const vpColVector p = c.nominal.getParameters();
+    o.scale_reference.assign(p.data, p.data + p.size());
+  }
+  res.bundle = vpKinematicBundleAdjustment::adjust(start, cam0, views, ds.yardstick, points, o, c.noise);
   res.stage_seconds.push_back({label, res.bundle.seconds_solve});
   res.stage_seconds.push_back({"covariance", res.bundle.seconds_covariance});
   res.calibrated = res.bundle.chain;

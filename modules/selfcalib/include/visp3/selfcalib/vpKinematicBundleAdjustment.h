@@ -157,6 +157,14 @@ public:
     */
     double separation_tolerance = 1e-8;
     /*!
+      Without a yardstick (SCALE_NOMINAL), the corrections of the model whose scale is held (all of
+      the chain's, vpKinematicChain::getParameters(), the start's DH table): the gauge holds the
+      component of the corrections along the scale direction at this model's value. Empty: the
+      start model's (the pipeline gives the nominal model, so that a start identification that
+      drifted in scale does not carry its drift into every length).
+    */
+    std::vector<double> scale_reference;
+    /*!
       The estimated set decided by the caller (estimatedSet(), before a start identification that
       must estimate the same set): when its `identified` list is not empty it is used as it is (its
       reasons kept), else the set is decided by the adjustment itself.
@@ -285,6 +293,14 @@ public:
       as the covariance; infinite when the views do not determine it), and whether it was measured
       (false: neither known points nor a yardstick, not hand-eye-only mode, or the solve failed).
     */
+    /*!
+      SCALE_NOMINAL, full kinematic mode, adjust(): the relative sd of the scale held (the nominal
+      lengths' own error: the estimated corrections' tolerances, tolerance_*, projected on the scale
+      direction s, sigma^2 = sum_i (s_i tol_i)^2 / |s|^4). The covariance counts it: sigma^2 s s^T
+      added to the corrections' block, so that the sd of every length (eMc's translation, the link
+      lengths) and what is propagated from them include the scale's error. 0 otherwise.
+    */
+    double nominal_scale_sd = 0;
     bool has_layout_scale = false;
     double layout_scale = 1;
     double layout_scale_sd = 0;

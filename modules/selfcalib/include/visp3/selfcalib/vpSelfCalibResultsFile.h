@@ -40,7 +40,7 @@
   - `bMc`, `eMo` (opt., camera_mount world): the camera in the robot's base frame and the target in
     the end-effector frame, in the form of `eMc`.
   - `bundle_adjustment` (opt., methods bundle and hand-eye): `{observations, dropped, rms_px,
-    sigma0, scale_from}`, then with robot pose corrections `robot_pose_rms_m`, `robot_pose_rms_rad`,
+    sigma0, scale_from}`, `scale_sd` (no yardstick: the relative sd of the nominal scale held, counted in every sd), then with robot pose corrections `robot_pose_rms_m`, `robot_pose_rms_rad`,
     `robot_pose_sd: [T, R]` and, when measured, `robot_pose_sd_measured: [T, R]` (hand-eye: the
     controller poses' error; bundle: the kinematic model's residual); with joint corrections
     `joint_correction_rms_rad`, `joint_sd: [rad...]` (used) and, when measured, `joint_sd_measured`;
@@ -99,6 +99,8 @@ public:
     unsigned int observations = 0, dropped = 0;
     double rms_px = 0, sigma0 = 0;
     std::string scale_from;
+    //! Without a yardstick: the relative sd of the nominal scale held, counted in the sd (`scale_sd`; 0: absent).
+    double scale_sd = 0;
     bool has_robot_pose = false; //!< robot pose corrections: the four values below
     double robot_pose_rms_m = 0, robot_pose_rms_rad = 0;
     double robot_pose_sd_m = 0, robot_pose_sd_rad = 0;
