@@ -126,7 +126,9 @@ struct TwoNearest {
   Unguided candidates of a pair of SIFT descriptor matrices (float, continuous): the decisions of
   OpenCV's brute-force matcher (two nearest neighbours by L2 both ways, ratio test on the distances,
   mutual best match), from one matrix of squared distances |a|^2 + |b|^2 - 2 a.b (the dot products
-  as an Eigen matrix product, a block of rows of image i at a time) instead of two knnMatch passes.
+  as an Eigen matrix product, 32 rows of image i at a time: Eigen does not split a product of at most
+  32 rows over OpenMP threads, which would spin beside the front end's own) instead of two knnMatch
+  passes.
   OpenCV's SIFT descriptors are whole numbers (128 of them up to 255): every sum stays below 2^24, so
   the squared distances, their square roots and the nearest neighbours (the first index of equal
   distances) are the matcher's exactly (as nearestOtherSquared() in vpFeatureDetection.cpp).
@@ -137,16 +139,17 @@ std::vector<Match> matchUnguidedL2(const cv::Mat &di, const cv::Mat &dj, const F
   const Eigen::Map<const RowMajor> A(di.ptr<float>(), di.rows, di.cols), B(dj.ptr<float>(), dj.rows, dj.cols);
   const Eigen::VectorXf na = A.rowwise().squaredNorm(), nb = B.rowwise().squaredNorm();
   std::vector<TwoNearest> row(static_cast<size_t>(di.rows)), col(static_cast<size_t>(dj.rows));
-  constexpr int kBlock = 256;
-  Eigen::MatrixXf G; // dj.rows x block: column c, the dot products of row a0 + c of A with B's rows
+  constexpr int kBlock = 32;
+  // block x dj.rows: row c, the dot products of row a0 + c of A with B's rows
+  Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor, kBlock, Eigen::Dynamic> G;
   for (int a0 = 0; a0 < di.rows; a0 += kBlock) {
     const int b = std::min(kBlock, di.rows - a0);
-    G.noalias() = B * A.middleRows(a0, b).transpose();
+    G.noalias() = A.middleRows(a0, b) * B.transpose();
     for (int c = 0; c < b; ++c) {
       const int a = a0 + c;
       TwoNearest &ra = row[static_cast<size_t>(a)];
       for (int k = 0; k < dj.rows; ++k) {
-        const float d = std::max(0.0f, na(a) + nb(k) - 2.0f * G(k, c));
+        const float d = std::max(0.0f, na(a) + nb(k) - 2.0f * G(c, k));
         ra.add(d, k);
         col[static_cast<size_t>(k)].add(d, a);
       }
