@@ -33,8 +33,9 @@ namespace
 /*
   Per descriptor (row), the squared distance to the nearest other row of the same matrix. Hamming
   (ORB): OpenCV's brute-force matcher. L2 (SIFT, float rows): |a|^2 + |b|^2 - 2 a.b with the dot
-  products as an Eigen matrix product, a block of rows at a time (memory n x 256 floats), each pair
-  once. OpenCV's SIFT descriptors are whole numbers up to 255 (128 of them), so every sum stays below
+  products as an Eigen matrix product, 32 rows at a time (memory 32 x n floats; Eigen does not split
+  a product of at most 32 rows over OpenMP threads, which would spin beside the front end's own),
+  each pair once. OpenCV's SIFT descriptors are whole numbers up to 255 (128 of them), so every sum stays below
   2^24 and the squared distance is exact (the matcher's knnMatch gave its square root, squared back
   here before: the same tracks on bench-frontend's images); 2.7x less CPU than that knnMatch on its
   25 rendered images (0.65 against 1.75 s on one core; it was 40 % of the detection's time).
@@ -58,11 +59,12 @@ std::vector<float> nearestOtherSquared(const cv::Mat &desc, bool l2)
   const Eigen::VectorXf norm2 = A.rowwise().squaredNorm();
   // The distances are symmetric: block q0 meets only the rows from q0 on, and each distance
   // updates both of its rows.
-  constexpr int kBlock = 256;
-  Eigen::MatrixXf G; // (n - q0) x block, column c: the dot products of row q0 + c with rows q0...
+  constexpr int kBlock = 32;
+  // block x (n - q0), row c: the dot products of row q0 + c with rows q0...
+  Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor, kBlock, Eigen::Dynamic> G;
   for (int q0 = 0; q0 < n; q0 += kBlock) {
     const int b = std::min(kBlock, n - q0);
-    G.noalias() = A.bottomRows(n - q0) * A.middleRows(q0, b).transpose();
+    G.noalias() = A.middleRows(q0, b) * A.bottomRows(n - q0).transpose();
     for (int c = 0; c < b; ++c) {
       const int q = q0 + c;
       float best = std::numeric_limits<float>::infinity();
@@ -70,7 +72,7 @@ std::vector<float> nearestOtherSquared(const cv::Mat &desc, bool l2)
         const int j = q0 + r;
         if (j == q)
           continue;
-        const float d = norm2(j) + norm2(q) - 2.0f * G(r, c);
+        const float d = norm2(j) + norm2(q) - 2.0f * G(c, r);
         best = std::min(best, d);
         float &oj = out[static_cast<size_t>(j)];
         oj = std::min(oj, d);

@@ -6,8 +6,10 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -60,9 +62,8 @@ namespace
 struct EpipolarThroughRobot {
   Eigen::Matrix3d RA, R0;
   Eigen::Vector3d tA, t0;
-  Eigen::Vector3d a, b; // the normalized rays of the two pixels
-  double f;
-  template <typename T> bool operator()(const T *w, const T *dt, T *residual) const
+  //! The pair's essential matrix E at eMc = (R0 exp([w]x), t0 + dt).
+  template <typename T> Eigen::Matrix<T, 3, 3> essential(const T *w, const T *dt) const
   {
     using M3 = Eigen::Matrix<T, 3, 3>;
     using V3 = Eigen::Matrix<T, 3, 1>;
@@ -75,13 +76,99 @@ struct EpipolarThroughRobot {
     const V3 t = Rc.transpose() * (RA.cast<T>() * tc + tA.cast<T>() - tc);
     M3 tx;
     tx << T(0), -t(2), t(1), t(2), T(0), -t(0), -t(1), t(0), T(0);
-    const M3 E = tx * R;
+    return tx * R;
+  }
+  //! The residual of the normalized rays a and b under E, in px at the focal length f.
+  template <typename T>
+  static T sampson(const Eigen::Matrix<T, 3, 3> &E, const Eigen::Vector3d &a, const Eigen::Vector3d &b, double f)
+  {
+    using V3 = Eigen::Matrix<T, 3, 1>;
     const V3 xa = a.cast<T>(), xb = b.cast<T>();
     const V3 Ea = E * xa, Etb = E.transpose() * xb;
     const T den = Ea(0) * Ea(0) + Ea(1) * Ea(1) + Etb(0) * Etb(0) + Etb(1) * Etb(1);
-    residual[0] = T(f) * xb.dot(Ea) / ceres::sqrt(den + T(1e-30));
+    return T(f) * xb.dot(Ea) / ceres::sqrt(den + T(1e-30));
+  }
+};
+
+/*
+  A pair's essential matrix, kept for the last parameter value it was asked at, as a value and as
+  Ceres Jets (the derivatives in w, then dt, as AutoDiffCostFunction<., 1, 3, 3> seeds them): the
+  pair's residual blocks, evaluated one after the other, compute it once instead of once each. The
+  residuals and Jacobians are those of automatic differentiation of the whole residual. Not for a
+  solver that evaluates on several threads.
+*/
+class PairEssential
+{
+public:
+  using Jet = ceres::Jet<double, 6>;
+  explicit PairEssential(const EpipolarThroughRobot &motion) : motion_(motion) {}
+  const Eigen::Matrix3d &at(const double *w, const double *dt)
+  {
+    if (!same(value_key_, w, dt)) {
+      value_ = motion_.essential(w, dt);
+      keep(value_key_, w, dt);
+    }
+    return value_;
+  }
+  const Eigen::Matrix<Jet, 3, 3> &jetsAt(const double *w, const double *dt)
+  {
+    if (!same(jet_key_, w, dt)) {
+      Jet jw[3], jdt[3];
+      for (int c = 0; c < 3; ++c) {
+        jw[c] = Jet(w[c], c);
+        jdt[c] = Jet(dt[c], 3 + c);
+      }
+      jets_ = motion_.essential(jw, jdt);
+      keep(jet_key_, w, dt);
+    }
+    return jets_;
+  }
+
+private:
+  using Key = std::array<double, 7>; // w, dt, and 1 once set
+  static bool same(const Key &k, const double *w, const double *dt)
+  {
+    return k[6] == 1 && std::equal(w, w + 3, k.begin()) && std::equal(dt, dt + 3, k.begin() + 3);
+  }
+  static void keep(Key &k, const double *w, const double *dt)
+  {
+    std::copy(w, w + 3, k.begin());
+    std::copy(dt, dt + 3, k.begin() + 3);
+    k[6] = 1;
+  }
+  EpipolarThroughRobot motion_;
+  Key value_key_{}, jet_key_{};
+  Eigen::Matrix3d value_;
+  Eigen::Matrix<Jet, 3, 3> jets_;
+};
+
+//! One match's epipolar residual (EpipolarThroughRobot) on its pair's shared essential matrix.
+class EpipolarCost : public ceres::SizedCostFunction<1, 3, 3>
+{
+public:
+  EpipolarCost(std::shared_ptr<PairEssential> pair, const Eigen::Vector3d &a, const Eigen::Vector3d &b, double f)
+    : pair_(std::move(pair)), a_(a), b_(b), f_(f)
+  {
+  }
+  bool Evaluate(double const *const *p, double *residuals, double **jacobians) const override
+  {
+    if (!jacobians) {
+      residuals[0] = EpipolarThroughRobot::sampson<double>(pair_->at(p[0], p[1]), a_, b_, f_);
+      return true;
+    }
+    const PairEssential::Jet r = EpipolarThroughRobot::sampson<PairEssential::Jet>(pair_->jetsAt(p[0], p[1]), a_, b_, f_);
+    residuals[0] = r.a;
+    for (int block = 0; block < 2; ++block)
+      if (jacobians[block])
+        for (int c = 0; c < 3; ++c)
+          jacobians[block][c] = r.v[3 * block + c];
     return true;
   }
+
+private:
+  std::shared_ptr<PairEssential> pair_;
+  Eigen::Vector3d a_, b_;
+  double f_;
 };
 
 //! Scene points measurePrior() measures the start on, at most.
@@ -119,10 +206,10 @@ bool refineEMc(const std::vector<vpSelfCalibDataset::View> &views, const vpCamer
       if (common.size() < 15)
         continue;
       const vpSelfCalib::Rigid A = vpSelfCalib::rigidFromVisp(views[k].fMe.inverse() * views[i].fMe); // e_kMe_i
+      const auto pair = std::make_shared<PairEssential>(EpipolarThroughRobot{A.R, eMc.R, A.t, eMc.t});
       const size_t step = std::max<size_t>(1, common.size() / kRefineMatchesPerPair);
       for (size_t c = 0; c < common.size(); c += step) {
-        auto *r = new EpipolarThroughRobot{A.R, eMc.R, A.t, eMc.t, ray(common[c].first), ray(common[c].second), f};
-        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<EpipolarThroughRobot, 1, 3, 3>(r),
+        problem.AddResidualBlock(new EpipolarCost(pair, ray(common[c].first), ray(common[c].second), f),
                                  new ceres::CauchyLoss(2.0), w, dt);
         ++residuals;
       }
@@ -131,7 +218,7 @@ bool refineEMc(const std::vector<vpSelfCalibDataset::View> &views, const vpCamer
     return false;
   ceres::Solver::Options so;
   so.max_num_iterations = 50;
-  so.num_threads = 1;
+  so.num_threads = 1; // PairEssential: one thread
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
   if (!summary.IsSolutionUsable())
