@@ -323,8 +323,12 @@ bool solveAgain(Adjustment &a, const vpSelfCalibNoiseModel &noise, double pixel_
 {
   applyRobotLevels(a, noise);
   // The weights are the variance components measured: the covariance at them stands as it is.
-  a.pixel_factor = pixel_factor;
-  a.components_measured = true;
+  // Every robot error dropped (measured exact): the problem is a trusted run's, weighed and its
+  // covariance scaled as that run's (the stated image noise, sigma0 outside its interval), so
+  // exact readings end as the trusted run would.
+  const bool trusted = !noise.hasRobotError();
+  a.pixel_factor = trusted ? 1.0 : pixel_factor;
+  a.components_measured = !trusted;
   KBA::Result r = solved;
   std::shared_ptr<ceres::ParameterBlockOrdering> order;
   const std::unique_ptr<ceres::Problem> problem = buildProblem(a, yardstick, opt, 0, order, r.scale_source);
