@@ -692,7 +692,11 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   res.sd.resize(start.getNumParameters());
   res.robot_error_confounded = confounded;
   std::string refused;
-  res.identifiability = setOf(start, camera, views, yardstick, X0, q, fMe, opt, noise, refused);
+  // A robot error yet to be measured: the set decided as a trusted run's, and again at the level
+  // measured when it is kept (withMeasuredLevelsOnly()).
+  const vpSelfCalibNoiseModel set_noise = solve ? withMeasuredLevelsOnly(noise) : noise;
+  const bool decided_here = !opt.hand_eye_only && opt.estimated_set.identified.empty() && opt.set_from_information;
+  res.identifiability = setOf(start, camera, views, yardstick, X0, q, fMe, opt, set_noise, refused);
   if (!refused.empty()) {
     res.status = KBA::RANK_DEFICIENT;
     res.message = refused;
@@ -747,6 +751,13 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     }
     if (solve && !opt.hand_eye_only && (noise.measure_joint_sd || noise.measure_model_sd))
       settleRobotError(a, yardstick, opt, distortion, start.getParameterNames(), solved, res);
+    const bool guessed = set_noise.joint_sd != noise.joint_sd || set_noise.hasModelError() != noise.hasModelError();
+    if (decided_here && guessed && res.noise.hasRobotError()) {
+      KBA::Options again = opt;
+      again.estimated_set = setOf(start, camera, views, yardstick, X0, q, fMe, opt, res.noise, refused);
+      if (refused.empty() && again.estimated_set.identified != res.identifiability.identified)
+        return run(start, camera, views, yardstick, points0, again, res.noise, solve);
+    }
     res.seconds_covariance = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc).count();
     if (solve && opt.measure_layout_scale && opt.hand_eye_only && (a.has_object || a.has_yardstick))
       measureLayoutScale(a, yardstick, opt, res);
