@@ -72,21 +72,44 @@ inline bool measuredForm(const vpSelfCalibNoiseModel &n, RobotErrorForm f)
 }
 
 /*!
-  The full kinematics' robot error a set of estimated parameters is decided at: the joint readings'
-  and the model residual's levels that are yet to be measured (asked, not measured yet) left out,
-  as a trusted run's. A level a run has not measured is a guess (the prior's): deciding at it takes
-  from the set what the images separate once the readings are known exact (a simulated Viper850
-  with exact joints: j4.tx and j5.tx at the prior's 3e-4 rad). The set is decided again at the
-  levels measured when they are kept.
+  The full kinematics' robot error is yet to be measured: a joint readings' or model residual's
+  level asked to be measured and not measured yet (the prior's, a guess). A set of estimated
+  parameters decided at it is decided again at the level the run measures (dropped: as a trusted
+  run's), and the run made again on that set when it differs: at the prior's 3e-4 rad a simulated
+  Viper850 with exact joints leaves j4.tx and j5.tx out, which its trusted run estimates; at no
+  robot error a planar board's 8 views estimate eMc.tz and j3.tx, which the corrections at the
+  prior's level leave undetermined.
 */
-inline vpSelfCalibNoiseModel withMeasuredLevelsOnly(const vpSelfCalibNoiseModel &n)
+inline bool robotLevelGuessed(const vpSelfCalibNoiseModel &n)
+{
+  return (n.measure_joint_sd && !n.joint_sd.empty() && n.joint_sd_origin != vpSelfCalibNoiseModel::MEASURED) ||
+         (n.measure_model_sd && n.hasModelError() && n.model_sd_origin != vpSelfCalibNoiseModel::MEASURED);
+}
+
+/*!
+  n without its guessed levels (robotLevelGuessed()): those forms exact, their origin STATED and
+  their measure_* request kept, the state of a robot error asked to be measured that could not be
+  (the corrections at the prior's level leave the estimate undetermined), which the assessment says.
+*/
+inline vpSelfCalibNoiseModel withoutGuessedLevels(const vpSelfCalibNoiseModel &n)
 {
   vpSelfCalibNoiseModel k = n;
-  if (n.measure_joint_sd && n.joint_sd_origin != vpSelfCalibNoiseModel::MEASURED)
-    k = k.withJointError({}, n.joint_sd_origin);
-  if (n.measure_model_sd && n.model_sd_origin != vpSelfCalibNoiseModel::MEASURED)
-    k = k.withModelError(0, 0, n.model_sd_origin);
+  if (n.measure_joint_sd && !n.joint_sd.empty() && n.joint_sd_origin != vpSelfCalibNoiseModel::MEASURED)
+    k = k.withJointError({}, vpSelfCalibNoiseModel::STATED);
+  if (n.measure_model_sd && n.hasModelError() && n.model_sd_origin != vpSelfCalibNoiseModel::MEASURED)
+    k = k.withModelError(0, 0, vpSelfCalibNoiseModel::STATED);
   return k;
+}
+
+/*!
+  The joint readings' error asked to be measured that could not be (withoutGuessedLevels()): no
+  other run leaves it asked, exact and STATED (dropped, it is MEASURED; the model residual, asked
+  with the joints' by --joint-sd auto, is left unmodelled and STATED when the dataset states the
+  joints' level alone).
+*/
+inline bool robotErrorNotMeasured(const vpSelfCalibNoiseModel &n)
+{
+  return n.measure_joint_sd && n.joint_sd.empty() && n.joint_sd_origin == vpSelfCalibNoiseModel::STATED;
 }
 
 //! The form's level held is the one the residuals measure (they agreed with it).

@@ -692,11 +692,9 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   res.sd.resize(start.getNumParameters());
   res.robot_error_confounded = confounded;
   std::string refused;
-  // A robot error yet to be measured: the set decided as a trusted run's, and again at the level
-  // measured when it is kept (withMeasuredLevelsOnly()).
-  const vpSelfCalibNoiseModel set_noise = solve ? withMeasuredLevelsOnly(noise) : noise;
+  // A robot error yet to be measured: the set decided again at the level measured (robotLevelGuessed()).
   const bool decided_here = !opt.hand_eye_only && opt.estimated_set.identified.empty() && opt.set_from_information;
-  res.identifiability = setOf(start, camera, views, yardstick, X0, q, fMe, opt, set_noise, refused);
+  res.identifiability = setOf(start, camera, views, yardstick, X0, q, fMe, opt, noise, refused);
   if (!refused.empty()) {
     res.status = KBA::RANK_DEFICIENT;
     res.message = refused;
@@ -743,6 +741,10 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   if (opt.covariance) {
     const auto tc = std::chrono::steady_clock::now();
     fillCovariance(a, *problem, yardstick, start.getParameterNames(), res);
+    if (!res.has_covariance && solve && robotLevelGuessed(given))
+      // The corrections at the guessed level leave the estimate undetermined: the robot's error
+      // is not measured, its readings taken as exact (robotErrorNotMeasured(), said by the caller).
+      return run(start, camera, views, yardstick, points0, opt, withoutGuessedLevels(given), solve);
     if (!res.has_covariance) {
       res.seconds_covariance = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc).count();
       res.status = KBA::RANK_DEFICIENT;
@@ -751,8 +753,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     }
     if (solve && !opt.hand_eye_only && (noise.measure_joint_sd || noise.measure_model_sd))
       settleRobotError(a, yardstick, opt, distortion, start.getParameterNames(), solved, res);
-    const bool guessed = set_noise.joint_sd != noise.joint_sd || set_noise.hasModelError() != noise.hasModelError();
-    if (decided_here && guessed && res.noise.hasRobotError()) {
+    if (solve && decided_here && robotLevelGuessed(noise)) {
       KBA::Options again = opt;
       again.estimated_set = setOf(start, camera, views, yardstick, X0, q, fMe, opt, res.noise, refused);
       if (refused.empty() && again.estimated_set.identified != res.identifiability.identified)

@@ -594,7 +594,9 @@ void checkRobotError(const Context &c, Result &res)
   a level beyond these is no reading noise but a misfit the model cannot explain (a parameter held
   at a wrong value, a wrong robot model, joints paired with another view's image), which the
   corrections absorb instead of the parameters (a doubt: the estimate rests on it). A level stated
-  by the caller is not questioned.
+  by the caller is not questioned. A level asked to be measured that could not be (the corrections
+  at the prior's level leaving the estimate undetermined: the run takes the robot as exact) is a
+  warning.
 */
 constexpr double kJointErrorPlausible = 1e-3, kModelErrorPlausible = 1e-3;
 
@@ -604,6 +606,14 @@ void checkMeasuredRobotError(const Context &c, Result &res)
   if (c.options.method != vpRobotSelfCalibration::BUNDLE_ADJUSTMENT)
     return;
   const vpSelfCalibNoiseModel &n = res.bundle.noise;
+  if (!c.options.trust_robot && robotErrorNotMeasured(n))
+    add(res, vpSelfCalibDataCheck::WARNING, "robot-error-not-measured",
+        "the robot's error could not be measured: with the joint corrections at the prior's level (" +
+            fixed(1e3 * vpRobotSelfCalibration::kJointErrorPrior, 2) +
+            " mrad) these views do not determine the estimate, so the joint readings and the model are taken as "
+            "exact (as calibrate --joint-sd 0) and the standard deviations leave their error out. State the "
+            "readings' level if known (calibrate --joint-sd RAD, or the dataset's robot_error), or add views "
+            "(more varied configurations, a scene not all on one plane)");
   const bool joints = n.measure_joint_sd && n.joint_sd_origin == vpSelfCalibNoiseModel::MEASURED &&
                       levelsOf(n, JOINT_ERROR).r > kJointErrorPlausible;
   const bool model = n.measure_model_sd && n.model_sd_origin == vpSelfCalibNoiseModel::MEASURED &&

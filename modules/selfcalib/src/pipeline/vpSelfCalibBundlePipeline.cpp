@@ -162,16 +162,11 @@ void runBundle(const Context &c, Result &res)
       set_points = std::move(p.points);
   }
   const SetDecision d{at, set_points, s, res.multiview.fx};
-  // The robot's error yet to be measured (the prior's level, a guess): the set decided as a trusted
-  // run's (withMeasuredLevelsOnly()); the adjustment measures the level. Dropped (exact readings),
-  // the run is the trusted run; kept, the set is decided again at the measured level, and when it
-  // differs the adjustment runs again on it from the measured level.
-  const vpSelfCalibNoiseModel set_noise = withMeasuredLevelsOnly(c.noise);
-  const vpKinematicIdentification::Identifiability first = decideSet(c, d, set_noise);
-  if (!identifyAndAdjust(c, d, first, res, ts))
-    return;
-  const bool guessed = set_noise.joint_sd != c.noise.joint_sd || set_noise.hasModelError() != c.noise.hasModelError();
-  if (!guessed || !res.bundle.noise.hasRobotError())
+  // The robot's error yet to be measured (the prior's level, a guess: robotLevelGuessed()): the
+  // set decided again at the level the adjustment measured (dropped: a trusted run's), and when it
+  // differs the adjustment runs again on it from that level.
+  const vpKinematicIdentification::Identifiability first = decideSet(c, d, c.noise);
+  if (!identifyAndAdjust(c, d, first, res, ts) || !robotLevelGuessed(c.noise))
     return;
   const vpKinematicIdentification::Identifiability again = decideSet(c, d, res.bundle.noise);
   if (again.identified == first.identified)
