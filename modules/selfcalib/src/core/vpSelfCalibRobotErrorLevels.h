@@ -72,6 +72,25 @@ inline bool measuredForm(const vpSelfCalibNoiseModel &n, RobotErrorForm f)
 }
 
 /*!
+  rad, and m / rad: the most a real arm's joint readings (encoders and gear play: 1e-4 to 1e-3 rad)
+  and its model's residual after a kinematic calibration (a few 0.1 mm and mrad; 1 mm and 1 mrad,
+  the hand-eye method's controller pose prior, which holds the kinematic errors too) are off. The
+  variance components measure whatever the corrections take: beyond these, a misfit the model
+  cannot explain or views that do not separate the corrections from the rest, not reading noise.
+*/
+constexpr double kJointErrorPlausible = 1e-3, kModelErrorPlausible = 1e-3;
+
+//! The joint readings' or the model residual's level held is measured beyond a real arm's.
+inline bool robotLevelImplausible(const vpSelfCalibNoiseModel &n)
+{
+  const bool joints = n.joint_sd_origin == vpSelfCalibNoiseModel::MEASURED && !n.joint_sd.empty() &&
+                      *std::max_element(n.joint_sd.begin(), n.joint_sd.end()) > kJointErrorPlausible;
+  const bool model = n.model_sd_origin == vpSelfCalibNoiseModel::MEASURED &&
+                     (n.model_sd_translation > kModelErrorPlausible || n.model_sd_rotation > kModelErrorPlausible);
+  return joints || model;
+}
+
+/*!
   The full kinematics' robot error is yet to be measured: a joint readings' or model residual's
   level asked to be measured and not measured yet (the prior's, a guess). A set of estimated
   parameters decided at it is decided again at the level the run measures (dropped: as a trusted

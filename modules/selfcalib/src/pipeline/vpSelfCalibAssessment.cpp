@@ -587,19 +587,14 @@ void checkRobotError(const Context &c, Result &res)
 
 /*
   The robot's error the bundle method measured (joint readings, the model's residual) against what
-  a real arm has: joint encoders and gear play of 1e-4 to 1e-3 rad (kJointErrorPlausible, the upper
-  end), and a model residual after the kinematic calibration of a few 0.1 mm and mrad
-  (kModelErrorPlausible, 1 mm and 1 mrad, the controller poses' prior of the hand-eye method, which
-  holds the kinematic errors too). The variance components measure whatever the corrections take:
-  a level beyond these is no reading noise but a misfit the model cannot explain (a parameter held
-  at a wrong value, a wrong robot model, joints paired with another view's image), which the
-  corrections absorb instead of the parameters (a doubt: the estimate rests on it). A level stated
-  by the caller is not questioned. A level asked to be measured that could not be (the corrections
-  at the prior's level leaving the estimate undetermined: the run takes the robot as exact) is a
-  warning.
+  a real arm has (kJointErrorPlausible, kModelErrorPlausible): a level beyond them is no reading
+  noise but a misfit the model cannot explain (a parameter held at a wrong value, a wrong robot
+  model, joints paired with another view's image), which the corrections absorb instead of the
+  parameters. The pipeline then takes the readings as exact (the checks of a trusted run judge the
+  misfit); a level that still stands beyond them is a doubt. A level stated by the caller is not
+  questioned. A level asked to be measured that could not be (the corrections at the prior's level
+  leaving the estimate undetermined: the run takes the robot as exact) is a warning.
 */
-constexpr double kJointErrorPlausible = 1e-3, kModelErrorPlausible = 1e-3;
-
 void checkMeasuredRobotError(const Context &c, Result &res)
 {
   using namespace vpSelfCalib;

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibRobotErrorLevels.h"
@@ -96,6 +98,22 @@ bool identifyAndAdjust(const Context &c, const SetDecision &d, const vpKinematic
   return bundle(c, start, start.get_fMc(c.calibration[0].q), d.s, c.calibration, bo, "kinematic bundle adjustment",
                 res);
 }
+/*
+  The identification and the bundle adjustment again on `set` at c's noise from res's
+  measurements; res replaced when the adjustment succeeds (its stage times appended), kept
+  otherwise. True when replaced.
+*/
+bool adjustAgain(const Context &c, const SetDecision &d, const vpKinematicIdentification::Identifiability &set,
+                 Result &res)
+{
+  Result next = res;
+  next.stage_seconds.clear();
+  if (!identifyAndAdjust(c, d, set, next, std::chrono::steady_clock::now()))
+    return false;
+  next.stage_seconds.insert(next.stage_seconds.begin(), res.stage_seconds.begin(), res.stage_seconds.end());
+  res = next;
+  return true;
+}
 } // namespace
 
 void runBundle(const Context &c, Result &res)
@@ -168,16 +186,30 @@ void runBundle(const Context &c, Result &res)
   const vpKinematicIdentification::Identifiability first = decideSet(c, d, c.noise);
   if (!identifyAndAdjust(c, d, first, res, ts) || !robotLevelGuessed(c.noise))
     return;
-  const vpKinematicIdentification::Identifiability again = decideSet(c, d, res.bundle.noise);
-  if (again.identified == first.identified)
-    return;
-  const Context measured(c, res.bundle.noise, false);
-  Result second = res;
-  second.stage_seconds.clear();
-  ts = std::chrono::steady_clock::now();
-  if (identifyAndAdjust(measured, d, again, second, ts)) {
-    second.stage_seconds.insert(second.stage_seconds.begin(), res.stage_seconds.begin(), res.stage_seconds.end());
-    res = second;
+  if (!robotLevelImplausible(res.bundle.noise)) {
+    const vpKinematicIdentification::Identifiability again = decideSet(c, d, res.bundle.noise);
+    if (again.identified != first.identified)
+      adjustAgain(Context(c, res.bundle.noise, false), d, again, res);
   }
+  if (!robotLevelImplausible(res.bundle.noise))
+    return;
+  // Measured beyond a real arm's: a misfit or views that do not separate the corrections, not
+  // reading noise. The readings taken as exact: the trusted run's checks judge the misfit.
+  vpSelfCalibNoiseModel exact = withoutGuessedLevels(c.noise);
+  exact.measure_joint_sd = exact.measure_model_sd = false;
+  std::ostringstream level;
+  level << std::setprecision(3) << "joint readings " << 1e3 * levelsOf(res.bundle.noise, JOINT_ERROR).r << " mrad";
+  if (res.bundle.noise.hasModelError())
+    level << ", model residual " << 1e3 * res.bundle.noise.model_sd_translation << " mm / "
+          << 1e3 * res.bundle.noise.model_sd_rotation << " mrad";
+  const Context trusted(c, exact, false);
+  if (adjustAgain(trusted, d, decideSet(trusted, d, exact), res))
+    res.findings.push_back(
+        {vpSelfCalibDataCheck::WARNING, "robot-error-taken-exact",
+         "the robot's error measured from the corrections is beyond a real arm's (" + level.str() + "; a real arm's joints: "
+         "0.1 to 1 mrad): no reading noise, but a misfit the model cannot explain (a parameter held at a wrong value, "
+         "a wrong robot model or eMc guess, joints paired with another view's images) or views that do not separate "
+         "the corrections from the rest. The readings are taken as exact, as calibrate --joint-sd 0, and the checks "
+         "below judge the fit; if the readings really are that noisy, state their level (calibrate --joint-sd RAD)"});
 }
 } // namespace vpSelfCalibPipeline
