@@ -113,8 +113,8 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
        "the noise is larger. 0: the joint readings and the model are exact (no error\n"
        "modelled, whatever the dataset's robot_error says). Default: the dataset's\n"
        "robot_error, stated, else measured as with auto (from 3e-4 rad; the estimated set\n"
-       "decided again at the level measured; a measured joint error above 1e-3 rad is a misfit:\n"
-       "doubtful, robot-error-implausible)")
+       "decided again at the level measured; a joint error measured above 1e-3 rad is a misfit,\n"
+       "not noise: the readings are then taken as exact, robot-error-taken-exact)")
       ->type_name("auto|RAD[,RAD...]|0")
       ->delimiter(',')
       ->check(selfcalibCli::wordOrNumber("auto", 0, false, 0.999));
