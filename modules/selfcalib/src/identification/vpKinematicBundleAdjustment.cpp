@@ -756,8 +756,11 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     if (solve && decided_here && robotLevelGuessed(noise)) {
       KBA::Options again = opt;
       again.estimated_set = setOf(start, camera, views, yardstick, X0, q, fMe, opt, res.noise, refused);
-      if (refused.empty() && again.estimated_set.identified != res.identifiability.identified)
-        return run(start, camera, views, yardstick, points0, again, res.noise, solve);
+      if (refused.empty() && again.estimated_set.identified != res.identifiability.identified) {
+        KBA::Result r = run(start, camera, views, yardstick, points0, again, res.noise, solve);
+        r.robot_error_confounded = r.robot_error_confounded || res.robot_error_confounded; // stays merged
+        return r;
+      }
     }
     res.seconds_covariance = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc).count();
     if (solve && opt.measure_layout_scale && opt.hand_eye_only && (a.has_object || a.has_yardstick))

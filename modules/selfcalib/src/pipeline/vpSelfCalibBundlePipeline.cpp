@@ -188,8 +188,10 @@ void runBundle(const Context &c, Result &res)
     return;
   if (!robotLevelImplausible(res.bundle.noise)) {
     const vpKinematicIdentification::Identifiability again = decideSet(c, d, res.bundle.noise);
-    if (again.identified != first.identified)
-      adjustAgain(Context(c, res.bundle.noise, false), d, again, res);
+    // The model residual merged into the joints (robot_error_confounded) stays merged from that level.
+    const bool confounded = res.bundle.robot_error_confounded;
+    if (again.identified != first.identified && adjustAgain(Context(c, res.bundle.noise, false), d, again, res))
+      res.bundle.robot_error_confounded = res.bundle.robot_error_confounded || confounded;
   }
   if (!robotLevelImplausible(res.bundle.noise))
     return;
