@@ -107,7 +107,7 @@ std::vector<Match> verify(const std::vector<Match> &cand, const std::vector<cv::
   return out;
 }
 
-// The two nearest (squared distance, index) of a row or a column, the first index of equals first.
+// The two nearest (distance, index) of a row or a column, the first index of equals first.
 struct TwoNearest {
   float d1 = std::numeric_limits<float>::infinity(), d2 = std::numeric_limits<float>::infinity();
   int i1 = -1;
@@ -123,42 +123,30 @@ struct TwoNearest {
 };
 
 /*
-  Unguided candidates of a pair of SIFT descriptor matrices (float, continuous): the decisions of
-  OpenCV's brute-force matcher (two nearest neighbours by L2 both ways, ratio test on the distances,
-  mutual best match), from one matrix of squared distances |a|^2 + |b|^2 - 2 a.b (the dot products
-  as an Eigen matrix product, 32 rows of image i at a time: Eigen does not split a product of at most
-  32 rows over OpenMP threads, which would spin beside the front end's own) instead of two knnMatch
-  passes.
-  OpenCV's SIFT descriptors are whole numbers (128 of them up to 255): every sum stays below 2^24, so
-  the squared distances, their square roots and the nearest neighbours (the first index of equal
-  distances) are the matcher's exactly (as nearestOtherSquared() in vpFeatureDetection.cpp).
+  Unguided candidates of a pair of SIFT descriptor matrices: the decisions of OpenCV's brute-force
+  matcher (two nearest neighbours by L2 both ways, ratio test on the distances, mutual best match)
+  from one matrix of distances (cv::batchDistance, the function knnMatch calls, with every pair kept)
+  read by rows and by columns, instead of two knnMatch passes that compute each distance twice.
+  Scanning in index order with a strict comparison keeps the first index of equal distances, as the
+  matcher does.
 */
 std::vector<Match> matchUnguidedL2(const cv::Mat &di, const cv::Mat &dj, const FrontEnd::Options &opt)
 {
-  using RowMajor = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const Eigen::Map<const RowMajor> A(di.ptr<float>(), di.rows, di.cols), B(dj.ptr<float>(), dj.rows, dj.cols);
-  const Eigen::VectorXf na = A.rowwise().squaredNorm(), nb = B.rowwise().squaredNorm();
+  cv::Mat D; // di.rows x dj.rows
+  cv::batchDistance(di, dj, D, CV_32F, cv::noArray(), cv::NORM_L2, 0);
   std::vector<TwoNearest> row(static_cast<size_t>(di.rows)), col(static_cast<size_t>(dj.rows));
-  constexpr int kBlock = 32;
-  // block x dj.rows: row c, the dot products of row a0 + c of A with B's rows
-  Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor, kBlock, Eigen::Dynamic> G;
-  for (int a0 = 0; a0 < di.rows; a0 += kBlock) {
-    const int b = std::min(kBlock, di.rows - a0);
-    G.noalias() = A.middleRows(a0, b) * B.transpose();
-    for (int c = 0; c < b; ++c) {
-      const int a = a0 + c;
-      TwoNearest &ra = row[static_cast<size_t>(a)];
-      for (int k = 0; k < dj.rows; ++k) {
-        const float d = std::max(0.0f, na(a) + nb(k) - 2.0f * G(c, k));
-        ra.add(d, k);
-        col[static_cast<size_t>(k)].add(d, a);
-      }
+  for (int a = 0; a < di.rows; ++a) {
+    const float *d = D.ptr<float>(a);
+    TwoNearest &ra = row[static_cast<size_t>(a)];
+    for (int k = 0; k < dj.rows; ++k) {
+      ra.add(d[k], k);
+      col[static_cast<size_t>(k)].add(d[k], a);
     }
   }
   std::vector<Match> pairs;
   for (int a = 0; a < di.rows; ++a) {
     const TwoNearest &ra = row[static_cast<size_t>(a)];
-    if (ra.i1 < 0 || !std::isfinite(ra.d2) || std::sqrt(ra.d1) > opt.ratio * std::sqrt(ra.d2))
+    if (ra.i1 < 0 || !std::isfinite(ra.d2) || ra.d1 > opt.ratio * ra.d2)
       continue;
     if (opt.mutual && col[static_cast<size_t>(ra.i1)].i1 != a)
       continue;
@@ -172,8 +160,7 @@ std::vector<Match> matchUnguided(const Features &f, size_t i, size_t j, const Fr
 {
   if (f.desc[i].empty() || f.desc[j].empty() || f.kp[i].size() < 8 || f.kp[j].size() < 8)
     return {};
-  if (opt.detector == FrontEnd::SIFT && f.desc[i].type() == CV_32F && f.desc[j].type() == CV_32F &&
-      f.desc[i].isContinuous() && f.desc[j].isContinuous())
+  if (opt.detector == FrontEnd::SIFT && f.desc[i].type() == CV_32F && f.desc[j].type() == CV_32F)
     return matchUnguidedL2(f.desc[i], f.desc[j], opt);
   cv::BFMatcher matcher(opt.detector == FrontEnd::SIFT ? cv::NORM_L2 : cv::NORM_HAMMING);
   std::vector<std::vector<cv::DMatch>> ij, ji;
