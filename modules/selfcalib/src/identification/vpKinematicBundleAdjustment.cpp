@@ -124,7 +124,7 @@ void reposeViews(Adjustment &a, KBA::Result &res)
 }
 
 //! Stage 5, the estimate at the final state: chain, camera, points, rms and sigma0, intrinsics.
-void fillEstimate(Adjustment &a, const KBA::Options &opt, bool distortion, KBA::Result &res)
+void fillEstimate(Adjustment &a, bool distortion, KBA::Result &res)
 {
   res.chain = a.state.chain;
   res.camera = cameraFrom(a.in, a.state.model, distortion);
@@ -343,7 +343,7 @@ bool solveAgain(Adjustment &a, const vpSelfCalibNoiseModel &noise, double pixel_
   a.state.update(true);
   if (!summary.IsSolutionUsable())
     return false;
-  fillEstimate(a, opt, distortion, r);
+  fillEstimate(a, distortion, r);
   if (a.state.delta.empty() && a.state.dq.empty())
     reposeViews(a, r);
   if (!fillCovariance(a, *problem, yardstick, names, r))
@@ -746,7 +746,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   }
   res.seconds_solve = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const KBA::Result solved = res;
-  fillEstimate(a, opt, distortion, res);
+  fillEstimate(a, distortion, res);
   if (solve && a.state.delta.empty() && a.state.dq.empty())
     reposeViews(a, res);
   if (solve && !summary.IsSolutionUsable()) {
