@@ -6,7 +6,6 @@
 #include "calibrate.h"
 
 #include <algorithm>
-#include <cmath>
 #include <iostream>
 #include <set>
 #include <sstream>
@@ -162,30 +161,6 @@ void leadWithFixedParameters(vpRobotSelfCalibration::Result &r)
                          "into the residuals and the other estimates; run without fixing them (or fix fewer) "
                          "before reading the doubts below"});
 }
-
-namespace
-{
-//! The same view: the same image file, or the same joints (or controller pose) to 1e-12.
-bool sameView(const vpSelfCalibDataset::View &a, const vpSelfCalibDataset::View &b)
-{
-  if (!a.image.empty() && !b.image.empty() && !canonical(a.image).empty() && canonical(a.image) == canonical(b.image))
-    return true;
-  if (a.q.size() != 0 && a.q.size() == b.q.size()) {
-    for (unsigned int j = 0; j < a.q.size(); ++j)
-      if (std::abs(a.q[j] - b.q[j]) > 1e-12)
-        return false;
-    return true;
-  }
-  if (a.has_fMe && b.has_fMe) {
-    for (unsigned int r = 0; r < 3; ++r)
-      for (unsigned int c = 0; c < 4; ++c)
-        if (std::abs(a.fMe[r][c] - b.fMe[r][c]) > 1e-12)
-          return false;
-    return true;
-  }
-  return false;
-}
-} // namespace
 
 int checkHeldout(const std::string &dataset, const vpSelfCalibDataset &ds, const std::string &heldout)
 {

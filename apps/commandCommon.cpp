@@ -175,6 +175,26 @@ std::string specialKind(fs::file_type t)
 }
 } // namespace
 
+bool sameView(const vpSelfCalibDataset::View &a, const vpSelfCalibDataset::View &b)
+{
+  if (!a.image.empty() && !b.image.empty() && !canonical(a.image).empty() && canonical(a.image) == canonical(b.image))
+    return true;
+  if (a.q.size() != 0 && a.q.size() == b.q.size()) {
+    for (unsigned int j = 0; j < a.q.size(); ++j)
+      if (std::abs(a.q[j] - b.q[j]) > 1e-12)
+        return false;
+    return true;
+  }
+  if (a.has_fMe && b.has_fMe) {
+    for (unsigned int r = 0; r < 3; ++r)
+      for (unsigned int c = 0; c < 4; ++c)
+        if (std::abs(a.fMe[r][c] - b.fMe[r][c]) > 1e-12)
+          return false;
+    return true;
+  }
+  return false;
+}
+
 bool outputRefused(const std::string &out, bool force)
 {
   if (out.empty()) {

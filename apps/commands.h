@@ -42,6 +42,8 @@ std::string modelHelp();
 std::vector<vpColVector> readJoints(const std::string &file, const std::string &what, unsigned int n);
 //! Canonical path of an existing file or directory, or "" when it does not exist.
 std::string canonical(const std::string &p);
+//! The same view: the same image file, or the same joints (or, without joints, controller pose) to 1e-12.
+bool sameView(const vpSelfCalibDataset::View &a, const vpSelfCalibDataset::View &b);
 /*!
   True, with the error on stderr, when `out` may not be written: a device node, a FIFO or a socket
   (or a link to one), --force or not; or an existing file without `force`.

@@ -3,7 +3,7 @@
  */
 #include "commands.h"
 
-#include <cmath>
+#include <algorithm>
 #include <iomanip>
 #include <filesystem>
 #include <iostream>
@@ -30,24 +30,12 @@ namespace
 {
 namespace fs = std::filesystem;
 
-//! The views of ds that are views of cal too: the same joints (to 1e-12), or the same image file.
+//! The views of ds that are views of cal too (sameView()).
 size_t sharedViews(const vpSelfCalibDataset &ds, const vpSelfCalibDataset &cal)
 {
   size_t shared = 0;
-  std::error_code ec;
   for (const auto &v : ds.views)
-    for (const auto &c : cal.views) {
-      bool same = !v.image.empty() && !c.image.empty() && fs::equivalent(v.image, c.image, ec);
-      if (!same && v.q.size() != 0 && v.q.size() == c.q.size()) {
-        same = true;
-        for (unsigned int j = 0; j < v.q.size(); ++j)
-          same = same && std::abs(v.q[j] - c.q[j]) <= 1e-12;
-      }
-      if (same) {
-        ++shared;
-        break;
-      }
-    }
+    shared += std::any_of(cal.views.begin(), cal.views.end(), [&](const auto &c) { return sameView(v, c); });
   return shared;
 }
 
