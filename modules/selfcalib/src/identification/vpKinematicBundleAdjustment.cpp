@@ -520,8 +520,6 @@ void fillAdjustment(Adjustment &a, const std::vector<vpSelfCalibDataset::View> &
   a.free_in = estimatedIntrinsics(camera, opt, a.in);
   a.scale_covariance = opt.scale_covariance;
   a.scale_covariance_chi2 = opt.scale_covariance_chi2;
-  a.tolerance = {opt.tolerance_translation, opt.tolerance_rotation, opt.tolerance_hand_eye_translation,
-                 opt.tolerance_hand_eye_rotation};
 }
 
 /*
@@ -541,7 +539,7 @@ void prepareStart(Adjustment &a, const vpSelfCalibDataset::Yardstick &yardstick,
   if (!opt.hand_eye_only)
   {
     a.scale_dir = scaleDirection(a.state);
-    a.scale_gauge = scaleGauge(a.state, a.scale_dir, a.tolerance, a.scale_variance);
+    a.scale_gauge = scaleGauge(a.state, a.scale_dir, opt, a.scale_variance);
   }
   a.keepVisible();
   if (!opt.known_points.empty())

@@ -41,20 +41,20 @@ Eigen::VectorXd scaleDirection(const KinematicState &st, const std::vector<int> 
   return A.colPivHouseholderQr().solve(b).head(P);
 }
 
-double toleranceOf(const std::string &name, const std::array<double, 4> &tolerance)
+double toleranceOf(unsigned int index, unsigned int n_joints, const KBA::Options &opt)
 {
-  const bool t = name.size() > 3 && name[name.size() - 2] == 't', hand_eye = name.rfind("eMc.", 0) == 0;
-  return tolerance[(hand_eye ? 2 : 0) + (t ? 0 : 1)];
+  const bool eMc = index / vpKinematicChain::kBlockSize == n_joints + 1;
+  const bool t = index % vpKinematicChain::kBlockSize < 3;
+  return eMc ? (t ? opt.tolerance_hand_eye_translation : opt.tolerance_hand_eye_rotation)
+             : (t ? opt.tolerance_translation : opt.tolerance_rotation);
 }
 
-Eigen::VectorXd scaleGauge(const KinematicState &st, const Eigen::VectorXd &s, const std::array<double, 4> &tolerance,
-                           double &variance)
+Eigen::VectorXd scaleGauge(const KinematicState &st, const Eigen::VectorXd &s, const KBA::Options &opt, double &variance)
 {
-  const std::vector<std::string> names = st.chain.getParameterNames();
   Eigen::VectorXd w(s.size());
   double information = 0;
   for (int r = 0; r < s.size(); ++r) {
-    const double tol = toleranceOf(names[st.id[r]], tolerance);
+    const double tol = toleranceOf(static_cast<unsigned int>(st.id[r]), st.chain.getNumJoints(), opt);
     w(r) = tol > 0 ? s(r) / (tol * tol) : 0.0;
     information += w(r) * s(r);
   }

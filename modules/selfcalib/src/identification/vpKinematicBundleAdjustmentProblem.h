@@ -37,8 +37,8 @@ using KBA = vpKinematicBundleAdjustment;
 */
 Eigen::VectorXd scaleDirection(const KinematicState &st, const std::vector<int> &columns = {});
 
-//! The nominal model's tolerance of a correction by its name (tolerance: translation, rotation, eMc's translation, eMc's rotation).
-double toleranceOf(const std::string &name, const std::array<double, 4> &tolerance);
+//! The nominal tolerance of a chain parameter (its index: block and component) on an arm of n_joints joints.
+double toleranceOf(unsigned int index, unsigned int n_joints, const KBA::Options &opt);
 
 /*
   The scale held without a yardstick, as the nominal lengths' prior weighs it: with the estimated
@@ -48,8 +48,7 @@ double toleranceOf(const std::string &name, const std::array<double, 4> &toleran
   best-known lengths (the joints') fix it, a guess (eMc's) barely. Returns T^-1 s scaled to
   (T^-1 s)^T s = s^T s (the gauge held: s^T T^-1 (rho - rho_0) = 0) and the variance.
 */
-Eigen::VectorXd scaleGauge(const KinematicState &st, const Eigen::VectorXd &s, const std::array<double, 4> &tolerance,
-                           double &variance);
+Eigen::VectorXd scaleGauge(const KinematicState &st, const Eigen::VectorXd &s, const KBA::Options &opt, double &variance);
 //! The intrinsics block of the camera (and, OpenCV model, the given start coefficients).
 void intrinsicsFrom(const vpCameraParameters &cam, const vpKinematicBundleAdjustment::Options &o,
                     double in[kIntrinsics]);
@@ -94,8 +93,6 @@ struct Adjustment {
   double scale_variance = 0;    //!< the relative variance of the scale held (scaleGauge())
   //! The nominal lengths' prior on the scale held counted in the covariance (adjust(), not information()).
   bool scale_prior = false;
-  //! Options::tolerance_* (translation, rotation, eMc translation, eMc rotation).
-  std::array<double, 4> tolerance{0, 0, 0, 0};
   bool scale_covariance = false, scale_covariance_chi2 = false;
   /*!
     The robot's error measured in full mode: the image noise's sd the pixels are weighed at, over

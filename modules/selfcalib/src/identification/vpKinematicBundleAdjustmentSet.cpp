@@ -146,15 +146,6 @@ vpMatrix setBias(const Eigen::MatrixXd &M, const vpKinematicIdentification::Iden
   return bias;
 }
 
-//! The nominal tolerance of a chain parameter (its block and component).
-double toleranceOf(unsigned int index, unsigned int n_joints, const KBA::Options &opt)
-{
-  const bool eMc = index / vpKinematicChain::kBlockSize == n_joints + 1;
-  const bool t = index % vpKinematicChain::kBlockSize < 3;
-  return eMc ? (t ? opt.tolerance_hand_eye_translation : opt.tolerance_hand_eye_rotation)
-             : (t ? opt.tolerance_translation : opt.tolerance_rotation);
-}
-
 std::string withUnit(double v, unsigned int index)
 {
   std::ostringstream os;
