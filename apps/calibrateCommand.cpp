@@ -184,6 +184,8 @@ int calibrate(const CalibrateArgs &a)
     return refused;
   if (const int refused = checkControllerPoses(dataset, ds))
     return refused;
+  if (const int refused = checkYardstick(dataset, ds, nominal))
+    return refused;
   const vpSelfCalibImageCorrespondences::Result cr = runFrontEnd(ds, co, a.board_geometry);
   cv::setNumThreads(1);
   if (cr.board_ran && !co.mask_board && cr.board_images == 0 && !cr.board.empty()) {
@@ -197,6 +199,7 @@ int calibrate(const CalibrateArgs &a)
                     : cr.method;
   if (const int refused = checkMethodData(po.method, ds))
     return refused;
+  noteRobotModel(ds, po.method);
   if (pose_auto && po.method != vpRobotSelfCalibration::HAND_EYE)
     std::cerr << "warning: --pose-sd auto measures the controller poses' error (hand-eye); the method is "
               << vpRobotSelfCalibration::methodName(po.method) << ", so it is not used\n";
@@ -219,6 +222,7 @@ int calibrate(const CalibrateArgs &a)
                                                                           : "calibration failed: ")
               << vpRobotSelfCalibration::statusName(p.run.status) << ": " << p.run.message
               << "\n";
+    noteYardstickLength(ds, nominal);
     printStatus(p.run, false);
     return 3;
   }
@@ -226,6 +230,8 @@ int calibrate(const CalibrateArgs &a)
   const vpRobotSelfCalibration::Result &r = p.calibration;
   for (const auto &f : r.findings)
     std::cerr << vpSelfCalibDataCheck::severityName(f.severity) << ": " << f.message << "\n";
+  if (r.status == vpRobotSelfCalibration::DOUBTFUL)
+    noteYardstickLength(ds, nominal);
   const std::string report = writeResults(outdir.staging(), dataset, nominal, ds, cr, p);
   outdir.commit();
 
