@@ -58,8 +58,9 @@ int checkControllerPoses(const std::string &dataset, const vpSelfCalibDataset &d
 //! The flange's farthest distance from the base over the views (m; fMe, or the nominal model at the joints).
 double armReach(const vpSelfCalibDataset &ds, const vpKinematicChain &nominal);
 /*!
-  Refuses a yardstick over ten times the arm's reach (armReach): a length in other units than m,
-  which the adjustment would otherwise end on without naming it. 0, or 1 after the message.
+  Refuses a yardstick over ten times the arm's reach (armReach) or under a thousandth of it: a
+  length in other units than m, which the adjustment would otherwise end on without naming it. 0,
+  or 1 after the message.
 */
 int checkYardstick(const std::string &dataset, const vpSelfCalibDataset &ds, const vpKinematicChain &nominal);
 //! A note when the hand-eye method on controller poses uses none of the robot model's kinematics.

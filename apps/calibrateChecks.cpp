@@ -235,9 +235,20 @@ int checkYardstick(const std::string &dataset, const vpSelfCalibDataset &ds, con
   // between views, at most twice the reach): one ten times the flange's farthest position from the
   // base is a length in other units (mm typed as m), and the scale it sets contradicts the robot's
   // motion so far that the adjustment fails without naming it.
-  constexpr double kTimesReach = 10.0;
+  // Under a thousandth of the reach it is a few pixels at the distances the arm puts the camera
+  // (a 1 mm yardstick 0.5 m away is 3 px at f = 1500 px): no image measures it.
+  constexpr double kTimesReach = 10.0, kFractionOfReach = 1e-3;
   const double reach = armReach(ds, nominal);
-  if (ds.yardstick.length <= 0 || reach <= 0 || ds.yardstick.length <= kTimesReach * reach)
+  if (ds.yardstick.length <= 0 || reach <= 0)
+    return 0;
+  if (ds.yardstick.length < kFractionOfReach * reach) {
+    std::cerr << "error: " << dataset << ": the yardstick is " << ds.yardstick.length << " m long, under a "
+              << "thousandth of the arm's reach in these views (the flange at most " << reach << " m from the base): "
+              << "no image at the distances the arm puts the camera measures it, and its scale would contradict "
+              << "the robot's motion; yardstick: length is in metres (a length in other units?)\n";
+    return 1;
+  }
+  if (ds.yardstick.length <= kTimesReach * reach)
     return 0;
   std::cerr << "error: " << dataset << ": the yardstick is " << ds.yardstick.length << " m long, "
             << static_cast<int>(ds.yardstick.length / reach) << " times the arm's reach in these views (the flange at "
