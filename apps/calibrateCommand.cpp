@@ -15,6 +15,7 @@
 #include <visp3/selfcalib/vpBoardDetector.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpKinematicIdentification.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpModelExport.h>
 #include <visp3/selfcalib/vpSelfCalibPoseStudy.h>
 #include <visp3/selfcalib/vpSelfCalibReport.h>
@@ -57,6 +58,18 @@ vpSelfCalibImageCorrespondences::Result runFrontEnd(vpSelfCalibDataset &ds,
     for (auto d = cr.dropped.rbegin(); d != cr.dropped.rend(); ++d)
       std::cerr << "warning: view " << d->index << " (" << d->image << "): no correspondence found; left out\n";
   }
+  // Too few views left: said here with the front end's part (the calibration would say "the
+  // dataset has N views", N the views kept, not the dataset's).
+  if (!cr.dropped.empty() && ds.views.size() < 3 && num_images >= 3)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "the image front end found correspondences in " + std::to_string(ds.views.size()) +
+                                   " of the " + std::to_string(num_images) +
+                                   " images (the others are left out, above): at least 3 calibration views are "
+                                   "needed; " +
+                                   (co.mask_board ? "--mask-board hides the board, and the rest of the images "
+                                                    "matches too little: calibrate without --mask-board"
+                                                  : "check the images (texture, overlap between views) and the board's "
+                                                    "description"));
   return cr;
 }
 
@@ -232,6 +245,13 @@ int calibrate(const CalibrateArgs &a)
     std::cerr << vpSelfCalibDataCheck::severityName(f.severity) << ": " << f.message << "\n";
   if (r.status == vpRobotSelfCalibration::DOUBTFUL)
     noteYardstickLength(ds, nominal);
+  if (r.status == vpRobotSelfCalibration::DOUBTFUL && a.board_geometry &&
+      std::any_of(r.findings.begin(), r.findings.end(), [](const vpSelfCalibDataCheck::Finding &f) {
+        return f.code == "residuals-too-large";
+      }))
+    std::cerr << "note: with --board-geometry the board's layout is part of the model: a board described with its "
+              << "rows and columns swapped, or another board's description, leaves such residuals: check --board "
+              << a.board << "\n";
   const std::string report = writeResults(outdir.staging(), dataset, nominal, ds, cr, p);
   outdir.commit();
 
