@@ -1,7 +1,8 @@
 /*
  * visp-selfcalib calibrate: the pieces its files share (calibrateOptions.cpp: the command line and
  * the library options it gives, calibrateFrontEnd.cpp: its front-end part; calibrateChecks.cpp: the
- * options checked against the dataset and the method; calibrateCommand.cpp: the run;
+ * options checked against the dataset and the method; calibrateDataChecks.cpp: the dataset checked
+ * against the robot and the method; calibrateCommand.cpp: the run;
  * calibrateOutput.cpp: the output directory and what is printed).
  */
 #ifndef VISP_SELFCALIB_CALIBRATE_H
