@@ -66,8 +66,12 @@ double armReach(const vpSelfCalibDataset &ds, const vpKinematicChain &nominal);
 int checkYardstick(const std::string &dataset, const vpSelfCalibDataset &ds, const vpKinematicChain &nominal);
 //! A note when the hand-eye method on controller poses uses none of the robot model's kinematics.
 void noteRobotModel(const vpSelfCalibDataset &ds, vpRobotSelfCalibration::Method method);
-//! On a failed or doubtful run: a note when the yardstick is longer than the arm's reach (a unit slip?).
-void noteYardstickLength(const vpSelfCalibDataset &ds, const vpKinematicChain &nominal);
+/*!
+  On a failed or doubtful run: a note when the yardstick is longer than the arm's reach (a unit
+  slip?), or when corrections beyond the tolerance may be its length's error (the scale it sets).
+*/
+void noteYardstickLength(const vpSelfCalibDataset &ds, const vpKinematicChain &nominal,
+                         const std::vector<vpSelfCalibDataCheck::Finding> &findings);
 //! Refuses a method that needs joints (bundle, paper) on views that give controller poses: 0, or 1 after the message.
 int checkMethodData(vpRobotSelfCalibration::Method method, const vpSelfCalibDataset &ds);
 /*!

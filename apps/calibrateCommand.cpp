@@ -235,7 +235,7 @@ int calibrate(const CalibrateArgs &a)
                                                                           : "calibration failed: ")
               << vpRobotSelfCalibration::statusName(p.run.status) << ": " << p.run.message
               << "\n";
-    noteYardstickLength(ds, nominal);
+    noteYardstickLength(ds, nominal, p.run.findings);
     printStatus(p.run, false);
     return 3;
   }
@@ -244,7 +244,7 @@ int calibrate(const CalibrateArgs &a)
   for (const auto &f : r.findings)
     std::cerr << vpSelfCalibDataCheck::severityName(f.severity) << ": " << f.message << "\n";
   if (r.status == vpRobotSelfCalibration::DOUBTFUL)
-    noteYardstickLength(ds, nominal);
+    noteYardstickLength(ds, nominal, r.findings);
   if (r.status == vpRobotSelfCalibration::DOUBTFUL && a.board_geometry &&
       std::any_of(r.findings.begin(), r.findings.end(), [](const vpSelfCalibDataCheck::Finding &f) {
         return f.code == "residuals-too-large";

@@ -50,13 +50,26 @@ int checkYardstick(const std::string &dataset, const vpSelfCalibDataset &ds, con
   return 1;
 }
 
-void noteYardstickLength(const vpSelfCalibDataset &ds, const vpKinematicChain &nominal)
+void noteYardstickLength(const vpSelfCalibDataset &ds, const vpKinematicChain &nominal,
+                         const std::vector<vpSelfCalibDataCheck::Finding> &findings)
 {
   const double reach = armReach(ds, nominal);
-  if (ds.yardstick.length > reach && reach > 0)
+  if (ds.yardstick.length > reach && reach > 0) {
     std::cerr << "note: the yardstick (" << ds.yardstick.length << " m) is longer than the arm's reach in these "
               << "views (" << reach << " m): if its length is not in metres, that alone explains a failed or "
               << "doubtful run (its scale contradicts the robot's motion)\n";
+    return;
+  }
+  // The bundle method takes its scale from the yardstick: a length a few % off scales every length
+  // of the model by as much, and the link lengths' corrections then exceed their tolerance.
+  const bool corrections = std::any_of(findings.begin(), findings.end(), [](const vpSelfCalibDataCheck::Finding &f) {
+    return f.code == "correction-beyond-tolerance";
+  });
+  if (corrections && ds.yardstick.isSet())
+    std::cerr << "note: the yardstick (points " << ds.yardstick.id_a << " and " << ds.yardstick.id_b << ", "
+              << ds.yardstick.length << " m) sets this calibration's scale: if its length is a few % off, the "
+              << "model's lengths are scaled by as much and their corrections exceed the tolerance as above: check "
+              << "its length (measured, in metres)\n";
 }
 
 int checkControllerPoses(const std::string &dataset, const vpSelfCalibDataset &ds)
