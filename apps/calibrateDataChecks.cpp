@@ -62,10 +62,12 @@ void noteYardstickLength(const vpSelfCalibDataset &ds, const vpKinematicChain &n
   }
   // The bundle method takes its scale from the yardstick: a length a few % off scales every length
   // of the model by as much, and the link lengths' corrections then exceed their tolerance.
-  const bool corrections = std::any_of(findings.begin(), findings.end(), [](const vpSelfCalibDataCheck::Finding &f) {
-    return f.code == "correction-beyond-tolerance";
-  });
-  if (corrections && ds.yardstick.isSet())
+  // Parameters fixed by the user lead (leadWithFixedParameters): the yardstick is not named then.
+  const auto has = [&findings](const char *code) {
+    return std::any_of(findings.begin(), findings.end(),
+                       [code](const vpSelfCalibDataCheck::Finding &f) { return f.code == code; });
+  };
+  if (has("correction-beyond-tolerance") && !has("fixed-parameters-misfit") && ds.yardstick.isSet())
     std::cerr << "note: the yardstick (points " << ds.yardstick.id_a << " and " << ds.yardstick.id_b << ", "
               << ds.yardstick.length << " m) sets this calibration's scale: if its length is a few % off, the "
               << "model's lengths are scaled by as much and their corrections exceed the tolerance as above: check "
