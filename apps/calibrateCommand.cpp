@@ -59,8 +59,10 @@ vpSelfCalibImageCorrespondences::Result runFrontEnd(vpSelfCalibDataset &ds,
       std::cerr << "warning: view " << d->index << " (" << d->image << "): no correspondence found; left out\n";
   }
   // Too few views left: said here with the front end's part (the calibration would say "the
-  // dataset has N views", N the views kept, not the dataset's).
-  if (!cr.dropped.empty() && ds.views.size() < 3 && num_images >= 3)
+  // dataset has N views", N the views kept, not the dataset's). A board in no image is the run's
+  // own error (named with what the detector saw).
+  const bool board_unseen = cr.board_ran && !co.mask_board && cr.board_images == 0 && !cr.board.empty();
+  if (!cr.dropped.empty() && ds.views.size() < 3 && num_images >= 3 && !board_unseen)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "the image front end found correspondences in " + std::to_string(ds.views.size()) +
                                    " of the " + std::to_string(num_images) +
