@@ -1,7 +1,8 @@
 /*
  * visp-selfcalib calibrate: the pieces its files share (calibrateOptions.cpp: the command line and
  * the library options it gives, calibrateFrontEnd.cpp: its front-end part; calibrateChecks.cpp: the
- * options checked against the dataset and the method; calibrateCommand.cpp: the run;
+ * options checked against the dataset and the method; calibrateDataChecks.cpp: the dataset checked
+ * against the robot and the method; calibrateCommand.cpp: the run;
  * calibrateOutput.cpp: the output directory and what is printed).
  */
 #ifndef VISP_SELFCALIB_CALIBRATE_H
@@ -55,6 +56,22 @@ int checkOutputDirectory(const vpSelfCalibOutputDirectory &outdir, const std::st
 int checkHeldout(const std::string &dataset, const vpSelfCalibDataset &ds, const std::string &heldout);
 //! Refuses controller poses (fMe) beyond any robot's reach (units other than m): 0, or 1 after the message.
 int checkControllerPoses(const std::string &dataset, const vpSelfCalibDataset &ds);
+//! The flange's farthest distance from the base over the views (m; fMe, or the nominal model at the joints).
+double armReach(const vpSelfCalibDataset &ds, const vpKinematicChain &nominal);
+/*!
+  Refuses a yardstick over ten times the arm's reach (armReach) or under a thousandth of it: a
+  length in other units than m, which the adjustment would otherwise end on without naming it. 0,
+  or 1 after the message.
+*/
+int checkYardstick(const std::string &dataset, const vpSelfCalibDataset &ds, const vpKinematicChain &nominal);
+//! A note when the hand-eye method on controller poses uses none of the robot model's kinematics.
+void noteRobotModel(const vpSelfCalibDataset &ds, vpRobotSelfCalibration::Method method);
+/*!
+  On a failed or doubtful run: a note when the yardstick is longer than the arm's reach (a unit
+  slip?), or when corrections beyond the tolerance may be its length's error (the scale it sets).
+*/
+void noteYardstickLength(const vpSelfCalibDataset &ds, const vpKinematicChain &nominal,
+                         const std::vector<vpSelfCalibDataCheck::Finding> &findings);
 //! Refuses a method that needs joints (bundle, paper) on views that give controller poses: 0, or 1 after the message.
 int checkMethodData(vpRobotSelfCalibration::Method method, const vpSelfCalibDataset &ds);
 /*!

@@ -1,7 +1,7 @@
 /*
  * visp-selfcalib calibrate: the checks of its options against the dataset and the method (the
  * options of one method refused with another, the robot's error stated, --fix / --free names) and
- * of its inputs (--heldout, the controller poses, the method's data), see calibrate.h.
+ * of --heldout, see calibrate.h (the dataset's own checks: calibrateDataChecks.cpp).
  */
 #include "calibrate.h"
 
@@ -214,43 +214,5 @@ int checkHeldout(const std::string &dataset, const vpSelfCalibDataset &ds, const
   std::cerr << "error: --heldout " << heldout << ": " << shared.size() << " of its " << h.views.size()
             << " views (" << list.str() << ") are views of the calibration dataset too (the same joints or "
             << "image): a check on them is not independent; give views not used to calibrate\n";
-  return 1;
-}
-
-int checkControllerPoses(const std::string &dataset, const vpSelfCalibDataset &ds)
-{
-  // No robot arm or gantry puts its end-effector 100 m from its base: beyond, the translations are
-  // in other units (mm typed as m), and the calibration would end doubtful for another reason.
-  constexpr double kReach = 100.0;
-  for (size_t k = 0; k < ds.views.size(); ++k) {
-    if (!ds.views[k].has_fMe)
-      continue;
-    const double d = ds.views[k].fMe.getTranslationVector().frobeniusNorm();
-    if (d > kReach) {
-      std::cerr << "error: " << dataset << ": pose " << k << "'s fMe puts the end-effector " << d
-                << " m from the robot's base: no robot reaches " << kReach << " m; fMe is (tx, ty, tz) in metres "
-                << "and theta-u in radians (a translation in mm?)\n";
-      return 1;
-    }
-  }
-  return 0;
-}
-
-int checkMethodData(vpRobotSelfCalibration::Method method, const vpSelfCalibDataset &ds)
-{
-  if (method == vpRobotSelfCalibration::HAND_EYE)
-    return 0;
-  size_t without = 0, first = ds.views.size();
-  for (size_t k = 0; k < ds.views.size(); ++k)
-    if (ds.views[k].q.size() == 0) {
-      ++without;
-      first = std::min(first, k);
-    }
-  if (without == 0)
-    return 0;
-  std::cerr << "error: --method " << vpRobotSelfCalibration::methodName(method) << " calibrates the kinematic "
-            << "model from joint readings, and " << without << " of the " << ds.views.size()
-            << " views (view " << first << " the first) give a controller pose (fMe) instead: use --method "
-            << "hand-eye (eMc and the camera from controller poses), or record the joints\n";
   return 1;
 }

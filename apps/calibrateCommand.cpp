@@ -15,6 +15,7 @@
 #include <visp3/selfcalib/vpBoardDetector.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpKinematicIdentification.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpModelExport.h>
 #include <visp3/selfcalib/vpSelfCalibPoseStudy.h>
 #include <visp3/selfcalib/vpSelfCalibReport.h>
@@ -57,6 +58,20 @@ vpSelfCalibImageCorrespondences::Result runFrontEnd(vpSelfCalibDataset &ds,
     for (auto d = cr.dropped.rbegin(); d != cr.dropped.rend(); ++d)
       std::cerr << "warning: view " << d->index << " (" << d->image << "): no correspondence found; left out\n";
   }
+  // Too few views left: said here with the front end's part (the calibration would say "the
+  // dataset has N views", N the views kept, not the dataset's). A board in no image is the run's
+  // own error (named with what the detector saw).
+  const bool board_unseen = cr.board_ran && !co.mask_board && cr.board_images == 0 && !cr.board.empty();
+  if (!cr.dropped.empty() && ds.views.size() < 3 && num_images >= 3 && !board_unseen)
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "the image front end found correspondences in " + std::to_string(ds.views.size()) +
+                                   " of the " + std::to_string(num_images) +
+                                   " images (the others are left out, above): at least 3 calibration views are "
+                                   "needed; " +
+                                   (co.mask_board ? "--mask-board hides the board, and the rest of the images "
+                                                    "matches too little: calibrate without --mask-board"
+                                                  : "check the images (texture, overlap between views) and the board's "
+                                                    "description"));
   return cr;
 }
 
@@ -184,6 +199,8 @@ int calibrate(const CalibrateArgs &a)
     return refused;
   if (const int refused = checkControllerPoses(dataset, ds))
     return refused;
+  if (const int refused = checkYardstick(dataset, ds, nominal))
+    return refused;
   const vpSelfCalibImageCorrespondences::Result cr = runFrontEnd(ds, co, a.board_geometry);
   cv::setNumThreads(1);
   if (cr.board_ran && !co.mask_board && cr.board_images == 0 && !cr.board.empty()) {
@@ -197,6 +214,7 @@ int calibrate(const CalibrateArgs &a)
                     : cr.method;
   if (const int refused = checkMethodData(po.method, ds))
     return refused;
+  noteRobotModel(ds, po.method);
   if (pose_auto && po.method != vpRobotSelfCalibration::HAND_EYE)
     std::cerr << "warning: --pose-sd auto measures the controller poses' error (hand-eye); the method is "
               << vpRobotSelfCalibration::methodName(po.method) << ", so it is not used\n";
@@ -219,6 +237,7 @@ int calibrate(const CalibrateArgs &a)
                                                                           : "calibration failed: ")
               << vpRobotSelfCalibration::statusName(p.run.status) << ": " << p.run.message
               << "\n";
+    noteYardstickLength(ds, nominal, p.run.findings);
     printStatus(p.run, false);
     return 3;
   }
@@ -226,6 +245,15 @@ int calibrate(const CalibrateArgs &a)
   const vpRobotSelfCalibration::Result &r = p.calibration;
   for (const auto &f : r.findings)
     std::cerr << vpSelfCalibDataCheck::severityName(f.severity) << ": " << f.message << "\n";
+  if (r.status == vpRobotSelfCalibration::DOUBTFUL)
+    noteYardstickLength(ds, nominal, r.findings);
+  if (r.status == vpRobotSelfCalibration::DOUBTFUL && a.board_geometry &&
+      std::any_of(r.findings.begin(), r.findings.end(), [](const vpSelfCalibDataCheck::Finding &f) {
+        return f.code == "residuals-too-large";
+      }))
+    std::cerr << "note: with --board-geometry the board's layout is part of the model: a board described with its "
+              << "rows and columns swapped, or another board's description, leaves such residuals: check --board "
+              << a.board << "\n";
   const std::string report = writeResults(outdir.staging(), dataset, nominal, ds, cr, p);
   outdir.commit();
 

@@ -211,6 +211,12 @@ bool outputRefused(const std::string &out, bool force)
                  "another path\n";
     return true;
   }
+  // These outputs are single files: a directory at the path is no earlier output, --force or not.
+  if (fs::is_directory(out, ec)) {
+    std::cerr << "error: '" << out << "' is a directory: the output is a file; give a file's path (e.g. '"
+              << (fs::path(out) / fs::path(out).filename()).string() << "')\n";
+    return true;
+  }
   if (!force && !canonical(out).empty()) {
     std::cerr << "error: '" << out << "' exists; use --force to replace it\n";
     return true;

@@ -46,7 +46,7 @@ std::string canonical(const std::string &p);
 bool sameView(const vpSelfCalibDataset::View &a, const vpSelfCalibDataset::View &b);
 /*!
   True, with the error on stderr, when `out` may not be written: a device node, a FIFO or a socket
-  (or a link to one), --force or not; or an existing file without `force`.
+  (or a link to one) or a directory, --force or not; or an existing file without `force`.
 */
 bool outputRefused(const std::string &out, bool force);
 //! Creates a directory unless it exists; false when that fails.

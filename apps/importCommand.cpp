@@ -7,7 +7,11 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
+#include <set>
 
+#include <visp3/selfcalib/vpBoardDetector.h>
+#include <visp3/selfcalib/vpFeatureFrontEnd.h>
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpSelfCalibImporter.h>
 
@@ -53,6 +57,62 @@ bool holdsText(const std::string &file, const std::string &text)
   std::ifstream in(file, std::ios::binary);
   std::string content(text.size(), '\0');
   return in.read(&content[0], static_cast<std::streamsize>(content.size())) && content == text;
+}
+
+//! Whether every view gives a controller pose and none its joints.
+bool controllerPosesOnly(const vpSelfCalibDataset &ds)
+{
+  return std::all_of(ds.views.begin(), ds.views.end(),
+                     [](const vpSelfCalibDataset::View &v) { return v.has_fMe && v.q.size() == 0; });
+}
+
+/*
+  An AprilTag of any id (the tag description gives the family and the side, not the id): the ids
+  the views show, and in how many views each. calibrate's board of any id takes tag 0's corners as
+  the yardstick and cannot use the tag's layout; with the id, both are the tag's.
+*/
+std::map<int, unsigned int> tagsSeen(const vpSelfCalibDataset &ds, const std::string &board_option)
+{
+  std::map<int, unsigned int> seen;
+  if (board_option.rfind("apriltag:", 0) != 0 || std::count(board_option.begin(), board_option.end(), ':') != 2)
+    return seen;
+  const vpBoardDetector detector(vpBoardDetector::parse(board_option));
+  const int offset = detector.getOptions().id_offset;
+  for (size_t k = 0; k < ds.views.size(); ++k) {
+    if (ds.views[k].image.empty())
+      continue;
+    std::set<int> tags;
+    for (const auto &c : detector.detect(vpFeatureFrontEnd::readImage(ds.views[k].image, "view " + std::to_string(k))).corners)
+      tags.insert((c.id - offset) / 4);
+    for (int t : tags)
+      ++seen[t];
+  }
+  return seen;
+}
+
+//! import's last lines: the calibrate command that fits what it found ("next: ...").
+void printNext(const ImportArgs &a, const vpSelfCalibImporter::Result &res, bool nominal_intrinsics)
+{
+  const vpSelfCalibImporter::Report &r = res.report;
+  const std::map<int, unsigned int> tags = tagsSeen(res.dataset, r.board_option);
+  // One tag, in two views or more: its id makes the tag's corners the yardstick and its layout eMo's start.
+  const bool one_tag = tags.size() == 1 && tags.begin()->second >= 2;
+  const std::string board =
+      one_tag ? r.board_option + ":" + std::to_string(tags.begin()->first) + " --board-geometry" : r.board_option;
+  std::cout << "next: " << kProgram << " calibrate " << a.out << " --out DIR"
+            << (board.empty() ? "" : " --method hand-eye --board " + board)
+            << (nominal_intrinsics ? " --estimate pp,distortion" : "") << "\n";
+  if (one_tag)
+    std::cout << "  (tag " << tags.begin()->first << " is seen in " << tags.begin()->second << " of the "
+              << res.dataset.views.size() << " images: its id makes its corners the yardstick, and its layout "
+              << "(--board-geometry) gives the tag's pose eMo)\n";
+  else if (r.board_option.rfind("apriltag:", 0) == 0) {
+    std::cout << "  (the tag's pose eMo too: give its id and its geometry, --board " << r.board_option
+              << ":ID --board-geometry";
+    for (auto it = tags.begin(); it != tags.end(); ++it)
+      std::cout << (it == tags.begin() ? "; tags seen: " : ", ") << it->first << " in " << it->second << " images";
+    std::cout << ")\n";
+  }
 }
 } // namespace
 
@@ -102,6 +162,10 @@ int importData(const ImportArgs &a)
             << " views; " << r.pose_format << "\n"
             << "  camera: " << r.camera << "\n"
             << "  robot:  " << r.robot << "\n"
+            << (controllerPosesOnly(res.dataset) ? "          (the views are controller poses: calibrate --method hand-eye "
+                                                  "takes them as they are and uses none of this model's kinematics, "
+                                                  "only its eMc guess; the model is the bundle method's, on joint "
+                                                  "readings)\n" : "")
             << "  board:  " << (r.board.empty() ? "none described" : r.board)
             << (r.board.empty()            ? ""
                 : r.board_option.empty() ? "; used only with calibrate --board TYPE:RxC:SPACING (else natural features)"
@@ -120,11 +184,7 @@ int importData(const ImportArgs &a)
   std::cout << "wrote " << a.out;
   if (res.has_robot_model)
     std::cout << " and " << vpSelfCalibImporter::robotModelFileFor(a.out);
-  std::cout << ": " << r.num_views << " views\nnext: " << kProgram << " calibrate " << a.out << " --out DIR"
-            << (r.board_option.empty() ? "" : " --method hand-eye --board " + r.board_option)
-            << (nominal_intrinsics ? " --estimate pp,distortion" : "") << "\n";
-  if (r.board_option.rfind("apriltag:", 0) == 0)
-    std::cout << "  (the tag's pose eMo too: give its id and its geometry, --board " << r.board_option
-              << ":ID --board-geometry)\n";
+  std::cout << ": " << r.num_views << " views\n";
+  printNext(a, res, nominal_intrinsics);
   return 0;
 }

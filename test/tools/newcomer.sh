@@ -119,11 +119,12 @@ real)
   cmd=$(suggested ic.yaml ic-result)
   step 0 ok $APP $cmd
   step 0 - build/bin/selfcalib-yaml-check ic-result/results.yaml status eq ok method eq hand-eye camera.px range 520 560
-  # The eye-to-hand set: the suggestion (bMc only), then getting-started's command (the tag's id and
-  # geometry: eMo too).
+  # The eye-to-hand set: the suggestion (import names the tag it sees: its id and geometry, so eMo
+  # too and the tag's corners as the yardstick), then getting-started's command, the same.
   step 0 - $APP import ../shared/data/visp-franka-eye-to-hand --out e2h.yaml
   cmd=$(suggested e2h.yaml e2h-suggested)
   step 0 ok $APP $cmd
+  step 0 - build/bin/selfcalib-yaml-check e2h-suggested/results.yaml status eq ok eMo.pose size 6
   step 0 ok $APP calibrate e2h.yaml --out e2h-out --method hand-eye --board apriltag:36h11:0.048:10 --board-geometry
   step 0 - build/bin/selfcalib-yaml-check e2h-out/results.yaml status eq ok bMc.pose size 6 eMo.pose size 6
   ;;

@@ -719,6 +719,13 @@ vpSelfCalibImporter::Result vpSelfCalibImporter::import(const std::string &path,
   if (path.empty() || !fs::exists(path, ec))
     throw vpSelfCalibException(vpSelfCalibException::ioError,
                                "importer " + inQuotes(path) + ": no such file or folder");
+  // A FIFO (or a device, a socket) is no data folder and no cal_data.yaml: opening a FIFO that no
+  // program writes to would wait for ever.
+  if (!fs::is_directory(path, ec) && !fs::is_regular_file(path, ec))
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               "importer " + inQuotes(path) + ": neither a folder nor a regular file (a FIFO, a "
+                               "device or a socket): give a ViSP hand-eye folder or industrial_calibration's "
+                               "cal_data.yaml");
   Result res;
   if (fs::is_directory(path, ec) && !fs::is_regular_file(fs::path(path) / "cal_data.yaml", ec))
     res = importVisp(path, options);
