@@ -32,12 +32,10 @@ vpSelfCalibNoiseModel withDatasetRobotError(const vpRobotSelfCalibration::Option
   }
   if (opt.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT && noise.joint_sd.empty() && !ds.joint_sd.empty())
     noise.joint_sd = ds.joint_sd;
-  // Nothing states the robot's error: a real arm has one, so it is modelled and measured (hand-eye
-  // by default; the full kinematics when the caller asks for its joint or model error measured,
-  // which its bundle adjustment does in one adjustment).
-  const bool full_measured = noise.measure_joint_sd || noise.measure_model_sd;
-  if ((opt.method == vpRobotSelfCalibration::HAND_EYE ||
-       (opt.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT && full_measured)) &&
+  // Nothing states the robot's error: a real arm has one, so it is modelled from the prior and
+  // measured (hand-eye: the controller poses; bundle: the joint readings and the model's residual,
+  // measured inside its bundle adjustment). trust_robot takes the robot as exact.
+  if ((opt.method == vpRobotSelfCalibration::HAND_EYE || opt.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT) &&
       !noise.hasRobotError() && !opt.trust_robot)
     noise = vpRobotSelfCalibration::robotErrorPrior(noise, opt.method);
   return noise;
