@@ -6,8 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
 
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibRobotErrorLevels.h"
@@ -186,32 +184,14 @@ void runBundle(const Context &c, Result &res)
   const vpKinematicIdentification::Identifiability first = decideSet(c, d, c.noise);
   if (!identifyAndAdjust(c, d, first, res, ts) || !robotLevelGuessed(c.noise))
     return;
-  if (!robotLevelImplausible(res.bundle.noise)) {
-    const vpKinematicIdentification::Identifiability again = decideSet(c, d, res.bundle.noise);
-    // The model residual merged into the joints (robot_error_confounded) stays merged from that level.
-    const bool confounded = res.bundle.robot_error_confounded;
-    if (again.identified != first.identified && adjustAgain(Context(c, res.bundle.noise, false), d, again, res))
-      res.bundle.robot_error_confounded = res.bundle.robot_error_confounded || confounded;
-  }
-  if (!robotLevelImplausible(res.bundle.noise))
+  // Measured beyond a real arm's: vpRobotSelfCalibration::run() makes the trusted run instead
+  // (robot-error-taken-exact), from the top.
+  if (robotLevelImplausible(res.bundle.noise))
     return;
-  // Measured beyond a real arm's: a misfit or views that do not separate the corrections, not
-  // reading noise. The readings taken as exact: the trusted run's checks judge the misfit.
-  vpSelfCalibNoiseModel exact = withoutGuessedLevels(c.noise);
-  exact.measure_joint_sd = exact.measure_model_sd = false;
-  std::ostringstream level;
-  level << std::setprecision(3) << "joint readings " << 1e3 * levelsOf(res.bundle.noise, JOINT_ERROR).r << " mrad";
-  if (res.bundle.noise.hasModelError())
-    level << ", model residual " << 1e3 * res.bundle.noise.model_sd_translation << " mm / "
-          << 1e3 * res.bundle.noise.model_sd_rotation << " mrad";
-  const Context trusted(c, exact, false);
-  if (adjustAgain(trusted, d, decideSet(trusted, d, exact), res))
-    res.findings.push_back(
-        {vpSelfCalibDataCheck::WARNING, "robot-error-taken-exact",
-         "the robot's error measured from the corrections is beyond a real arm's (" + level.str() + "; a real arm's joints: "
-         "0.1 to 1 mrad): no reading noise, but a misfit the model cannot explain (a parameter held at a wrong value, "
-         "a wrong robot model or eMc guess, joints paired with another view's images) or views that do not separate "
-         "the corrections from the rest. The readings are taken as exact, as calibrate --joint-sd 0, and the checks "
-         "below judge the fit; if the readings really are that noisy, state their level (calibrate --joint-sd RAD)"});
+  const vpKinematicIdentification::Identifiability again = decideSet(c, d, res.bundle.noise);
+  // The model residual merged into the joints (robot_error_confounded) stays merged from that level.
+  const bool confounded = res.bundle.robot_error_confounded;
+  if (again.identified != first.identified && adjustAgain(Context(c, res.bundle.noise, false), d, again, res))
+    res.bundle.robot_error_confounded = res.bundle.robot_error_confounded || confounded;
 }
 } // namespace vpSelfCalibPipeline
