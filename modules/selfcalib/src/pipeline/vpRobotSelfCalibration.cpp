@@ -263,7 +263,7 @@ vpSelfCalibDataCheck::Finding takenExactFinding(const vpSelfCalibNoiseModel &mea
   if (measured.hasModelError())
     level << ", model residual " << 1e3 * measured.model_sd_translation << " mm / " << 1e3 * measured.model_sd_rotation
           << " mrad";
-  return {vpSelfCalibDataCheck::WARNING, "robot-error-taken-exact",
+  return vpSelfCalibDataCheck::Finding{vpSelfCalibDataCheck::WARNING, "robot-error-taken-exact",
           "the robot's error measured from the corrections is beyond a real arm's (" + level.str() +
               "; a real arm's joints: 0.1 to 1 mrad): no reading noise, but a misfit the model cannot explain (a "
               "parameter held at a wrong value, a wrong robot model or eMc guess, joints paired with another view's "
