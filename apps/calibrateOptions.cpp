@@ -81,7 +81,7 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
                 "e.g. 0.002,0.002: each pose gets a correction with that prior, and the sd are\n"
                 "widened by sigma0 when the residuals say the noise is larger; bundle-adjustment: the\n"
                 "kinematic model's own residual (each camera pose corrected in its own frame with that\n"
-                "prior; stated, or measured with --joint-sd auto on arms of fewer than 6 joints);\n"
+                "prior; stated, or by default measured with the joints' on arms of fewer than 6 joints);\n"
                 "auto (hand-eye's default): measured from\n"
                 "the corrections (variance components), from the dataset's robot_error or 1 mm /\n"
                 "1 mrad, runs again until it settles within 10 %; 0: the robot is exact (no error\n"
@@ -112,7 +112,10 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
        "corrections with that prior, and the sd are widened by sigma0 when the residuals say\n"
        "the noise is larger. 0: the joint readings and the model are exact (no error\n"
        "modelled, whatever the dataset's robot_error says). Default: the dataset's\n"
-       "robot_error, stated, else exact")
+       "robot_error, stated, else measured as with auto (from 3e-4 rad; the estimated set\n"
+       "decided again at the level measured; a joint error measured above 1e-3 rad, or a model\n"
+       "residual above 1 mm / 1 mrad, is a misfit, not noise: the result is then the run with\n"
+       "--joint-sd 0, and the warning robot-error-taken-exact says so)")
       ->type_name("auto|RAD[,RAD...]|0")
       ->delimiter(',')
       ->check(selfcalibCli::wordOrNumber("auto", 0, false, 0.999));
@@ -245,7 +248,9 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
   if (pose_auto || a.pose_sd.empty())
     po.noise.measure_pose_sd = true;
   if (a.joint_sd_auto)
-    po.noise.measure_joint_sd = po.noise.measure_model_sd = true; // modelled from the prior and measured
+    po.noise.measure_joint_sd = po.noise.measure_model_sd = true; // the dataset's robot_error measured too
+  // Without --joint-sd, the bundle method models the robot's error from robotErrorPrior() and
+  // measures it when the dataset states none (the library's default, trust_robot false).
   // --pose-sd T,R and --joint-sd go to the noise model once the method is known (stateRobotError).
   return po;
 }

@@ -84,10 +84,11 @@ BENCHES = [
      "Cramer-Rao bound of the set estimated; the joint readings trusted (`--joint-sd 0`: the simulated "
      "robot has no reading error)."),
     ("bench-robot-error", ["--seeds", "2", "--draws", "3"],
-     "The bundle method's robot error measured (noise.measure_joint_sd and measure_model_sd: the joint "
-     "readings modelled from a prior and measured with the image noise by Helmert's variance "
+     "The bundle method's robot error measured by default (nothing stated: the joint readings and the "
+     "model residual modelled from a prior and measured with the image noise by Helmert's variance "
      "components, in one bundle adjustment; on this 6-joint arm the joints alone take the model "
-     "residual, which the images cannot split from them; the row '--joint-sd auto') against trusting the robot "
+     "residual, which the images cannot split from them; the row 'default (measured)') against a run "
+     "told the true levels (`--joint-sd TRUE --pose-sd T,R`) and trusting the robot "
      "(`--joint-sd 0`), on the reference scene (Viper850, 80 points + yardstick, 0.2 px, f known) with "
      "exact joint readings, readings off by 0.02 deg, and readings off by 0.05 deg with a 0.1 mm / "
      "0.1 mrad model residual: the levels measured against the simulated ones, the held-out error "

@@ -1,5 +1,5 @@
 /*
- * bench-robot-error: the bundle method's robot error measured (--joint-sd auto: joint readings and the kinematic
+ * bench-robot-error: the bundle method's robot error measured (its default: joint readings and the kinematic
  * model's residual, measured by variance components) on data with and without a robot error.
  *
  *   bench-robot-error [--seeds N] [--draws K] [--robots viper850,ur5] [--cases LIST] [--csv FILE]
@@ -10,9 +10,10 @@
  * model-residual cases, each calibration camera pose is off the true robot's by a Gaussian 6-D
  * residual (t in mm, r in mrad, in the camera frame) that no kinematic parameter explains. The
  * held-out views keep their true joints: their error is the calibrated model's. Each case is
- * calibrated twice on the same draws: with --joint-sd auto (nothing stated: the robot's error
- * modelled from vpRobotSelfCalibration::robotErrorPrior() and measured) and trusted (--joint-sd 0:
- * no robot error modelled). Per row, over its seeds and draws:
+ * calibrated on the same draws: by default (nothing stated: the robot's error modelled from
+ * vpRobotSelfCalibration::robotErrorPrior() and measured, as --joint-sd auto), told the true levels
+ * (--joint-sd TRUE, --pose-sd T,R; not for exact data) and trusted (--joint-sd 0: no robot error
+ * modelled). Per row, over its seeds and draws:
  *   statuses           vpRobotSelfCalibration::statusName of the runs;
  *   joint sd measured  the joint sd of the run that stands over the true one (mean and range over the
  *                      runs; "exact": no joint error left modelled; a truth of 0 shows the level in mrad);
@@ -27,8 +28,8 @@
  *                      seed's noise-free estimate x0 (no pixel noise, no robot error, the same set),
  *                      mean over the ok runs with that set: 1 when the covariance is honest;
  *   runs / s           the method's runs per calibration (the noise rounds) and the wall time.
- * Targets (with a robot error, --joint-sd auto): ok in every run, held-out within 1.3x the predicted, NEES
- * 0.7-1.4, the joint sd measured within 0.7-1.4x the truth; exact data: the measured run's held-out error
+ * Targets (with a robot error, the default): ok in every run, held-out within 1.3x the told run's
+ * and the predicted, NEES 0.7-1.4, the joint sd measured within 0.7-1.4x the truth; exact data: the measured run's held-out error
  * within 10 % of the trusted run's.
  */
 #include <algorithm>
@@ -68,6 +69,9 @@ struct Case {
 const std::vector<Case> kCases = {{"exact", 0, 0, 0},
                                   {"joints", 0.02, 0, 0},
                                   {"joints+model", 0.05, 0.1, 0.1}};
+
+//! How a draw is calibrated: the default (the robot's error measured), told the true levels, trusted.
+enum Calibration { MEASURED, TOLD, TRUSTED };
 
 struct Row {
   std::string robot, error, calibration;
@@ -168,14 +172,21 @@ std::string meanRange(const bench::Stats &s, double unit, int precision)
 }
 
 //! One calibration of a draw into its row.
-void calibrate(Row &row, const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds, bool trusted,
-               const std::vector<vpSelfCalibDataset::View> &held, const std::vector<vpColVector> &ver,
+void calibrate(Row &row, const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds, Calibration mode,
+               const Case &c, const std::vector<vpSelfCalibDataset::View> &held, const std::vector<vpColVector> &ver,
                const vpRobotSelfCalibration::Result &ref, bench::Csv &csv, unsigned int seed, unsigned int d)
 {
-  vpRobotSelfCalibration::Options po;
+  const bool trusted = mode == TRUSTED;
+  vpRobotSelfCalibration::Options po; // the default: the robot's error modelled from the prior and measured
   po.num_calibration_poses = kCalibration;
   po.trust_robot = trusted; // calibrate --joint-sd 0
-  po.noise.measure_joint_sd = po.noise.measure_model_sd = !trusted; // modelled from the prior and measured
+  if (mode == TOLD) {
+    // calibrate --joint-sd TRUE --pose-sd T,R: the true levels stated.
+    po.noise.joint_sd = {c.joint_deg * M_PI / 180.0};
+    po.noise.model_sd_translation = 1e-3 * c.model_mm;
+    po.noise.model_sd_rotation = 1e-3 * c.model_mrad;
+    po.bundle.scale_covariance = true;
+  }
   unsigned int runs = 0;
   const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, po, [&](const std::string &stage, unsigned int, unsigned int) {
     if (stage == "identification from the multi-view poses")
@@ -203,7 +214,7 @@ void calibrate(Row &row, const vpSelfCalibSimulator &sim, const vpSelfCalibDatas
     else
       ++row.nees_skipped;
   }
-  if (!trusted) {
+  if (mode == MEASURED) {
     if (r.noise.joint_sd.empty())
       ++row.joint_exact;
     else
@@ -230,8 +241,9 @@ void print(const std::vector<Row> &rows)
     std::ostringstream st;
     for (const auto &s : r.statuses)
       st << (st.tellp() > 0 ? ", " : "") << s.first << " " << s.second;
-    std::string joint = "(trusted)", model = "(trusted)";
-    if (r.calibration == "--joint-sd auto") {
+    const bool told = r.calibration == "told the true levels";
+    std::string joint = told ? "(stated)" : "(trusted)", model = told ? "(stated)" : "(trusted)";
+    if (r.calibration == "default (measured)") {
       joint = r.joint_ratio.count() ? meanRange(r.joint_ratio, 1, 2) + (r.joint_true > 0 ? "" : " mrad") : "";
       if (r.joint_exact)
         joint += (r.joint_ratio.count() ? ", " : "") + std::string("exact in ") + std::to_string(r.joint_exact);
@@ -290,7 +302,9 @@ int main(int argc, char **argv)
     for (const std::string &robot : robots)
       for (const Case &c : kCases)
         if (std::find(cases.begin(), cases.end(), c.name) != cases.end())
-          for (const char *cal : {"--joint-sd auto", "--joint-sd 0"}) {
+          for (const char *cal : {"default (measured)", "told the true levels", "--joint-sd 0"}) {
+            if (c.name == "exact" && std::string(cal) == "told the true levels")
+              continue; // the true level is none: the trusted run
             Row r;
             r.robot = robot;
             r.error = c.name == "exact" ? "none"
@@ -326,16 +340,20 @@ int main(int argc, char **argv)
             std::cerr << "bench-robot-error: " << robot << " seed " << seed << ", " << c.name << ", draw " << d + 1
                       << "/" << draws << "      \r" << std::flush;
             const vpSelfCalibDataset ds = draw(sim, clean, c, pixel_sd, seed, d);
-            calibrate(rows[row], sim, ds, false, held, ver, ref, csv, seed, d);
-            calibrate(rows[row + 1], sim, ds, true, held, ver, ref, csv, seed, d);
+            const bool exact = c.name == "exact";
+            calibrate(rows[row], sim, ds, MEASURED, c, held, ver, ref, csv, seed, d);
+            if (!exact)
+              calibrate(rows[row + 1], sim, ds, TOLD, c, held, ver, ref, csv, seed, d);
+            calibrate(rows[row + (exact ? 1 : 2)], sim, ds, TRUSTED, c, held, ver, ref, csv, seed, d);
           }
-          row += 2;
+          row += c.name == "exact" ? 2 : 3;
         }
       }
     std::cerr << std::string(90, ' ') << "\r";
     print(rows);
-    std::cout << "\ntargets: with a robot error and --joint-sd auto: ok in every run, held-out within 1.3x the predicted, "
-                 "NEES 0.7-1.4, joint sd measured 0.7-1.4x the truth; exact data: --joint-sd auto within 10 % of the "
+    std::cout << "\ntargets: with a robot error and the default: ok in every run, held-out within 1.3x the told "
+                 "run's and the predicted, NEES 0.7-1.4, joint sd measured 0.7-1.4x the truth; exact data: the default "
+                 "within 10 % of the "
                  "trusted held-out error\ndone in "
               << std::fixed << std::setprecision(0)
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count() << " s\n";

@@ -323,8 +323,12 @@ bool solveAgain(Adjustment &a, const vpSelfCalibNoiseModel &noise, double pixel_
 {
   applyRobotLevels(a, noise);
   // The weights are the variance components measured: the covariance at them stands as it is.
-  a.pixel_factor = pixel_factor;
-  a.components_measured = true;
+  // Every robot error dropped (measured exact): the problem is a trusted run's, weighed and its
+  // covariance scaled as that run's (the stated image noise, sigma0 outside its interval), so
+  // exact readings end as the trusted run would.
+  const bool trusted = !noise.hasRobotError();
+  a.pixel_factor = trusted ? 1.0 : pixel_factor;
+  a.components_measured = !trusted;
   KBA::Result r = solved;
   std::shared_ptr<ceres::ParameterBlockOrdering> order;
   const std::unique_ptr<ceres::Problem> problem = buildProblem(a, yardstick, opt, 0, order, r.scale_source);
@@ -701,6 +705,8 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   res.sd.resize(start.getNumParameters());
   res.robot_error_confounded = confounded;
   std::string refused;
+  // A robot error yet to be measured: the set decided again at the level measured (robotLevelGuessed()).
+  const bool decided_here = !opt.hand_eye_only && opt.estimated_set.identified.empty() && opt.set_from_information;
   res.identifiability = setOf(start, camera, views, yardstick, X0, q, fMe, opt, noise, refused);
   if (!refused.empty()) {
     res.status = KBA::RANK_DEFICIENT;
@@ -749,6 +755,10 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   if (opt.covariance) {
     const auto tc = std::chrono::steady_clock::now();
     fillCovariance(a, *problem, yardstick, start.getParameterNames(), res);
+    if (!res.has_covariance && solve && robotLevelGuessed(given))
+      // The corrections at the guessed level leave the estimate undetermined: the robot's error
+      // is not measured, its readings taken as exact (robotErrorNotMeasured(), said by the caller).
+      return run(start, camera, views, yardstick, points0, opt, withoutGuessedLevels(given), solve);
     if (!res.has_covariance) {
       res.seconds_covariance = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc).count();
       res.status = KBA::RANK_DEFICIENT;
@@ -757,6 +767,15 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     }
     if (solve && !opt.hand_eye_only && (noise.measure_joint_sd || noise.measure_model_sd))
       settleRobotError(a, yardstick, opt, distortion, start.getParameterNames(), solved, res);
+    if (solve && decided_here && robotLevelGuessed(noise)) {
+      KBA::Options again = opt;
+      again.estimated_set = setOf(start, camera, views, yardstick, X0, q, fMe, opt, res.noise, refused);
+      if (refused.empty() && again.estimated_set.identified != res.identifiability.identified) {
+        KBA::Result r = run(start, camera, views, yardstick, points0, again, res.noise, solve);
+        r.robot_error_confounded = r.robot_error_confounded || res.robot_error_confounded; // stays merged
+        return r;
+      }
+    }
     res.seconds_covariance = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc).count();
     if (solve && opt.measure_layout_scale && opt.hand_eye_only && (a.has_object || a.has_yardstick))
       measureLayoutScale(a, yardstick, opt, res);

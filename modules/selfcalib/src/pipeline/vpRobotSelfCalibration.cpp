@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "../core/vpSelfCalibRange.h"
+#include "../core/vpSelfCalibRobotErrorLevels.h"
 #include "vpSelfCalibPipelines.h"
 
 namespace
@@ -32,12 +33,10 @@ vpSelfCalibNoiseModel withDatasetRobotError(const vpRobotSelfCalibration::Option
   }
   if (opt.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT && noise.joint_sd.empty() && !ds.joint_sd.empty())
     noise.joint_sd = ds.joint_sd;
-  // Nothing states the robot's error: a real arm has one, so it is modelled and measured (hand-eye
-  // by default; the full kinematics when the caller asks for its joint or model error measured,
-  // which its bundle adjustment does in one adjustment).
-  const bool full_measured = noise.measure_joint_sd || noise.measure_model_sd;
-  if ((opt.method == vpRobotSelfCalibration::HAND_EYE ||
-       (opt.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT && full_measured)) &&
+  // Nothing states the robot's error: a real arm has one, so it is modelled from the prior and
+  // measured (hand-eye: the controller poses; bundle: the joint readings and the model's residual,
+  // measured inside its bundle adjustment). trust_robot takes the robot as exact.
+  if ((opt.method == vpRobotSelfCalibration::HAND_EYE || opt.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT) &&
       !noise.hasRobotError() && !opt.trust_robot)
     noise = vpRobotSelfCalibration::robotErrorPrior(noise, opt.method);
   return noise;
@@ -233,6 +232,69 @@ void runMethod(const vpSelfCalibPipeline::Context &c, vpRobotSelfCalibration::Re
   }
 }
 
+/*
+  The run measured the bundle method's robot error from a guessed level (the prior's, or the
+  dataset's with --joint-sd auto: robotLevelGuessed()) and found it beyond a real arm's
+  (robotLevelImplausible()): no reading noise, but a misfit or views that do not separate the
+  corrections from the rest. The readings are then taken as exact: run() makes the trusted run.
+*/
+bool takenExact(const vpSelfCalibPipeline::Context &c, const vpRobotSelfCalibration::Result &res)
+{
+  return c.options.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT && !c.options.trust_robot &&
+         vpSelfCalib::robotLevelGuessed(c.noise) && vpSelfCalib::robotLevelImplausible(res.noise);
+}
+
+//! The options of the trusted run (calibrate --joint-sd 0): the joint readings and the model exact.
+vpRobotSelfCalibration::Options trustedOptions(const vpRobotSelfCalibration::Options &opt)
+{
+  vpRobotSelfCalibration::Options o = opt;
+  o.trust_robot = true;
+  o.noise = o.noise.withJointError({}, vpSelfCalibNoiseModel::STATED).withModelError(0, 0, vpSelfCalibNoiseModel::STATED);
+  o.noise.measure_joint_sd = o.noise.measure_model_sd = false;
+  return o;
+}
+
+//! Why the result is the trusted run's: the levels the measured run found (measured).
+vpSelfCalibDataCheck::Finding takenExactFinding(const vpSelfCalibNoiseModel &measured)
+{
+  using namespace vpSelfCalib;
+  std::ostringstream level;
+  level << std::setprecision(3) << "joint readings " << 1e3 * levelsOf(measured, JOINT_ERROR).r << " mrad";
+  if (measured.hasModelError())
+    level << ", model residual " << 1e3 * measured.model_sd_translation << " mm / " << 1e3 * measured.model_sd_rotation
+          << " mrad";
+  return vpSelfCalibDataCheck::Finding{vpSelfCalibDataCheck::WARNING, "robot-error-taken-exact",
+          "the robot's error measured from the corrections is beyond a real arm's (" + level.str() +
+              "; a real arm's joints: 0.1 to 1 mrad): no reading noise, but a misfit the model cannot explain (a "
+              "parameter held at a wrong value, a wrong robot model or eMc guess, joints paired with another view's "
+              "images) or views that do not separate the corrections from the rest. The result is the trusted run's, "
+              "the readings and the model taken as exact (as calibrate --joint-sd 0), and the checks below judge the "
+              "fit; if the readings really are that noisy, state their level (calibrate --joint-sd RAD)"};
+}
+
+/*
+  Known OpenCV distortion with every intrinsic known: applied once to every pixel, the steps see a
+  pinhole camera (the dataset returned without its lens). When an intrinsic is estimated (the focal
+  length included) undistorting needs it: the lens stays in the bundle adjustment's model (its
+  coefficients estimated or held), and an empty dataset is returned (ds is used as it is).
+*/
+vpSelfCalibDataset pinholeData(const vpSelfCalibDataset &ds, const vpRobotSelfCalibration::Options &opt)
+{
+  const unsigned int others = vpKinematicBundleAdjustment::ASPECT | vpKinematicBundleAdjustment::PRINCIPAL_POINT |
+                              vpKinematicBundleAdjustment::DISTORTION | vpKinematicBundleAdjustment::DISTORTION_K3;
+  const bool lens_in_bundle =
+      opt.method != vpRobotSelfCalibration::PAPER &&
+      ((opt.bundle.intrinsics & others) != 0 ||
+       vpRobotSelfCalibration::resolveFocalMode(opt, ds) != vpRobotSelfCalibration::FOCAL_KNOWN);
+  vpSelfCalibDataset pinhole;
+  if (!ds.opencv_distortion.empty() && !lens_in_bundle) {
+    pinhole = ds;
+    pinhole.views = vpSelfCalibPipeline::undistorted(ds.views, vpSelfCalibPipeline::lensOf(ds));
+    pinhole.opencv_distortion.clear();
+  }
+  return pinhole;
+}
+
 // The caller mistakes of run() (see its documentation); returns the number of calibration views.
 unsigned int checkInputs(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds,
                          const vpRobotSelfCalibration::Options &opt)
@@ -336,31 +398,28 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
   using vpSelfCalibPipeline::seconds;
   const auto t0 = std::chrono::steady_clock::now();
   const unsigned int N = checkInputs(nominal, ds, opt);
-  // Known OpenCV distortion with every intrinsic known: applied once to every pixel, the steps see a
-  // pinhole camera. When an intrinsic is estimated (the focal length included) undistorting needs it:
-  // the lens stays in the bundle adjustment's model (its coefficients estimated or held).
-  const unsigned int others = vpKinematicBundleAdjustment::ASPECT | vpKinematicBundleAdjustment::PRINCIPAL_POINT |
-                              vpKinematicBundleAdjustment::DISTORTION | vpKinematicBundleAdjustment::DISTORTION_K3;
-  const bool lens_in_bundle = opt.method != PAPER && ((opt.bundle.intrinsics & others) != 0 ||
-                                                      resolveFocalMode(opt, ds) != FOCAL_KNOWN);
-  vpSelfCalibDataset pinhole;
-  if (!ds.opencv_distortion.empty() && !lens_in_bundle) {
-    pinhole = ds;
-    pinhole.views = vpSelfCalibPipeline::undistorted(ds.views, vpSelfCalibPipeline::lensOf(ds));
-    pinhole.opencv_distortion.clear();
-  }
+  const vpSelfCalibDataset pinhole = pinholeData(ds, opt);
   const vpSelfCalibDataset &data0 = pinhole.views.empty() ? ds : pinhole;
   // eMc and a self-calibrated focal length started from what the data measure, not from the guesses
   // (below); a hand-eye run started from an earlier run's model, points and f (opt.start: a
   // cross-validation fold) starts from those.
-  const auto runFrom = [&](const vpSelfCalibPipeline::DataStart &start) -> Result {
+  // taken_exact (when not null): the run stops, set true, where the robot's error it measured is
+  // beyond a real arm's (takenExact()); the caller then runs it again trusted.
+  const auto runFrom = [&](const vpSelfCalibPipeline::DataStart &start, const Options &run_opt, bool *taken_exact) -> Result {
     const vpSelfCalibDataset &data = start.dataset;
     const vpKinematicChain &model = start.model;
     // Resolves the focal mode and builds every step's options: the remaining caller mistakes throw here.
-    const vpSelfCalibPipeline::Context context(model, data, opt, N, progress, &nominal, start.eMc_from_data);
+    const vpSelfCalibPipeline::Context context(model, data, run_opt, N, progress, &nominal, start.eMc_from_data);
+    const auto stopped = [&](Result &r) {
+      if (!taken_exact || !takenExact(context, r))
+        return false;
+      *taken_exact = true;
+      r.seconds = seconds(t0);
+      return true;
+    };
 
     Result res;
-    res.method = opt.method;
+    res.method = run_opt.method;
     res.calibrated = model;
     res.camera = data.cam;
     if (!vpSelfCalibPipeline::checkData(context, res)) {
@@ -370,12 +429,14 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
     res.findings.insert(res.findings.end(), start.findings.begin(), start.findings.end());
     const std::vector<vpSelfCalibDataCheck::Finding> data_findings = res.findings;
     runMethod(context, res);
+    if (stopped(res))
+      return res;
     // Later runs at the measured noise levels; `current` is the context of the run that stands.
     std::optional<vpSelfCalibPipeline::Context> current;
     const auto attempt = [&](const vpSelfCalibNoiseModel &noise, bool robot_round) {
       const vpSelfCalibPipeline::Context c(context, noise, robot_round);
       Result next;
-      next.method = opt.method;
+      next.method = run_opt.method;
       next.calibrated = model;
       next.camera = data.cam;
       next.findings = data_findings;
@@ -387,7 +448,7 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
       current.emplace(c);
       return vpSelfCalibPipeline::NoiseAttempt{true, std::string(), res.measured};
     };
-    if (opt.method != PAPER) {
+    if (run_opt.method != PAPER) {
       // A run that failed on too many rejected observations is the one a too small pixel_sd breaks:
       // it runs again too when its residuals measured the noise.
       // The attempts replace res: what the first run measured is copied first, and the notes of the
@@ -402,12 +463,14 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
         const vpSelfCalibPipeline::Context base = current ? *current : context;
         current.emplace(base, res.noise, true);
       }
+      if (stopped(res))
+        return res;
     }
     const vpSelfCalibPipeline::Context &used = current ? *current : context;
     if (!start.message.empty())
       res.message = start.message + "; " + res.message;
     if (start.eMc_from_data && res.status == OK)
-      vpSelfCalibPipeline::findGuessFar(nominal, opt, res);
+      vpSelfCalibPipeline::findGuessFar(nominal, run_opt, res);
 
     vpSelfCalibPipeline::checkResult(used, res);
     if (res.status != OK) {
@@ -424,7 +487,22 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
     res.seconds = seconds(t0);
     return res;
   };
-  if (opt.method == HAND_EYE && opt.start.set)
-    return runFrom(vpSelfCalibPipeline::DataStart{nominal, data0, {}, std::string()});
-  return runFrom(vpSelfCalibPipeline::startFromData(nominal, data0, N, opt));
+  const vpSelfCalibPipeline::DataStart start = opt.method == HAND_EYE && opt.start.set
+                                                   ? vpSelfCalibPipeline::DataStart{nominal, data0, {}, std::string()}
+                                                   : vpSelfCalibPipeline::startFromData(nominal, data0, N, opt);
+  bool taken_exact = false;
+  Result measured = runFrom(start, opt, &taken_exact);
+  if (!taken_exact)
+    return measured;
+  // The robot's error measured beyond a real arm's: the run again from the same start as the
+  // trusted run (calibrate --joint-sd 0), whose checks judge the misfit; the finding says why.
+  vpSelfCalibPipeline::DataStart exact_start = start;
+  exact_start.dataset.joint_sd.clear();
+  Result trusted = runFrom(exact_start, trustedOptions(opt), nullptr);
+  if (trusted.status == OK || trusted.status == DOUBTFUL) {
+    trusted.findings.push_back(takenExactFinding(measured.noise));
+    return trusted;
+  }
+  // The trusted run fails: the measured run stands, its level judged (robot-error-implausible).
+  return runFrom(start, opt, nullptr);
 }

@@ -15,6 +15,7 @@
 #include "../core/vpSelfCalibChiSquare.h"
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
+#include "../core/vpSelfCalibRobotErrorLevels.h"
 
 #include "vpSelfCalibMultiViewFit.h"
 #include "vpSelfCalibPipelines.h"
@@ -583,6 +584,51 @@ void checkRobotError(const Context &c, Result &res)
                                  : std::string("the standard deviations may be too small")) +
             "; give the robot's real pose error (--pose-sd)");
 }
+
+/*
+  The robot's error the bundle method measured (joint readings, the model's residual) against what
+  a real arm has (kJointErrorPlausible, kModelErrorPlausible): a level beyond them is no reading
+  noise but a misfit the model cannot explain (a parameter held at a wrong value, a wrong robot
+  model, joints paired with another view's image), which the corrections absorb instead of the
+  parameters. The pipeline then takes the readings as exact (the checks of a trusted run judge the
+  misfit); a level that still stands beyond them is a doubt. A level stated by the caller is not
+  questioned. A level asked to be measured that could not be (the corrections at the prior's level
+  leaving the estimate undetermined: the run takes the robot as exact) is a warning.
+*/
+void checkMeasuredRobotError(const Context &c, Result &res)
+{
+  using namespace vpSelfCalib;
+  if (c.options.method != vpRobotSelfCalibration::BUNDLE_ADJUSTMENT)
+    return;
+  const vpSelfCalibNoiseModel &n = res.bundle.noise;
+  if (!c.options.trust_robot && robotErrorNotMeasured(n))
+    add(res, vpSelfCalibDataCheck::WARNING, "robot-error-not-measured",
+        "the robot's error could not be measured: with the joint corrections at the prior's level (" +
+            fixed(1e3 * vpRobotSelfCalibration::kJointErrorPrior, 2) +
+            " mrad) these views do not determine the estimate, so the joint readings and the model are taken as "
+            "exact (as calibrate --joint-sd 0) and the standard deviations leave their error out. State the "
+            "readings' level if known (calibrate --joint-sd RAD, or the dataset's robot_error), or add views "
+            "(more varied configurations, a scene not all on one plane)");
+  const bool joints = n.measure_joint_sd && n.joint_sd_origin == vpSelfCalibNoiseModel::MEASURED &&
+                      levelsOf(n, JOINT_ERROR).r > kJointErrorPlausible;
+  const bool model = n.measure_model_sd && n.model_sd_origin == vpSelfCalibNoiseModel::MEASURED &&
+                     (n.model_sd_translation > kModelErrorPlausible || n.model_sd_rotation > kModelErrorPlausible);
+  if (!joints && !model)
+    return;
+  std::string what;
+  if (joints)
+    what = "the joint readings' error " + fixed(1e3 * levelsOf(n, JOINT_ERROR).r, 2) + " mrad (a real arm's: 0.1 to " +
+           fixed(1e3 * kJointErrorPlausible, 1) + " mrad)";
+  if (model)
+    what += std::string(joints ? ", " : "") + "the model's residual " + fixed(1e3 * n.model_sd_translation, 2) +
+            " mm / " + fixed(1e3 * n.model_sd_rotation, 2) + " mrad (at most about " +
+            fixed(1e3 * kModelErrorPlausible, 1) + " mm / " + fixed(1e3 * kModelErrorPlausible, 1) + " mrad)";
+  add(res, vpSelfCalibDataCheck::DOUBT, "robot-error-implausible",
+      "the robot's error measured from the corrections is beyond what a real arm has: " + what +
+          ". The corrections absorb a misfit the model cannot explain: a parameter held at a wrong value "
+          "(--fix), a wrong robot model or eMc guess, or joints paired with another view's images. Check "
+          "them; if the readings really are that noisy, state their level (calibrate --joint-sd RAD)");
+}
 } // namespace
 
 double robotChi2Bound(const vpKinematicBundleAdjustment::Result &bundle)
@@ -676,6 +722,7 @@ void assess(const Context &c, Result &res)
   checkNoise(c, res);
   checkMultiViewFit(c, res);
   checkRobotError(c, res);
+  checkMeasuredRobotError(c, res);
   checkUnmodelledRobotError(c, res);
   checkLayoutScale(c, res);
   std::string doubts;

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "../core/vpSelfCalibMath.h"
+#include "../core/vpSelfCalibRobotErrorLevels.h"
 
 using namespace vpSelfCalib;
 
@@ -42,6 +43,74 @@ vpKinematicChain decisionModel(const Context &c)
   vpKinematicChain out = c.nominal;
   out.set_eMc(vpPoseVector(guess * vpHomogeneousMatrix(d))); // the measured start's eMc corrections are zero
   return out;
+}
+
+//! Where the estimated set is decided: the model (decisionModel()), the points, the unit and f.
+struct SetDecision {
+  vpKinematicChain at;
+  std::map<int, vpColVector> points;
+  double s, fx;
+};
+
+/*
+  The set the bundle adjustment estimates, decided from what its data determine at the nominal
+  model (decisionModel(): not at the eMc measured from this draw), so that the start identification
+  estimates within it and a parameter the data leave out stays nominal instead of taking the start's
+  value. With f known, the points are triangulated through that model's camera poses: their scale
+  is the model's, where the multi-view points' scale (one noisy baseline) moves every predicted sd
+  by several percent from one noise draw to the next, and a decision near the tolerance with it.
+  At the robot error `noise`.
+*/
+vpKinematicIdentification::Identifiability decideSet(const Context &c, const SetDecision &d,
+                                                     const vpSelfCalibNoiseModel &noise)
+{
+  return vpKinematicBundleAdjustment::estimatedSet(d.at, startCamera(c, d.fx), c.calibration, c.dataset.yardstick,
+                                                   d.points, c.bundle, noise);
+}
+
+/*
+  The start identification from the multi-view poses (res.measurements) on the set, then the
+  kinematic bundle adjustment (at c's noise) from its model; false when the adjustment fails.
+*/
+bool identifyAndAdjust(const Context &c, const SetDecision &d, const vpKinematicIdentification::Identifiability &set,
+                       Result &res, std::chrono::steady_clock::time_point ts)
+{
+  vpKinematicBundleAdjustment::Options bo = c.bundle;
+  bo.estimated_set = set;
+  // The start identification estimates exactly that set (fixing the others instead would let the
+  // rule take a redundant twin of each in its place, which the bundle adjustment would then keep at
+  // the start's value); when the posed views do not determine it, the start is the nominal model.
+  vpKinematicIdentification::Options io = c.options.identification;
+  for (const std::string &f : vpKinematicIdentification::matchParameters(c.nominal, c.bundle.fixed, "fixed"))
+    if (std::find(io.fixed.begin(), io.fixed.end(), f) == io.fixed.end())
+      io.fixed.push_back(f);
+  res.identification = bo.estimated_set.identified.empty()
+                           ? vpKinematicIdentification::identify(c.nominal, res.measurements, io)
+                           : vpKinematicIdentification::identify(c.nominal, res.measurements, io, bo.estimated_set);
+  const vpKinematicChain start =
+      res.identification.status == vpKinematicIdentification::OK ? res.identification.chain : c.nominal;
+  res.stage_seconds.push_back({"identification", seconds(ts)});
+  // Kinematic bundle adjustment, points moved to f through the start model. It estimates the set
+  // selected from every calibration view's joints at the nominal model; the identification above
+  // (same rule, its posed views only) estimated a subset of it, the rest being still nominal.
+  return bundle(c, start, start.get_fMc(c.calibration[0].q), d.s, c.calibration, bo, "kinematic bundle adjustment",
+                res);
+}
+/*
+  The identification and the bundle adjustment again on `set` at c's noise from res's
+  measurements; res replaced when the adjustment succeeds (its stage times appended), kept
+  otherwise. True when replaced.
+*/
+bool adjustAgain(const Context &c, const SetDecision &d, const vpKinematicIdentification::Identifiability &set,
+                 Result &res)
+{
+  Result next = res;
+  next.stage_seconds.clear();
+  if (!identifyAndAdjust(c, d, set, next, std::chrono::steady_clock::now()))
+    return false;
+  next.stage_seconds.insert(next.stage_seconds.begin(), res.stage_seconds.begin(), res.stage_seconds.end());
+  res = next;
+  return true;
 }
 } // namespace
 
@@ -98,14 +167,6 @@ void runBundle(const Context &c, Result &res)
     res.measurements.push_back(poseMeasurement(cal[k].q, cal[0].q, toVisp(M), M.t.norm(), c.options));
   }
   c.report("identification from the multi-view poses", 0, 1);
-  // The set the bundle adjustment estimates, decided from what its data determine at the nominal
-  // model (decisionModel(): not at the eMc measured from this draw), so that the start
-  // identification estimates within it and a parameter the data leave out stays nominal instead of
-  // taking the start's value. With f known, the points are triangulated through that model's camera
-  // poses: their scale is the model's, where the multi-view points' scale (one noisy baseline)
-  // moves every predicted sd by several percent from one noise draw to the next, and a decision
-  // near the tolerance with it.
-  vpKinematicBundleAdjustment::Options bo = c.bundle;
   const vpKinematicChain at = decisionModel(c);
   std::map<int, vpColVector> set_points = pointsInF(res, at.get_fMc(cal[0].q), s);
   if (c.mode == vpRobotSelfCalibration::FOCAL_KNOWN) {
@@ -116,26 +177,21 @@ void runBundle(const Context &c, Result &res)
     if (p.ok)
       set_points = std::move(p.points);
   }
-  bo.estimated_set = vpKinematicBundleAdjustment::estimatedSet(at, startCamera(c, res.multiview.fx), cal,
-                                                               c.dataset.yardstick, set_points, c.bundle, c.noise);
-  // The start identification estimates exactly that set (fixing the others instead would let the
-  // rule take a redundant twin of each in its place, which the bundle adjustment would then keep at
-  // the start's value); when the posed views do not determine it, the start is the nominal model.
-  vpKinematicIdentification::Options io = c.options.identification;
-  for (const std::string &f : vpKinematicIdentification::matchParameters(c.nominal, c.bundle.fixed, "fixed"))
-    if (std::find(io.fixed.begin(), io.fixed.end(), f) == io.fixed.end())
-      io.fixed.push_back(f);
-  res.identification = bo.estimated_set.identified.empty()
-                           ? vpKinematicIdentification::identify(c.nominal, res.measurements, io)
-                           : vpKinematicIdentification::identify(c.nominal, res.measurements, io, bo.estimated_set);
-  const vpKinematicChain start =
-      res.identification.status == vpKinematicIdentification::OK ? res.identification.chain : c.nominal;
-  res.stage_seconds.push_back({"identification", seconds(ts)});
-
-  // 3. Kinematic bundle adjustment, points moved to f through the start model. It estimates the set
-  // selected from every calibration view's joints at the nominal model; the identification above
-  // (same rule, its posed views only) estimated a subset of it, the rest being still nominal.
-  if (!bundle(c, start, start.get_fMc(cal[0].q), s, cal, bo, "kinematic bundle adjustment", res))
+  const SetDecision d{at, set_points, s, res.multiview.fx};
+  // The robot's error yet to be measured (the prior's level, a guess: robotLevelGuessed()): the
+  // set decided again at the level the adjustment measured (dropped: a trusted run's), and when it
+  // differs the adjustment runs again on it from that level.
+  const vpKinematicIdentification::Identifiability first = decideSet(c, d, c.noise);
+  if (!identifyAndAdjust(c, d, first, res, ts) || !robotLevelGuessed(c.noise))
     return;
+  // Measured beyond a real arm's: vpRobotSelfCalibration::run() makes the trusted run instead
+  // (robot-error-taken-exact), from the top.
+  if (robotLevelImplausible(res.bundle.noise))
+    return;
+  const vpKinematicIdentification::Identifiability again = decideSet(c, d, res.bundle.noise);
+  // The model residual merged into the joints (robot_error_confounded) stays merged from that level.
+  const bool confounded = res.bundle.robot_error_confounded;
+  if (again.identified != first.identified && adjustAgain(Context(c, res.bundle.noise, false), d, again, res))
+    res.bundle.robot_error_confounded = res.bundle.robot_error_confounded || confounded;
 }
 } // namespace vpSelfCalibPipeline

@@ -383,6 +383,14 @@ vpSelfCalibCrossValidation::Result vpSelfCalibCrossValidation::run(const vpKinem
   const bool warm = options.method == vpRobotSelfCalibration::HAND_EYE &&
                     ds.camera_mount == vpSelfCalibDataset::CAMERA_ON_EFFECTOR && gaveModel(full) &&
                     !full.bundle.points.empty() && full.camera.get_px() > 0;
+  if (!warm && options.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT && gaveModel(full) &&
+      !full.noise.hasRobotError() && !options.trust_robot) {
+    // The bundle method's robot error measured exact (dropped) on every view: the folds, on fewer
+    // views of the same robot, take it as exact too rather than measure it again from the prior.
+    vpRobotSelfCalibration::Options exact = options;
+    exact.trust_robot = true;
+    return run(nominal, ds, exact, cv, progress);
+  }
   if (!warm)
     return run(nominal, ds, options, cv, progress);
   return runFolds(nominal, ds, options, cv, progress,

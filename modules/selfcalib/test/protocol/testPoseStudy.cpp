@@ -24,6 +24,7 @@ TEST(PoseStudy, OnePointPerNumberOfPosesTheLastIsTheCalibration)
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
   vpRobotSelfCalibration::Options o;
   o.num_calibration_poses = 9;
+  o.trust_robot = true; // exact joints; the study's curve is the subject, not the robot's error
   vpSelfCalibPoseStudy::Options so;
   so.min_poses = 8;
   std::vector<std::pair<unsigned int, unsigned int>> calls;
@@ -54,6 +55,7 @@ TEST(PoseStudy, ThreadsAndTheCallersRunDoNotChangeTheCurve)
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
   vpRobotSelfCalibration::Options o;
   o.num_calibration_poses = 9;
+  o.trust_robot = true; // exact joints; the study's curve is the subject, not the robot's error
   vpSelfCalibPoseStudy::Options so;
   so.threads = 1;
   const auto one = vpSelfCalibPoseStudy::run(sim.getNominalChain(), ds, o, so);
@@ -97,6 +99,7 @@ TEST(PoseStudy, StepKeepsEveryStepthNumberOfPoses)
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
   vpRobotSelfCalibration::Options o;
   o.num_calibration_poses = 9;
+  o.trust_robot = true; // exact joints; the study's curve is the subject, not the robot's error
   vpSelfCalibPoseStudy::Options so;
   so.min_poses = 5;
   const auto every = vpSelfCalibPoseStudy::run(sim.getNominalChain(), ds, o, so);
@@ -132,6 +135,7 @@ TEST(PoseStudy, NotApplicableAndBadOptions)
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(10));
   vpRobotSelfCalibration::Options o;
   o.num_calibration_poses = 9;
+  o.trust_robot = true; // exact joints; the study's curve is the subject, not the robot's error
   auto s = vpSelfCalibPoseStudy::run(sim.getNominalChain(), ds, o);
   EXPECT_EQ(s.status, vpSelfCalibPoseStudy::NO_HELD_OUT_VIEWS);
   EXPECT_EQ(s.runs, 0u);

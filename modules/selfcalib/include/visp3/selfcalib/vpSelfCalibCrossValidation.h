@@ -142,8 +142,10 @@ public:
     length (vpRobotSelfCalibration::Options::start), at the noise full used (its measured levels,
     held); only when the fold's residuals contradict those levels (its sigma0 above its 99.9 %
     interval, or its robot corrections beyond their chi-square bound, where full's were not) does
-    the fold measure the noise again as full did. Otherwise, and for other methods or a camera in
-    the world, run() above. Throws as run().
+    the fold measure the noise again as full did. BUNDLE_ADJUSTMENT whose robot error full
+    measured and dropped (exact readings; not trusted by the options): run() above with the robot
+    trusted (Options::trust_robot), the folds not measuring it again from the prior. Otherwise, and
+    for other methods or a camera in the world, run() above. Throws as run().
   */
   static Result run(const vpKinematicChain &nominal, const vpSelfCalibDataset &dataset,
                     const vpRobotSelfCalibration::Options &options, const Options &cv_options,
