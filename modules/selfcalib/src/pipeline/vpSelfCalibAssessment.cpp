@@ -397,10 +397,13 @@ void checkPredicted(const Context &c, Result &res, const std::map<int, vpColVect
 */
 constexpr unsigned int kWorkspacePairs = 100;
 /*
-  The calibrated model must be better than the nominal one there with confidence: the 95 % bound of
-  its predicted RMS error (kWorkspaceZ, one-sided) below the nominal model's error.
+  The calibrated model must be better than the nominal one there with confidence: the 90 % bound of
+  its predicted RMS error (kWorkspaceZ, one-sided) below the nominal model's error. On simulated
+  Viper850 and PUMA 560 runs (seeds 1-10, 5 to 12 views, compared with the truth): at 50 % runs of
+  5 and 6 views worse than the nominal model stay ok; at 95 % a run of 10 views better than the
+  nominal model turns doubtful; at 90 % neither.
 */
-constexpr double kWorkspaceZ = 1.6449;
+constexpr double kWorkspaceZ = 1.2816;
 
 //! The relative pose c_a M c_b's Jacobian (6 x |index|: position, then rotation) over the chain parameters `index`.
 Eigen::MatrixXd motionJacobian(const vpKinematicChain &chain, const vpColVector &qa, const vpColVector &qb,
@@ -449,11 +452,13 @@ MotionSquares toleranceSpread(const vpKinematicChain &chain, const std::vector<s
   the calibrated model's own predicted error on them, `S` its covariance), extrapolated to the
   workspace's pairs by the ratio of what an error of every parameter (the complete model: joint
   placements and eMc, in the proportion of a joint placement's translation and rotation
-  tolerances) does on the two sets of pairs. `ok` false when the nominal model's misfit there is
-  within twice the calibrated model's own uncertainty: the data do not tell the two apart.
+  tolerances) does on the two sets of pairs. The nominal model's error on the views' motions is
+  taken at least as large as the calibrated model's own uncertainty there: what the data cannot
+  resolve is not held against the calibrated model (and a nominal model the data cannot tell from
+  the calibrated one is not taken as exact).
 */
 MotionSquares nominalOnWorkspace(const Context &c, const Result &res, const Eigen::MatrixXd &S,
-                                 const std::vector<std::pair<vpColVector, vpColVector>> &workspace, bool &ok)
+                                 const std::vector<std::pair<vpColVector, vpColVector>> &workspace)
 {
   const std::vector<unsigned int> &id = res.identifiability.identified;
   const std::vector<std::string> names = c.guess.getParameterNames();
@@ -475,12 +480,11 @@ MotionSquares nominalOnWorkspace(const Context &c, const Result &res, const Eige
       own.t += (J.topRows(3) * S * J.topRows(3).transpose()).trace();
       own.r += (J.bottomRows(3) * S * J.bottomRows(3).transpose()).trace();
     }
-  ok = misfit.t > 4 * own.t && misfit.r > 4 * own.r;
   const MotionSquares on_views = toleranceSpread(c.guess, views, shape);
   const MotionSquares on_workspace = toleranceSpread(c.guess, workspace, shape);
   MotionSquares m;
-  m.t = (misfit.t - own.t) / views.size() * on_workspace.t / on_views.t;
-  m.r = (misfit.r - own.r) / views.size() * on_workspace.r / on_views.r;
+  m.t = std::max(misfit.t - own.t, own.t) / views.size() * on_workspace.t / on_views.t;
+  m.r = std::max(misfit.r - own.r, own.r) / views.size() * on_workspace.r / on_views.r;
   return m;
 }
 
@@ -488,7 +492,7 @@ MotionSquares nominalOnWorkspace(const Context &c, const Result &res, const Eige
   The calibrated model's predicted error on the workspace's motions from its covariance C of the
   estimated parameters (to first order; its mean square per pair is d^T W d, a weighted sum of
   chi-squares with the eigenvalues of L^T W L, C = L L^T) against the nominal model's error there
-  (nominalOnWorkspace()): when the 95 % bound of the calibrated model's RMS error, in position or in
+  (nominalOnWorkspace()): when the 90 % bound of the calibrated model's RMS error, in position or in
   rotation, exceeds the nominal model's, these views do not make the model better than the nominal
   one where it is used (a doubt). The predicted error on the calibration views' own pixels
   (checkPredicted) does not see it: those views determine the model near their configurations.
@@ -513,10 +517,7 @@ void checkWorkspace(const Context &c, Result &res, const vpMatrix &C)
     Wt += J.topRows(3).transpose() * J.topRows(3) / kWorkspacePairs;
     Wr += J.bottomRows(3).transpose() * J.bottomRows(3) / kWorkspacePairs;
   }
-  bool told_apart = false;
-  const MotionSquares nominal = nominalOnWorkspace(c, res, S, pairs, told_apart);
-  if (!told_apart)
-    return;
+  const MotionSquares nominal = nominalOnWorkspace(c, res, S, pairs);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (S + S.transpose()));
   const Eigen::MatrixXd L = es.eigenvectors() * es.eigenvalues().cwiseMax(0).cwiseSqrt().asDiagonal();
   auto weights = [&L](const Eigen::MatrixXd &W) {
@@ -534,7 +535,7 @@ void checkWorkspace(const Context &c, Result &res, const vpMatrix &C)
       "away from its " + std::to_string(c.calibration.size()) + " calibration views the calibrated model is not " +
           "reliably better than the nominal one: its predicted error on the camera's motions between configurations "
           "spread over the joint limits (from its covariance: " + fixed(1e3 * pt, 1) + " mm / " + fixed(1e3 * pr, 2) +
-          " mrad RMS, 95 % bound " + fixed(1e3 * bt, 1) + " mm / " + fixed(1e3 * br, 2) +
+          " mrad RMS, 90 % bound " + fixed(1e3 * bt, 1) + " mm / " + fixed(1e3 * br, 2) +
           " mrad) exceeds the nominal model's error there (" + fixed(1e3 * nt, 1) + " mm / " + fixed(1e3 * nr, 2) +
           " mrad, its misfit on the calibration views' motions extrapolated by the tolerances): these views "
           "determine the " + std::to_string(P) + " parameters estimated only near their own configurations. Add views "
