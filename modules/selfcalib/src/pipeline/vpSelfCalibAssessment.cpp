@@ -503,6 +503,13 @@ void checkWorkspace(const Context &c, Result &res, const vpMatrix &C)
   const Eigen::Index P = static_cast<Eigen::Index>(id.size());
   if (P == 0 || C.getRows() < id.size() || c.calibration.size() < 2)
     return;
+  // Judged on few views only: 6 (n - 1) relative-pose equations fewer than twice the parameters
+  // (n < 9 views for 24). Beyond, the simulated runs of 10 and 12 views were all better than the
+  // nominal model, and a 15-view run with the focal length self-calibrated (the f-scale coupling
+  // spreading the translations' predicted error to 5.4 mm, 8.7 mm at 90 %) was not judged worse
+  // than the nominal model's estimated 8.0 mm on evidence: a false alarm.
+  if (6 * (static_cast<Eigen::Index>(c.calibration.size()) - 1) >= 2 * P)
+    return;
   Eigen::MatrixXd S(P, P);
   for (Eigen::Index i = 0; i < P; ++i)
     for (Eigen::Index j = 0; j < P; ++j)
