@@ -13,24 +13,27 @@
 namespace vpSelfCalib
 {
 /*!
-  The 99.9 % quantile of Q = sum_k lambda_k z_k^2 (z_k independent N(0, 1), lambda_k >= 0): Pearson's
-  three-moment fit, Q ~ mean + sd (chi2_nu - nu) / sqrt(2 nu) with the same mean (sum lambda),
-  variance (2 sum lambda^2) and skewness (nu = (sum lambda^2)^3 / (sum lambda^3)^2), the chi-square
-  quantile by Wilson-Hilferty (z = 3.09, one-sided 99.9 %; 11.1 for nu = 1 where the exact is
-  10.8). Exact in shape for one weight (the one-dimensional bound 3.29^2 lambda) and for equal
-  weights; within 3 % of drawn quantiles for spread weights, where matching two moments only
-  (Satterthwaite) is 7-12 % low.
+  The quantile of Q = sum_k lambda_k z_k^2 (z_k independent N(0, 1), lambda_k >= 0) at the one-sided
+  normal deviate z (3.0902: 99.9 %, 1.6449: 95 %): Pearson's three-moment fit, Q ~ mean + sd
+  (chi2_nu - nu) / sqrt(2 nu) with the same mean (sum lambda), variance (2 sum lambda^2) and skewness
+  (nu = (sum lambda^2)^3 / (sum lambda^3)^2), the chi-square quantile by Wilson-Hilferty (11.1 for
+  nu = 1 at 99.9 % where the exact is 10.8). Exact in shape for one weight (the one-dimensional bound
+  z^2 lambda) and for equal weights; within 3 % of drawn quantiles for spread weights, where matching
+  two moments only (Satterthwaite) is 7-12 % low.
 */
-inline double weightedChi2Quantile999(const Eigen::VectorXd &lambda)
+inline double weightedChi2Quantile(const Eigen::VectorXd &lambda, double z)
 {
   const Eigen::ArrayXd l = lambda.array().max(0.0);
   const double c1 = l.sum(), c2 = l.square().sum(), c3 = l.cube().sum();
   if (!(c1 > 0) || !(c2 > 0) || !(c3 > 0))
     return 0;
-  const double nu = c2 * c2 * c2 / (c3 * c3), c = 2.0 / (9.0 * nu), z = 3.0902;
+  const double nu = c2 * c2 * c2 / (c3 * c3), c = 2.0 / (9.0 * nu);
   const double chi2 = nu * std::pow(std::max(0.0, 1.0 - c + z * std::sqrt(c)), 3.0);
   return c1 + std::sqrt(2.0 * c2) * (chi2 - nu) / std::sqrt(2.0 * nu);
 }
+
+//! The 99.9 % quantile of a weighted sum of chi-squares (weightedChi2Quantile()).
+inline double weightedChi2Quantile999(const Eigen::VectorXd &lambda) { return weightedChi2Quantile(lambda, 3.0902); }
 } // namespace vpSelfCalib
 
 #endif
