@@ -254,23 +254,54 @@ void choosePlaneMotions(std::vector<Pair> &pairs)
   }
 }
 
+//! A posed pair's disagreement (rad): the camera's rotation angle against the end-effector's.
+double pairError(const Pair &p) { return std::abs(angleOf(p.ckMc0.R) - p.robot_angle); }
+
+/*
+  True when the median over the posed pairs that rotate kMinPairRotation or more is known to be
+  above `bound` while `left` of them are still to be posed: 3 or more are posed (the median is
+  theirs whatever the others give), and it stays above bound even when every pair left is posed
+  below it (the median of n values is the (n/2)-th smallest, counted from 0, as median() takes).
+*/
+bool scoreAbove(const std::vector<Pair> &pairs, double bound, size_t left)
+{
+  size_t posed = 0, above = 0;
+  for (const Pair &p : pairs)
+    if (p.posed && p.robot_angle >= kMinPairRotation) {
+      ++posed;
+      above += pairError(p) > bound;
+    }
+  return posed >= 3 && (posed - above) + left <= (posed + left) / 2;
+}
+
 /*
   Each pair's camera motion c_kMc_0 at the pinhole camera (f, mu f, u0, v0) by OpenCV's five-point
   RANSAC (classic: deterministic, valid on planes; at most `iterations`) and recoverPose; the median over the pairs of
   |angle(c_kMc_0) - angle(e_kMe_0)| (those that rotate kMinPairRotation or more, all when fewer than
-  3 do). Infinite when fewer than 3 pairs are posed.
+  3 do). Infinite when fewer than 3 pairs are posed, or as soon as the median is known to be above
+  `bound` (scoreAbove(): the pairs left are not posed; FocalScore's contract). The plane's pairs are
+  posed first (their motions are chosen together), the others one by one.
 */
 double motionScore(std::vector<Pair> &pairs, const CameraModel &lens, double f, double threshold_px,
-                   int iterations = kIterations)
+                   int iterations = kIterations, double bound = std::numeric_limits<double>::infinity())
 {
   const cv::Mat K = (cv::Mat_<double>(3, 3) << f, 0, lens.u0(), 0, lens.mu() * f, lens.v0(), 0, 0, 1);
+  size_t left = 0; // rotating pairs still to pose by the five-point solver
   for (Pair &p : pairs) {
     p.posed = p.planar = false;
     p.plane_motions.clear();
-    if (!p.H.empty()) {
+    if (!p.H.empty())
       planeMotions(p, f, lens);
+    else
+      left += p.robot_angle >= kMinPairRotation;
+  }
+  choosePlaneMotions(pairs);
+  for (Pair &p : pairs) {
+    if (!p.H.empty())
       continue;
-    }
+    if (scoreAbove(pairs, bound, left))
+      return std::numeric_limits<double>::infinity();
+    left -= p.robot_angle >= kMinPairRotation;
     cv::Mat mask, R, t;
     const cv::Mat E = cv::findEssentialMat(p.p0, p.pk, K, cv::RANSAC, 0.999, threshold_px, iterations, mask);
     if (E.empty() || E.rows != 3 || cv::recoverPose(E(cv::Rect(0, 0, 3, 3)), p.p0, p.pk, K, R, t, mask) == 0)
@@ -279,15 +310,13 @@ double motionScore(std::vector<Pair> &pairs, const CameraModel &lens, double f, 
     cv::cv2eigen(t, p.ckMc0.t);
     p.posed = p.ckMc0.R.allFinite() && p.ckMc0.t.allFinite();
   }
-  choosePlaneMotions(pairs);
   std::vector<double> all, rotating;
   for (const Pair &p : pairs) {
     if (!p.posed)
       continue;
-    const double e = std::abs(angleOf(p.ckMc0.R) - p.robot_angle);
-    all.push_back(e);
+    all.push_back(pairError(p));
     if (p.robot_angle >= kMinPairRotation)
-      rotating.push_back(e);
+      rotating.push_back(all.back());
   }
   if (all.size() < 3)
     return std::numeric_limits<double>::infinity();
@@ -451,7 +480,7 @@ MeasuredStart measuredStart(const std::vector<View> &views, const CameraModel &l
     Rigid fMo;
     double px = 0;
     unsigned int posed = 0;
-    const auto score = [&](double f) {
+    const auto score = [&](double f, double) {
       double e = 0;
       return handEyeFromKnownPoints(views, layout, pinholeAt(lens, f), out.eMc, fMo, e, posed)
                  ? e
@@ -477,9 +506,13 @@ MeasuredStart measuredStart(const std::vector<View> &views, const CameraModel &l
     return out;
   }
   findPlanes(pairs, threshold_px);
-  const double f = focal_known ? lens.px()
-                                : scanFocal([&](double x) { return motionScore(pairs, lens, x, threshold_px); }, center,
-                                            [&](double x) { return motionScore(pairs, lens, x, threshold_px, kRungIterations); });
+  const double f =
+      focal_known ? lens.px()
+                  : scanFocal([&](double x, double bound) { return motionScore(pairs, lens, x, threshold_px, kIterations, bound); },
+                              center,
+                              [&](double x, double bound) {
+                                return motionScore(pairs, lens, x, threshold_px, kRungIterations, bound);
+                              });
   const double score = f > 0 ? motionScore(pairs, lens, f, threshold_px) : std::numeric_limits<double>::infinity();
   if (std::isfinite(score))
     refinePairs(pairs, lens, f, threshold_px);

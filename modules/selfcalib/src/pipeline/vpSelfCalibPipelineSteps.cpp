@@ -477,17 +477,20 @@ double triangulateAll(const std::vector<View> &views, const std::vector<Rigid> &
 }
 } // namespace
 
-double scanFocal(const std::function<double(double)> &score, double center,
-                 const std::function<double(double)> &rung_score)
+double scanFocal(const FocalScore &score, double center, const FocalScore &rung_score)
 {
   // A ladder of focal lengths from 0.3x to 4x center (steps of 2^(1/4)), then golden-section
-  // search on log f between the best rung's neighbours.
-  const std::function<double(double)> &rung = rung_score ? rung_score : score;
-  double best = std::numeric_limits<double>::infinity();
+  // search on log f between the best rung's neighbours. The rungs are scored from the longest focal
+  // length down (where the two-view scores are cheap) and the lowest score taken, the shortest focal
+  // length of equal ones; each score is bounded by the one it must beat: a rung or a point of the
+  // search known to score higher is not chosen, whatever its exact score.
+  const FocalScore &rung = rung_score ? rung_score : score;
+  const double inf = std::numeric_limits<double>::infinity();
+  double best = inf;
   int best_k = 0;
-  for (int k = -7; k <= 8; ++k) {
-    const double e = rung(center * std::pow(2.0, k / 4.0));
-    if (e < best) {
+  for (int k = 8; k >= -7; --k) {
+    const double e = rung(center * std::pow(2.0, k / 4.0), best);
+    if (e <= best && std::isfinite(e)) {
       best = e;
       best_k = k;
     }
@@ -496,20 +499,22 @@ double scanFocal(const std::function<double(double)> &score, double center,
     return 0;
   double a = std::log(center) + (best_k - 1) * std::log(2.0) / 4, b = a + std::log(2.0) / 2;
   const double g = (std::sqrt(5.0) - 1) / 2;
-  double x1 = b - g * (b - a), x2 = a + g * (b - a), e1 = score(std::exp(x1)), e2 = score(std::exp(x2));
+  double x1 = b - g * (b - a), x2 = a + g * (b - a), e1 = score(std::exp(x1), inf), e2 = score(std::exp(x2), e1);
+  // The last step's point is not compared with anything: the bracket it narrows is the answer.
   for (int it = 0; it < 20; ++it) {
+    const bool last = it == 19;
     if (e1 < e2) {
       b = x2;
       x2 = x1;
       e2 = e1;
       x1 = b - g * (b - a);
-      e1 = score(std::exp(x1));
+      e1 = last ? inf : score(std::exp(x1), e2);
     } else {
       a = x1;
       x1 = x2;
       e1 = e2;
       x2 = a + g * (b - a);
-      e2 = score(std::exp(x2));
+      e2 = last ? inf : score(std::exp(x2), e1);
     }
   }
   return std::exp(0.5 * (a + b));
@@ -524,7 +529,7 @@ PredictedStart predictedStart(const std::vector<View> &views, const std::vector<
   double f0 = lens.px();
   if (!focal_known) {
     f0 = scanFocal(
-        [&](double f) {
+        [&](double f, double) {
           camera.intrinsics()[0] = f;
           return triangulateAll(views, fMc, camera, X);
         },

@@ -117,13 +117,20 @@ bool bundleFrom(const Context &context, const vpKinematicChain &start, const std
                 const std::string &label, Result &result);
 
 /*!
-  The focal length (px) that minimises score(f): a ladder of rungs from 0.3x to 4x `center` (steps
-  of 2^(1/4)), then a golden-section search on log f between the best rung's neighbours; 0 when no
-  rung has a finite score. `rung_score`, when given, scores the rungs instead (a cheaper score that
-  ranks the rungs as score does: most rungs are far from the optimum).
+  A focal length's score for scanFocal(): score(f, bound) is the score at f (px), or any value above
+  `bound` once the score is known to be above it (the scan does not choose that f then, whatever
+  its score): a score that is a median over pairs can stop when most of them are above it. A score
+  that does not bound itself ignores `bound`.
 */
-double scanFocal(const std::function<double(double)> &score, double center,
-                 const std::function<double(double)> &rung_score = {});
+using FocalScore = std::function<double(double f, double bound)>;
+/*!
+  The focal length (px) that minimises score(f): a ladder of rungs from 0.3x to 4x `center` (steps
+  of 2^(1/4); the lowest score, the shortest focal length of equal ones), then a golden-section
+  search on log f between the best rung's neighbours; 0 when no rung has a finite score.
+  `rung_score`, when given, scores the rungs instead (a cheaper score that ranks the rungs as score
+  does: most rungs are far from the optimum).
+*/
+double scanFocal(const FocalScore &score, double center, const FocalScore &rung_score = {});
 
 //! A start from the camera poses the robot predicts (see predictedStart()).
 struct PredictedStart {
