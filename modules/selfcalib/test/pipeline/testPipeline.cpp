@@ -424,9 +424,9 @@ TEST(RobotSelfCalibration, RunLeavesTheOptionsUnchanged)
 TEST(Report, WithoutGnuplotTheDataAndTheTextAreStillWritten)
 {
   const vpSelfCalibSimulator sim = makeSim("viper850", 14, 0.2);
-  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
+  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(15));
   vpRobotSelfCalibration::Options o;
-  o.num_calibration_poses = 9;
+  o.num_calibration_poses = 12;
   o.trust_robot = true; // exact joints; the report's files are the subject, not the robot's error
   const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
   ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
@@ -434,7 +434,9 @@ TEST(Report, WithoutGnuplotTheDataAndTheTextAreStillWritten)
   ASSERT_NE(mkdtemp(dir), nullptr);
   vpSelfCalibReport::Options ro;
   ro.gnuplot = "/nonexistent/gnuplot";
-  const vpSelfCalibPoseStudy::Result study = vpSelfCalibPoseStudy::run(sim.getNominalChain(), ds, o);
+  vpSelfCalibPoseStudy::Options so;
+  so.min_poses = 9; // fewer views can be doubtful (workspace-worse-than-nominal) and are not plotted
+  const vpSelfCalibPoseStudy::Result study = vpSelfCalibPoseStudy::run(sim.getNominalChain(), ds, o, so);
   vpSelfCalibReport::Record run(sim.getNominalChain(), ds, o, r);
   run.errors_vs_poses = &study;
   const auto rep = vpSelfCalibReport::write(dir, run, ro);
@@ -449,7 +451,7 @@ TEST(Report, WithoutGnuplotTheDataAndTheTextAreStillWritten)
   unsigned int rows = 0;
   while (std::getline(curve, line))
     rows += !line.empty() && line[0] != '#';
-  EXPECT_EQ(rows, 4u); // 6, 7, 8 and 9 calibration poses
+  EXPECT_EQ(rows, 4u); // 9, 10, 11 and 12 calibration poses
   // No front end: no match matrix, no track-length figure.
   EXPECT_FALSE(std::filesystem::exists(std::string(dir) + "/matches.dat"));
   EXPECT_FALSE(std::filesystem::exists(std::string(dir) + "/track_lengths.dat"));
@@ -468,7 +470,7 @@ TEST(Report, WithoutGnuplotTheDataAndTheTextAreStillWritten)
     EXPECT_LT(calibrated, 1.0) << line;  // 0.2 px noise
     EXPECT_GT(nom, 2 * calibrated) << line;
   }
-  EXPECT_EQ(rows, 9u);
+  EXPECT_EQ(rows, 12u); // one row per calibration view
 
   // With a front end: the match matrix symmetric, one row per image, and the track-length histogram.
   vpFeatureFrontEnd::Result fe;
@@ -933,7 +935,11 @@ TEST(RobotSelfCalibration, FiveJointArmMeasuresTheModelResidualWithTheJoints)
   RSC::Options o;
   o.num_calibration_poses = 5;
   const RSC::Result r = RSC::run(sim.getNominalChain(), few, o);
-  ASSERT_EQ(r.status, RSC::OK) << r.message;
+  // 5 views may leave the model worse than the nominal one away from them (a doubt); the subject
+  // here is the residual's confounding with the joints, which the adjustment reports either way.
+  const bool workspace_doubt = std::any_of(r.findings.begin(), r.findings.end(),
+                                           [](const auto &f) { return f.code == "workspace-worse-than-nominal"; });
+  ASSERT_TRUE(r.status == RSC::OK || (r.status == RSC::DOUBTFUL && workspace_doubt)) << r.message;
   EXPECT_TRUE(r.bundle.robot_error_confounded);
   EXPECT_FALSE(r.noise.hasModelError());
   ASSERT_EQ(r.noise.joint_sd.size(), 5u);

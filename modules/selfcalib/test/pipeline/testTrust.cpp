@@ -96,19 +96,19 @@ TEST(Trust, GoodRunsStayOk)
 TEST(Trust, SwappedImageAxesAreDoubtful)
 {
   const vpSelfCalibSimulator sim = makeSim("viper850", 3, 0.2);
-  vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(8));
-  const Result good = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, options(6));
+  vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(12));
+  const Result good = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, options(9));
   EXPECT_EQ(good.status, vpRobotSelfCalibration::OK) << good.message;
   for (auto &v : ds.views)
     for (auto &o : v.points)
       o.ip = vpImagePoint(o.ip.get_u(), o.ip.get_v()); // (i, j) = (u, v): the axes swapped
-  const Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, options(6));
+  const Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, options(9));
   EXPECT_EQ(r.status, vpRobotSelfCalibration::DOUBTFUL) << r.message;
   EXPECT_TRUE(hasFinding(r, "correction-beyond-tolerance"));
   EXPECT_NE(r.message.find("u and v swapped"), std::string::npos);
-  EXPECT_GT(heldOutError(sim, r.calibrated, r.camera, ds, 6), 0.05); // it is wrong: > 50 mm
+  EXPECT_GT(heldOutError(sim, r.calibrated, r.camera, ds, 9), 0.05); // it is wrong: > 50 mm
   // A caller who states that the nominal model may be that far off gets no tolerance finding.
-  vpRobotSelfCalibration::Options loose = options(6);
+  vpRobotSelfCalibration::Options loose = options(9);
   loose.tolerance_translation = 10;
   loose.tolerance_rotation = 10;
   loose.tolerance_hand_eye_translation = 10;
