@@ -62,6 +62,26 @@ double toleranceOf(const vpRobotSelfCalibration::Options &o, const std::string &
                                     : (t ? o.tolerance_translation : o.tolerance_rotation);
 }
 
+//! The relative pose c_a M c_b's Jacobian (6 x |index|: position, then rotation) over the chain parameters `index`.
+Eigen::MatrixXd motionJacobian(const vpKinematicChain &chain, const vpColVector &qa, const vpColVector &qb,
+                               const std::vector<unsigned int> &index)
+{
+  const int n = static_cast<int>(index.size());
+  const vpSelfCalib::Rigid A = vpSelfCalib::rigidFromVisp(chain.get_fMc(qa));
+  const vpSelfCalib::Rigid B = vpSelfCalib::rigidFromVisp(chain.get_fMc(qb));
+  const vpMatrix JA = chain.getJacobian(qa), JB = chain.getJacobian(qb);
+  Eigen::MatrixXd JAs(6, n), JBs(6, n), Jt, Jr, J(6, n);
+  for (int j = 0; j < n; ++j)
+    for (unsigned int r = 0; r < 6; ++r) {
+      JAs(r, j) = JA[r][index[j]];
+      JBs(r, j) = JB[r][index[j]];
+    }
+  vpSelfCalib::relativePoseJacobian(A, JAs, B, JBs, Jt, Jr);
+  J.topRows(3) = Jt;
+  J.bottomRows(3) = Jr;
+  return J;
+}
+
 /*
   How the estimated parameters absorb the others through the relative poses of the calibration
   views (c_0 M c_k, the run's model): per parameter not estimated (columns in unidentifiable's
@@ -77,26 +97,13 @@ Eigen::MatrixXd poseAbsorption(const Context &c, const Result &res)
   const int K = static_cast<int>(c.calibration.size());
   if (E == 0 || L == 0 || K < 2 || c.calibration.front().q.size() == 0)
     return Eigen::MatrixXd::Zero(E, L);
+  std::vector<unsigned int> left(static_cast<size_t>(L));
+  for (int j = 0; j < L; ++j)
+    left[static_cast<size_t>(j)] = set.unidentifiable[j].index;
   Eigen::MatrixXd JE(6 * (K - 1), E), JL(6 * (K - 1), L);
-  const vpSelfCalib::Rigid A = vpSelfCalib::rigidFromVisp(res.calibrated.get_fMc(c.calibration[0].q));
-  const vpMatrix JA = res.calibrated.getJacobian(c.calibration[0].q);
   for (int k = 1; k < K; ++k) {
-    const vpSelfCalib::Rigid B = vpSelfCalib::rigidFromVisp(res.calibrated.get_fMc(c.calibration[k].q));
-    const vpMatrix JB = res.calibrated.getJacobian(c.calibration[k].q);
-    for (int part = 0; part < 2; ++part) {
-      const int n = part == 0 ? E : L;
-      Eigen::MatrixXd JAs(6, n), JBs(6, n), Jt, Jr;
-      for (int j = 0; j < n; ++j)
-        for (unsigned int a = 0; a < 6; ++a) {
-          const unsigned int i = part == 0 ? set.identified[j] : set.unidentifiable[j].index;
-          JAs(a, j) = JA[a][i];
-          JBs(a, j) = JB[a][i];
-        }
-      vpSelfCalib::relativePoseJacobian(A, JAs, B, JBs, Jt, Jr);
-      Eigen::MatrixXd &J = part == 0 ? JE : JL;
-      J.block(6 * (k - 1), 0, 3, n) = Jt;
-      J.block(6 * (k - 1) + 3, 0, 3, n) = Jr;
-    }
+    JE.middleRows(6 * (k - 1), 6) = motionJacobian(res.calibrated, c.calibration[0].q, c.calibration[k].q, set.identified);
+    JL.middleRows(6 * (k - 1), 6) = motionJacobian(res.calibrated, c.calibration[0].q, c.calibration[k].q, left);
   }
   return -JE.colPivHouseholderQr().solve(JL);
 }
@@ -292,7 +299,6 @@ void predictedError(const Context &c, const Result &res, const std::map<int, vpC
       S(i, j) = C[i][j];
   // Per view: cMf, the relative rotation and the relative pose's Jacobian (6 x P; view 0: 0).
   const vpSelfCalib::Rigid A = vpSelfCalib::rigidFromVisp(res.calibrated.get_fMc(c.calibration[0].q));
-  const vpMatrix JA = res.calibrated.getJacobian(c.calibration[0].q);
   std::vector<vpSelfCalib::Rigid> cMf(K);
   std::vector<Eigen::Matrix3d> R_T(K);
   std::vector<Eigen::MatrixXd> G(K, Eigen::MatrixXd::Zero(6, P));
@@ -300,18 +306,8 @@ void predictedError(const Context &c, const Result &res, const std::map<int, vpC
     const vpSelfCalib::Rigid B = vpSelfCalib::rigidFromVisp(res.calibrated.get_fMc(c.calibration[k].q));
     cMf[k] = B.inverse();
     R_T[k] = A.R.transpose() * B.R;
-    if (k == 0)
-      continue;
-    const vpMatrix JB = res.calibrated.getJacobian(c.calibration[k].q);
-    Eigen::MatrixXd JAs(6, P), JBs(6, P), Jt, Jr;
-    for (int j = 0; j < P; ++j)
-      for (unsigned int a = 0; a < 6; ++a) {
-        JAs(a, j) = JA[a][id[j]];
-        JBs(a, j) = JB[a][id[j]];
-      }
-    vpSelfCalib::relativePoseJacobian(A, JAs, B, JBs, Jt, Jr);
-    G[k].topRows(3) = Jt;
-    G[k].bottomRows(3) = Jr;
+    if (k > 0)
+      G[k] = motionJacobian(res.calibrated, c.calibration[0].q, c.calibration[k].q, id);
   }
   // Per point: its pixels' displacement over the views that see it, less what the point's own shift explains.
   std::map<int, std::vector<int>> seen;
@@ -405,26 +401,6 @@ constexpr unsigned int kWorkspacePairs = 100;
   nominal model turns doubtful; at 90 % neither.
 */
 constexpr double kWorkspaceZ = 1.2816;
-
-//! The relative pose c_a M c_b's Jacobian (6 x |index|: position, then rotation) over the chain parameters `index`.
-Eigen::MatrixXd motionJacobian(const vpKinematicChain &chain, const vpColVector &qa, const vpColVector &qb,
-                               const std::vector<unsigned int> &index)
-{
-  const int n = static_cast<int>(index.size());
-  const vpSelfCalib::Rigid A = vpSelfCalib::rigidFromVisp(chain.get_fMc(qa));
-  const vpSelfCalib::Rigid B = vpSelfCalib::rigidFromVisp(chain.get_fMc(qb));
-  const vpMatrix JA = chain.getJacobian(qa), JB = chain.getJacobian(qb);
-  Eigen::MatrixXd JAs(6, n), JBs(6, n), Jt, Jr, J(6, n);
-  for (int j = 0; j < n; ++j)
-    for (unsigned int r = 0; r < 6; ++r) {
-      JAs(r, j) = JA[r][index[j]];
-      JBs(r, j) = JB[r][index[j]];
-    }
-  vpSelfCalib::relativePoseJacobian(A, JAs, B, JBs, Jt, Jr);
-  J.topRows(3) = Jt;
-  J.bottomRows(3) = Jr;
-  return J;
-}
 
 //! Mean squares of a motion error (m^2, rad^2): position and rotation.
 struct MotionSquares {
