@@ -97,10 +97,7 @@ void noteRobotModel(const vpSelfCalibDataset &ds, vpRobotSelfCalibration::Method
 {
   // A view gives joints or a controller pose, never both (the dataset's rule): on controller poses
   // alone, a wrong robot name changes nothing but eMc's start, and nothing else would say so.
-  const bool controller_poses_only = std::all_of(ds.views.begin(), ds.views.end(), [](const vpSelfCalibDataset::View &v) {
-    return v.has_fMe && v.q.size() == 0;
-  });
-  if (method == vpRobotSelfCalibration::HAND_EYE && controller_poses_only)
+  if (method == vpRobotSelfCalibration::HAND_EYE && controllerPosesOnly(ds))
     std::cerr << "... robot model " << ds.robot << ": its kinematics are not used: the hand-eye method takes the "
               << "views' controller poses (fMe) as they are (the model gives only the start of eMc)\n";
 }

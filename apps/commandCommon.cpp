@@ -3,6 +3,7 @@
  */
 #include "commands.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -174,6 +175,12 @@ std::string specialKind(fs::file_type t)
   }
 }
 } // namespace
+
+bool controllerPosesOnly(const vpSelfCalibDataset &ds)
+{
+  return std::all_of(ds.views.begin(), ds.views.end(),
+                     [](const vpSelfCalibDataset::View &v) { return v.has_fMe && v.q.size() == 0; });
+}
 
 bool sameView(const vpSelfCalibDataset::View &a, const vpSelfCalibDataset::View &b)
 {

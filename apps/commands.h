@@ -44,6 +44,8 @@ std::vector<vpColVector> readJoints(const std::string &file, const std::string &
 std::string canonical(const std::string &p);
 //! The same view: the same image file, or the same joints (or, without joints, controller pose) to 1e-12.
 bool sameView(const vpSelfCalibDataset::View &a, const vpSelfCalibDataset::View &b);
+//! Whether every view gives a controller pose and none its joints (the hand-eye method then uses no kinematics).
+bool controllerPosesOnly(const vpSelfCalibDataset &ds);
 /*!
   True, with the error on stderr, when `out` may not be written: a device node, a FIFO or a socket
   (or a link to one) or a directory, --force or not; or an existing file without `force`.

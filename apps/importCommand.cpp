@@ -59,13 +59,6 @@ bool holdsText(const std::string &file, const std::string &text)
   return in.read(&content[0], static_cast<std::streamsize>(content.size())) && content == text;
 }
 
-//! Whether every view gives a controller pose and none its joints.
-bool controllerPosesOnly(const vpSelfCalibDataset &ds)
-{
-  return std::all_of(ds.views.begin(), ds.views.end(),
-                     [](const vpSelfCalibDataset::View &v) { return v.has_fMe && v.q.size() == 0; });
-}
-
 /*
   An AprilTag of any id (the tag description gives the family and the side, not the id): the ids
   the views show, and in how many views each. calibrate's board of any id takes tag 0's corners as
