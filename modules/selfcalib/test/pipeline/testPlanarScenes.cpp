@@ -74,6 +74,7 @@ vpRobotSelfCalibration::Options handEye(bool focal_known)
   vpRobotSelfCalibration::Options o;
   o.method = vpRobotSelfCalibration::HAND_EYE;
   o.num_calibration_poses = 12;
+  o.trust_robot = true; // the controller poses are exact: the intrinsics are the subject
   o.focal_mode = focal_known ? vpRobotSelfCalibration::FOCAL_KNOWN : vpRobotSelfCalibration::FOCAL_SHARED;
   return o;
 }
@@ -233,6 +234,7 @@ TEST(PlanarScene, FullKinematicsFocalSelfCalibratedOnAPlane)
     vpRobotSelfCalibration::Options o;
     o.method = vpRobotSelfCalibration::BUNDLE_ADJUSTMENT;
     o.focal_mode = vpRobotSelfCalibration::FOCAL_SHARED;
+    o.trust_robot = true; // exact joints: the plane and f are the subject
     const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
     ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << seed << ": " << r.message;
     EXPECT_LT(std::abs(r.camera.get_px() - cam.get_px()), 3.5 * r.fx_sd) << seed << ": " << r.camera.get_px();
@@ -274,6 +276,7 @@ TEST(PlanarScene, BundleMethodOnABoardWithItsLayoutUnknown)
     vpRobotSelfCalibration::Options o;
     o.num_calibration_poses = 14;
     o.noise.pixel_sd = sd > 0 ? sd : 0.01;
+    o.trust_robot = true; // exact joints: the board is the subject
     const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), cal, o);
     ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << sd << ": " << r.message;
     EXPECT_EQ(r.bundle.num_outliers, 0u) << sd << ": " << r.message;
@@ -363,6 +366,7 @@ TEST(PlanarScene, BundleMethodOnAFlatBoardOfUnknownLayoutStaysRight)
     vpRobotSelfCalibration::Options o;
     o.num_calibration_poses = 14;
     o.noise.pixel_sd = 0.2;
+    o.trust_robot = true; // exact joints: the board is the subject
     const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(p.sim.getNominalChain(), p.ds, o);
     const std::string draw = std::to_string(d.first) + "/" + std::to_string(d.second);
     ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << draw << ": " << r.message;
