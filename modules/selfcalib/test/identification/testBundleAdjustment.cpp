@@ -464,6 +464,7 @@ TEST(HandEye, NoiseFreeExactRecoveryFromControllerPoses)
     o.method = vpRobotSelfCalibration::HAND_EYE;
     o.multiview.tight = true;
     o.bundle.tight = true;
+    o.trust_robot = true; // the controller poses are the true ones, and stated so
     const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
     ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
     EXPECT_EQ(r.bundle.scale_source, vpKinematicBundleAdjustment::SCALE_ROBOT_MOTION);
