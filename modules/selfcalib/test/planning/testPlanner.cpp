@@ -259,6 +259,10 @@ double scaledNormError(const vpSelfCalibSimulator &sim, const std::vector<vpColV
 // the model error the scaled poses keep drops at least 5x (the target, on the truth). With
 // the default consecutive cost the plan is OK too and the error drops (on these two seeds the
 // Viper850 4x, the PUMA 560 more): the gain it gives up is the price of its robustness to noise.
+// The spread cost plans from its one start (no multistart: each start runs to the 2000-evaluation
+// budget, and the extra starts change little: the error drops 8.7x on the Viper850 and 17x on the
+// PUMA 560 from one start, 10.5x and 17x from three); the consecutive cost keeps its three starts
+// (from one the Viper850's drop is 3.3x, too close to its bound).
 TEST(Planner, PaperScenePlanFromTheSmoothLoopFixesTheScaledPoses)
 {
   for (const auto cost : {vpMeasurementPlanner::RATIO_SPREAD, vpMeasurementPlanner::RATIO_CONSECUTIVE})
@@ -275,6 +279,8 @@ TEST(Planner, PaperScenePlanFromTheSmoothLoopFixesTheScaledPoses)
       vpMeasurementPlanner::TrajectoryOptions o;
       o.seed = seed;
       o.ratio_cost = cost;
+      if (cost == vpMeasurementPlanner::RATIO_SPREAD)
+        o.multistart = 0;
       const vpMeasurementPlanner::Result r = planner.planTrajectory(q, o);
       ASSERT_EQ(r.status, vpMeasurementPlanner::OK) << robot << " seed " << seed << ": " << r.message;
       for (size_t k = 0; k < r.configurations.size(); ++k)
