@@ -113,9 +113,10 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
        "the noise is larger. 0: the joint readings and the model are exact (no error\n"
        "modelled, whatever the dataset's robot_error says). Default: the dataset's\n"
        "robot_error, stated, else measured as with auto (from 3e-4 rad; the estimated set\n"
-       "decided again at the level measured; a joint error measured above 1e-3 rad, or a model\n"
-       "residual above 1 mm / 1 mrad, is a misfit, not noise: the result is then the run with\n"
-       "--joint-sd 0, and the warning robot-error-taken-exact says so)")
+       "decided again at the level measured; a model residual measured above 1 mm / 1 mrad, or\n"
+       "a joint error above 1e-3 rad whose corrections do not look like reading noise, is a\n"
+       "misfit, not noise: the result is then the run with --joint-sd 0, and the warning\n"
+       "robot-error-taken-exact says so)")
       ->type_name("auto|RAD[,RAD...]|0")
       ->delimiter(',')
       ->check(selfcalibCli::wordOrNumber("auto", 0, false, 0.999));

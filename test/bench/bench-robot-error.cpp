@@ -8,7 +8,8 @@
  * (15 calibrating, 10 held out). Per seed, the true robot's images are taken at the true joints; the
  * calibration views' joint READINGS are off by a Gaussian joint error (sd on every joint), and, in the
  * model-residual cases, each calibration camera pose is off the true robot's by a Gaussian 6-D
- * residual (t in mm, r in mrad, in the camera frame) that no kinematic parameter explains. The
+ * residual (t in mm, r in mrad, in the camera frame) that no kinematic parameter explains; the low-cost
+ * case is a low-cost arm's 0.15 deg of backlash, beyond a well-built arm's 1 mrad. The
  * held-out views keep their true joints: their error is the calibrated model's. Each case is
  * calibrated on the same draws: by default (nothing stated: the robot's error modelled from
  * vpRobotSelfCalibration::robotErrorPrior() and measured, as --joint-sd auto), told the true levels
@@ -16,7 +17,9 @@
  * modelled). Per row, over its seeds and draws:
  *   statuses           vpRobotSelfCalibration::statusName of the runs;
  *   joint sd measured  the joint sd of the run that stands over the true one (mean and range over the
- *                      runs; "exact": no joint error left modelled; a truth of 0 shows the level in mrad);
+ *                      runs; "exact": no joint error left modelled, dropped or taken as exact; a truth of 0
+ *                      shows the level in mrad; "sd": the measured level's own sd from the variance
+ *                      components, mean over the runs, relative);
  *   model sd measured  the model residual of the run that stands (translation mm / rotation mrad;
  *                      "none": dropped or not modelled);
  *   held-out           the RMS over the held-out pairs (c_0, c_k) of the predicted relative position's
@@ -68,7 +71,8 @@ struct Case {
 
 const std::vector<Case> kCases = {{"exact", 0, 0, 0},
                                   {"joints", 0.02, 0, 0},
-                                  {"joints+model", 0.05, 0.1, 0.1}};
+                                  {"joints+model", 0.05, 0.1, 0.1},
+                                  {"low-cost", 0.15, 0, 0}};
 
 //! How a draw is calibrated: the default (the robot's error measured), told the true levels, trusted.
 enum Calibration { MEASURED, TOLD, TRUSTED };
@@ -78,7 +82,7 @@ struct Row {
   double joint_true = 0; // rad
   std::map<std::string, unsigned int> statuses;
   unsigned int runs = 0, ok = 0;
-  bench::Stats joint_ratio, model_t, model_r, err2, pred2, nees, method_runs, seconds;
+  bench::Stats joint_ratio, joint_level_sd, model_t, model_r, err2, pred2, nees, method_runs, seconds;
   unsigned int joint_exact = 0, model_none = 0, nees_skipped = 0;
 };
 
@@ -217,18 +221,25 @@ void calibrate(Row &row, const vpSelfCalibSimulator &sim, const vpSelfCalibDatas
   if (mode == MEASURED) {
     if (r.noise.joint_sd.empty())
       ++row.joint_exact;
-    else
+    else {
       row.joint_ratio.add(row.joint_true > 0 ? r.noise.joint_sd[0] / row.joint_true : 1e3 * r.noise.joint_sd[0]);
+      if (r.bundle.measured_joint_level_sd > 0)
+        row.joint_level_sd.add(r.bundle.measured_joint_level_sd / r.noise.joint_sd[0]);
+    }
     if (r.noise.hasModelError()) {
       row.model_t.add(r.noise.model_sd_translation);
       row.model_r.add(r.noise.model_sd_rotation);
     } else
       ++row.model_none;
   }
+  bool taken_exact = false;
+  for (const auto &f : r.findings)
+    taken_exact = taken_exact || f.code == "robot-error-taken-exact";
   if (csv.enabled())
     csv.row() << row.robot << "," << seed << "," << row.error << "," << d << "," << row.calibration << ","
               << vpRobotSelfCalibration::statusName(r.status) << "," << (r.noise.joint_sd.empty() ? 0 : r.noise.joint_sd[0])
-              << "," << r.noise.model_sd_translation << "," << r.noise.model_sd_rotation << "," << err << "," << pred
+              << "," << r.bundle.measured_joint_level_sd << "," << taken_exact << "," << r.noise.model_sd_translation
+              << "," << r.noise.model_sd_rotation << "," << err << "," << pred
               << "," << n << "," << runs << "," << r.seconds << "\n";
 }
 
@@ -245,6 +256,8 @@ void print(const std::vector<Row> &rows)
     std::string joint = told ? "(stated)" : "(trusted)", model = told ? "(stated)" : "(trusted)";
     if (r.calibration == "default (measured)") {
       joint = r.joint_ratio.count() ? meanRange(r.joint_ratio, 1, 2) + (r.joint_true > 0 ? "" : " mrad") : "";
+      if (r.joint_level_sd.count())
+        joint += " (sd " + fixed(100 * r.joint_level_sd.mean(), 0) + " %)";
       if (r.joint_exact)
         joint += (r.joint_ratio.count() ? ", " : "") + std::string("exact in ") + std::to_string(r.joint_exact);
       model = r.model_t.count() ? meanRange(r.model_t, 1e3, 3) + " / " + meanRange(r.model_r, 1e3, 3) : "";
@@ -282,7 +295,8 @@ int main(int argc, char **argv)
         ->delimiter(',')
         ->check(CLI::IsMember({"viper850", "puma560", "ur5"}));
     app.add_option("--cases", cases,
-                   "robot errors simulated: exact, joints (0.02 deg), joints+model (0.05 deg, 0.1 mm / 0.1 mrad)")
+                   "robot errors simulated: exact, joints (0.02 deg), joints+model (0.05 deg, 0.1 mm / 0.1 mrad), low-cost "
+                   "(0.15 deg: a low-cost arm's backlash)")
         ->type_name("LIST")
         ->delimiter(',')
         ->check(CLI::IsMember(cases));
@@ -291,7 +305,7 @@ int main(int argc, char **argv)
     if (parsed >= 0)
       return parsed;
 
-    bench::Csv csv(csv_path, "robot,seed,error,draw,calibration,status,joint_sd,model_sd_t,model_sd_r,heldout_rms_m,"
+    bench::Csv csv(csv_path, "robot,seed,error,draw,calibration,status,joint_sd,joint_level_sd,taken_exact,model_sd_t,model_sd_r,heldout_rms_m,"
                              "predicted_rms_m,nees,runs,seconds");
     const double pixel_sd = 0.2;
     std::cout << "bench-robot-error: " << seeds << " seeds x " << draws << " draws, " << kCalibration

@@ -155,6 +155,19 @@ void measureFullModeError(Adjustment &a, const Eigen::MatrixXd &full, int first,
     active = {0, 1};
   }
   const Eigen::Vector4d theta = solveComponents(c, active, fixed);
+  res.measured_joint_level_sd = 0;
+  if (c.present[1] && active.size() > 1 && active[1] == 1 && theta[1] > 0) {
+    // The joints' factor's variance 2 (H^-1)(1, 1) over the groups measured; the level's sd by the delta method.
+    const int m = static_cast<int>(active.size());
+    Eigen::MatrixXd H(m, m);
+    for (int k = 0; k < m; ++k)
+      for (int j = 0; j < m; ++j)
+        H(k, j) = c.H(active[k], active[j]);
+    const double var = 2 * H.inverse()(1, 1);
+    const double top = *std::max_element(a.joint_sd.begin(), a.joint_sd.begin() + a.state.n_joint);
+    if (var > 0)
+      res.measured_joint_level_sd = top * std::sqrt(var) / (2 * std::sqrt(theta[1]));
+  }
   if (theta[0] > 0)
     a.pixel_factor_measured = a.pixel_factor * std::sqrt(theta[0]);
   const int nj = a.state.n_joint;

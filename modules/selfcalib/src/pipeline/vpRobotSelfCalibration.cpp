@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <iomanip>
 #include <optional>
@@ -17,6 +18,7 @@
 #include "../core/vpSelfCalibRange.h"
 #include "../core/vpSelfCalibRobotErrorLevels.h"
 #include "vpSelfCalibPipelines.h"
+#include "vpSelfCalibRobotErrorStructure.h"
 
 namespace
 {
@@ -232,16 +234,27 @@ void runMethod(const vpSelfCalibPipeline::Context &c, vpRobotSelfCalibration::Re
   }
 }
 
+//! Why a run's robot error is dropped for the trusted run's (robotErrorDropped()), or kept.
+enum Dropped { KEPT, TAKEN_EXACT, NOT_MEASURED };
+
 /*
-  The run measured the bundle method's robot error from a guessed level (the prior's, or the
-  dataset's with --joint-sd auto: robotLevelGuessed()) and found it beyond a real arm's
-  (robotLevelImplausible()): no reading noise, but a misfit or views that do not separate the
-  corrections from the rest. The readings are then taken as exact: run() makes the trusted run.
+  The bundle method's robot error, measured from a guessed level (the prior's, or the dataset's with
+  --joint-sd auto: robotLevelGuessed()), is dropped: run() makes the trusted run instead.
+  TAKEN_EXACT: measured beyond a real arm's (robotErrorImplausible(): a model residual beyond a
+  calibrated model's, or a joint level beyond a well-built arm's whose corrections are no reading
+  noise): a misfit or views that do not separate the corrections from the rest. NOT_MEASURED: the
+  corrections at the guessed level leave the estimate undetermined (the adjustment measured nothing:
+  robotErrorNotMeasured()). structure (when not null) receives what the joint corrections look like.
 */
-bool takenExact(const vpSelfCalibPipeline::Context &c, const vpRobotSelfCalibration::Result &res)
+Dropped robotErrorDropped(const vpSelfCalibPipeline::Context &c, const vpRobotSelfCalibration::Result &res,
+                          vpSelfCalibPipeline::JointErrorStructure *structure)
 {
-  return c.options.method == vpRobotSelfCalibration::BUNDLE_ADJUSTMENT && !c.options.trust_robot &&
-         vpSelfCalib::robotLevelGuessed(c.noise) && vpSelfCalib::robotLevelImplausible(res.noise);
+  if (c.options.method != vpRobotSelfCalibration::BUNDLE_ADJUSTMENT || c.options.trust_robot ||
+      !vpSelfCalib::robotLevelGuessed(c.noise))
+    return KEPT;
+  if (res.bundle.status == vpKinematicBundleAdjustment::OK && vpSelfCalib::robotErrorNotMeasured(res.bundle.noise))
+    return NOT_MEASURED;
+  return vpSelfCalibPipeline::robotErrorImplausible(res.noise, res.bundle, c.calibration, structure) ? TAKEN_EXACT : KEPT;
 }
 
 //! The options of the trusted run (calibrate --joint-sd 0): the joint readings and the model exact.
@@ -254,20 +267,26 @@ vpRobotSelfCalibration::Options trustedOptions(const vpRobotSelfCalibration::Opt
   return o;
 }
 
-//! Why the result is the trusted run's: the levels the measured run found (measured).
-vpSelfCalibDataCheck::Finding takenExactFinding(const vpSelfCalibNoiseModel &measured)
+//! Why the result is the trusted run's: the levels the measured run found (measured) and the joints' structure.
+vpSelfCalibDataCheck::Finding takenExactFinding(const vpSelfCalibNoiseModel &measured,
+                                                const vpSelfCalibPipeline::JointErrorStructure &structure)
 {
   using namespace vpSelfCalib;
   std::ostringstream level;
-  level << std::setprecision(3) << "joint readings " << 1e3 * levelsOf(measured, JOINT_ERROR).r << " mrad";
+  const double joints = levelsOf(measured, JOINT_ERROR).r;
+  level << std::setprecision(3) << "joint readings " << 1e3 * joints << " mrad";
   if (measured.hasModelError())
     level << ", model residual " << 1e3 * measured.model_sd_translation << " mm / " << 1e3 * measured.model_sd_rotation
           << " mrad";
+  std::string why;
+  if (structure.judged && joints > kJointErrorPlausible && joints <= kJointErrorImpossible)
+    why = "; the joint corrections show " + structure.describe();
   return vpSelfCalibDataCheck::Finding{vpSelfCalibDataCheck::WARNING, "robot-error-taken-exact",
-          "the robot's error measured from the corrections is beyond a real arm's (" + level.str() +
-              "; a real arm's joints: 0.1 to 1 mrad): no reading noise, but a misfit the model cannot explain (a "
+          "the robot's error measured from the corrections is beyond a real arm's (" + level.str() + why +
+              "): no reading noise, but a misfit the model cannot explain (a "
               "parameter held at a wrong value, a wrong robot model or eMc guess, joints paired with another view's "
-              "images) or views that do not separate the corrections from the rest. The result is the trusted run's, "
+              "images, a camera that moves on the flange) or views that do not separate the corrections from the rest. "
+              "The result is the trusted run's, "
               "the readings and the model taken as exact (as calibrate --joint-sd 0), and the checks below judge the "
               "fit; if the readings really are that noisy, state their level (calibrate --joint-sd RAD)"};
 }
@@ -403,17 +422,39 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
   // eMc and a self-calibrated focal length started from what the data measure, not from the guesses
   // (below); a hand-eye run started from an earlier run's model, points and f (opt.start: a
   // cross-validation fold) starts from those.
-  // taken_exact (when not null): the run stops, set true, where the robot's error it measured is
-  // beyond a real arm's (takenExact()); the caller then runs it again trusted.
-  const auto runFrom = [&](const vpSelfCalibPipeline::DataStart &start, const Options &run_opt, bool *taken_exact) -> Result {
+  // The robot's error dropped (robotErrorDropped(): measured beyond a real arm's, or not measured):
+  // the trusted run (calibrate --joint-sd 0) from the same start, whose checks judge the fit, with
+  // the finding that says why; null when the trusted run fails (the measured run then goes on from
+  // where it stopped, its level judged: robot-error-implausible).
+  vpSelfCalibPipeline::JointErrorStructure structure;
+  std::function<Result(const vpSelfCalibPipeline::DataStart &, const Options &, bool)> runFrom;
+  const auto trustedInstead = [&](const vpSelfCalibPipeline::DataStart &start, const Result &measured,
+                                  Dropped why) -> std::optional<Result> {
+    vpSelfCalibPipeline::DataStart exact_start = start;
+    exact_start.dataset.joint_sd.clear();
+    Result trusted = runFrom(exact_start, trustedOptions(opt), false);
+    if (trusted.status != OK && trusted.status != DOUBTFUL)
+      return std::nullopt;
+    trusted.findings.push_back(why == TAKEN_EXACT ? takenExactFinding(measured.noise, structure)
+                                                  : vpSelfCalibPipeline::robotErrorNotMeasuredFinding());
+    return trusted;
+  };
+  // may_drop: the run stops where its robot error is dropped, and is the trusted run instead.
+  runFrom = [&](const vpSelfCalibPipeline::DataStart &start, const Options &run_opt, bool may_drop) -> Result {
     const vpSelfCalibDataset &data = start.dataset;
     const vpKinematicChain &model = start.model;
     // Resolves the focal mode and builds every step's options: the remaining caller mistakes throw here.
     const vpSelfCalibPipeline::Context context(model, data, run_opt, N, progress, &nominal, start.eMc_from_data);
+    bool tried = false; // the trusted run is made once: when it fails, the measured run goes on
     const auto stopped = [&](Result &r) {
-      if (!taken_exact || !takenExact(context, r))
+      const Dropped why = may_drop && !tried ? robotErrorDropped(context, r, &structure) : KEPT;
+      if (why == KEPT)
         return false;
-      *taken_exact = true;
+      tried = true;
+      std::optional<Result> trusted = trustedInstead(start, r, why);
+      if (!trusted)
+        return false;
+      r = std::move(*trusted);
       r.seconds = seconds(t0);
       return true;
     };
@@ -490,19 +531,5 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
   const vpSelfCalibPipeline::DataStart start = opt.method == HAND_EYE && opt.start.set
                                                    ? vpSelfCalibPipeline::DataStart{nominal, data0, {}, std::string()}
                                                    : vpSelfCalibPipeline::startFromData(nominal, data0, N, opt);
-  bool taken_exact = false;
-  Result measured = runFrom(start, opt, &taken_exact);
-  if (!taken_exact)
-    return measured;
-  // The robot's error measured beyond a real arm's: the run again from the same start as the
-  // trusted run (calibrate --joint-sd 0), whose checks judge the misfit; the finding says why.
-  vpSelfCalibPipeline::DataStart exact_start = start;
-  exact_start.dataset.joint_sd.clear();
-  Result trusted = runFrom(exact_start, trustedOptions(opt), nullptr);
-  if (trusted.status == OK || trusted.status == DOUBTFUL) {
-    trusted.findings.push_back(takenExactFinding(measured.noise));
-    return trusted;
-  }
-  // The trusted run fails: the measured run stands, its level judged (robot-error-implausible).
-  return runFrom(start, opt, nullptr);
+  return runFrom(start, opt, true);
 }

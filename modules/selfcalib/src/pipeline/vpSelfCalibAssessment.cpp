@@ -19,6 +19,7 @@
 
 #include "vpSelfCalibMultiViewFit.h"
 #include "vpSelfCalibPipelines.h"
+#include "vpSelfCalibRobotErrorStructure.h"
 
 namespace vpSelfCalibPipeline
 {
@@ -728,13 +729,15 @@ void checkRobotError(const Context &c, Result &res)
 
 /*
   The robot's error the bundle method measured (joint readings, the model's residual) against what
-  a real arm has (kJointErrorPlausible, kModelErrorPlausible): a level beyond them is no reading
-  noise but a misfit the model cannot explain (a parameter held at a wrong value, a wrong robot
-  model, joints paired with another view's image), which the corrections absorb instead of the
-  parameters. The pipeline then takes the readings as exact (the checks of a trusted run judge the
+  a real arm has (kJointErrorPlausible, kModelErrorPlausible; a joint level beyond its bound with
+  corrections that look like reading noise is a low-cost arm's: robotErrorImplausible()): a level
+  beyond them is no reading noise but a misfit the model cannot explain (a parameter held at a
+  wrong value, a wrong robot model, joints paired with another view's image), which the
+  corrections absorb instead of the parameters. The pipeline then takes the readings as exact (the checks of a trusted run judge the
   misfit); a level that still stands beyond them is a doubt. A level stated by the caller is not
   questioned. A level asked to be measured that could not be (the corrections at the prior's level
-  leaving the estimate undetermined: the run takes the robot as exact) is a warning.
+  leaving the estimate undetermined) makes the result the trusted run's, with its warning; when
+  the trusted run failed, this run, its readings taken as exact inside the adjustment, says it.
 */
 void checkMeasuredRobotError(const Context &c, Result &res)
 {
@@ -743,23 +746,28 @@ void checkMeasuredRobotError(const Context &c, Result &res)
     return;
   const vpSelfCalibNoiseModel &n = res.bundle.noise;
   if (!c.options.trust_robot && robotErrorNotMeasured(n))
-    add(res, vpSelfCalibDataCheck::WARNING, "robot-error-not-measured",
-        "the robot's error could not be measured: with the joint corrections at the prior's level (" +
-            fixed(1e3 * vpRobotSelfCalibration::kJointErrorPrior, 2) +
-            " mrad) these views do not determine the estimate, so the joint readings and the model are taken as "
-            "exact (as calibrate --joint-sd 0) and the standard deviations leave their error out. State the "
-            "readings' level if known (calibrate --joint-sd RAD, or the dataset's robot_error), or add views "
-            "(more varied configurations, a scene not all on one plane)");
-  const bool joints = n.measure_joint_sd && n.joint_sd_origin == vpSelfCalibNoiseModel::MEASURED &&
-                      levelsOf(n, JOINT_ERROR).r > kJointErrorPlausible;
+    res.findings.push_back(robotErrorNotMeasuredFinding()); // the trusted run failed: this run stands
+  // A joint level beyond a well-built arm's is a low-cost arm's reading noise when its corrections
+  // look like it (jointErrorStructure()), and a misfit when they do not or when it is beyond any arm's.
+  const double joint_level = levelsOf(n, JOINT_ERROR).r;
+  JointErrorStructure structure;
+  const bool beyond = n.measure_joint_sd && n.joint_sd_origin == vpSelfCalibNoiseModel::MEASURED &&
+                      joint_level > kJointErrorPlausible;
+  if (beyond)
+    structure = jointErrorStructure(res.bundle, n, c.calibration);
+  const bool joints = beyond && (joint_level > kJointErrorImpossible || !structure.readingNoise());
   const bool model = n.measure_model_sd && n.model_sd_origin == vpSelfCalibNoiseModel::MEASURED &&
                      (n.model_sd_translation > kModelErrorPlausible || n.model_sd_rotation > kModelErrorPlausible);
   if (!joints && !model)
     return;
   std::string what;
   if (joints)
-    what = "the joint readings' error " + fixed(1e3 * levelsOf(n, JOINT_ERROR).r, 2) + " mrad (a real arm's: 0.1 to " +
-           fixed(1e3 * kJointErrorPlausible, 1) + " mrad)";
+    what = "the joint readings' error " + fixed(1e3 * joint_level, 2) + " mrad (" +
+           (joint_level > kJointErrorImpossible
+                ? "no arm's readings are off by more than " + fixed(1e3 * kJointErrorImpossible, 0) + " mrad"
+                : "beyond a well-built arm's " + fixed(1e3 * kJointErrorPlausible, 1) +
+                      " mrad, and the joint corrections show " + structure.describe()) +
+           ")";
   if (model)
     what += std::string(joints ? ", " : "") + "the model's residual " + fixed(1e3 * n.model_sd_translation, 2) +
             " mm / " + fixed(1e3 * n.model_sd_rotation, 2) + " mrad (at most about " +

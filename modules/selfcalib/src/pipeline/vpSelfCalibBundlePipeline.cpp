@@ -3,6 +3,7 @@
  * (beyond the paper).
  */
 #include "vpSelfCalibPipelines.h"
+#include "vpSelfCalibRobotErrorStructure.h"
 
 #include <algorithm>
 #include <cmath>
@@ -184,9 +185,10 @@ void runBundle(const Context &c, Result &res)
   const vpKinematicIdentification::Identifiability first = decideSet(c, d, c.noise);
   if (!identifyAndAdjust(c, d, first, res, ts) || !robotLevelGuessed(c.noise))
     return;
-  // Measured beyond a real arm's: vpRobotSelfCalibration::run() makes the trusted run instead
-  // (robot-error-taken-exact), from the top.
-  if (robotLevelImplausible(res.bundle.noise))
+  // Measured beyond a real arm's, or not measured (the corrections at the prior's level leave the
+  // estimate undetermined): vpRobotSelfCalibration::run() makes the trusted run instead
+  // (robot-error-taken-exact, robot-error-not-measured), from the top.
+  if (robotErrorNotMeasured(res.bundle.noise) || robotErrorImplausible(res.bundle.noise, res.bundle, cal))
     return;
   const vpKinematicIdentification::Identifiability again = decideSet(c, d, res.bundle.noise);
   // The model residual merged into the joints (robot_error_confounded) stays merged from that level.

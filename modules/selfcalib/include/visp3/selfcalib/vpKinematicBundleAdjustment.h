@@ -346,6 +346,12 @@ public:
     */
     vpSelfCalibNoiseModel measured = vpSelfCalibNoiseModel::unmeasured();
     /*!
+      The standard deviation of measured.joint_sd's largest value (rad), from the variance
+      components' covariance (twice the inverse of H, Gaussian residuals): how well the views
+      determine the joints' level. 0 when the joints' level was not measured.
+    */
+    double measured_joint_level_sd = 0;
+    /*!
       The noise the estimate stands at: the one given, except in full mode for the joint readings'
       error and the model's residual when the noise model asks to measure them (measure_joint_sd,
       measure_model_sd). Those are measured in the neighbourhood of the solution: the levels the
