@@ -148,7 +148,8 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
                 "bundle-adjustment: a prior on every kinematic correction, its sd the tolerance\n"
                 "(--tolerance) / K: the parameters the data alone do not determine are estimated too,\n"
                 "held near nominal (results.yaml: held_by_prior), and the sd include the prior. off\n"
-                "(default), tolerance (K = 1), tolerance/K or K (above 0, at most 1000)")
+                "(default: the dataset's kinematic_prior, else none), tolerance (K = 1), tolerance/K\n"
+                "or K (above 0, at most 1000)")
       ->type_name("off|tolerance|tolerance/K|K")
       ->check(CLI::Validator(
           [](std::string &v) {
