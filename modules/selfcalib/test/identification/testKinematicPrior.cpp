@@ -62,7 +62,7 @@ double priorSd(unsigned int i, unsigned int joints, const KBA::Options &o)
 } // namespace
 
 // The prior residual's analytic Jacobian against central differences.
-TEST(KinematicPrior, ResidualJacobianMatchesFiniteDifferences)
+TEST(KinematicBundlePrior, ResidualJacobianMatchesFiniteDifferences)
 {
   const std::vector<double> ref = {0.01, -0.02, 0.3}, sd = {1e-3, 5e-3, 0.2};
   const vpKinematicBundle::KinematicPriorCost cost(ref, sd);
@@ -93,7 +93,7 @@ TEST(KinematicPrior, ResidualJacobianMatchesFiniteDifferences)
   is the truth exactly, every candidate of the rule estimated and those the data alone do not
   determine named as held by the prior, with their reason and what would determine them.
 */
-TEST(KinematicPrior, NoiseFreeRecoveryWhenTheTruthIsTheNominalModel)
+TEST(KinematicBundlePrior, NoiseFreeRecoveryWhenTheTruthIsTheNominalModel)
 {
   const StuckWrist w(3, 12, 1.0);
   vpSelfCalibNoiseModel noise;
@@ -140,7 +140,7 @@ TEST(KinematicPrior, NoiseFreeRecoveryWhenTheTruthIsTheNominalModel)
   weight on the truth's error allows. A weaker prior pulls less: the held-out error of the views'
   relative poses shrinks as K does, and the parameters the data determine approach the truth.
 */
-TEST(KinematicPrior, PullOfAPriorOffTheTruthIsBoundedByItsWeight)
+TEST(KinematicBundlePrior, PullOfAPriorOffTheTruthIsBoundedByItsWeight)
 {
   const StuckWrist w(3, 12, 1.0);
   vpSelfCalibNoiseModel noise;
@@ -189,7 +189,7 @@ TEST(KinematicPrior, PullOfAPriorOffTheTruthIsBoundedByItsWeight)
   is on the corrections only, so it adds to their information unchanged), P = diag((K / tol)^2) on
   the corrections and 0 on f.
 */
-TEST(KinematicPrior, CovarianceIsTheInverseOfTheInformationPlusThePrior)
+TEST(KinematicBundlePrior, CovarianceIsTheInverseOfTheInformationPlusThePrior)
 {
   const vpSelfCalibSimulator sim = makeSim("puma560", 7, 0.0);
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(8));
@@ -230,7 +230,7 @@ TEST(KinematicPrior, CovarianceIsTheInverseOfTheInformationPlusThePrior)
 }
 
 // Bad values of the prior are refused: negative, not a number, infinite.
-TEST(KinematicPrior, BadValuesAreRefused)
+TEST(KinematicBundlePrior, BadValuesAreRefused)
 {
   const vpSelfCalibSimulator sim = makeSim("puma560", 7, 0.0);
   const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(6));
