@@ -4,6 +4,8 @@
 #include "calibrate.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 
 #include <visp3/core/vpException.h>
 #include <visp3/selfcalib/vpBoardDetector.h>
@@ -52,6 +54,17 @@ void addProtocolOptions(CLI::App *c, CalibrateArgs &a)
                 "verified on it (3-D yardstick error when it has one; its views' reprojection error,\n"
                 "calibrated vs nominal, the scene triangulated from them)")
       ->type_name("FILE");
+}
+
+//! --kinematic-prior's K (the prior's sd: the tolerance / K): off 0, tolerance 1, tolerance/K or K; -1 when not one of them.
+double priorDivisor(const std::string &v)
+{
+  if (v == "off")
+    return 0;
+  const std::string k = v == "tolerance" ? "1" : v.rfind("tolerance/", 0) == 0 ? v.substr(10) : v;
+  char *end = nullptr;
+  const double d = std::strtod(k.c_str(), &end);
+  return !k.empty() && end == k.c_str() + k.size() && std::isfinite(d) && d > 0 && d <= 1e3 ? d : -1;
 }
 
 //! The model: the focal length, the noise, the tolerance, the robot's error, the intrinsics.
@@ -132,6 +145,19 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
                 "separate one from the others; added to the dataset's free: list")
       ->type_name("NAMES")
       ->delimiter(',');
+  c->add_option("--kinematic-prior", a.kinematic_prior,
+                "bundle-adjustment: a prior on every kinematic correction, its sd the tolerance\n"
+                "(--tolerance) / K: the parameters the data alone do not determine are estimated too,\n"
+                "held near nominal (results.yaml: held_by_prior), and the sd include the prior. off\n"
+                "(default: the dataset's kinematic_prior, else none), tolerance (K = 1), tolerance/K\n"
+                "or K (above 0, at most 1000)")
+      ->type_name("off|tolerance|tolerance/K|K")
+      ->check(CLI::Validator(
+          [](std::string &v) {
+            return priorDivisor(v) < 0 ? "expected off, tolerance, tolerance/K or K (K above 0, at most 1000), got '" + v + "'"
+                                       : std::string();
+          },
+          std::string()));
   c->add_option("--estimate", a.estimate,
                 "intrinsics estimated with the calibration besides f (--focal): aspect (p_y / p_x),\n"
                 "pp (principal point), distortion (OpenCV's k1, k2, p1, p2), k3 (and OpenCV's k3),\n"
@@ -190,6 +216,7 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
   }
   po.bundle.fixed = a.fix;
   po.bundle.free = a.free;
+  po.bundle.kinematic_prior = priorDivisor(a.kinematic_prior);
   // The board's layout as its spec describes it measures the start (PnP) even when the bundle
   // adjustment does not take it as known; several single tags have none, a masked board gives no points.
   if (co.board && !co.mask_board) {

@@ -156,6 +156,12 @@ void printSummary(const vpRobotSelfCalibration::Result &r, unsigned int num_cali
   if (!by_data.empty())
     std::cout << "\nleft at nominal (the data do not determine them): " << by_data << " (" << needs
               << "; results.yaml estimated_set.left_by_data)";
+  std::string held;
+  for (const auto &u : r.identifiability.held_by_prior)
+    held += (held.empty() ? "" : ", ") + u.name;
+  if (!held.empty())
+    std::cout << "\nheld by the kinematic prior (the data alone do not determine them): " << held
+              << " (results.yaml estimated_set.held_by_prior)";
   if (r.bundle.has_covariance && r.bundle.intrinsic_names.size() > 1) {
     std::cout << "\nintrinsics:";
     for (unsigned int i = 0; i < r.bundle.intrinsics.size(); ++i)

@@ -3,7 +3,8 @@
  * moves (the real Franka set's joint 3 moves 0.51 deg while the others move 51-122 deg).
  *
  *   bench-estset [--seeds N] [--draws K] [--stable D] [--stable-geometries G] [--robots panda,puma560]
- *                [--views 12,25] [--noise 0.2,0.5] [--focal known,shared] [--csv FILE]
+ *                [--views 12,25] [--noise 0.2,0.5] [--focal known,shared] [--kinematic-prior K]
+ *                [--alternatives BOOL] [--tables main,add] [--csv FILE]
  *
  * Per robot (its stuck joint: the Panda's j3, a 6-axis arm's wrist j5), number of calibration views,
  * focal mode, noise level and seed: a true robot with seeded errors (vpSelfCalibSimulator, 80 points
@@ -44,6 +45,11 @@
  * expected error over robots drawn so). The targets column says "beyond the bound" where the Bayes
  * estimator's gain is short of the target, "beyond the tolerances' bound" where it is not but every
  * estimator from what a user states (data, nominal model, tolerances) is.
+ * With --kinematic-prior K, the same runs calibrated again with the bundle adjustment's kinematic prior
+ * (calibrate --kinematic-prior K: every candidate estimated, each correction's prior sd its tolerance
+ * / K) and a table of it beside the set rule: its held-out error, worst ratio, gain, and ratio to its
+ * bound (the posterior covariance at the truth, the prior's information included); --alternatives
+ * false leaves out the first-order table (and its full-set runs).
  * Then the same-set check: per robot and noise level, D draws of each of G geometries (12 views, f
  * known): the geometries whose D draws all leave the same list at nominal.
  * Then (--tables add) the poses to add: per robot and seed (12 views, 0.2 px, f known), calibrate, the
@@ -110,10 +116,14 @@ vpSelfCalibDataset noisy(const vpSelfCalibDataset &ds0, double noise, uint64_t s
 }
 
 double g_tolerance_t = 3e-3, g_tolerance_r = 5e-3; // --tolerance
+double g_prior = 0;           // --kinematic-prior: also run the bundle method with that prior (0: not)
+bool g_alternatives = true;   // --alternatives: the other estimators' table (first order)
 
-vpRobotSelfCalibration::Options optionsOf(vpRobotSelfCalibration::FocalMode mode, double noise, unsigned int views)
+vpRobotSelfCalibration::Options optionsOf(vpRobotSelfCalibration::FocalMode mode, double noise, unsigned int views,
+                                          double prior = 0)
 {
   vpRobotSelfCalibration::Options po;
+  po.bundle.kinematic_prior = prior;
   po.tolerance_translation = g_tolerance_t;
   po.tolerance_rotation = g_tolerance_r;
   po.focal_mode = mode;
@@ -127,9 +137,19 @@ vpRobotSelfCalibration::Options optionsOf(vpRobotSelfCalibration::FocalMode mode
 }
 
 vpRobotSelfCalibration::Result calibrate(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds,
-                                         vpRobotSelfCalibration::FocalMode mode, double noise, unsigned int views)
+                                         vpRobotSelfCalibration::FocalMode mode, double noise, unsigned int views,
+                                         double prior = 0)
 {
-  return vpRobotSelfCalibration::run(sim.getNominalChain(), ds, optionsOf(mode, noise, views));
+  return vpRobotSelfCalibration::run(sim.getNominalChain(), ds, optionsOf(mode, noise, views, prior));
+}
+
+//! The parameters the kinematic prior held (the data alone leave them at nominal), or "none".
+std::string heldByPrior(const vpRobotSelfCalibration::Result &r)
+{
+  std::string s;
+  for (const auto &u : r.identifiability.held_by_prior)
+    s += (s.empty() ? "" : " ") + u.name;
+  return s.empty() ? "none" : s;
 }
 
 std::string leftByData(const vpRobotSelfCalibration::Result &r)
@@ -165,16 +185,30 @@ struct Row {
   bench::Stats alt_gain[7];
   double full_measured2 = 0, full_nominal2 = 0, full_worst = 0;
   unsigned int full_pairs = 0, full_failed = 0;
+  // --kinematic-prior: the same runs with the prior (its posterior covariance the bound).
+  unsigned int prior_ok = 0, prior_doubtful = 0, prior_failed = 0, prior_pairs = 0;
+  std::map<std::string, unsigned int> prior_held;
+  double prior_calibrated2 = 0, prior_nominal2 = 0, prior_bound2 = 0, prior_e2_bounded = 0, prior_worst = 0;
+  bench::Stats prior_gain;
+  // The set rule's figures on the runs the prior's row counts (both ok or doubtful).
+  double set_e2 = 0;
 };
 
 //! The Cramer-Rao bound of the set r estimated, at the truth, propagated to the held-out pairs (sum of variances).
 bool boundOf(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds0, unsigned int views,
              const std::vector<vpColVector> &held, const vpRobotSelfCalibration::Result &r,
-             vpRobotSelfCalibration::FocalMode mode, double noise, std::vector<double> &pred)
+             vpRobotSelfCalibration::FocalMode mode, double noise, std::vector<double> &pred, double prior = 0)
 {
   vpKinematicBundleAdjustment::Options bo;
   bo.intrinsics = mode == vpRobotSelfCalibration::FOCAL_KNOWN ? 0u : vpKinematicBundleAdjustment::FX;
   bo.estimated_set = r.identifiability;
+  // With the prior, the bound is the posterior covariance at the run's tolerances (the prior's sd).
+  const vpRobotSelfCalibration::Options po = optionsOf(mode, noise, views, prior);
+  bo.kinematic_prior = prior;
+  bo.tolerance_translation = po.tolerance_translation;
+  bo.tolerance_rotation = po.tolerance_rotation;
+  bo.tolerance_hand_eye_translation = po.tolerance_hand_eye_translation;
+  bo.tolerance_hand_eye_rotation = po.tolerance_hand_eye_rotation;
   vpSelfCalibNoiseModel bn;
   bn.pixel_sd = noise;
   const std::vector<vpSelfCalibDataset::View> cal(ds0.views.begin(), ds0.views.begin() + views);
@@ -563,6 +597,48 @@ std::string againstTruth(const vpSelfCalibSimulator &sim, const vpKinematicChain
   return os.str();
 }
 
+/*
+  --kinematic-prior: the bundle method with the prior on the same noisy views (the set rule's run's
+  errors `set_errors` beside it): its held-out error, gain, and ratio to its bound (the posterior
+  covariance at the truth, the prior's information included).
+*/
+void runWithPrior(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, const vpSelfCalibDataset &ds,
+                  const std::vector<vpColVector> &held, unsigned int views, vpRobotSelfCalibration::FocalMode mode,
+                  double noise, const std::vector<double> &nominal_errors, const std::vector<double> &set_errors,
+                  Row &row, const std::string &tag)
+{
+  const auto r = calibrate(clean, ds, mode, noise, views, g_prior);
+  if (r.status != vpRobotSelfCalibration::OK && r.status != vpRobotSelfCalibration::DOUBTFUL) {
+    ++row.prior_failed;
+    std::cerr << "\n" << tag << ": with the prior: " << vpRobotSelfCalibration::statusName(r.status) << ": "
+              << r.message << "\n";
+    return;
+  }
+  (r.status == vpRobotSelfCalibration::OK ? row.prior_ok : row.prior_doubtful)++;
+  if (r.status == vpRobotSelfCalibration::DOUBTFUL)
+    for (const auto &f : r.findings)
+      if (f.severity == vpSelfCalibDataCheck::DOUBT)
+        std::cerr << "\n" << tag << ": with the prior: doubtful: " << f.code << ": " << f.message << "\n";
+  ++row.prior_held[heldByPrior(r)];
+  const std::vector<vpSelfCalibDataset::View> hv(ds0.views.begin() + views, ds0.views.end());
+  const std::vector<double> e = bench::verifyAgainstTruth(clean, r.calibrated, r.camera, hv).position_errors;
+  const double e_cal = rms(e), e_nom = rms(nominal_errors);
+  row.prior_worst = std::max(row.prior_worst, e_cal / e_nom);
+  row.prior_gain.add(e_nom / e_cal);
+  std::vector<double> pred;
+  const bool bound = boundOf(clean, ds0, views, held, r, mode, noise, pred, g_prior);
+  for (size_t k = 0; k < e.size() && k < nominal_errors.size() && k < set_errors.size(); ++k) {
+    row.prior_calibrated2 += e[k] * e[k];
+    row.prior_nominal2 += nominal_errors[k] * nominal_errors[k];
+    row.set_e2 += set_errors[k] * set_errors[k];
+    ++row.prior_pairs;
+    if (bound && k < pred.size()) {
+      row.prior_bound2 += pred[k];
+      row.prior_e2_bounded += e[k] * e[k];
+    }
+  }
+}
+
 void runOnce(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, const std::vector<vpColVector> &held,
              unsigned int views, vpRobotSelfCalibration::FocalMode mode, double noise, uint64_t draw_seed,
              const std::vector<double> &nominal_errors, Row &row, bench::Csv &csv, const std::string &tag)
@@ -606,7 +682,10 @@ void runOnce(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, c
       ++run_pairs;
     }
   }
-  const Alternatives alt = alternativesOf(clean, ds0, ds, views, held, r, mode, noise, e_nom, draw_seed);
+  if (g_prior > 0)
+    runWithPrior(clean, ds0, ds, held, views, mode, noise, nominal_errors, v.position_errors, row, tag);
+  const Alternatives alt =
+      g_alternatives ? alternativesOf(clean, ds0, ds, views, held, r, mode, noise, e_nom, draw_seed) : Alternatives();
   if (alt.ok) {
     row.alt_today += alt.today;
     row.alt_oracle += alt.oracle;
@@ -818,6 +897,34 @@ std::string mostFrequent(const std::map<std::string, unsigned int> &sets)
   it (the Bayes estimator's mean gain over the runs and the first-order noise draws: "beyond the bound") or any estimator of
   what a user states (the set rules and the tolerance priors: "beyond the tolerances' bound").
 */
+//! The --kinematic-prior table's row: the prior beside the set rule on the same runs.
+std::string priorRow(const std::string &robot, unsigned int stuck, unsigned int views, const std::string &focal,
+                     double noise, const Row &row, double set_crb_ratio)
+{
+  std::string common;
+  unsigned int most = 0;
+  for (const auto &s : row.prior_held)
+    if (s.second > most) {
+      most = s.second;
+      common = s.first;
+    }
+  const double n = std::max(1u, row.prior_pairs);
+  const double crb = row.prior_bound2 > 0 ? std::sqrt(row.prior_e2_bounded / row.prior_bound2) : NAN;
+  const double target = views >= 25 ? 5.0 : 3.0;
+  const bool met = row.prior_failed == 0 && row.prior_doubtful == 0 && row.prior_worst < 1 &&
+                   row.prior_gain.mean() >= target && crb <= 1.3;
+  std::ostringstream os;
+  os << std::fixed << "| " << robot << " | j" << stuck + 1 << " | " << views << " | " << focal << " | "
+     << std::setprecision(1) << noise << " | " << row.prior_ok << " | " << row.prior_doubtful << " | " << row.prior_failed
+     << " | " << common << " | " << std::setprecision(3) << 1e3 * std::sqrt(row.prior_nominal2 / n) << " | "
+     << 1e3 * std::sqrt(row.set_e2 / n) << " | " << std::setprecision(2) << row.worst << " | "
+     << bench::meanSd(row.gain, 1, 1) << " | " << set_crb_ratio << " | " << std::setprecision(3)
+     << 1e3 * std::sqrt(row.prior_calibrated2 / n) << " | " << 1e3 * std::sqrt(row.prior_bound2 / n) << " | "
+     << std::setprecision(2) << row.prior_worst << " | " << bench::meanSd(row.prior_gain, 1, 1) << " | " << crb << " | "
+     << (focal == "known" ? (met ? "met" : "NOT met") : "(not claimed)") << " |\n";
+  return os.str();
+}
+
 std::string verdict(bool met, const Row &row, double target_gain)
 {
   if (met)
@@ -985,6 +1092,15 @@ int main(int argc, char **argv)
         ->type_name("T,R")
         ->delimiter(',')
         ->expected(2);
+    app.add_option("--kinematic-prior", g_prior,
+                   "also run the bundle method with the kinematic prior (calibrate --kinematic-prior K: each "
+                   "correction's prior sd its tolerance / K) on the same runs, and print its table beside the set "
+                   "rule's (default 0: not run)")
+        ->type_name("K")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--alternatives", g_alternatives,
+                   "the other estimators' table (first order; the full set also run) (default true)")
+        ->type_name("BOOL");
     app.add_option("--csv", csv_path, "one row per run")->type_name("FILE");
     std::vector<std::string> tables = {"main", "add"};
     app.add_option("--tables", tables,
@@ -1011,7 +1127,7 @@ int main(int argc, char **argv)
               << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     const auto t_start = std::chrono::steady_clock::now();
     bool all_met = true;
-    std::ostringstream alternatives;
+    std::ostringstream alternatives, prior_rows;
     const bool main_table = std::find(tables.begin(), tables.end(), "main") != tables.end();
     const bool add_table = std::find(tables.begin(), tables.end(), "add") != tables.end();
     for (const std::string &robot : robots) {
@@ -1055,6 +1171,7 @@ int main(int argc, char **argv)
             if (mode == vpRobotSelfCalibration::FOCAL_KNOWN)
               all_met = all_met && met;
             alternatives << alternativesRow(robot, stuck, views, focal, noise, row);
+            prior_rows << priorRow(robot, stuck, views, focal, noise, row, crb);
             std::cout << std::fixed << "| " << robot << " | j" << stuck + 1 << " | " << views << " | " << focal << " | "
                       << std::setprecision(1) << noise << " | " << row.ok << " | " << row.doubtful << " | " << row.failed
                       << " | " << common << " | " << row.sets.size() << " | " << std::setprecision(3)
@@ -1072,7 +1189,18 @@ int main(int argc, char **argv)
           }
         }
     }
-    if (main_table)
+    if (main_table && g_prior > 0)
+      std::cout << "\n\nthe same runs, the bundle method with the kinematic prior (calibrate --kinematic-prior "
+                << std::defaultfloat << g_prior << ": each correction's prior sd its tolerance / " << g_prior
+                << "), the set rule's figures beside (RMS over the runs both calibrated; the worst ratio, the gain and "
+                   "the CRB ratio as in the first table):\n\n"
+                << "| robot | stuck | views | focal | noise (px) | ok | doubtful | failed | held by the prior (most "
+                   "frequent) | nominal RMS (mm) | set rule: RMS (mm) | set rule: worst cal/nom | set rule: gain (mean) | "
+                   "set rule: CRB ratio | prior: RMS (mm) | prior: posterior CRB RMS (mm) | prior: worst cal/nom | "
+                   "prior: gain (mean) | prior: CRB ratio | targets (prior) |\n"
+                << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
+                << prior_rows.str();
+    if (main_table && g_alternatives)
       std::cout << "\n\nthe same runs, other estimators (their expected held-out error to first order at the truth, "
                    "over the same runs; the full set also run):\n\n"
                 << "| robot | stuck | views | focal | noise (px) | nominal RMS (mm) | set's RMS, expected (mm) | "

@@ -618,6 +618,29 @@ vpKinematicIdentification::Identifiability setOf(const vpKinematicChain &start, 
 }
 
 /*
+  The kinematic prior (Settings::kinematic_prior): the parameters the data alone leave at nominal
+  (cause DATA) are estimated too, held by the prior; they move from `unidentifiable` to `identified`
+  and are listed in held_by_prior. The set's bias (columns the parameters left) is then 0.
+*/
+void holdByPrior(vpKinematicIdentification::Identifiability &set)
+{
+  std::vector<vpKinematicIdentification::Unidentifiable> left;
+  for (const auto &u : set.unidentifiable)
+    if (u.cause == vpKinematicIdentification::CAUSE_DATA) {
+      set.held_by_prior.push_back(u);
+      set.identified.push_back(u.index);
+    } else
+      left.push_back(u);
+  if (set.held_by_prior.empty())
+    return;
+  set.unidentifiable = left;
+  std::sort(set.identified.begin(), set.identified.end());
+  set.identified.erase(std::unique(set.identified.begin(), set.identified.end()), set.identified.end());
+  set.rank = static_cast<unsigned int>(set.identified.size());
+  set.bias = vpMatrix(static_cast<unsigned int>(set.identified.size()), static_cast<unsigned int>(left.size()), 0.0);
+}
+
+/*
   The message of a singular information matrix: every cause that makes it singular named, the
   observations kept first (after many rejected matches the few left are the likelier cause than the
   poses' geometry), then the parameters not determined.
@@ -713,13 +736,21 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     res.message = refused;
     return res;
   }
+  const bool prior = opt.kinematic_prior > 0 && !opt.hand_eye_only;
+  if (prior)
+    holdByPrior(res.identifiability);
   int n_joint = 0;
   bool camera_delta = false;
   const std::vector<double> joint_sd = fullModeSd(start, opt, noise, n_joint, camera_delta);
   Adjustment a(X0, start, res.identifiability.identified, q, fMe, opt.hand_eye_only && noise.hasPoseError(), joint_sd,
                n_joint, camera_delta);
   a.noise = noise;
-  a.scale_prior = solve && !opt.hand_eye_only;
+  a.scale_prior = solve && !opt.hand_eye_only && !prior;
+  if (prior) {
+    res.kinematic_prior = opt.kinematic_prior;
+    for (unsigned int i : res.identifiability.identified)
+      a.prior_sd.push_back(toleranceOf(i, start.getNumJoints(), opt) / opt.kinematic_prior);
+  }
   a.state.inverted = opt.hand_eye_only && opt.controller_poses_inverted;
   a.state.eye_to_hand = opt.eye_to_hand;
   a.P = static_cast<int>(res.identifiability.identified.size());
@@ -770,6 +801,8 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     if (solve && decided_here && robotLevelGuessed(noise)) {
       KBA::Options again = opt;
       again.estimated_set = setOf(start, camera, views, yardstick, X0, q, fMe, opt, res.noise, refused);
+      if (prior)
+        holdByPrior(again.estimated_set);
       if (refused.empty() && again.estimated_set.identified != res.identifiability.identified) {
         KBA::Result r = run(start, camera, views, yardstick, points0, again, res.noise, solve);
         r.robot_error_confounded = r.robot_error_confounded || res.robot_error_confounded; // stays merged
@@ -844,6 +877,10 @@ void vpKinematicBundleAdjustment::Settings::check() const
       !(tolerance_hand_eye_rotation > 0) || !(separation_tolerance > 0 && separation_tolerance < 1))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: the tolerances must be positive, separation_tolerance in (0, 1)");
+  if (!(kinematic_prior >= 0) || !std::isfinite(kinematic_prior))
+    throw vpSelfCalibException(vpSelfCalibException::badValue,
+                               "vpKinematicBundleAdjustment: kinematic_prior must be finite and positive (the prior's sd "
+                               "is the tolerance over it), or 0 for no prior");
   if (!(known_points_sd > 0) || !std::isfinite(known_points_sd))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: known_points_sd must be positive and finite");

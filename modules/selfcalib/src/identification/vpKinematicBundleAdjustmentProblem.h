@@ -93,6 +93,11 @@ struct Adjustment {
   double scale_variance = 0;    //!< the relative variance of the scale held (scaleGauge())
   //! The nominal lengths' prior on the scale held counted in the covariance (adjust(), not information()).
   bool scale_prior = false;
+  /*!
+    The kinematic prior (Settings::kinematic_prior): the sd of each correction's prior residual, about
+    rho0 (empty: no prior). It holds the scale too: no scale gauge then.
+  */
+  std::vector<double> prior_sd;
   bool scale_covariance = false, scale_covariance_chi2 = false;
   /*!
     The robot's error measured in full mode: the image noise's sd the pixels are weighed at, over

@@ -7,6 +7,8 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -230,6 +232,22 @@ void parseParameterLists(const Reader &r, const YAML::Node &root, vpSelfCalibDat
   }
 }
 
+//! The kinematic prior (kinematic_prior: off, tolerance, tolerance/K or K, K above 0 and at most 1000), when given.
+void parseKinematicPrior(const Reader &r, const YAML::Node &root, vpSelfCalibDataset &ds)
+{
+  if (!root["kinematic_prior"])
+    return;
+  const std::string v = r.text(root["kinematic_prior"], "kinematic_prior");
+  if (v == "off")
+    return;
+  const std::string k = v == "tolerance" ? "1" : v.rfind("tolerance/", 0) == 0 ? v.substr(10) : v;
+  char *end = nullptr;
+  const double d = std::strtod(k.c_str(), &end);
+  if (k.empty() || end != k.c_str() + k.size() || !std::isfinite(d) || !(d > 0) || d > 1e3)
+    r.fail("kinematic_prior", "expected off, tolerance, tolerance/K or K (K above 0, at most 1000), got '" + v + "'");
+  ds.kinematic_prior = d;
+}
+
 //! A pose's points [id, u, v] (pixels through the inverse of the lens distortion when it has one).
 void parsePoints(const Reader &r, const YAML::Node &pts, const std::string &key, bool has_distortion,
                  const vpSelfCalib::CameraModel &camera, vpSelfCalibDataset::View &v)
@@ -344,7 +362,7 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
   if (!root.IsMap())
     throw vpSelfCalibException(vpSelfCalibException::parseError,
                                std::string(kWhat) + " " + source + ": expected a YAML map at the top level");
-  r.onlyKeys(root, {"camera", "camera_xml", "robot", "camera_mount", "robot_error", "poses", "yardstick", "fix", "free"}, "");
+  r.onlyKeys(root, {"camera", "camera_xml", "robot", "camera_mount", "robot_error", "poses", "yardstick", "fix", "free", "kinematic_prior"}, "");
   vpSelfCalibDataset ds;
   if (root["camera_mount"]) {
     const std::string mount = r.text(root["camera_mount"], "camera_mount");
@@ -358,6 +376,7 @@ vpSelfCalibDataset parse(const YAML::Node &root, const std::string &source, cons
   bool has_distortion = false;
   parseRobotError(r, root, ds);
   parseParameterLists(r, root, ds);
+  parseKinematicPrior(r, root, ds);
   parseCamera(r, root, base_dir, ds, distorted, has_distortion);
   const vpSelfCalib::CameraModel camera = vpSelfCalib::CameraModel::fromVisp(distorted);
 
@@ -491,6 +510,8 @@ std::string vpSelfCalibDataset::toYamlString(const std::string &base_dir) const
         out << n;
       out << YAML::EndSeq;
     }
+  if (kinematic_prior > 0)
+    out << YAML::Key << "kinematic_prior" << YAML::Value << kinematic_prior;
   out << YAML::Key << "poses" << YAML::Value << YAML::BeginSeq;
   for (const View &v : views) {
     out << YAML::BeginMap;

@@ -613,6 +613,19 @@ void parametersSection(std::ostream &md, const vpSelfCalibReport::Record &run, c
     else if (u.cause == Ident::CAUSE_DATA)
       by_data += "| " + u.name + " | " + u.reason + " | " + u.needs + " |\n";
   md << "Fixed by the user (--fix, the dataset's fix:): " << (fixed.empty() ? "none" : fixed) << ".\n\n";
+  if (r.bundle.kinematic_prior > 0) {
+    md << "Estimated with a prior on every kinematic correction (--kinematic-prior): its sd the tolerance / "
+       << r.bundle.kinematic_prior << "; the sd above include it.";
+    std::string held;
+    for (const auto &u : r.identifiability.held_by_prior)
+      held += "| " + u.name + " | " + u.reason + " | " + u.needs + " |\n";
+    if (held.empty())
+      md << "\n\n";
+    else
+      md << " Held by the prior (estimated, but the data alone do not determine them: they stay near nominal):\n\n"
+            "| parameter | why | what would determine it |\n|---|---|---|\n"
+         << held << "\n";
+  }
   if (!by_data.empty())
     md << "Left at nominal by the data (they do not determine them):\n\n| parameter | why | what would determine it "
           "|\n|---|---|---|\n"

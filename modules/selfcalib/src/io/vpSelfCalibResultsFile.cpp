@@ -84,10 +84,15 @@ RF::BundleAdjustment bundleOf(const vpRobotSelfCalibration::Result &r)
 
 //! How the set was chosen (vpKinematicIdentification): the same robot and poses give the same set.
 RF::EstimatedSet estimatedSetOf(const vpKinematicIdentification::Identifiability &ident,
-                                const std::vector<std::string> &names)
+                                const std::vector<std::string> &names, double kinematic_prior)
 {
   RF::EstimatedSet s;
   s.rule = kRule;
+  s.kinematic_prior = kinematic_prior;
+  for (const auto &u : ident.held_by_prior) {
+    s.held_by_prior.push_back({u.name, u.reason, u.needs});
+    s.rule = kDataRule;
+  }
   for (const auto &u : ident.unidentifiable)
     if (u.cause == vpKinematicIdentification::CAUSE_FIXED)
       s.fixed_by_user.push_back(u.name);
@@ -313,6 +318,20 @@ void emitEstimated(YAML::Emitter &out, const RF::Contents &c)
       out << YAML::Key << "left_by_data" << YAML::Comment("kept at nominal: the data do not determine them") << YAML::Value
           << YAML::BeginMap;
       for (const auto &l : s.left_by_data)
+        out << YAML::Key << l.name << YAML::Value << YAML::BeginMap << YAML::Key << "reason" << YAML::Value
+            << YAML::DoubleQuoted << l.reason << YAML::Key << "needs" << YAML::Value << YAML::DoubleQuoted << l.needs
+            << YAML::EndMap;
+      out << YAML::EndMap;
+    }
+    if (s.kinematic_prior > 0)
+      out << YAML::Key << "kinematic_prior"
+          << YAML::Comment("K: each correction's prior sd is its tolerance / K (the sd include the prior)")
+          << YAML::Value << s.kinematic_prior;
+    if (!s.held_by_prior.empty()) {
+      out << YAML::Key << "held_by_prior"
+          << YAML::Comment("estimated, but the data alone do not determine them: the prior holds them near nominal")
+          << YAML::Value << YAML::BeginMap;
+      for (const auto &l : s.held_by_prior)
         out << YAML::Key << l.name << YAML::Value << YAML::BeginMap << YAML::Key << "reason" << YAML::Value
             << YAML::DoubleQuoted << l.reason << YAML::Key << "needs" << YAML::Value << YAML::DoubleQuoted << l.needs
             << YAML::EndMap;
@@ -553,6 +572,12 @@ void readEstimated(const In &in, const YAML::Node &root, RF::Contents &c)
       for (const auto &kv : s["left_by_data"])
         e.left_by_data.push_back({kv.first.as<std::string>(), in.get<std::string>(kv.second, "reason"),
                                   in.get<std::string>(kv.second, "needs")});
+    if (s["kinematic_prior"])
+      e.kinematic_prior = in.get<double>(s, "kinematic_prior");
+    if (s["held_by_prior"])
+      for (const auto &kv : s["held_by_prior"])
+        e.held_by_prior.push_back({kv.first.as<std::string>(), in.get<std::string>(kv.second, "reason"),
+                                   in.get<std::string>(kv.second, "needs")});
     c.estimated_set = e;
   }
   if (root["verification"]) {
@@ -670,7 +695,7 @@ vpSelfCalibResultsFile::Contents vpSelfCalibResultsFile::fromRun(const vpRobotSe
   for (const auto &u : r.identifiability.unidentifiable)
     c.not_estimated.emplace_back(u.name, u.reason);
   if (!r.identifiability.order.empty())
-    c.estimated_set = estimatedSetOf(r.identifiability, names);
+    c.estimated_set = estimatedSetOf(r.identifiability, names, r.bundle.kinematic_prior);
   if (r.verified)
     c.verification = Verification{r.before.yardstick_error, r.after.yardstick_error, r.before.reprojection_rms,
                                   r.after.reprojection_rms};

@@ -121,8 +121,8 @@ namespace
 {
 /*
   The bundle adjustment's estimated-set settings from the run's options and the dataset: the nominal
-  model's tolerance (a parameter whose predicted sd would exceed it stays nominal) and the dataset's
-  fix / free lists added to the caller's.
+  model's tolerance (a parameter whose predicted sd would exceed it stays nominal), the dataset's
+  fix / free lists added to the caller's, and the dataset's kinematic prior when the caller sets none.
 */
 vpKinematicBundleAdjustment::Options withEstimatedSetOptions(vpKinematicBundleAdjustment::Options o,
                                                              const vpRobotSelfCalibration::Options &options,
@@ -138,6 +138,8 @@ vpKinematicBundleAdjustment::Options withEstimatedSetOptions(vpKinematicBundleAd
   for (const std::string &f : dataset.free)
     if (std::find(o.free.begin(), o.free.end(), f) == o.free.end())
       o.free.push_back(f);
+  if (!(o.kinematic_prior > 0) && !o.hand_eye_only)
+    o.kinematic_prior = dataset.kinematic_prior;
   return o;
 }
 } // namespace

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 
 #include <visp3/core/vpMeterPixelConversion.h>
 #include <visp3/core/vpXmlParserCamera.h>
@@ -270,4 +271,23 @@ TEST(DatasetYaml, FixAndFreeListsRoundTrip)
   EXPECT_NE(parseError(kHead + "fix: j3.tx\n" + poses).find("key 'fix': expected a list of parameter names"), std::string::npos)
       << parseError(kHead + "fix: j3.tx\n" + poses);
   EXPECT_NE(parseError(kHead + "free: ['']\n" + poses).find("free[0]"), std::string::npos);
+}
+
+// The kinematic prior: written and read back, its forms (off, tolerance, tolerance/K, K), bad values refused.
+TEST(DatasetYaml, KinematicPriorRoundTripsAndRefusesBadValues)
+{
+  vpSelfCalibDataset ds = simulated(true);
+  EXPECT_EQ(ds.kinematic_prior, 0);
+  EXPECT_TRUE(ds.toYamlString().find("kinematic_prior") == std::string::npos);
+  ds.kinematic_prior = 3;
+  EXPECT_EQ(vpSelfCalibDataset::fromYamlString(ds.toYamlString()).kinematic_prior, 3);
+  const std::string poses = "poses:\n  - {joints: [0, 0, 0, 0, 0, 0]}\n";
+  const std::map<std::string, double> good = {{"off", 0}, {"tolerance", 1}, {"tolerance/3", 3}, {"2.5", 2.5}};
+  for (const auto &g : good)
+    EXPECT_EQ(vpSelfCalibDataset::fromYamlString(kHead + "kinematic_prior: " + g.first + "\n" + poses).kinematic_prior,
+              g.second)
+        << g.first;
+  for (const std::string bad : {"0", "-1", "tolerance/0", "tolerance/-3", "nan", "inf", "tolerance/", "loose"})
+    EXPECT_NE(parseError(kHead + "kinematic_prior: " + bad + "\n" + poses).find("kinematic_prior"), std::string::npos)
+        << bad;
 }

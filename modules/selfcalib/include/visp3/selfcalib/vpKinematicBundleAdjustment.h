@@ -74,7 +74,9 @@
     (SCALE_YARDSTICK). Without, the component of rho along the scale direction (the least-squares
     combination of corrections that scales every camera position about a point of the first joint
     axis) is held at its start value (SCALE_NOMINAL: the start model's scale, the nominal one in
-    the pipeline), and the result says so.
+    the pipeline), and the result says so. With the kinematic prior (Settings::kinematic_prior) the
+    prior holds it instead: no separate gauge, the prior's weight on the scale direction the nominal
+    lengths' own.
 
   Noise (vpSelfCalibNoiseModel, passed to adjust() and information()): pixel_sd weighs the
   reprojection residuals, loss and loss_scale make the robust stages, outlier_threshold the rejection.
@@ -156,6 +158,20 @@ public:
       times the one it would have alone).
     */
     double separation_tolerance = 1e-8;
+    /*!
+      Full kinematic mode: a prior on every estimated correction, k (0, default: none). Each one
+      gets the residual (rho_i - rho_ref,i) / (tol_i / k) beside the pixels, tol_i its tolerance
+      (tolerance_*) and rho_ref the model whose scale is held (scale_reference, else the start's):
+      the nominal model in the pipeline. k = 1: the tolerance is one sd of the nominal model's
+      error; 3: it is three. With the prior every candidate of the rule is estimated: those the data
+      alone do not determine (the set from the data would leave them at nominal) are estimated too,
+      held near nominal by the prior, and listed in Result::identifiability.held_by_prior with the
+      reason and what would determine them. The prior also holds the scale without a yardstick (no
+      separate gauge: its weight on the scale direction is the nominal lengths' own). The covariance
+      and the sd are the posterior ones, (J^T J + P)^-1 with P = diag((k / tol_i)^2): the Cramér-Rao
+      bound of the estimate with that prior (information() gives it at any state).
+    */
+    double kinematic_prior = 0;
     /*!
       Without a yardstick (SCALE_NOMINAL), the corrections of the model whose scale is held (all of
       the chain's, vpKinematicChain::getParameters(), the start's DH table): the gauge holds the
@@ -301,6 +317,8 @@ public:
       lengths) and what is propagated from them include the scale's error. 0 otherwise.
     */
     double nominal_scale_sd = 0;
+    //! The k of the kinematic prior the corrections were estimated with (Settings::kinematic_prior; 0: none).
+    double kinematic_prior = 0;
     bool has_layout_scale = false;
     double layout_scale = 1;
     double layout_scale_sd = 0;
@@ -452,7 +470,9 @@ public:
   /*!
     The estimated set adjust() decides for these data (see "The estimated set from the data"), at the
     start values given, without solving: to give a start identification the same set
-    (Options::estimated_set). Throws as adjust().
+    (Options::estimated_set). With Settings::kinematic_prior, adjust() given this set estimates in
+    addition the parameters it leaves at nominal by the data (cause CAUSE_DATA), held by the prior
+    (Identifiability::held_by_prior). Throws as adjust().
   */
   static vpKinematicIdentification::Identifiability estimatedSet(const vpKinematicChain &start,
                                                                  const vpCameraParameters &camera,

@@ -133,6 +133,13 @@ public:
       values (the scale direction held as in the solve; 0 in the columns of the other causes).
     */
     vpMatrix bias;
+    /*!
+      vpKinematicBundleAdjustment with a kinematic prior (Settings::kinematic_prior): the parameters
+      the data alone do not determine (those the set from the data would leave at nominal, with that
+      reason and what would determine them, cause CAUSE_DATA), estimated nonetheless and held near
+      their nominal value by the prior. They are also in `identified`. Empty otherwise.
+    */
+    std::vector<Unidentifiable> held_by_prior;
   };
 
   //! A pair of identified parameters whose correlation exceeds the reporting threshold.

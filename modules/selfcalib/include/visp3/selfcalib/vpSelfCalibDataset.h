@@ -57,6 +57,7 @@
   yardstick: {length: 0.1, ends: [80, 81]}   # optional; without ends: dots found in the images
   fix: [j3.*, base.*]             # optional: parameters kept nominal (names or glob patterns)
   free: [j2.tz]                   # optional: parameters estimated whatever their predicted sd
+  kinematic_prior: tolerance/3    # optional: a prior on every kinematic correction, sd tolerance / K
   \endcode
 */
 struct VISP_SELFCALIB_EXPORT vpSelfCalibDataset {
@@ -118,6 +119,12 @@ struct VISP_SELFCALIB_EXPORT vpSelfCalibDataset {
     pipeline adds them to its bundle adjustment's (vpKinematicBundleAdjustment::Options fixed, free).
   */
   std::vector<std::string> fix, free;
+  /*!
+    The bundle adjustment's kinematic prior the dataset asks for, K (each correction's prior sd its
+    tolerance / K; vpKinematicBundleAdjustment::Settings::kinematic_prior), used when the caller's
+    options set none; 0: none. In the file: off, tolerance (1), tolerance/K or K.
+  */
+  double kinematic_prior = 0;
   std::vector<View> views;
   Yardstick yardstick;
 

@@ -55,7 +55,9 @@
     fixed_by_user: [names], left_by_data: {name: {reason, needs}}}`, the new-direction figures
     written with 3 significant digits; fixed_by_user and left_by_data are written when not empty
     (the parameters the user fixed, and those the data do not determine, kept at nominal with the
-    reason and what would determine them).
+    reason and what would determine them); with the bundle adjustment's kinematic prior
+    `kinematic_prior: K` (the prior's sd: the tolerance / K) and, when not empty,
+    `held_by_prior: {name: {reason, needs}}` (estimated, but determined by the prior, not the data).
   - `verification` (opt., a split with held-out views): `yardstick_error_nominal`,
     `yardstick_error_calibrated`, `reprojection_rms_nominal`, `reprojection_rms_calibrated`.
   - `protocol`: `{calibration_views, held_out_views, folds}`.
@@ -131,6 +133,10 @@ public:
       std::string name, reason, needs;
     };
     std::vector<LeftByData> left_by_data;
+    //! The bundle adjustment's kinematic prior, K (the prior's sd: the tolerance / K); 0: none.
+    double kinematic_prior = 0;
+    //! With the prior: the parameters the data alone do not determine, estimated and held near nominal by the prior.
+    std::vector<LeftByData> held_by_prior;
   };
   //! The `verification` block of results.yaml.
   struct Verification {

@@ -1,0 +1,249 @@
+/*
+ * Tests of the kinematic prior of vpKinematicBundleAdjustment (Settings::kinematic_prior): the
+ * residual's Jacobian, exact recovery when the prior's centre is the truth, the pull of a prior
+ * centred off the truth bounded by its weight, the posterior covariance against (J^T J + P)^-1, the
+ * parameters the data leave to the prior named, and bad values refused.
+ */
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <visp3/selfcalib/vpKinematicBundleAdjustment.h>
+#include <visp3/selfcalib/vpSelfCalibException.h>
+#include <visp3/selfcalib/vpSelfCalibSimulator.h>
+
+#include "../testCommon.h"
+#include "identification/vpKinematicBundleAdjustmentCosts.h"
+
+using namespace selfcalib_test;
+
+namespace
+{
+using KBA = vpKinematicBundleAdjustment;
+
+std::vector<double> parametersOf(const vpKinematicChain &c)
+{
+  const vpColVector p = c.getParameters();
+  return std::vector<double>(p.data, p.data + p.size());
+}
+
+/*!
+  A nominal model the truth differs from only in the parameters the adjustment estimates with the
+  prior (the rule's candidates: those the data determine and those they leave): the true robot with
+  those reset to the simulator's nominal values. The truth is then a point of the estimate's space
+  (the base, joint 1 and the rule's redundant twins, which images cannot see or which fold into
+  others, are at their true values in both).
+*/
+vpKinematicChain nominalOfTheSet(const vpSelfCalibSimulator &sim, const vpKinematicIdentification::Identifiability &set)
+{
+  vpColVector p = sim.getTrueChain().getParameters();
+  const vpColVector nominal = sim.getNominalChain().getParameters();
+  for (unsigned int i : set.identified)
+    p[i] = nominal[i];
+  for (const auto &u : set.unidentifiable)
+    if (u.cause == vpKinematicIdentification::CAUSE_DATA)
+      p[u.index] = nominal[u.index];
+  vpKinematicChain c = sim.getTrueChain();
+  c.setParameters(p);
+  return c;
+}
+
+//! The prior's sd of chain parameter i (KBA::Settings::kinematic_prior's tolerance / k).
+double priorSd(unsigned int i, unsigned int joints, const KBA::Options &o)
+{
+  const bool eMc = i / vpKinematicChain::kBlockSize == joints + 1, t = i % vpKinematicChain::kBlockSize < 3;
+  return (eMc ? (t ? o.tolerance_hand_eye_translation : o.tolerance_hand_eye_rotation)
+              : (t ? o.tolerance_translation : o.tolerance_rotation)) /
+         o.kinematic_prior;
+}
+} // namespace
+
+// The prior residual's analytic Jacobian against central differences.
+TEST(KinematicBundlePrior, ResidualJacobianMatchesFiniteDifferences)
+{
+  const std::vector<double> ref = {0.01, -0.02, 0.3}, sd = {1e-3, 5e-3, 0.2};
+  const vpKinematicBundle::KinematicPriorCost cost(ref, sd);
+  std::vector<double> x = {0.012, -0.05, 0.1};
+  double r[3], J[9];
+  const double *p[] = {x.data()};
+  double *Jp[] = {J};
+  ASSERT_TRUE(cost.Evaluate(p, r, Jp));
+  for (int i = 0; i < 3; ++i)
+    EXPECT_NEAR(r[i], (x[i] - ref[i]) / sd[i], 1e-12);
+  const double h = 1e-7;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> a = x, b = x;
+    a[c] += h;
+    b[c] -= h;
+    double ra[3], rb[3];
+    const double *pa[] = {a.data()}, *pb[] = {b.data()};
+    ASSERT_TRUE(cost.Evaluate(pa, ra, nullptr));
+    ASSERT_TRUE(cost.Evaluate(pb, rb, nullptr));
+    for (int i = 0; i < 3; ++i)
+      EXPECT_NEAR(J[i * 3 + c], (ra[i] - rb[i]) / (2 * h), 1e-6 * std::max(1.0, std::fabs(J[i * 3 + c])));
+  }
+}
+
+/*
+  A PUMA 560 whose wrist joint 5 moves 1 deg over 12 noise-free views: the data leave parameters at
+  nominal. With the prior centred on the true robot (the truth is its own nominal model) the estimate
+  is the truth exactly, every candidate of the rule estimated and those the data alone do not
+  determine named as held by the prior, with their reason and what would determine them.
+*/
+TEST(KinematicBundlePrior, NoiseFreeRecoveryWhenTheTruthIsTheNominalModel)
+{
+  const StuckWrist w(3, 12, 1.0);
+  vpSelfCalibNoiseModel noise;
+  noise.pixel_sd = 0.3;
+  KBA::Options bo;
+  bo.intrinsics = 0;
+  bo.tight = true;
+  const auto without = KBA::adjust(w.sim.getNominalChain(), w.ds.cam, w.ds.views, w.ds.yardstick,
+                                   w.sim.getScenePointsById(), bo, noise);
+  ASSERT_EQ(without.status, KBA::OK) << without.message;
+  const std::vector<std::string> left = leftByData(without.identifiability);
+  ASSERT_FALSE(left.empty());
+  bo.kinematic_prior = 3;
+  bo.scale_reference = parametersOf(w.sim.getTrueChain());
+  const auto r = KBA::adjust(nominalOfTheSet(w.sim, without.identifiability), w.ds.cam, w.ds.views, w.ds.yardstick, w.sim.getScenePointsById(),
+                             bo, noise);
+  ASSERT_EQ(r.status, KBA::OK) << r.message;
+  EXPECT_EQ(r.kinematic_prior, 3);
+  EXPECT_TRUE(leftByData(r.identifiability).empty());
+  std::vector<std::string> held;
+  for (const auto &u : r.identifiability.held_by_prior) {
+    held.push_back(u.name);
+    EXPECT_FALSE(u.reason.empty());
+    EXPECT_NE(u.needs.find("j5 moves"), std::string::npos) << u.name << ": " << u.needs;
+    EXPECT_TRUE(std::binary_search(r.identifiability.identified.begin(), r.identifiability.identified.end(), u.index));
+  }
+  EXPECT_EQ(held, left);
+  EXPECT_EQ(r.identifiability.identified.size(), without.identifiability.identified.size() + left.size());
+  const vpColVector truth = w.sim.getTrueChain().getParameters();
+  for (unsigned int i : r.identifiability.identified)
+    EXPECT_NEAR(r.chain.getParameters()[i], truth[i], 1e-8) << r.chain.getParameterNames()[i];
+  // The sd of a parameter held by the prior is about the prior's, below it.
+  for (const auto &u : r.identifiability.held_by_prior) {
+    const double sd = priorSd(u.index, w.sim.getNominalChain().getNumJoints(), bo);
+    EXPECT_LE(r.sd[u.index], sd * (1 + 1e-9)) << u.name;
+    EXPECT_GT(r.sd[u.index], 0.1 * sd) << u.name;
+  }
+}
+
+/*
+  The prior centred on the nominal model (nominalOfTheSet()), the truth off it, noise-free views: the estimate minimizes
+  pixels' chi-square plus the prior's, which is the prior's chi-square of the truth at the truth. Both
+  parts at the estimate are bounded by it: the pull moves the images by no more than the prior's
+  weight on the truth's error allows. A weaker prior pulls less: the held-out error of the views'
+  relative poses shrinks as K does, and the parameters the data determine approach the truth.
+*/
+TEST(KinematicBundlePrior, PullOfAPriorOffTheTruthIsBoundedByItsWeight)
+{
+  const StuckWrist w(3, 12, 1.0);
+  vpSelfCalibNoiseModel noise;
+  noise.pixel_sd = 0.3;
+  KBA::Options bo;
+  bo.intrinsics = 0;
+  bo.tight = true;
+  bo.covariance = false;
+  const auto set = KBA::estimatedSet(w.sim.getNominalChain(), w.ds.cam, w.ds.views, w.ds.yardstick,
+                                     w.sim.getScenePointsById(), bo, noise);
+  const vpKinematicChain start = nominalOfTheSet(w.sim, set);
+  const vpColVector truth = w.sim.getTrueChain().getParameters(), nominal = start.getParameters();
+  double previous = std::numeric_limits<double>::infinity();
+  for (double k : {3.0, 0.3, 0.03}) {
+    bo.kinematic_prior = k;
+    const auto r = KBA::adjust(start, w.ds.cam, w.ds.views, w.ds.yardstick,
+                               w.sim.getScenePointsById(), bo, noise);
+    ASSERT_EQ(r.status, KBA::OK) << r.message;
+    const unsigned int n = w.sim.getNominalChain().getNumJoints();
+    double prior_truth = 0, prior_estimate = 0, determined = 0;
+    for (unsigned int i : r.identifiability.identified) {
+      const double sd = priorSd(i, n, bo);
+      prior_truth += std::pow((truth[i] - nominal[i]) / sd, 2);
+      prior_estimate += std::pow((r.chain.getParameters()[i] - nominal[i]) / sd, 2);
+    }
+    const double pixels = 2.0 * r.num_observations * r.rms * r.rms / (noise.pixel_sd * noise.pixel_sd);
+    EXPECT_GT(prior_truth, 0);
+    EXPECT_LE(pixels + prior_estimate, prior_truth * (1 + 1e-6)) << "K " << k;
+    for (unsigned int i : r.identifiability.identified) {
+      bool held = false;
+      for (const auto &u : r.identifiability.held_by_prior)
+        held = held || u.index == i;
+      if (!held)
+        determined = std::max(determined, std::fabs(r.chain.getParameters()[i] - truth[i]) / priorSd(i, n, bo) * k);
+    }
+    EXPECT_LT(determined, previous) << "K " << k; // in units of the tolerance
+    previous = determined;
+  }
+  EXPECT_LT(previous, 1e-3); // K 0.03: within a thousandth of the tolerance
+}
+
+/*
+  The covariance with the prior is the posterior one: on a small problem whose data determine every
+  parameter (no yardstick gauge, no parameter left), information() with the prior equals
+  (C^-1 + P)^-1, C the covariance without it (the points and nuisance blocks eliminated: the prior
+  is on the corrections only, so it adds to their information unchanged), P = diag((K / tol)^2) on
+  the corrections and 0 on f.
+*/
+TEST(KinematicBundlePrior, CovarianceIsTheInverseOfTheInformationPlusThePrior)
+{
+  const vpSelfCalibSimulator sim = makeSim("puma560", 7, 0.0);
+  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(8));
+  vpSelfCalibNoiseModel noise;
+  noise.pixel_sd = 0.5;
+  KBA::Options bo; // f estimated too
+  const auto set = KBA::estimatedSet(sim.getTrueChain(), sim.getCamera(), ds.views, ds.yardstick,
+                                     sim.getScenePointsById(), bo, noise);
+  ASSERT_TRUE(leftByData(set).empty());
+  bo.estimated_set = set;
+  const auto c0 = KBA::information(sim.getTrueChain(), sim.getCamera(), ds.views, ds.yardstick, sim.getScenePointsById(),
+                                   bo, noise);
+  ASSERT_TRUE(c0.has_covariance) << c0.message;
+  bo.kinematic_prior = 2;
+  const auto c1 = KBA::information(sim.getTrueChain(), sim.getCamera(), ds.views, ds.yardstick, sim.getScenePointsById(),
+                                   bo, noise);
+  ASSERT_TRUE(c1.has_covariance) << c1.message;
+  ASSERT_EQ(c0.covariance_names, c1.covariance_names);
+  const int N = static_cast<int>(c0.covariance.getRows()), P = static_cast<int>(set.identified.size());
+  ASSERT_EQ(N, P + 1);
+  Eigen::MatrixXd C0(N, N), C1(N, N);
+  for (int r = 0; r < N; ++r)
+    for (int c = 0; c < N; ++c) {
+      C0(r, c) = c0.covariance[r][c];
+      C1(r, c) = c1.covariance[r][c];
+    }
+  Eigen::MatrixXd H = C0.inverse();
+  for (int r = 0; r < P; ++r)
+    H(r, r) += 1.0 / std::pow(priorSd(set.identified[r], sim.getTrueChain().getNumJoints(), bo), 2);
+  const Eigen::MatrixXd expected = H.inverse();
+  for (int r = 0; r < N; ++r)
+    for (int c = 0; c < N; ++c)
+      EXPECT_NEAR(C1(r, c), expected(r, c), 1e-6 * std::sqrt(expected(r, r) * expected(c, c)))
+          << c1.covariance_names[r] << ", " << c1.covariance_names[c];
+  // And the prior tightens every sd.
+  for (unsigned int i : set.identified)
+    EXPECT_LT(c1.sd[i], c0.sd[i]) << sim.getTrueChain().getParameterNames()[i];
+}
+
+// Bad values of the prior are refused: negative, not a number, infinite.
+TEST(KinematicBundlePrior, BadValuesAreRefused)
+{
+  const vpSelfCalibSimulator sim = makeSim("puma560", 7, 0.0);
+  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(6));
+  for (double k : {-1.0, -1e-9, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    KBA::Options bo;
+    bo.kinematic_prior = k;
+    EXPECT_THROW(bo.check(), vpSelfCalibException) << k;
+    EXPECT_THROW(KBA::adjust(sim.getNominalChain(), sim.getCamera(), ds.views, ds.yardstick, sim.getScenePointsById(), bo,
+                             vpSelfCalibNoiseModel()),
+                 vpSelfCalibException)
+        << k;
+  }
+  KBA::Options off;
+  off.kinematic_prior = 0; // no prior: fine
+  EXPECT_NO_THROW(off.check());
+}
