@@ -239,6 +239,10 @@ int calibrate(const CalibrateArgs &a)
               << vpRobotSelfCalibration::statusName(p.run.status) << ": " << p.run.message
               << "\n";
     noteYardstickLength(ds, nominal, p.run.findings);
+    if (cr.front_end_ran && !co.board)
+      std::cerr << "note: the correspondences are the images' natural features (no --board); if the images show a "
+                   "calibration board or a tag, give it: --board SPEC (import names the board it found; calibrate "
+                   "--help lists the types)\n";
     printStatus(p.run, false);
     return 3;
   }
