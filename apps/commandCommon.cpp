@@ -173,6 +173,8 @@ std::vector<vpColVector> readJoints(const std::string &file, const std::string &
       break;
     }
     text.append(buf, static_cast<size_t>(r));
+    if (std::memchr(buf, '\0', static_cast<size_t>(r))) // not text: the line reader names the line
+      break;
   }
   struct stat st;
   if (text.empty() && ::stat(file.c_str(), &st) == 0 && S_ISFIFO(st.st_mode))
