@@ -79,7 +79,7 @@ int checkMethodData(vpRobotSelfCalibration::Method method, const vpSelfCalibData
   warnings), "status: doubtful: WHY (and N more checks failed); ... what to do" or "status:
   refused: STATUS: WHY" (the message says what to do).
 */
-void printStatus(const vpRobotSelfCalibration::Result &r, bool calibrated);
+void printStatus(const vpRobotSelfCalibration::Result &r, bool calibrated, size_t report_warnings = 0);
 //! The protocol's figures on stdout, one line each.
 void printProtocol(const vpSelfCalibProtocol::Result &p);
 //! calibrate's summary on stdout: what was estimated, eMc with its sd, the residuals, the intrinsics.

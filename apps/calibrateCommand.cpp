@@ -109,7 +109,7 @@ void printEvent(vpSelfCalibProtocol::EventKind kind, const std::string &message)
 */
 std::string writeResults(const fs::path &stage, const std::string &dataset, const vpKinematicChain &nominal,
                          const vpSelfCalibDataset &ds, const vpSelfCalibImageCorrespondences::Result &cr,
-                         const vpSelfCalibProtocol::Result &p)
+                         const vpSelfCalibProtocol::Result &p, size_t &report_warnings)
 {
   const vpRobotSelfCalibration::Result &r = p.calibration;
   // A doubtful model is written all the same, marked so (its name, results.yaml's status, the report).
@@ -136,6 +136,7 @@ std::string writeResults(const fs::path &stage, const std::string &dataset, cons
   const vpSelfCalibReport::Result report = vpSelfCalibReport::write((stage / "report").string(), run, {});
   for (const std::string &w : report.warnings)
     std::cerr << "warning: " << w << "\n";
+  report_warnings = report.warnings.size();
   return report.message;
 }
 } // namespace
@@ -238,6 +239,10 @@ int calibrate(const CalibrateArgs &a)
               << vpRobotSelfCalibration::statusName(p.run.status) << ": " << p.run.message
               << "\n";
     noteYardstickLength(ds, nominal, p.run.findings);
+    if (cr.front_end_ran && !co.board)
+      std::cerr << "note: the correspondences are the images' natural features (no --board); if the images show a "
+                   "calibration board or a tag, give it: --board SPEC (import names the board it found; calibrate "
+                   "--help lists the types)\n";
     printStatus(p.run, false);
     return 3;
   }
@@ -254,7 +259,8 @@ int calibrate(const CalibrateArgs &a)
     std::cerr << "note: with --board-geometry the board's layout is part of the model: a board described with its "
               << "rows and columns swapped, or another board's description, leaves such residuals: check --board "
               << a.board << "\n";
-  const std::string report = writeResults(outdir.staging(), dataset, nominal, ds, cr, p);
+  size_t report_warnings = 0;
+  const std::string report = writeResults(outdir.staging(), dataset, nominal, ds, cr, p, report_warnings);
   outdir.commit();
 
   const std::string files[4] = {(fs::path(out) / "model.yaml").string(), (fs::path(out) / "camera.xml").string(),
@@ -266,7 +272,7 @@ int calibrate(const CalibrateArgs &a)
   printProtocol(p);
   std::cout << "wrote " << files[0] << ", " << files[1] << ", " << files[2] << ", " << files[3] << "\n";
   std::cout << "report: " << (fs::path(out) / "report").string() << "/report.md (" << report << ")\n";
-  printStatus(r, true);
+  printStatus(r, true, report_warnings);
   if (r.status == vpRobotSelfCalibration::DOUBTFUL) {
     std::cerr << "calibration doubtful: the model is written (marked so) but failed the checks above; "
                  "see results.yaml's findings of severity doubt\n";

@@ -183,7 +183,7 @@ std::string firstSentence(const std::string &m)
 }
 } // namespace
 
-void printStatus(const vpRobotSelfCalibration::Result &r, bool calibrated)
+void printStatus(const vpRobotSelfCalibration::Result &r, bool calibrated, size_t report_warnings)
 {
   if (!calibrated) {
     std::cout << "status: " << (r.status == vpRobotSelfCalibration::DEGENERATE_DATA ? "refused: " : "failed: ")
@@ -200,8 +200,9 @@ void printStatus(const vpRobotSelfCalibration::Result &r, bool calibrated)
       return;
     }
     // ok, and the warnings named: a reader of the last line alone learns that there are some.
-    std::string codes;
-    size_t warnings = 0;
+    // The report's own warnings (views the model does not explain) first: they name views dropped.
+    std::string codes = report_warnings > 0 ? "views-unexplained" : "";
+    size_t warnings = report_warnings > 0 ? 1 : 0;
     for (const auto &f : r.findings)
       if (f.severity == vpSelfCalibDataCheck::WARNING && warnings++ < 4)
         codes += (codes.empty() ? "" : ", ") + f.code;

@@ -11,6 +11,10 @@
 #include <iostream>
 #include <sstream>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibResultsFile.h>
@@ -139,15 +143,46 @@ std::vector<vpColVector> readJoints(const std::string &file, const std::string &
   if (fs::is_directory(file, ec))
     throw vpSelfCalibException(vpSelfCalibException::ioError,
                                "cannot open " + what + " '" + file + "': it is a directory");
-  errno = 0;
-  std::ifstream in(file, std::ios::binary);
-  if (!in)
-    throw vpSelfCalibException(vpSelfCalibException::ioError, "cannot open " + what + " '" + file + "'" +
-                                                                  (errno ? ": " + std::string(std::strerror(errno)) : ""));
-  std::vector<vpColVector> out = readJointLines(in, file, n);
-  if (in.bad())
-    throw vpSelfCalibException(vpSelfCalibException::ioError, "cannot read " + what + " '" + file + "'");
-  return out;
+  // Read whole and bounded first: a FIFO no program writes to reads as empty instead of blocking the
+  // open for ever (opened without blocking, then read blocking: a pipe with a writer is read to its
+  // end), and a device without end stops at the bound.
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0)
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               "cannot open " + what + " '" + file + "': " + std::strerror(errno));
+  const int flags = ::fcntl(fd, F_GETFL);
+  if (flags >= 0)
+    ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+  constexpr size_t kMaxJointsBytes = size_t(64) << 20;
+  std::string text;
+  char buf[1 << 16];
+  for (;;) {
+    const ssize_t r = ::read(fd, buf, sizeof buf);
+    if (r < 0 && errno == EINTR)
+      continue;
+    if (r <= 0 || text.size() + static_cast<size_t>(r) > kMaxJointsBytes) {
+      const int err = r < 0 ? errno : 0;
+      ::close(fd);
+      if (r < 0)
+        throw vpSelfCalibException(vpSelfCalibException::ioError,
+                                   "cannot read " + what + " '" + file + "': " + std::strerror(err));
+      if (r > 0)
+        throw vpSelfCalibException(vpSelfCalibException::ioError,
+                                   what + " '" + file + "': more than the 64 MiB read (a device or a stream without "
+                                   "end?); give a " + what);
+      break;
+    }
+    text.append(buf, static_cast<size_t>(r));
+    if (std::memchr(buf, '\0', static_cast<size_t>(r))) // not text: the line reader names the line
+      break;
+  }
+  struct stat st;
+  if (text.empty() && ::stat(file.c_str(), &st) == 0 && S_ISFIFO(st.st_mode))
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               what + " '" + file + "': a FIFO that no program writes to (read as empty); give a file, "
+                               "or write to the FIFO first");
+  std::istringstream in(text);
+  return readJointLines(in, file, n);
 }
 
 std::string canonical(const std::string &p)

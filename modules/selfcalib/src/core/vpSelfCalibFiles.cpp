@@ -292,9 +292,15 @@ void refuseSpecialOutput(const std::string &filename, const std::string &what)
 
 std::string readTextFileBounded(const std::string &filename, const std::string &what, size_t max_bytes)
 {
-  const int fd = ::open(filename.c_str(), O_RDONLY | O_CLOEXEC);
+  // Opened without blocking: a FIFO no program writes to would block the open for ever; then read
+  // blocking again (a pipe with a writer, e.g. a shell's <(...), is read to its end), where such a FIFO
+  // reads as empty.
+  const int fd = ::open(filename.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0)
     fail(what, filename, "cannot read", errno);
+  const int flags = ::fcntl(fd, F_GETFL);
+  if (flags >= 0)
+    ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
   struct stat st;
   if (::fstat(fd, &st) == 0 && S_ISDIR(st.st_mode)) {
     ::close(fd);
@@ -345,6 +351,10 @@ std::string readTextFileBounded(const std::string &filename, const std::string &
                                                                   std::to_string(text.size() >> 20) + " MiB read");
   }
   ::close(fd);
+  if (text.empty() && S_ISFIFO(st.st_mode))
+    throw vpSelfCalibException(vpSelfCalibException::ioError,
+                               what + " '" + filename + "': a FIFO that no program writes to (read as empty); give a " +
+                                   what + " file, or write to the FIFO first");
   return text;
 }
 

@@ -683,5 +683,17 @@ void expressInGuess(const vpKinematicChain &guess, Result &res)
   }
   res.calibrated.set_eMc(guess.get_eMc_pose());
   res.calibrated.setParameters(p);
+  // A part of eMc the caller fixed kept the start's value, the eMc measured from the data, not the
+  // guess's: its correction from the guess is not 0, and the reason says so with the value.
+  for (auto &u : res.identifiability.unidentifiable) {
+    if (u.name.rfind("eMc.", 0) != 0 || u.reason != "fixed by the caller" || u.index < first ||
+        u.index >= first + vpKinematicChain::kBlockSize)
+      continue;
+    const bool t = u.index - first < 3;
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(t ? 2 : 3) << 1e3 * p[u.index];
+    u.reason += ", at the value the run started from: the eMc measured from the data (its correction from the "
+                "model's guess " + os.str() + (t ? " mm" : " mrad") + "), not the guess's";
+  }
 }
 } // namespace vpSelfCalibPipeline
