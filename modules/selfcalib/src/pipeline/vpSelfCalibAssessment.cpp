@@ -699,19 +699,9 @@ void checkHandEyeOnJoints(const Context &c, Result &res)
 {
   if (c.options.method != vpRobotSelfCalibration::HAND_EYE)
     return;
-  const bool joints = std::any_of(c.calibration.begin(), c.calibration.end(),
-                                  [](const View &v) { return v.q.size() > 0 && !v.has_fMe; });
-  if (!joints)
-    return;
-  const bool world = c.dataset.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD;
-  add(res, vpSelfCalibDataCheck::WARNING, "hand-eye-kinematics-nominal",
-      std::string("the hand-eye method takes the nominal kinematics at the joint readings as exact: their error "
-                  "goes into ") +
-          (world ? "bMc and the target's pose" : "eMc") +
-          ", which then reproduces these views but carries that error to other configurations (the model can be "
-          "worse than the nominal one away from the views). The bundle method (--method bundle) calibrates the "
-          "kinematics with " + (world ? "bMc" : "eMc") + "; use hand-eye on joint readings only with kinematics known "
-          "to be accurate");
+  const auto joints_only = [](const View &v) { return v.q.size() > 0 && !v.has_fMe; };
+  if (std::any_of(c.calibration.begin(), c.calibration.end(), joints_only))
+    handEyeOnJoints(c.dataset.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD, res);
 }
 
 // How well the calibrated and the nominal model explain the calibration views (same rule for both).
@@ -1040,6 +1030,18 @@ void checkLayoutScale(const Context &c, Result &res)
             "): a board declared at the wrong size would go unseen, the camera's mount and the target's pose "
             "absorbing it. Measure the printed size, or add views that change the distance to the target and "
             "rotate the flange about points away from it");
+}
+
+void handEyeOnJoints(bool world, Result &res)
+{
+  add(res, vpSelfCalibDataCheck::WARNING, "hand-eye-kinematics-nominal",
+      std::string("the hand-eye method takes the nominal kinematics at the joint readings as exact: their error "
+                  "goes into ") +
+          (world ? "bMc and the target's pose" : "eMc") +
+          ", which then reproduces these views but carries that error to other configurations (the model can be "
+          "worse than the nominal one away from the views). The bundle method (--method bundle) calibrates the "
+          "kinematics with " + (world ? "bMc" : "eMc") + "; use hand-eye on joint readings only with kinematics known "
+          "to be accurate");
 }
 
 void assess(const Context &c, Result &res)
