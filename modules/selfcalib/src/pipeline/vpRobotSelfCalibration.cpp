@@ -396,6 +396,11 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::run(const vpKinematicChai
     o.bundle.eye_to_hand = joints;
     Result res = runMounted(model, joints ? input : inverted, o, progress);
     vpSelfCalibPipeline::eyeToHandResult(res);
+    // Hand-eye on joint readings: its pipeline saw the poses the nominal kinematics give them.
+    const auto joints_only = [](const vpSelfCalibDataset::View &v) { return v.q.size() > 0 && !v.has_fMe; };
+    if (!joints && (res.status == OK || res.status == DOUBTFUL) &&
+        std::any_of(input.views.begin(), input.views.end(), joints_only))
+      vpSelfCalibPipeline::handEyeOnJoints(true, res);
     if (opt.bundle.known_points.size() < 4)
       vpSelfCalibPipeline::eyeToHandWithoutLayout(res);
     std::ostringstream start;

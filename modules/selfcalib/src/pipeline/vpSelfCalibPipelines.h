@@ -218,6 +218,13 @@ bool robotCorrectionsStandIn(const vpKinematicBundleAdjustment::Result &bundle);
 */
 void assess(const Context &context, Result &result);
 /*!
+  The hand-eye method on joint readings (`joints`: some view has joints and no controller pose): the
+  warning hand-eye-kinematics-nominal (the kinematics' error goes into eMc, or bMc and the target's
+  pose with the camera in the world). assess() adds it; the camera in the world, whose pipeline sees
+  the poses computed from the joints, adds it from the caller's dataset.
+*/
+void handEyeOnJoints(bool world, Result &result);
+/*!
   Eye-to-hand (vpSelfCalibEyeToHand.cpp): the dataset with every view's controller pose bMe (or the
   nominal model's at its joints) replaced by its inverse, so that the hand-eye method's eye-in-hand
   problem is the eye-to-hand one (eMc -> bMc, scene points -> the target in the effector frame).
