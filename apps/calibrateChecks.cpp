@@ -34,7 +34,7 @@ void refuseBundleOptions(const CalibrateArgs &a)
   if (!a.free.empty())
     throw CLI::ValidationError("--free", "the hand-eye method estimates every part of eMc (bMc with the camera in "
                                          "the world) whatever the tolerance; --free frees the kinematic parameters of "
-                                         "--method bundle (--fix keeps a part of eMc at its start value)");
+                                         "--method bundle (--fix keeps a part of eMc at its nominal value)");
 }
 
 /*

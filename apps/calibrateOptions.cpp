@@ -134,11 +134,10 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
       ->delimiter(',')
       ->check(selfcalibCli::wordOrNumber("auto", 0, false, 0.999));
   c->add_option("--fix", a.fix,
-                "kinematic parameters kept at their start value, names or glob patterns as the\n"
+                "kinematic parameters kept at their nominal value, names or glob patterns as the\n"
                 "model names them (j2.tx, eMc.ry, 'j3.*,base.*'); added to the dataset's fix: list.\n"
-                "The start is the nominal value, but for eMc's parts when the run measures eMc from\n"
-                "the data first (its message: 'eMc started from ...'): they keep the measured value,\n"
-                "not the guess's (results.yaml's estimated_set and report say which, with the value)")
+                "A part of eMc keeps the model's guess also where the run measures eMc from the\n"
+                "data (the other parts start from the measured eMc)")
       ->type_name("NAMES")
       ->delimiter(',');
   c->add_option("--free", a.free,

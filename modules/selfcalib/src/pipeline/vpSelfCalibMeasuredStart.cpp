@@ -552,6 +552,38 @@ vpKinematicChain withNominalEMc(const vpKinematicChain &model, const Rigid &eMc)
   return out;
 }
 
+/*
+  The eMc a run starts from: the one measured from the data, but for the parts the caller fixed
+  (--fix eMc.tz: a value the user knows, from a drawing or a measurement), which keep the guess's.
+  The parts are the corrections' components from the guess, in the guess's frame, as results.yaml
+  gives them (expressInGuess()): the fixed correction stays 0 through the adjustment, so the fixed
+  part ends at the guess's value (to the free parts' coupling through the start's rotation).
+*/
+Rigid withFixedPartsOfGuess(const vpKinematicChain &guess, const Rigid &measured, const std::vector<std::string> &fixed)
+{
+  if (fixed.empty())
+    return measured;
+  const std::vector<std::string> names = vpKinematicIdentification::matchParameters(guess, fixed, "fixed");
+  const Rigid G = rigidFromPose(guess.get_eMc_pose());
+  Rigid D = G.inverse() * measured;
+  Eigen::Vector3d r = logSO3(D.R);
+  const char *parts[] = {"eMc.tx", "eMc.ty", "eMc.tz", "eMc.rx", "eMc.ry", "eMc.rz"};
+  bool any = false;
+  for (int i = 0; i < 6; ++i) {
+    if (std::find(names.begin(), names.end(), parts[i]) == names.end())
+      continue;
+    any = true;
+    if (i < 3)
+      D.t(i) = 0;
+    else
+      r(i - 3) = 0;
+  }
+  if (!any)
+    return measured;
+  D.R = expSO3(r);
+  return G * D;
+}
+
 //! The dataset with the pinhole focal length f (mu and the principal point kept, the lens too).
 vpSelfCalibDataset withFocal(const vpSelfCalibDataset &data, double f)
 {
@@ -617,7 +649,7 @@ DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDatase
   const std::map<int, vpColVector> &layout = opt.bundle.known_points.empty() ? opt.target_layout : opt.bundle.known_points;
   const MeasuredStart m = measuredStart(pixels, lens, data.width, layout, focal_known, threshold);
   if (m.has_eMc) {
-    start.model = withNominalEMc(nominal, m.eMc);
+    start.model = withNominalEMc(nominal, withFixedPartsOfGuess(nominal, m.eMc, opt.bundle.fixed));
     start.eMc_from_data = true;
     os << "eMc started from " << m.how;
   } else {
@@ -683,17 +715,5 @@ void expressInGuess(const vpKinematicChain &guess, Result &res)
   }
   res.calibrated.set_eMc(guess.get_eMc_pose());
   res.calibrated.setParameters(p);
-  // A part of eMc the caller fixed kept the start's value, the eMc measured from the data, not the
-  // guess's: its correction from the guess is not 0, and the reason says so with the value.
-  for (auto &u : res.identifiability.unidentifiable) {
-    if (u.name.rfind("eMc.", 0) != 0 || u.reason != "fixed by the caller" || u.index < first ||
-        u.index >= first + vpKinematicChain::kBlockSize)
-      continue;
-    const bool t = u.index - first < 3;
-    std::ostringstream os;
-    os << std::fixed << std::setprecision(t ? 2 : 3) << 1e3 * p[u.index];
-    u.reason += ", at the value the run started from: the eMc measured from the data (its correction from the "
-                "model's guess " + os.str() + (t ? " mm" : " mrad") + "), not the guess's";
-  }
 }
 } // namespace vpSelfCalibPipeline
