@@ -253,11 +253,13 @@ void crossValidationSection(std::ostream &md, const vpSelfCalibCrossValidation::
     std::string views;
     for (unsigned int i : d.held_out)
       views += (views.empty() ? "" : " ") + std::to_string(i + 1);
+    // A doubtful fold's model predicts the held-out views too (its figures are in the means above).
     const bool ok = d.status == vpRobotSelfCalibration::OK;
+    const bool measured = ok || d.status == vpRobotSelfCalibration::DOUBTFUL;
     md << "| " << f + 1 << " | " << views << " | " << vpRobotSelfCalibration::statusName(d.status)
-       << (ok ? "" : ": " + d.message) << " | " << (ok ? px(d.fx) : "-") << " | "
-       << (ok ? px(d.calibrated.rms) : "-") << " | " << px(d.nominal.rms) << " | "
-       << (ok ? px(d.calibrated.median) : "-") << " | " << px(d.nominal.median) << " | " << d.nominal.observations
+       << (ok ? "" : ": " + d.message) << " | " << (measured ? px(d.fx) : "-") << " | "
+       << (measured ? px(d.calibrated.rms) : "-") << " | " << px(d.nominal.rms) << " | "
+       << (measured ? px(d.calibrated.median) : "-") << " | " << px(d.nominal.median) << " | " << d.nominal.observations
        << " | "
        << (d.verified ? mm(d.yardstick_error_calibrated) + " / " + mm(d.yardstick_error_nominal) : std::string("-"))
        << " |\n";
