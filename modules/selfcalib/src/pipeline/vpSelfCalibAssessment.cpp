@@ -969,9 +969,13 @@ void checkMeasuredRobotError(const Context &c, Result &res)
   described 9 x 9: 25 mm / 27 mrad), or poses in another frame. A warning, not a doubt: the level
   alone does not tell them from a real arm that far off (the industrial_calibration set, whose wrist
   poses fit one eMc only to about 8 mm and 20 mrad, measures 22 mm / 27 mrad with its focal length
-  self-calibrated and its right mount). A level stated by the caller is not questioned.
+  self-calibrated and its right mount). Beyond kPoseErrorImpossible (5 cm or 0.1 rad: 6 deg, twice
+  the industrial set's translation and four times its rotation) no working controller is that far
+  off: a doubt (the eye-in-hand set declared world measures 83 mm / 353 mrad). A level stated by the
+  caller is not questioned.
 */
 constexpr double kPoseErrorPlausibleT = 0.01, kPoseErrorPlausibleR = 0.01; // m, rad
+constexpr double kPoseErrorImpossibleT = 0.05, kPoseErrorImpossibleR = 0.1; // m, rad
 
 void checkMeasuredPoseError(const Context &c, Result &res)
 {
@@ -982,13 +986,17 @@ void checkMeasuredPoseError(const Context &c, Result &res)
       !(n.pose_sd_translation > kPoseErrorPlausibleT || n.pose_sd_rotation > kPoseErrorPlausibleR))
     return;
   const bool world = c.dataset.camera_mount == vpSelfCalibDataset::CAMERA_IN_WORLD;
-  add(res, vpSelfCalibDataCheck::WARNING, "pose-error-implausible",
+  const bool impossible = n.pose_sd_translation > kPoseErrorImpossibleT || n.pose_sd_rotation > kPoseErrorImpossibleR;
+  add(res, impossible ? vpSelfCalibDataCheck::DOUBT : vpSelfCalibDataCheck::WARNING, "pose-error-implausible",
       "the controller poses' error measured from the corrections, " + fixed(1e3 * n.pose_sd_translation, 1) +
-          " mm / " + fixed(1e3 * n.pose_sd_rotation, 1) + " mrad, is beyond what an arm's controller is usually off "
-          "(a few mm and mrad; here over " + fixed(1e3 * kPoseErrorPlausibleT, 0) + " mm or " +
-          fixed(1e3 * kPoseErrorPlausibleR, 0) + " mrad): if this arm's poses really are that far off, the result "
-          "stands (its sd counts them); else the corrections absorb a misfit of another kind, the likeliest a wrong "
-          "camera_mount: the dataset says " +
+          " mm / " + fixed(1e3 * n.pose_sd_rotation, 1) + " mrad, is beyond what an arm's controller is usually off " +
+          (impossible ? "(a few mm and mrad), and beyond any working one's (" + fixed(1e3 * kPoseErrorImpossibleT, 0) +
+                            " mm or " + fixed(1e3 * kPoseErrorImpossibleR, 0) + " mrad): the corrections absorb a "
+                            "misfit of another kind, the likeliest a wrong camera_mount: the dataset says "
+                      : "(a few mm and mrad; here over " + fixed(1e3 * kPoseErrorPlausibleT, 0) + " mm or " +
+                            fixed(1e3 * kPoseErrorPlausibleR, 0) + " mrad): if this arm's poses really are that far "
+                            "off, the result stands (its sd counts them); else the corrections absorb a misfit of "
+                            "another kind, the likeliest a wrong camera_mount: the dataset says ") +
           (world ? "world (a camera fixed in the world, looking at a target on the tool) and a camera on the flange "
                    "looking at a fixed scene is camera_mount: effector"
                  : "effector (a camera on the flange, looking at a fixed scene) and a camera fixed in the world "
