@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 #include <ceres/ceres.h>
+#include <ceres/normal_prior.h>
 #include <ceres/rotation.h>
 
 #include <visp3/selfcalib/vpKinematicBundleAdjustment.h>
@@ -224,32 +225,21 @@ private:
 
 /*!
   The kinematic prior (Settings::kinematic_prior): r_i = (rho_i - rho_ref,i) / sd_i on the corrections
-  rho (one block), sd_i = tolerance_i / k. Not the paper's: a MAP estimate, so that the corrections the
-  data barely determine stay near the nominal model instead of being left out of the estimate.
+  rho (one block), sd_i = tolerance_i / k: Ceres' NormalPrior with A = diag(1 / sd), b = rho_ref. Not the
+  paper's: a MAP estimate, so that the corrections the data barely determine stay near the nominal
+  model instead of being left out of the estimate.
 */
-class KinematicPriorCost : public ceres::CostFunction
+inline ceres::CostFunction *kinematicPriorCost(const std::vector<double> &ref, const std::vector<double> &sd)
 {
-public:
-  KinematicPriorCost(const std::vector<double> &ref, const std::vector<double> &sd) : ref_(ref), sd_(sd)
-  {
-    set_num_residuals(static_cast<int>(sd.size()));
-    mutable_parameter_block_sizes()->push_back(static_cast<int>(sd.size()));
+  const Eigen::Index n = static_cast<Eigen::Index>(sd.size());
+  ceres::Matrix A = ceres::Matrix::Zero(n, n);
+  ceres::Vector b(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    A(i, i) = 1 / sd[static_cast<size_t>(i)];
+    b(i) = ref[static_cast<size_t>(i)];
   }
-  bool Evaluate(double const *const *p, double *r, double **J) const override
-  {
-    const size_t n = sd_.size();
-    for (size_t i = 0; i < n; ++i)
-      r[i] = (p[0][i] - ref_[i]) / sd_[i];
-    if (J && J[0])
-      for (size_t i = 0; i < n; ++i)
-        for (size_t j = 0; j < n; ++j)
-          J[0][i * n + j] = i == j ? 1 / sd_[i] : 0.0;
-    return true;
-  }
-
-private:
-  std::vector<double> ref_, sd_;
-};
+  return new ceres::NormalPrior(A, b);
+}
 
 //! (X - (R s L + t)) / sd: a known point with the layout's scale s free (blocks fMo, s, X).
 struct ScaledKnownPointCost {

@@ -330,7 +330,7 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
     problem->AddResidualBlock(new ScaleCost(a.scale_gauge, a.rho0), nullptr, a.state.rho.data());
   // The kinematic prior on every correction (it holds the scale without a yardstick).
   if (!a.prior_sd.empty() && a.prior_sd.size() == a.state.rho.size())
-    problem->AddResidualBlock(new KinematicPriorCost(a.rho0, a.prior_sd), nullptr, a.state.rho.data());
+    problem->AddResidualBlock(kinematicPriorCost(a.rho0, a.prior_sd), nullptr, a.state.rho.data());
   // One group per block: within a group Ceres orders blocks by address, and the address order of
   // separately allocated blocks changes from run to run (and so would the last digits).
   order->AddElementToGroup(a.state.rho.data(), 2);
