@@ -9,8 +9,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <functional>
 #include <cmath>
+#include <functional>
 #include <iomanip>
 #include <optional>
 #include <sstream>

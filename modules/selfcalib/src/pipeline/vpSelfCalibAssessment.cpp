@@ -84,6 +84,23 @@ Eigen::MatrixXd motionJacobian(const vpKinematicChain &chain, const vpColVector 
 }
 
 /*
+  How the parameters `estimated` move to absorb a unit error of each of `held` on the views' motions
+  (c_0 M c_k, least squares): -J_E^+ J_H (|estimated| x |held|).
+*/
+Eigen::MatrixXd motionAbsorption(const vpKinematicChain &chain, const std::vector<View> &views,
+                                 const std::vector<unsigned int> &estimated, const std::vector<unsigned int> &held)
+{
+  const int K = static_cast<int>(views.size());
+  Eigen::MatrixXd JE(6 * (K - 1), static_cast<Eigen::Index>(estimated.size())),
+      JH(6 * (K - 1), static_cast<Eigen::Index>(held.size()));
+  for (int k = 1; k < K; ++k) {
+    JE.middleRows(6 * (k - 1), 6) = motionJacobian(chain, views[0].q, views[k].q, estimated);
+    JH.middleRows(6 * (k - 1), 6) = motionJacobian(chain, views[0].q, views[k].q, held);
+  }
+  return -JE.colPivHouseholderQr().solve(JH);
+}
+
+/*
   How the estimated parameters absorb the others through the relative poses of the calibration
   views (c_0 M c_k, the run's model): per parameter not estimated (columns in unidentifiable's
   order), the least-squares combination of the estimated ones' columns that reproduces its column,
@@ -101,12 +118,7 @@ Eigen::MatrixXd poseAbsorption(const Context &c, const Result &res)
   std::vector<unsigned int> left(static_cast<size_t>(L));
   for (int j = 0; j < L; ++j)
     left[static_cast<size_t>(j)] = set.unidentifiable[j].index;
-  Eigen::MatrixXd JE(6 * (K - 1), E), JL(6 * (K - 1), L);
-  for (int k = 1; k < K; ++k) {
-    JE.middleRows(6 * (k - 1), 6) = motionJacobian(res.calibrated, c.calibration[0].q, c.calibration[k].q, set.identified);
-    JL.middleRows(6 * (k - 1), 6) = motionJacobian(res.calibrated, c.calibration[0].q, c.calibration[k].q, left);
-  }
-  return -JE.colPivHouseholderQr().solve(JL);
+  return motionAbsorption(res.calibrated, c.calibration, set.identified, left);
 }
 
 /*
@@ -489,11 +501,7 @@ bool errorModel(const Context &c, const Result &res, const vpMatrix &C, ErrorMod
   if (e2h) { // the target's motions: eMo in the hand-eye slot, whose bMc does not move them
     if (!res.bundle.has_object)
       return false;
-    vpColVector p = m.chain.getParameters();
-    for (unsigned int i = first_eMc; i < p.size(); ++i)
-      p[i] = 0;
-    m.chain.setParameters(p);
-    m.chain.set_eMc(res.bundle.object_pose);
+    m.chain = withNominalEMc(res.calibrated, res.bundle.object_pose);
   }
   std::vector<unsigned int> rows; // rows of C kept
   for (unsigned int k = 0; k < set.identified.size(); ++k)
@@ -516,12 +524,7 @@ bool errorModel(const Context &c, const Result &res, const vpMatrix &C, ErrorMod
   // Absorption: the set's bias where there is one, else least squares over the views' motions.
   m.absorption = Eigen::MatrixXd::Zero(E, H);
   if (H > 0) {
-    Eigen::MatrixXd JE(6 * (K - 1), E), JH(6 * (K - 1), H);
-    for (int k = 1; k < K; ++k) {
-      JE.middleRows(6 * (k - 1), 6) = motionJacobian(m.chain, c.calibration[0].q, c.calibration[k].q, m.estimated);
-      JH.middleRows(6 * (k - 1), 6) = motionJacobian(m.chain, c.calibration[0].q, c.calibration[k].q, m.held);
-    }
-    const Eigen::MatrixXd ls = -JE.colPivHouseholderQr().solve(JH);
+    const Eigen::MatrixXd ls = motionAbsorption(m.chain, c.calibration, m.estimated, m.held);
     for (Eigen::Index h = 0; h < H; ++h)
       for (Eigen::Index e = 0; e < E; ++e) {
         const int col = bias_column[static_cast<size_t>(h)];
@@ -575,14 +578,7 @@ NominalError nominalOnWorkspace(const Context &c, const ErrorModel &em,
     (isTranslation(names[i]) ? shape_t : shape_r)[static_cast<Eigen::Index>(i)] =
         std::pow(isTranslation(names[i]) ? c.options.tolerance_translation : c.options.tolerance_rotation, 2);
   // The nominal kinematics with the judged model's hand-eye slot (eye-to-hand: the target's pose).
-  vpKinematicChain nominal = c.guess;
-  if (c.bundle.eye_to_hand) {
-    vpColVector p = nominal.getParameters();
-    for (unsigned int i = nominal.getNumParameters() - vpKinematicChain::kBlockSize; i < p.size(); ++i)
-      p[i] = 0;
-    nominal.setParameters(p);
-    nominal.set_eMc(em.chain.get_eMc_pose());
-  }
+  const vpKinematicChain nominal = c.bundle.eye_to_hand ? withNominalEMc(c.guess, em.chain.get_eMc_pose()) : c.guess;
   std::vector<std::pair<vpColVector, vpColVector>> views;
   MotionSquares misfit, own;
   const std::vector<View> &v = c.calibration;

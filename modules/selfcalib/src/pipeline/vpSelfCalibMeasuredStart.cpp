@@ -540,18 +540,6 @@ namespace vpSelfCalibPipeline
 {
 namespace
 {
-//! The model with eMc set to `eMc` and no eMc correction.
-vpKinematicChain withNominalEMc(const vpKinematicChain &model, const Rigid &eMc)
-{
-  vpKinematicChain out = model;
-  out.set_eMc(vpPoseVector(toVisp(eMc)));
-  vpColVector p = out.getParameters();
-  for (unsigned int i = p.size() - vpKinematicChain::kBlockSize; i < p.size(); ++i)
-    p[i] = 0;
-  out.setParameters(p);
-  return out;
-}
-
 /*
   The eMc a run starts from: the one measured from the data, but for the parts the caller fixed
   (--fix eMc.tz: a value the user knows, from a drawing or a measurement), which keep the guess's.
@@ -649,7 +637,7 @@ DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDatase
   const std::map<int, vpColVector> &layout = opt.bundle.known_points.empty() ? opt.target_layout : opt.bundle.known_points;
   const MeasuredStart m = measuredStart(pixels, lens, data.width, layout, focal_known, threshold);
   if (m.has_eMc) {
-    start.model = withNominalEMc(nominal, withFixedPartsOfGuess(nominal, m.eMc, opt.bundle.fixed));
+    start.model = withNominalEMc(nominal, vpPoseVector(toVisp(withFixedPartsOfGuess(nominal, m.eMc, opt.bundle.fixed))));
     start.eMc_from_data = true;
     os << "eMc started from " << m.how;
   } else {
@@ -693,6 +681,17 @@ void findGuessFar(const vpKinematicChain &guess, const vpRobotSelfCalibration::O
 
 namespace vpSelfCalibPipeline
 {
+vpKinematicChain withNominalEMc(const vpKinematicChain &model, const vpPoseVector &eMc)
+{
+  vpKinematicChain out = model;
+  out.set_eMc(eMc);
+  vpColVector p = out.getParameters();
+  for (unsigned int i = p.size() - vpKinematicChain::kBlockSize; i < p.size(); ++i)
+    p[i] = 0;
+  out.setParameters(p);
+  return out;
+}
+
 void expressInGuess(const vpKinematicChain &guess, Result &res)
 {
   const Rigid G = rigidFromPose(guess.get_eMc_pose()), S = rigidFromPose(res.calibrated.get_eMc_pose());

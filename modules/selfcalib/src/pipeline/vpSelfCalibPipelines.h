@@ -314,6 +314,10 @@ struct DataStart {
 */
 DataStart startFromData(const vpKinematicChain &nominal, const vpSelfCalibDataset &data, unsigned int N,
                         const vpRobotSelfCalibration::Options &opt);
+
+//! The model with eMc set to `eMc` and no eMc correction (eye-to-hand: the target's pose in the hand-eye slot).
+vpKinematicChain withNominalEMc(const vpKinematicChain &model, const vpPoseVector &eMc);
+
 /*!
   The calibrated model of a run started from the data's eMc expressed against the caller's model:
   its eMc the guess's, its eMc correction D such that guess D = the calibrated eMc (the corrections
