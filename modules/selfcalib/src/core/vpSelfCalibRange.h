@@ -19,6 +19,14 @@ namespace vpSelfCalib
 constexpr double kMaxLength = 1e4; //!< m: links, offsets, translations (a DH fit can need 150 m)
 constexpr double kMaxAngle = 1e3;  //!< rad: joint values, limits and angles of a model
 constexpr double kMaxPixels = 1e6; //!< px: focal lengths, principal point, image coordinates
+/*!
+  px: the image noise below which a measurement is not believed: residuals that small say the data
+  are exact to the level that matters, not that the observations are that accurate (a detector's
+  systematic error, e.g. of rendered or printed corners, fits into the estimate and leaves no
+  residual). No run is made again at a level measured below it, and no covariance is scaled down
+  to it: the level stated stands for both.
+*/
+constexpr double kPixelSdFloor = 0.01;
 
 /*!
   Intrinsics of a pinhole camera: px, py in (0, kMaxPixels], |u0|, |v0| <= kMaxPixels, all finite.

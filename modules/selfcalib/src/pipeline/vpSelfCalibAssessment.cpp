@@ -15,6 +15,7 @@
 #include "../core/vpSelfCalibChiSquare.h"
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
+#include "../core/vpSelfCalibRange.h"
 #include "../core/vpSelfCalibRobotErrorLevels.h"
 
 #include "vpSelfCalibMultiViewFit.h"
@@ -1022,7 +1023,7 @@ bool robotCorrectionsStandIn(const vpKinematicBundleAdjustment::Result &bundle)
 
 bool measuredNoiseDiffers(double stated, double measured)
 {
-  return measured >= 0.01 && (measured > 1.25 * stated || measured < 0.8 * stated);
+  return measured >= vpSelfCalib::kPixelSdFloor && (measured > 1.25 * stated || measured < 0.8 * stated);
 }
 
 /*
