@@ -178,6 +178,33 @@ int compareEyeToHand(const CompareArgs &a, const YAML::Node &root)
     return 1;
   const PoseError e_bMc = poseError(*res.bMc, bMc_true), e_eMo = poseError(*res.eMo, eMo_true);
   std::cout << "camera in the world: bMc " << e_bMc << " off the truth; eMo " << e_eMo << "\n";
+  // The full kinematics method: also against the truth in the model's own frames (compare.h).
+  PoseError f_bMc, f_eMo;
+  bool frames = false;
+  if (joints && res.method == "bundle") {
+    std::map<int, vpColVector> layout;
+    for (const YAML::Node &p : root["points"])
+      if (p.IsSequence() && p.size() == 4)
+        layout[p[0].as<int>()] = vpColVector({p[1].as<double>(), p[2].as<double>(), p[3].as<double>()});
+    std::vector<std::string> estimated;
+    for (const auto &e : res.estimated)
+      estimated.push_back(e.name);
+    const std::string of = root["truth_of"] ? root["truth_of"].as<std::string>() : std::string();
+    const YAML::Node cam = root["camera"];
+    const vpCameraParameters c(cam["px"].as<double>(), cam["py"].as<double>(), cam["u0"].as<double>(), cam["v0"].as<double>());
+    vpHomogeneousMatrix bMc_f, eMo_f;
+    frames = !of.empty() && truthInModelFrames(
+        vpKinematicChain::fromYamlString(root["true_model"].as<std::string>(), a.truth + ": true_model"),
+        vpKinematicChain::fromYamlString(root["nominal_model"].as<std::string>(), a.truth + ": nominal_model"), bMc_true,
+        eMo_true, layout, c, (fs::path(a.truth).parent_path() / of).string(), estimated, bMc_f, eMo_f);
+    if (frames) {
+      f_bMc = poseError(*res.bMc, bMc_f);
+      f_eMo = poseError(*res.eMo, eMo_f);
+      std::cout << "in the calibrated model's frames (the true robot's base, joint 1 and last joint's offset taken "
+                   "into bMc and eMo, as the model takes them): bMc "
+                << f_bMc << " off; eMo " << f_eMo << "\n";
+    }
+  }
   if (joints)
     std::cout << "the camera's view of the target cMo(q), " << configurations << ": calibrated " << views
               << "; the nominal kinematics with the true bMc and eMo " << nominal << "\n";
@@ -188,6 +215,10 @@ int compareEyeToHand(const CompareArgs &a, const YAML::Node &root)
     << a.truth << YAML::Key << "camera_mount" << YAML::Value << "world";
   emit(y, "bMc_error", e_bMc);
   emit(y, "eMo_error", e_eMo);
+  if (frames) {
+    emit(y, "bMc_error_model_frames", f_bMc);
+    emit(y, "eMo_error_model_frames", f_eMo);
+  }
   if (joints) {
     y << YAML::Key << "view_error" << YAML::Value << YAML::BeginMap << YAML::Key << "configurations" << YAML::Value
       << configurations;
