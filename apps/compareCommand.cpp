@@ -162,13 +162,11 @@ void addCompare(CLI::App &app, CompareArgs &a)
             "pairs of random configurations within the joint limits (free of the base frame, which\n"
             "self-calibration does not determine), for the calibrated and the nominal model, and the error of\n"
             "the intrinsics. A truth of a camera fixed in the world (simulate --camera-mount world): the\n"
-            "errors of bMc and eMo (distance, angle, and the largest component error in the result's sd);\n"
-            "for a --method bundle result also against the truth in the calibrated model's frames (the\n"
-            "true robot's base, joint 1 and last joint's offset, which no view from a fixed camera tells\n"
-            "from bMc and eMo, taken into them as the model takes them); with joint readings, the error\n"
-            "of the camera's view of the target cMo(q) over --pairs random\n"
-            "configurations (over the configurations of --joints when given), the calibrated model's and\n"
-            "the nominal kinematics' with the true bMc and eMo.");
+            "errors of bMc and eMo (distance, angle, and the largest component error in the result's sd),\n"
+            "a --method bundle result's also against the truth in its model's frames (the true base, joint\n"
+            "1 and last joint's offset, which a fixed camera does not tell from bMc and eMo, taken into\n"
+            "them); with joint readings, of the camera's view of the target cMo(q) over --pairs random\n"
+            "configurations (of --joints when given), the calibrated model's and the nominal kinematics'.");
   c->add_option("RESULT_DIR", a.result, "a directory calibrate wrote")->type_name("DIR")->required();
   c->add_option("TRUTH", a.truth, "the truth file simulate wrote")->type_name("FILE")->required();
   c->add_option("--pairs", a.pairs, "pairs of configurations drawn (default 1000)")

@@ -1092,7 +1092,8 @@ void handEyeOnJoints(bool world, Result &res)
                   "goes into ") +
           (world ? "bMc and the target's pose" : "eMc") +
           ", which then reproduces these views but carries that error to other configurations (the model can be "
-          "worse than the nominal one away from the views). The bundle method (--method bundle) calibrates the "
+          "worse than the nominal one away from the views), and " + (world ? "their" : "its") +
+          " sd do not count it (an error the views share, not a noise of each). The bundle method (--method bundle) calibrates the "
           "kinematics with " + (world ? "bMc" : "eMc") + "; use hand-eye on joint readings only with kinematics known "
           "to be accurate");
 }
