@@ -108,7 +108,7 @@ void addSimulate(CLI::App &app, SimulateArgs &a)
       ->type_name("SD")
       ->check(CLI::Range(0.0, 0.1));
   c->add_flag("--with-joints", a.with_joints,
-              "with --camera-mount world: the board is carried by --robot's simulated arm (seeded\n"
+              "with --camera-mount world, points data: the board is carried by --robot's simulated arm (seeded\n"
               "errors), each view has its joint readings (data for --method bundle or hand-eye)");
   c->add_option("--joint-sd", a.joint_sd, "with --with-joints: the joint readings' error sd (rad, default 0)")
       ->type_name("RAD")

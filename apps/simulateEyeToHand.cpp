@@ -86,6 +86,10 @@ int simulateEyeToHandImages(const SimulateArgs &a)
   if (!a.joints_file.empty() || a.controller)
     throw CLI::ValidationError("--camera-mount", "world simulates controller poses of its own: no --joints or "
                                                  "--controller-poses");
+  if (a.with_joints || a.joint_sd > 0)
+    throw CLI::ValidationError(a.with_joints ? "--with-joints" : "--joint-sd",
+                               "rendered images of a camera in the world are simulated with controller poses only "
+                               "(joint readings: points data, without --images)");
   const vpSelfCalibRenderer::Options ro = rendererOptions(a);
   vpSelfCalibSimulator::EyeToHandOptions eo = vpSelfCalibEyeToHandRenderer::simulation(ro);
   eo.seed = a.so.seed;
