@@ -434,14 +434,14 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
   vpSelfCalibPipeline::JointErrorStructure structure;
   std::function<Result(const vpSelfCalibPipeline::DataStart &, const Options &, bool)> runFrom;
   const auto trustedInstead = [&](const vpSelfCalibPipeline::DataStart &start, const Result &measured,
-                                  Dropped why) -> std::optional<Result> {
+                                  Dropped why, double guessed) -> std::optional<Result> {
     vpSelfCalibPipeline::DataStart exact_start = start;
     exact_start.dataset.joint_sd.clear();
     Result trusted = runFrom(exact_start, trustedOptions(opt), false);
     if (trusted.status != OK && trusted.status != DOUBTFUL)
       return std::nullopt;
     trusted.findings.push_back(why == TAKEN_EXACT ? takenExactFinding(measured.noise, structure)
-                                                  : vpSelfCalibPipeline::robotErrorNotMeasuredFinding());
+                                                  : vpSelfCalibPipeline::robotErrorNotMeasuredFinding(guessed));
     return trusted;
   };
   // may_drop: the run stops where its robot error is dropped, and is the trusted run instead.
@@ -456,7 +456,8 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
       if (why == KEPT)
         return false;
       tried = true;
-      std::optional<Result> trusted = trustedInstead(start, r, why);
+      std::optional<Result> trusted =
+          trustedInstead(start, r, why, vpSelfCalib::levelsOf(noiseModel(run_opt, data), vpSelfCalib::JOINT_ERROR).r);
       if (!trusted)
         return false;
       r = std::move(*trusted);

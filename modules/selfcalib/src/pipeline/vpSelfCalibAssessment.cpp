@@ -921,7 +921,9 @@ void checkMeasuredRobotError(const Context &c, Result &res)
     return;
   const vpSelfCalibNoiseModel &n = res.bundle.noise;
   if (!c.options.trust_robot && robotErrorNotMeasured(n))
-    res.findings.push_back(robotErrorNotMeasuredFinding()); // the trusted run failed: this run stands
+    // The trusted run failed: this run stands; the level guessed is the options' and the dataset's.
+    res.findings.push_back(
+        robotErrorNotMeasuredFinding(levelsOf(vpRobotSelfCalibration::noiseModel(c.options, c.dataset), JOINT_ERROR).r));
   // A joint level beyond a well-built arm's is a low-cost arm's reading noise when its corrections
   // look like it (jointErrorStructure()), and a misfit when they do not or when it is beyond any arm's.
   const double joint_level = levelsOf(n, JOINT_ERROR).r;

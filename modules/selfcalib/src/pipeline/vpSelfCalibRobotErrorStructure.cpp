@@ -211,12 +211,12 @@ bool robotErrorImplausible(const vpSelfCalibNoiseModel &noise, const vpKinematic
   }
   return model || joints;
 }
-vpSelfCalibDataCheck::Finding robotErrorNotMeasuredFinding()
+vpSelfCalibDataCheck::Finding robotErrorNotMeasuredFinding(double guessed)
 {
   return vpSelfCalibDataCheck::Finding{
       vpSelfCalibDataCheck::WARNING, "robot-error-not-measured",
-      "the robot's error could not be measured: with the joint corrections at the prior's level (" +
-          fixed(1e3 * vpRobotSelfCalibration::kJointErrorPrior, 2) +
+      "the robot's error could not be measured: with the joint corrections at the level it was measured from (" +
+          fixed(1e3 * guessed, 2) +
           " mrad) these views do not determine the estimate, so the joint readings and the model are taken as exact "
           "(as calibrate --joint-sd 0) and the standard deviations leave their error out. State the readings' level "
           "if known (calibrate --joint-sd RAD, or the dataset's robot_error), or add views (more varied "

@@ -71,10 +71,11 @@ bool robotErrorImplausible(const vpSelfCalibNoiseModel &noise, const vpKinematic
                            const std::vector<vpSelfCalibDataset::View> &views, JointErrorStructure *structure = nullptr);
 /*!
   The warning robot-error-not-measured: the robot's error asked to be measured could not be (the
-  corrections at the prior's level leave the estimate undetermined: vpSelfCalib::robotErrorNotMeasured()),
-  and the readings and the model are taken as exact.
+  corrections at the guessed level leave the estimate undetermined: vpSelfCalib::robotErrorNotMeasured()),
+  and the readings and the model are taken as exact. guessed: the joints' level (rad) the
+  measurement started from (the prior's, or the dataset's robot_error).
 */
-vpSelfCalibDataCheck::Finding robotErrorNotMeasuredFinding();
+vpSelfCalibDataCheck::Finding robotErrorNotMeasuredFinding(double guessed);
 } // namespace vpSelfCalibPipeline
 
 #endif

@@ -813,6 +813,8 @@ TEST(RobotSelfCalibration, BundleNotMeasuredIsTheTrustedRun)
     exact.joint_sd.clear(); // --joint-sd 0: exact readings, whatever the dataset's robot_error says
     expectTrustedRun(r, RSC::run(sim.getNominalChain(), exact, trusted), "seed " + std::to_string(seed),
                      "robot-error-not-measured");
+    ASSERT_FALSE(r.findings.empty());
+    EXPECT_NE(r.findings.back().message.find("(900.00 mrad)"), std::string::npos) << r.findings.back().message;
   }
 }
 
