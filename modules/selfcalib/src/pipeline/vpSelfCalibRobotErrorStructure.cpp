@@ -44,13 +44,18 @@ std::string fixed(double v, int precision)
 }
 } // namespace
 
-bool JointErrorStructure::readingNoise() const
+} // namespace vpSelfCalibPipeline
+
+// The structure carried in the run's result (vpRobotSelfCalibration.h), judged by jointErrorStructure().
+bool vpRobotSelfCalibration::JointErrorStructure::readingNoise() const
 {
+  using namespace vpSelfCalibPipeline;
   return judged && !offset && pose_compared && pose_bic_gain < -kPoseLikeBic;
 }
 
-std::string JointErrorStructure::describe() const
+std::string vpRobotSelfCalibration::JointErrorStructure::describe() const
 {
+  using namespace vpSelfCalibPipeline;
   std::string s;
   if (offset)
     s = "a constant offset on " + offset_joint + " (its corrections' mean is " + fixed(offset_t, 1) +
@@ -71,6 +76,8 @@ std::string JointErrorStructure::describe() const
   return s;
 }
 
+namespace vpSelfCalibPipeline
+{
 JointErrorStructure jointErrorStructure(const vpKinematicBundleAdjustment::Result &b, const vpSelfCalibNoiseModel &noise,
                                         const std::vector<vpSelfCalibDataset::View> &views)
 {
@@ -204,9 +211,10 @@ bool robotErrorImplausible(const vpSelfCalibNoiseModel &noise, const vpKinematic
   const double level = joints_measured ? *std::max_element(noise.joint_sd.begin(), noise.joint_sd.end()) : 0;
   bool joints = false;
   if (level > kJointErrorPlausible) {
-    const JointErrorStructure s = jointErrorStructure(b, noise, views);
-    if (structure)
-      *structure = s;
+    JointErrorStructure judged;
+    JointErrorStructure &s = structure ? *structure : judged;
+    if (!s.judged)
+      s = jointErrorStructure(b, noise, views);
     joints = level > kJointErrorImpossible || !s.readingNoise();
   }
   return model || joints;

@@ -864,6 +864,9 @@ TEST(RobotSelfCalibration, BundleMeasuresALowCostArmsJointError)
     EXPECT_LT(r.noise.joint_sd[0] / joint_sd, 1.4) << seed;
     EXPECT_GT(r.bundle.measured_joint_level_sd, 0) << seed;
     EXPECT_LT(r.bundle.measured_joint_level_sd, r.noise.joint_sd[0] / 3) << seed;
+    // The result carries what the corrections were judged to be: reading noise.
+    EXPECT_TRUE(r.joint_error_structure.judged && r.joint_error_structure.readingNoise())
+        << seed << ": " << r.joint_error_structure.describe();
 
     RSC::Options told = o;
     told.noise.joint_sd = {joint_sd};
