@@ -4,20 +4,15 @@
 #include "commands.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <visp3/selfcalib/vpKinematicChain.h>
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibResultsFile.h>
+#include <visp3/selfcalib/vpSelfCalibTextFile.h>
 
 namespace fs = std::filesystem;
 
@@ -76,10 +71,10 @@ bool boundedLine(std::istream &in, const std::string &source, unsigned int linen
       return !line.empty();
     if (c == '\n')
       return true;
-    if (c == '\0')
-      throw vpSelfCalibException(vpSelfCalibException::ioError,
-                                 source + ":" + std::to_string(lineno) +
-                                     ": a NUL byte: not a text file of joint vectors (one per line, rad)");
+    if (c == '\0') // <stdin> (a file is read by vpSelfCalibTextFile, which says the same)
+      throw vpSelfCalibException(vpSelfCalibException::parseError,
+                                 source + ": a NUL byte on line " + std::to_string(lineno) +
+                                     ": not a text file of joint vectors (one per line, rad)");
     if (line.size() == kMaxJointsLineBytes)
       throw vpSelfCalibException(vpSelfCalibException::ioError,
                                  source + ":" + std::to_string(lineno) + ": a line longer than " +
@@ -139,49 +134,10 @@ std::vector<vpColVector> readJoints(const std::string &file, const std::string &
 {
   if (file.empty() || file == "-")
     return readJointLines(std::cin, "<stdin>", n);
-  std::error_code ec;
-  if (fs::is_directory(file, ec))
-    throw vpSelfCalibException(vpSelfCalibException::ioError,
-                               "cannot open " + what + " '" + file + "': it is a directory");
-  // Read whole and bounded first: a FIFO no program writes to reads as empty instead of blocking the
-  // open for ever (opened without blocking, then read blocking: a pipe with a writer is read to its
-  // end), and a device without end stops at the bound.
-  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-  if (fd < 0)
-    throw vpSelfCalibException(vpSelfCalibException::ioError,
-                               "cannot open " + what + " '" + file + "': " + std::strerror(errno));
-  const int flags = ::fcntl(fd, F_GETFL);
-  if (flags >= 0)
-    ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
-  constexpr size_t kMaxJointsBytes = size_t(64) << 20;
-  std::string text;
-  char buf[1 << 16];
-  for (;;) {
-    const ssize_t r = ::read(fd, buf, sizeof buf);
-    if (r < 0 && errno == EINTR)
-      continue;
-    if (r <= 0 || text.size() + static_cast<size_t>(r) > kMaxJointsBytes) {
-      const int err = r < 0 ? errno : 0;
-      ::close(fd);
-      if (r < 0)
-        throw vpSelfCalibException(vpSelfCalibException::ioError,
-                                   "cannot read " + what + " '" + file + "': " + std::strerror(err));
-      if (r > 0)
-        throw vpSelfCalibException(vpSelfCalibException::ioError,
-                                   what + " '" + file + "': more than the 64 MiB read (a device or a stream without "
-                                   "end?); give a " + what);
-      break;
-    }
-    text.append(buf, static_cast<size_t>(r));
-    if (std::memchr(buf, '\0', static_cast<size_t>(r))) // not text: the line reader names the line
-      break;
-  }
-  struct stat st;
-  if (text.empty() && ::stat(file.c_str(), &st) == 0 && S_ISFIFO(st.st_mode))
-    throw vpSelfCalibException(vpSelfCalibException::ioError,
-                               what + " '" + file + "': a FIFO that no program writes to (read as empty); give a file, "
-                               "or write to the FIFO first");
-  std::istringstream in(text);
+  // Read whole and bounded first, as the module reads its files (vpSelfCalibTextFile): a FIFO no
+  // program writes to is refused instead of blocking the open for ever, a device without end stops
+  // at the bound, a NUL byte is named with its line.
+  std::istringstream in(vpSelfCalibTextFile::read(file, what, size_t(64) << 20));
   return readJointLines(in, file, n);
 }
 

@@ -34,10 +34,11 @@ std::string modelHelp();
 
 /*!
   Joint vectors of `n` values, one per line (rad, spaces or commas, '#' comments), from `file` (""
-  or "-": standard input), `what` naming it in messages ("joints file"). Read with bounds counted
-  while reading (a line of at most 64 KiB, at most 100000 vectors, values within 1000 rad): an
-  input without end (/dev/zero) is refused at once. Throws vpSelfCalibException with the file, the
-  line and the reason.
+  or "-": standard input), `what` naming it in messages ("joints file"). A file is read whole by
+  vpSelfCalibTextFile::read() (at most 64 MiB, a FIFO without a writer refused); then, as standard
+  input, with bounds counted while reading (a line of at most 64 KiB, at most 100000 vectors,
+  values within 1000 rad): an input without end (/dev/zero) is refused at once. Throws
+  vpSelfCalibException with the file, the line and the reason.
 */
 std::vector<vpColVector> readJoints(const std::string &file, const std::string &what, unsigned int n);
 //! Canonical path of an existing file or directory, or "" when it does not exist.

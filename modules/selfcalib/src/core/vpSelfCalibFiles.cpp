@@ -4,6 +4,7 @@
  */
 #include "vpSelfCalibFiles.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cctype>
 #include <cerrno>
@@ -261,6 +262,13 @@ mode_t currentUmask()
       return static_cast<mode_t>(std::stoul(line.substr(6), nullptr, 8));
   return 022;
 }
+//! "dataset" -> "dataset file"; "joints file" stays (what to give, in a message).
+std::string fileKind(const std::string &what)
+{
+  const std::string file = "file";
+  const bool ends = what.size() >= file.size() && what.compare(what.size() - file.size(), file.size(), file) == 0;
+  return ends ? what : what + " file";
+}
 } // namespace
 
 std::string errnoText(int err)
@@ -332,16 +340,19 @@ std::string readTextFileBounded(const std::string &filename, const std::string &
         break;
       if (const void *nul = std::memchr(buf, '\0', static_cast<size_t>(n))) {
         ::close(fd);
-        const size_t at = text.size() + static_cast<size_t>(static_cast<const char *>(nul) - buf);
+        // Its line (1-based): the newlines read before it, in the text and in this buffer.
+        const char *at = static_cast<const char *>(nul);
+        const size_t line = 1 + static_cast<size_t>(std::count(text.begin(), text.end(), '\n')) +
+                            static_cast<size_t>(std::count(static_cast<const char *>(buf), at, '\n'));
         throw vpSelfCalibException(vpSelfCalibException::parseError,
-                                   what + " '" + filename + "': a NUL byte at offset " + std::to_string(at) +
-                                       ": not a text file; give a " + what + " file");
+                                   what + " '" + filename + "': a NUL byte on line " + std::to_string(line) +
+                                       ": not a text file; give a " + fileKind(what));
       }
       if (text.size() + static_cast<size_t>(n) > max_bytes) {
         ::close(fd);
         throw vpSelfCalibException(vpSelfCalibException::ioError,
                                    what + " '" + filename + "': more than the " + limit +
-                                       " read (a device or a stream without end?); give a " + what + " file");
+                                       " read (a device or a stream without end?); give a " + fileKind(what));
       }
       text.append(buf, static_cast<size_t>(n));
     }
@@ -354,7 +365,7 @@ std::string readTextFileBounded(const std::string &filename, const std::string &
   if (text.empty() && S_ISFIFO(st.st_mode))
     throw vpSelfCalibException(vpSelfCalibException::ioError,
                                what + " '" + filename + "': a FIFO that no program writes to (read as empty); give a " +
-                                   what + " file, or write to the FIFO first");
+                                   fileKind(what) + ", or write to the FIFO first");
   return text;
 }
 

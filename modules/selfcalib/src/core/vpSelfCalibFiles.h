@@ -41,9 +41,10 @@ void refuseSpecialOutput(const std::string &filename, const std::string &what);
   The content of the text file `filename`, at most `max_bytes` of it, counted while reading: a
   device or a pipe that never ends is refused with the limit's message once the limit is passed, a
   regular file larger than the limit before reading, and a NUL byte (never in a text file: /dev/zero,
-  /dev/urandom, a binary file) as soon as it is read. Throws vpSelfCalibException (ioError, or
-  parseError for a NUL byte) naming `what` and the file: cannot open (errno text), a directory, a
-  read error, beyond the limit, out of memory.
+  /dev/urandom, a binary file) as soon as it is read, with its line. Throws vpSelfCalibException
+  (ioError, or parseError for a NUL byte) naming `what` and the file: cannot open (errno text), a
+  directory, a read error, beyond the limit, out of memory. The module's users read through
+  vpSelfCalibTextFile::read().
 */
 std::string readTextFileBounded(const std::string &filename, const std::string &what, size_t max_bytes);
 

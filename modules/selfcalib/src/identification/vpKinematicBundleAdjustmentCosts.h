@@ -198,30 +198,18 @@ struct PosePriorCost {
   double wt, wr;
 };
 
-//! dq_i / sd_i: the prior of a view's joint corrections (joint-reading noise).
-class JointPriorCost : public ceres::CostFunction
+/*!
+  The prior of a view's joint corrections (joint-reading noise): r_i = dq_i / sd_i, Ceres' NormalPrior
+  with A = diag(1 / sd), b = 0.
+*/
+inline ceres::CostFunction *jointPriorCost(const std::vector<double> &sd)
 {
-public:
-  explicit JointPriorCost(const std::vector<double> &sd) : sd_(sd)
-  {
-    set_num_residuals(static_cast<int>(sd.size()));
-    mutable_parameter_block_sizes()->push_back(static_cast<int>(sd.size()));
-  }
-  bool Evaluate(double const *const *p, double *r, double **J) const override
-  {
-    const size_t n = sd_.size();
-    for (size_t i = 0; i < n; ++i)
-      r[i] = p[0][i] / sd_[i];
-    if (J && J[0])
-      for (size_t i = 0; i < n; ++i)
-        for (size_t j = 0; j < n; ++j)
-          J[0][i * n + j] = i == j ? 1 / sd_[i] : 0.0;
-    return true;
-  }
-
-private:
-  std::vector<double> sd_;
-};
+  const Eigen::Index n = static_cast<Eigen::Index>(sd.size());
+  ceres::Matrix A = ceres::Matrix::Zero(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    A(i, i) = 1 / sd[static_cast<size_t>(i)];
+  return new ceres::NormalPrior(A, ceres::Vector::Zero(n));
+}
 
 /*!
   The kinematic prior (Settings::kinematic_prior): r_i = (rho_i - rho_ref,i) / sd_i on the corrections

@@ -345,7 +345,7 @@ std::unique_ptr<ceres::Problem> buildProblem(Adjustment &a, const vpSelfCalibDat
   }
   // Joint-reading noise: each view's joint corrections with their prior.
   for (size_t k = 0; k < a.state.dq.size(); ++k) {
-    problem->AddResidualBlock(new JointPriorCost(a.joint_sd), nullptr, a.state.dq[k].data());
+    problem->AddResidualBlock(jointPriorCost(a.joint_sd), nullptr, a.state.dq[k].data());
     order->AddElementToGroup(a.state.dq[k].data(), 4 + static_cast<int>(k));
   }
   if (a.has_object) {

@@ -244,17 +244,19 @@ enum Dropped { KEPT, TAKEN_EXACT, NOT_MEASURED };
   calibrated model's, or a joint level beyond a well-built arm's whose corrections are no reading
   noise): a misfit or views that do not separate the corrections from the rest. NOT_MEASURED: the
   corrections at the guessed level leave the estimate undetermined (the adjustment measured nothing:
-  robotErrorNotMeasured()). structure (when not null) receives what the joint corrections look like.
+  robotErrorNotMeasured()). What the joint corrections look like is judged once for res's
+  adjustment, into res.joint_error_structure.
 */
-Dropped robotErrorDropped(const vpSelfCalibPipeline::Context &c, const vpRobotSelfCalibration::Result &res,
-                          vpSelfCalibPipeline::JointErrorStructure *structure)
+Dropped robotErrorDropped(const vpSelfCalibPipeline::Context &c, vpRobotSelfCalibration::Result &res)
 {
   if (c.options.method != vpRobotSelfCalibration::BUNDLE_ADJUSTMENT || c.options.trust_robot ||
       !vpSelfCalib::robotLevelGuessed(c.noise))
     return KEPT;
   if (res.bundle.status == vpKinematicBundleAdjustment::OK && vpSelfCalib::robotErrorNotMeasured(res.bundle.noise))
     return NOT_MEASURED;
-  return vpSelfCalibPipeline::robotErrorImplausible(res.noise, res.bundle, c.calibration, structure) ? TAKEN_EXACT : KEPT;
+  return vpSelfCalibPipeline::robotErrorImplausible(res.noise, res.bundle, c.calibration, &res.joint_error_structure)
+             ? TAKEN_EXACT
+             : KEPT;
 }
 
 //! The options of the trusted run (calibrate --joint-sd 0): the joint readings and the model exact.
@@ -431,17 +433,16 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
   // the trusted run (calibrate --joint-sd 0) from the same start, whose checks judge the fit, with
   // the finding that says why; null when the trusted run fails (the measured run then goes on from
   // where it stopped, its level judged: robot-error-implausible).
-  vpSelfCalibPipeline::JointErrorStructure structure;
   std::function<Result(const vpSelfCalibPipeline::DataStart &, const Options &, bool)> runFrom;
   const auto trustedInstead = [&](const vpSelfCalibPipeline::DataStart &start, const Result &measured,
-                                  Dropped why) -> std::optional<Result> {
+                                  Dropped why, double guessed) -> std::optional<Result> {
     vpSelfCalibPipeline::DataStart exact_start = start;
     exact_start.dataset.joint_sd.clear();
     Result trusted = runFrom(exact_start, trustedOptions(opt), false);
     if (trusted.status != OK && trusted.status != DOUBTFUL)
       return std::nullopt;
-    trusted.findings.push_back(why == TAKEN_EXACT ? takenExactFinding(measured.noise, structure)
-                                                  : vpSelfCalibPipeline::robotErrorNotMeasuredFinding());
+    trusted.findings.push_back(why == TAKEN_EXACT ? takenExactFinding(measured.noise, measured.joint_error_structure)
+                                                  : vpSelfCalibPipeline::robotErrorNotMeasuredFinding(guessed));
     return trusted;
   };
   // may_drop: the run stops where its robot error is dropped, and is the trusted run instead.
@@ -452,11 +453,12 @@ vpRobotSelfCalibration::Result vpRobotSelfCalibration::runMounted(const vpKinema
     const vpSelfCalibPipeline::Context context(model, data, run_opt, N, progress, &nominal, start.eMc_from_data);
     bool tried = false; // the trusted run is made once: when it fails, the measured run goes on
     const auto stopped = [&](Result &r) {
-      const Dropped why = may_drop && !tried ? robotErrorDropped(context, r, &structure) : KEPT;
+      const Dropped why = may_drop && !tried ? robotErrorDropped(context, r) : KEPT;
       if (why == KEPT)
         return false;
       tried = true;
-      std::optional<Result> trusted = trustedInstead(start, r, why);
+      std::optional<Result> trusted =
+          trustedInstead(start, r, why, vpSelfCalib::levelsOf(noiseModel(run_opt, data), vpSelfCalib::JOINT_ERROR).r);
       if (!trusted)
         return false;
       r = std::move(*trusted);

@@ -922,15 +922,18 @@ void checkMeasuredRobotError(const Context &c, Result &res)
     return;
   const vpSelfCalibNoiseModel &n = res.bundle.noise;
   if (!c.options.trust_robot && robotErrorNotMeasured(n))
-    res.findings.push_back(robotErrorNotMeasuredFinding()); // the trusted run failed: this run stands
+    // The trusted run failed: this run stands; the level guessed is the options' and the dataset's.
+    res.findings.push_back(
+        robotErrorNotMeasuredFinding(levelsOf(vpRobotSelfCalibration::noiseModel(c.options, c.dataset), JOINT_ERROR).r));
   // A joint level beyond a well-built arm's is a low-cost arm's reading noise when its corrections
   // look like it (jointErrorStructure()), and a misfit when they do not or when it is beyond any arm's.
+  // Judged once for res.bundle's corrections: the run's drop decision may have judged them already.
   const double joint_level = levelsOf(n, JOINT_ERROR).r;
-  JointErrorStructure structure;
   const bool beyond = n.measure_joint_sd && n.joint_sd_origin == vpSelfCalibNoiseModel::MEASURED &&
                       joint_level > kJointErrorPlausible;
-  if (beyond)
-    structure = jointErrorStructure(res.bundle, n, c.calibration);
+  if (beyond && !res.joint_error_structure.judged)
+    res.joint_error_structure = jointErrorStructure(res.bundle, n, c.calibration);
+  const JointErrorStructure &structure = res.joint_error_structure;
   const bool joints = beyond && (joint_level > kJointErrorImpossible || !structure.readingNoise());
   const bool model = n.measure_model_sd && n.model_sd_origin == vpSelfCalibNoiseModel::MEASURED &&
                      (n.model_sd_translation > kModelErrorPlausible || n.model_sd_rotation > kModelErrorPlausible);

@@ -188,7 +188,8 @@ void runBundle(const Context &c, Result &res)
   // Measured beyond a real arm's, or not measured (the corrections at the prior's level leave the
   // estimate undetermined): vpRobotSelfCalibration::run() makes the trusted run instead
   // (robot-error-taken-exact, robot-error-not-measured), from the top.
-  if (robotErrorNotMeasured(res.bundle.noise) || robotErrorImplausible(res.bundle.noise, res.bundle, cal))
+  if (robotErrorNotMeasured(res.bundle.noise) ||
+      robotErrorImplausible(res.bundle.noise, res.bundle, cal, &res.joint_error_structure))
     return;
   const vpKinematicIdentification::Identifiability again = decideSet(c, d, res.bundle.noise);
   // The model residual merged into the joints (robot_error_confounded) stays merged from that level.

@@ -402,6 +402,7 @@ bool bundleFrom(const Context &c, const vpKinematicChain &start, const std::map<
     o.scale_reference.assign(p.data, p.data + p.size());
   }
   res.bundle = vpKinematicBundleAdjustment::adjust(start, cam0, views, ds.yardstick, points, o, c.noise);
+  res.joint_error_structure = {}; // judged again for these corrections (robotErrorImplausible())
   res.stage_seconds.push_back({label, res.bundle.seconds_solve});
   res.stage_seconds.push_back({"covariance", res.bundle.seconds_covariance});
   res.calibrated = res.bundle.chain;

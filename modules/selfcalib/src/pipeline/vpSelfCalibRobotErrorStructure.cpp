@@ -44,13 +44,18 @@ std::string fixed(double v, int precision)
 }
 } // namespace
 
-bool JointErrorStructure::readingNoise() const
+} // namespace vpSelfCalibPipeline
+
+// The structure carried in the run's result (vpRobotSelfCalibration.h), judged by jointErrorStructure().
+bool vpRobotSelfCalibration::JointErrorStructure::readingNoise() const
 {
+  using namespace vpSelfCalibPipeline;
   return judged && !offset && pose_compared && pose_bic_gain < -kPoseLikeBic;
 }
 
-std::string JointErrorStructure::describe() const
+std::string vpRobotSelfCalibration::JointErrorStructure::describe() const
 {
+  using namespace vpSelfCalibPipeline;
   std::string s;
   if (offset)
     s = "a constant offset on " + offset_joint + " (its corrections' mean is " + fixed(offset_t, 1) +
@@ -71,6 +76,8 @@ std::string JointErrorStructure::describe() const
   return s;
 }
 
+namespace vpSelfCalibPipeline
+{
 JointErrorStructure jointErrorStructure(const vpKinematicBundleAdjustment::Result &b, const vpSelfCalibNoiseModel &noise,
                                         const std::vector<vpSelfCalibDataset::View> &views)
 {
@@ -204,19 +211,20 @@ bool robotErrorImplausible(const vpSelfCalibNoiseModel &noise, const vpKinematic
   const double level = joints_measured ? *std::max_element(noise.joint_sd.begin(), noise.joint_sd.end()) : 0;
   bool joints = false;
   if (level > kJointErrorPlausible) {
-    const JointErrorStructure s = jointErrorStructure(b, noise, views);
-    if (structure)
-      *structure = s;
+    JointErrorStructure judged;
+    JointErrorStructure &s = structure ? *structure : judged;
+    if (!s.judged)
+      s = jointErrorStructure(b, noise, views);
     joints = level > kJointErrorImpossible || !s.readingNoise();
   }
   return model || joints;
 }
-vpSelfCalibDataCheck::Finding robotErrorNotMeasuredFinding()
+vpSelfCalibDataCheck::Finding robotErrorNotMeasuredFinding(double guessed)
 {
   return vpSelfCalibDataCheck::Finding{
       vpSelfCalibDataCheck::WARNING, "robot-error-not-measured",
-      "the robot's error could not be measured: with the joint corrections at the prior's level (" +
-          fixed(1e3 * vpRobotSelfCalibration::kJointErrorPrior, 2) +
+      "the robot's error could not be measured: with the joint corrections at the level it was measured from (" +
+          fixed(1e3 * guessed, 2) +
           " mrad) these views do not determine the estimate, so the joint readings and the model are taken as exact "
           "(as calibrate --joint-sd 0) and the standard deviations leave their error out. State the readings' level "
           "if known (calibrate --joint-sd RAD, or the dataset's robot_error), or add views (more varied "

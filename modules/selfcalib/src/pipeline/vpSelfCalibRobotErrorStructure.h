@@ -18,10 +18,9 @@ namespace vpSelfCalibPipeline
 {
 /*!
   The structure of the joint corrections dq_k (one per calibration view) against that of reading
-  noise, which is independent from view to view and from joint to joint, with mean 0:
-  - offset: a joint's corrections have a mean far from 0 against their spread (Student's t over the
-    views, two-sided 0.1 % with Bonferroni over the joints): a parameter held at a wrong value, not
-    noise (an estimated joint offset takes the mean of the readings' noise, which leaves none);
+  noise (vpRobotSelfCalibration::JointErrorStructure, carried in the run's result):
+  - offset: Student's t of each joint's mean over the views (an estimated joint offset takes the
+    mean of the readings' noise, which leaves none);
   - the per-view camera displacements the corrections make, e_k = J_k dq_k (J_k the joint Jacobian
     at the view's readings), under two models: reading noise, e_k ~ N(0, s J_k D J_k^T) (D the
     stated ratios of the joints' sd), and a per-view 6-D pose error of one level in translation and
@@ -35,20 +34,8 @@ namespace vpSelfCalibPipeline
   readingNoise(): judged, no offset, and the joint model very strongly preferred: a level beyond a
   well-built arm's stands only on that evidence (on few views, where the images leave much of each
   displacement to the prior, neither model is: the level is not trusted).
-  judged: the corrections were there to be judged (a full-kinematics run that modelled the joints).
 */
-struct JointErrorStructure {
-  bool judged = false;
-  double offset_t = 0, offset_bound = 0; //!< the largest |t| of a joint's mean, and the 0.1 % bound
-  std::string offset_joint;              //!< the joint of offset_t ("joint 3")
-  bool offset = false;
-  bool pose_compared = false; //!< the per-view pose model was compared (6 joints or more)
-  double pose_bic_gain = 0;   //!< BIC of reading noise minus BIC of a per-view pose error
-  bool pose_like = false;
-  bool readingNoise() const;
-  //! What the corrections look like, for a finding ("a constant offset on joint 3 (t = 9.1)...").
-  std::string describe() const;
-};
+using JointErrorStructure = vpRobotSelfCalibration::JointErrorStructure;
 
 //! Bayesian information criterion gain beyond which the per-view pose model explains the corrections.
 constexpr double kPoseLikeBic = 10;
@@ -65,16 +52,18 @@ JointErrorStructure jointErrorStructure(const vpKinematicBundleAdjustment::Resul
   kModelErrorPlausible, or the joints' level beyond kJointErrorPlausible with corrections that do
   not look like reading noise (jointErrorStructure(): an offset or a per-view pose error; a level
   beyond the bound whose corrections look like reading noise is a low-cost arm's, and stands).
-  structure (when not null) receives the joints' structure when it was judged.
+  structure (when not null): b's joints' structure, judged once: used as it is when already judged
+  (it must then be b's), else it receives the structure when it is judged here.
 */
 bool robotErrorImplausible(const vpSelfCalibNoiseModel &noise, const vpKinematicBundleAdjustment::Result &b,
                            const std::vector<vpSelfCalibDataset::View> &views, JointErrorStructure *structure = nullptr);
 /*!
   The warning robot-error-not-measured: the robot's error asked to be measured could not be (the
-  corrections at the prior's level leave the estimate undetermined: vpSelfCalib::robotErrorNotMeasured()),
-  and the readings and the model are taken as exact.
+  corrections at the guessed level leave the estimate undetermined: vpSelfCalib::robotErrorNotMeasured()),
+  and the readings and the model are taken as exact. guessed: the joints' level (rad) the
+  measurement started from (the prior's, or the dataset's robot_error).
 */
-vpSelfCalibDataCheck::Finding robotErrorNotMeasuredFinding();
+vpSelfCalibDataCheck::Finding robotErrorNotMeasuredFinding(double guessed);
 } // namespace vpSelfCalibPipeline
 
 #endif

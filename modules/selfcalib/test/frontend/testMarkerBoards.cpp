@@ -290,7 +290,7 @@ TEST(MarkerBoards, BadDescriptionsAreRefusedWithTheReason)
   expectParseError("apriltag-bundle:/nonexistent/b.yaml", "tag bundle '/nonexistent/b.yaml': cannot read: No such file or directory");
   // Read as every input text is: a directory, a device or a binary file is refused with the reason.
   expectParseError("apriltag-bundle:/", "tag bundle '/': cannot read: Is a directory");
-  expectParseError("apriltag-bundle:/dev/zero", "tag bundle '/dev/zero': a NUL byte at offset 0: not a text file");
+  expectParseError("apriltag-bundle:/dev/zero", "tag bundle '/dev/zero': a NUL byte on line 1: not a text file");
   const std::string no_tags = writeBundle("no-tags.yaml", "family: 36h11\n");
   expectParseError("apriltag-bundle:" + no_tags, "expected 'family' and a list 'tags' of {id, size, pose}");
   fs::remove(no_tags);

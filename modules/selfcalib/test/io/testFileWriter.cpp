@@ -1,5 +1,6 @@
 /*
- * Tests of the atomic file writes (vpSelfCalibFileWriter, through the core's writer).
+ * Tests of the atomic file writes (vpSelfCalibFileWriter, through the core's writer) and of the
+ * bounded reads (vpSelfCalibTextFile).
  */
 #include <gtest/gtest.h>
 
@@ -11,6 +12,7 @@
 
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibFileWriter.h>
+#include <visp3/selfcalib/vpSelfCalibTextFile.h>
 
 namespace
 {
@@ -173,5 +175,48 @@ TEST(OutputDirectory, LockStagingAndCommit)
   for (const auto &e : std::filesystem::directory_iterator(dir))
     left.push_back(e.path().filename().string());
   EXPECT_EQ(left, std::vector<std::string>{"out"});
+  std::filesystem::remove_all(dir);
+}
+
+namespace
+{
+//! The message vpSelfCalibTextFile::read throws on `file` (empty when it reads).
+std::string readError(const std::string &file, const std::string &what, size_t max_bytes)
+{
+  try {
+    vpSelfCalibTextFile::read(file, what, max_bytes);
+  } catch (const vpSelfCalibException &e) {
+    return e.getStringMessage();
+  }
+  return std::string();
+}
+} // namespace
+
+/*
+  The bounded reader the tools use: a text file read whole; a NUL byte named with its line (the
+  third line here, after a block of 70000 bytes of text: lines counted across read buffers); a file
+  beyond the bound, a missing file and a directory refused naming the kind of file once ("joints
+  file", not "joints file file"; a "dataset" asks for a dataset file).
+*/
+TEST(TextFile, ReadsBoundedAndNamesTheLineOfANulByte)
+{
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "selfcalib-text-file";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string good = (dir / "j.txt").string(), binary = (dir / "b.txt").string();
+  std::ofstream(good) << "0 1 2\n3 4 5\n";
+  EXPECT_EQ(vpSelfCalibTextFile::read(good, "joints file", 1 << 10), "0 1 2\n3 4 5\n");
+  {
+    std::ofstream out(binary, std::ios::binary);
+    out << "first\n" << std::string(70000, 'x') << "\nthi";
+    out.put('\0');
+    out << "rd\n";
+  }
+  EXPECT_EQ(readError(binary, "joints file", 1 << 20),
+            "joints file '" + binary + "': a NUL byte on line 3: not a text file; give a joints file");
+  EXPECT_NE(readError(good, "dataset", 4).find("': 12 bytes, more than the 0 MiB read"), std::string::npos);
+  EXPECT_EQ(readError((dir / "none.txt").string(), "joints file", 1 << 10),
+            "joints file '" + (dir / "none.txt").string() + "': cannot read: No such file or directory");
+  EXPECT_EQ(readError(dir.string(), "dataset", 1 << 10), "dataset '" + dir.string() + "': cannot read: Is a directory");
   std::filesystem::remove_all(dir);
 }

@@ -253,6 +253,34 @@ public:
   };
   static const char *statusName(Status s);
 
+  /*!
+    What the joint corrections of a BUNDLE_ADJUSTMENT run (Result::bundle's joint_corrections, one per
+    calibration view) look like against reading noise, which is independent from view to view and
+    from joint to joint, with mean 0. Judged when the joint readings' level measured is beyond a
+    well-built arm's (1 mrad): the level stands only when they look like reading noise
+    (readingNoise()); otherwise the readings are taken as exact (robot-error-taken-exact) or the
+    level is doubted (robot-error-implausible).
+    - offset: a joint's corrections have a mean far from 0 against their spread (Student's t over
+      the views, two-sided 0.1 % with Bonferroni over the joints): a parameter held at a wrong value;
+    - pose_like: on arms of 6 joints or more, the per-view camera displacements the corrections make
+      are explained very strongly better (Bayesian information criteria more than 10 apart) by a
+      per-view 6-D pose error (a rendering's, a loose camera's) than by reading noise.
+    judged false: not judged (no joint level measured beyond 1 mrad, or fewer than 3 views).
+  */
+  struct VISP_SELFCALIB_EXPORT JointErrorStructure {
+    bool judged = false;
+    double offset_t = 0, offset_bound = 0; //!< the largest |t| of a joint's mean, and the 0.1 % bound
+    std::string offset_joint;              //!< the joint of offset_t ("joint 3")
+    bool offset = false;
+    bool pose_compared = false; //!< the per-view pose model was compared (6 joints or more)
+    double pose_bic_gain = 0;   //!< BIC of reading noise minus BIC of a per-view pose error
+    bool pose_like = false;
+    //! Judged, no offset, and reading noise very strongly preferred to a per-view pose error.
+    bool readingNoise() const;
+    //! What the corrections look like, for a finding ("a constant offset on joint 3 (t = 9.1)...").
+    std::string describe() const;
+  };
+
   //! The result of vpRobotSelfCalibration: what it computed, and what the caller needs to judge it.
   struct Result {
     Status status = TWO_VIEW_FAILED;
@@ -328,6 +356,9 @@ public:
     //! BUNDLE_ADJUSTMENT, HAND_EYE; PAPER: the shared focal length's (Options::paper_focal_all_views)
     vpMultiViewReconstruction::Result multiview;
     vpKinematicBundleAdjustment::Result bundle;         //!< BUNDLE_ADJUSTMENT
+    //! BUNDLE_ADJUSTMENT: the structure of bundle's joint corrections, judged once for them when
+    //! their level measured is beyond 1 mrad (judged false otherwise)
+    JointErrorStructure joint_error_structure;
     std::vector<std::pair<std::string, double>> stage_seconds; //!< wall time of each stage
     bool verified = false;                 //!< true when there were 2 or more verification views
     vpCalibrationVerifier::Result before, after; //!< yardstick 3-D error with the nominal and calibrated models
