@@ -99,18 +99,23 @@ void printAddPoses(const vpRobotSelfCalibration::Result &r, const std::string &d
 {
   std::set<std::string> joints;
   bool any = false;
+  auto need = [&](const vpKinematicIdentification::Unidentifiable &u) {
+    any = true;
+    const size_t at = u.needs.find(" moves ");
+    if (at != std::string::npos && u.needs[0] == 'j')
+      joints.insert(u.needs.substr(0, at));
+  };
   for (const auto &u : r.identifiability.unidentifiable)
-    if (u.cause == vpKinematicIdentification::CAUSE_DATA) {
-      any = true;
-      const size_t at = u.needs.find(" moves ");
-      if (at != std::string::npos && u.needs[0] == 'j')
-        joints.insert(u.needs.substr(0, at));
-    }
+    if (u.cause == vpKinematicIdentification::CAUSE_DATA)
+      need(u);
+  for (const auto &u : r.identifiability.held_by_prior)
+    need(u);
   if (!any)
     return;
   const size_t n = std::min<size_t>(6, std::max<size_t>(2, joints.size()));
   std::cout << "add these " << n << " poses: visp-selfcalib plan --from " << dataset << " --poses " << n
-            << " (they determine the parameters left at nominal)\n";
+            << (r.identifiability.held_by_prior.empty() ? " (they determine the parameters left at nominal)\n"
+                                                        : " (they determine the parameters the kinematic prior holds)\n");
 }
 
 void printSummary(const vpRobotSelfCalibration::Result &r, unsigned int num_calibration)

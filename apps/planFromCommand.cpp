@@ -85,7 +85,7 @@ std::string jointsFile(const std::string &dataset, const vpMeasurementPlanner::A
 {
   std::ostringstream os;
   os << "# poses to add to " << dataset << " (visp-selfcalib plan --from): " << r.additions.size()
-     << " joint vectors, rad; left at nominal by its views:";
+     << " joint vectors, rad; not determined by its views (left at nominal or held by the kinematic prior):";
   for (const std::string &n : r.left)
     os << " " << n;
   os << "\n";
@@ -141,14 +141,18 @@ int planFrom(const PlanArgs &a)
               << "): " << cal.message << "\n";
     return 3;
   }
-  // The parameters the calibration left at nominal (results.yaml's estimated_set.left_by_data).
+  // The parameters the data alone do not determine: left at nominal (results.yaml's estimated_set.left_by_data),
+  // or, with the kinematic prior, held by it (estimated_set.held_by_prior).
   vpMeasurementPlanner::AdditionOptions o;
   for (const auto &u : cal.identifiability.unidentifiable)
     if (u.cause == vpKinematicIdentification::CAUSE_DATA)
       o.left.push_back(u.name);
+  for (const auto &u : cal.identifiability.held_by_prior)
+    o.left.push_back(u.name);
   if (o.left.empty()) {
     std::cout << "nothing to add: the views of " << a.from
-              << " determine every parameter of the estimated set (none left at nominal by the data)\n";
+              << " determine every parameter of the estimated set (none left at nominal by the data, none held by the "
+                 "kinematic prior alone)\n";
     return 0;
   }
   vpPlannerScene scene;

@@ -178,6 +178,7 @@ struct Row {
   double sum_e2_bounded = 0, sum_bias2 = 0;
   // The other estimators (Alternatives): expected sums of squares, their pairs; the full set's run.
   double alt_today = 0, alt_oracle = 0, alt_full = 0, alt_map1 = 0, alt_map3 = 0, alt_bayes = 0, alt_risk = 0, alt_nominal2 = 0;
+  double alt_prior_nominal = 0, alt_prior_bayes = 0, alt_prior_map3 = 0;
   unsigned int alt_pairs = 0;
   bench::Stats oracle_left, full_size, full_gain, risk_left;
   // Per run, the mean gain over the first-order model's noise draws: set, oracle set, full set, expected-risk
@@ -192,7 +193,36 @@ struct Row {
   bench::Stats prior_gain;
   // The set rule's figures on the runs the prior's row counts (both ok or doubtful).
   double set_e2 = 0;
+  // Whether the reported sd cover the error: the held-out errors' sum of squares over the variances the
+  // run's own covariance predicts (coverage()); the worst run's ratio; the ok runs whose ratio exceeds 2.
+  double set_cov_e2 = 0, set_cov_var = 0, set_cov_worst = 0, prior_cov_e2 = 0, prior_cov_var = 0, prior_cov_worst = 0;
+  unsigned int prior_ok_understated = 0, prior_contradicted = 0;
+  // The largest factor a tolerance group's prior sd are off by (Result::prior_groups: sqrt(chi2 / redundancy)).
+  bench::Stats prior_factor;
 };
+
+/*
+  Whether a run's reported uncertainty covers its error: the variance of each held-out relative position
+  (c_0 M c_k) its own covariance predicts (relativePoseCovariance, the estimated corrections), added to
+  var; the squared errors e to e2. Returns the run's ratio sqrt(e2 / var) (1: the sd are right; above:
+  they understate the error), NAN without a covariance.
+*/
+double coverage(const vpRobotSelfCalibration::Result &r, const std::vector<vpColVector> &held,
+                const std::vector<double> &e, double &e2, double &var)
+{
+  if (!r.bundle.has_covariance)
+    return NAN;
+  double se = 0, sv = 0;
+  for (size_t k = 1; k < held.size() && k - 1 < e.size(); ++k) {
+    const vpMatrix C = vpKinematicBundleAdjustment::relativePoseCovariance(
+        r.calibrated, r.bundle.identifiability.identified, r.bundle.covariance, held[0], held[k]);
+    sv += C[0][0] + C[1][1] + C[2][2];
+    se += e[k - 1] * e[k - 1];
+  }
+  e2 += se;
+  var += sv;
+  return sv > 0 ? std::sqrt(se / sv) : NAN;
+}
 
 //! The Cramer-Rao bound of the set r estimated, at the truth, propagated to the held-out pairs (sum of variances).
 bool boundOf(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds0, unsigned int views,
@@ -276,6 +306,9 @@ std::vector<double> biasOf(const vpSelfCalibSimulator &sim, const vpSelfCalibDat
 struct Alternatives {
   bool ok = false;
   double today = 0, oracle = 0, full = 0, map1 = 0, map3 = 0, bayes = 0, risk_set = 0; // expected sums of squares
+  // Expected over robots drawn with the simulated sd (the prior's own distribution): the nominal model, the
+  // Bayes estimator (posterior covariance), the tolerance/3 prior (sums of squares over the pairs).
+  double prior_nominal = 0, prior_bayes = 0, prior_map3 = 0;
   unsigned int pairs = 0, oracle_left = 0, full_size = 0, risk_left = 0;
   //! Mean gain over the noise's draws: set, oracle set, full set, expected-risk set, prior tolerance, /3, Bayes.
   double gain[7] = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
@@ -546,6 +579,18 @@ Alternatives alternativesOf(const vpSelfCalibSimulator &sim, const vpSelfCalibDa
   out.gain[5] = lin.meanGain(b, K, G, nominal_rms);
   out.bayes = lin.map(pb, b, K);
   out.gain[6] = lin.meanGain(b, K, G, nominal_rms);
+  // Over robots drawn with the simulated sd (d ~ N(0, Pb^-1)), not at this run's truth: the nominal model's
+  // expected error, the Bayes estimator's (its posterior covariance) and the tolerance/3 prior's.
+  const Mat Pb_inv = Mat(pb.cwiseInverse().asDiagonal());
+  out.prior_nominal = (lin.J * Pb_inv * lin.J.transpose()).trace();
+  out.prior_bayes = (lin.J * K * lin.J.transpose()).trace();
+  {
+    Vec b3;
+    Mat K3;
+    lin.map(p3, b3, K3);
+    const Mat B = K3 * Mat(p3.asDiagonal());
+    out.prior_map3 = (lin.J * (B * Pb_inv * B.transpose() + K3 * lin.M * K3) * lin.J.transpose()).trace();
+  }
   // The expected-risk set rule: the calibration views' relative positions, the tolerance as 3 sd.
   const std::vector<vpColVector> qc = [&] {
     std::vector<vpColVector> v;
@@ -625,6 +670,22 @@ void runWithPrior(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &d
   const double e_cal = rms(e), e_nom = rms(nominal_errors);
   row.prior_worst = std::max(row.prior_worst, e_cal / e_nom);
   row.prior_gain.add(e_nom / e_cal);
+  const double cover = coverage(r, held, e, row.prior_cov_e2, row.prior_cov_var);
+  if (std::isfinite(cover)) {
+    row.prior_cov_worst = std::max(row.prior_cov_worst, cover);
+    row.prior_ok_understated += r.status == vpRobotSelfCalibration::OK && cover > 2;
+  }
+  // The prior against the data: the largest factor a group's sd are off by, the runs where one exceeds its quantile.
+  double factor = 0;
+  bool contradicted = false;
+  for (const auto &g : r.bundle.prior_groups)
+    if (g.redundancy >= 1)
+      factor = std::max(factor, std::sqrt(g.chi2 / g.redundancy));
+  for (const auto &f : r.findings)
+    contradicted = contradicted || f.code == "kinematic-prior-contradicted";
+  if (factor > 0)
+    row.prior_factor.add(factor);
+  row.prior_contradicted += contradicted;
   std::vector<double> pred;
   const bool bound = boundOf(clean, ds0, views, held, r, mode, noise, pred, g_prior);
   for (size_t k = 0; k < e.size() && k < nominal_errors.size() && k < set_errors.size(); ++k) {
@@ -662,6 +723,9 @@ void runOnce(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, c
   const double e_cal = rms(v.position_errors), e_nom = rms(nominal_errors);
   row.worst = std::max(row.worst, e_cal / e_nom);
   row.gain.add(e_nom / e_cal);
+  const double cover = coverage(r, held, v.position_errors, row.set_cov_e2, row.set_cov_var);
+  if (std::isfinite(cover))
+    row.set_cov_worst = std::max(row.set_cov_worst, cover);
   for (size_t k = 0; k < v.position_errors.size(); ++k) {
     row.sum_calibrated2 += v.position_errors[k] * v.position_errors[k];
     row.sum_nominal2 += nominal_errors[k] * nominal_errors[k];
@@ -694,6 +758,9 @@ void runOnce(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, c
     row.alt_bayes += alt.bayes;
     row.alt_map3 += alt.map3;
     row.alt_risk += alt.risk_set;
+    row.alt_prior_nominal += alt.prior_nominal;
+    row.alt_prior_bayes += alt.prior_bayes;
+    row.alt_prior_map3 += alt.prior_map3;
     row.risk_left.add(alt.risk_left);
     for (int a = 0; a < 7; ++a)
       row.alt_gain[a].add(alt.gain[a]);
@@ -921,7 +988,10 @@ std::string priorRow(const std::string &robot, unsigned int stuck, unsigned int 
      << bench::meanSd(row.gain, 1, 1) << " | " << set_crb_ratio << " | " << std::setprecision(3)
      << 1e3 * std::sqrt(row.prior_calibrated2 / n) << " | " << 1e3 * std::sqrt(row.prior_bound2 / n) << " | "
      << std::setprecision(2) << row.prior_worst << " | " << bench::meanSd(row.prior_gain, 1, 1) << " | " << crb << " | "
-     << (focal == "known" ? (met ? "met" : "NOT met") : "(not claimed)") << " |\n";
+     << std::sqrt(row.set_cov_e2 / row.set_cov_var) << ", " << row.set_cov_worst << " | "
+     << std::sqrt(row.prior_cov_e2 / row.prior_cov_var) << ", " << row.prior_cov_worst << " | "
+     << row.prior_ok_understated << " | " << bench::meanSd(row.prior_factor, 1, 2) << " | " << row.prior_contradicted
+     << " | " << (focal == "known" ? (met ? "met" : "NOT met") : "(not claimed)") << " |\n";
   return os.str();
 }
 
@@ -959,7 +1029,9 @@ std::string alternativesRow(const std::string &robot, unsigned int stuck, unsign
      << ", " << gain(row.alt_map3) << ", " << gain(row.alt_bayes) << " | " << std::setprecision(1);
   for (int a = 0; a < 7; ++a)
     os << (a ? ", " : "") << row.alt_gain[a].mean();
-  os << " |\n";
+  os << " | " << std::setprecision(3) << mm(row.alt_prior_nominal) << ", " << mm(row.alt_prior_bayes) << ", "
+     << mm(row.alt_prior_map3) << " | " << std::setprecision(2) << std::sqrt(row.alt_prior_nominal / row.alt_prior_bayes)
+     << ", " << std::sqrt(row.alt_prior_nominal / row.alt_prior_map3) << " |\n";
   return os.str();
 }
 
@@ -1197,8 +1269,12 @@ int main(int argc, char **argv)
                 << "| robot | stuck | views | focal | noise (px) | ok | doubtful | failed | held by the prior (most "
                    "frequent) | nominal RMS (mm) | set rule: RMS (mm) | set rule: worst cal/nom | set rule: gain (mean) | "
                    "set rule: CRB ratio | prior: RMS (mm) | prior: posterior CRB RMS (mm) | prior: worst cal/nom | "
-                   "prior: gain (mean) | prior: CRB ratio | targets (prior) |\n"
-                << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
+                   "prior: gain (mean) | prior: CRB ratio | set rule: error / reported sd (RMS, worst run) | "
+                   "prior: error / reported sd (RMS, worst run) | prior: ok runs with error > 2 reported sd | "
+                   "prior: sd factor measured, largest group (mean / sd) | "
+                   "prior: runs doubtful by kinematic-prior-contradicted | "
+                   "targets (prior) |\n"
+                << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
                 << prior_rows.str();
     if (main_table && g_alternatives)
       std::cout << "\n\nthe same runs, other estimators (their expected held-out error to first order at the truth, "
@@ -1209,8 +1285,10 @@ int main(int argc, char **argv)
                    "expected-risk set: left at nominal (mean) | expected-risk set: RMS (mm) | "
                    "prior tolerance: RMS (mm) | prior tolerance/3: RMS (mm) | Bayes (prior the simulated sd): RMS (mm) | "
                    "gain allowed (nominal RMS / expected RMS): set, oracle set, full set, expected-risk set, prior tolerance, "
-                   "prior tolerance/3, Bayes | gain (mean over the runs and 200 draws of the noise each, to first order) |\n"
-                << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
+                   "prior tolerance/3, Bayes | gain (mean over the runs and 200 draws of the noise each, to first order) | "
+                   "over robots drawn with the simulated sd, RMS (mm): nominal, Bayes (posterior), prior tolerance/3 | "
+                   "gain so (ratio of RMS): Bayes, prior tolerance/3 |\n"
+                << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
                 << alternatives.str();
     // The same set in repeated draws of one geometry, at each noise level.
     const bool same = stable == 0 || !main_table || sameSetCheck(robots, noises, stable, stable_geometries);

@@ -9,6 +9,9 @@
 #include <algorithm>
 #include <set>
 
+#include <Eigen/Eigenvalues>
+
+#include "../core/vpSelfCalibChiSquare.h"
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibRange.h"
 
@@ -213,6 +216,50 @@ void addNominalScale(const Adjustment &a, KBA::Result &res)
 }
 
 /*
+  The kinematic prior against the data (Result::prior_groups): per tolerance group, the squared prior
+  residuals at the estimate, their expected sum if the corrections were drawn with the prior's sd (the
+  trace of I - S C S, C the posterior covariance at the stated weights, before any sigma0 scaling) and
+  its 99.9 % quantile (the block's eigenvalues as weights). The corrections lead the kept blocks.
+*/
+void measurePriorAgreement(const Adjustment &a, const Eigen::MatrixXd &full, KBA::Result &res)
+{
+  res.prior_groups.clear();
+  const int P = a.P;
+  if (a.prior_sd.size() != static_cast<size_t>(P) || P == 0 || full.rows() < P)
+    return;
+  const unsigned int n = a.state.chain.getNumJoints();
+  const char *names[4] = {"joint translations", "joint rotations", "hand-eye translations", "hand-eye rotations"};
+  for (int g = 0; g < 4; ++g) {
+    std::vector<int> rows;
+    for (int r = 0; r < P; ++r) {
+      const unsigned int i = a.state.id[static_cast<size_t>(r)];
+      const bool eMc = i / vpKinematicChain::kBlockSize == n + 1, t = i % vpKinematicChain::kBlockSize < 3;
+      if (2 * eMc + !t == g)
+        rows.push_back(r);
+    }
+    if (rows.empty())
+      continue;
+    const Eigen::Index m = static_cast<Eigen::Index>(rows.size());
+    Eigen::MatrixXd R(m, m);
+    KBA::Result::PriorGroup pg;
+    pg.name = names[g];
+    for (Eigen::Index u = 0; u < m; ++u) {
+      const int r = rows[static_cast<size_t>(u)];
+      const double z = (a.state.rho[static_cast<size_t>(r)] - a.rho0[static_cast<size_t>(r)]) / a.prior_sd[static_cast<size_t>(r)];
+      pg.chi2 += z * z;
+      for (Eigen::Index v = 0; v < m; ++v) {
+        const int c = rows[static_cast<size_t>(v)];
+        R(u, v) = (u == v ? 1.0 : 0.0) - full(r, c) / (a.prior_sd[static_cast<size_t>(r)] * a.prior_sd[static_cast<size_t>(c)]);
+      }
+    }
+    pg.redundancy = R.trace();
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (R + R.transpose()), Eigen::EigenvaluesOnly);
+    pg.quantile = vpSelfCalib::weightedChi2Quantile999(eig.eigenvalues());
+    res.prior_groups.push_back(pg);
+  }
+}
+
+/*
   Stage 6, the covariance of the corrections and the estimated intrinsics with the points
   marginalized (core marginalCovariance); the yardstick's ends, linked by their residual, stay in
   the complement as in the solve. False when the information is singular.
@@ -259,6 +306,7 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
     }
   }
   measureFullModeError(a, full, N + 3 * blocks.num_ends + 6 * static_cast<int>(a.state.delta.size()), res);
+  measurePriorAgreement(a, full, res);
   // The a posteriori variance factor: the stated noise is too small for the residuals.
   // With robot pose corrections the pose priors take up what the pixels do not: a sigma0 below 1
   // then says the priors were loose, not that the estimate is better, and is not used to shrink.

@@ -162,6 +162,11 @@ vpKinematicBundleAdjustment::Options vpRobotSelfCalibration::bundleOptions(const
   else
     bo.intrinsics &= ~FX;
   bo.hand_eye_only = opt.method == HAND_EYE;
+  // The nominal model's tolerance the estimated set and the kinematic prior are decided with: the run's.
+  bo.tolerance_translation = opt.tolerance_translation;
+  bo.tolerance_rotation = opt.tolerance_rotation;
+  bo.tolerance_hand_eye_translation = opt.tolerance_hand_eye_translation;
+  bo.tolerance_hand_eye_rotation = opt.tolerance_hand_eye_rotation;
   // The standard deviations follow the residuals when they contradict the stated noise (either way).
   bo.scale_covariance_chi2 = true;
   // The robot's error as the dataset states it (noiseModel()), with the sd widened by sigma0 when

@@ -1088,6 +1088,41 @@ void checkLayoutScale(const Context &c, Result &res)
             "rotate the flange about points away from it");
 }
 
+/*
+  The kinematic prior against the data (vpKinematicBundleAdjustment::Result::prior_groups): a group of
+  corrections whose squared prior residuals exceed their 99.9 % quantile under the prior (the
+  corrections drawn with the prior's sd) says the arm's errors are larger than the tolerances / k
+  stated: the prior then pulls the corrections it holds toward nominal more than the arm allows, and
+  the sd, which it narrows, understate the error. A doubt when, besides, the prior's sd are off by a
+  factor of 2 or more (sqrt(chi2 / redundancy)): below it the sd the prior narrows understate the error
+  by less than that. bench-estset, tolerances 3 sd of the simulated errors and K = 3 (the prior the
+  errors' own distribution but for the base's errors, which the joints' corrections take up): the
+  largest group's factor 1.27-1.41 on average over the rows, one run of 80 over its quantile at 1.8;
+  tolerances 3 times tighter: a factor of about 3 and more.
+*/
+constexpr double kPriorContradicted = 2.0;
+
+void checkKinematicPrior(const Context &c, Result &res)
+{
+  std::string off;
+  for (const auto &g : res.bundle.prior_groups)
+    if (g.chi2 > g.quantile && g.redundancy > 0 && g.chi2 >= kPriorContradicted * kPriorContradicted * g.redundancy)
+      off += (off.empty() ? "" : ", ") + g.name + " " + fixed(std::sqrt(g.chi2 / g.redundancy), 1) +
+             " times the prior's sd (sum of squares " + fixed(g.chi2, 1) + ", expected " + fixed(g.redundancy, 1) +
+             ", 99.9 % quantile " + fixed(g.quantile, 1) + ")";
+  if (off.empty())
+    return;
+  add(res, vpSelfCalibDataCheck::DOUBT, "kinematic-prior-contradicted",
+      "the data put the kinematic corrections beyond the prior's sd (the tolerance / " +
+          fixed(res.bundle.kinematic_prior, 1) + "): " + off +
+          ". The arm's errors are larger than its stated tolerances (" + fixed(1e3 * c.options.tolerance_translation, 1) +
+          " mm, " + fixed(1e3 * c.options.tolerance_rotation, 1) + " mrad; eMc " +
+          fixed(1e3 * c.options.tolerance_hand_eye_translation, 1) + " mm, " +
+          fixed(1e3 * c.options.tolerance_hand_eye_rotation, 1) + " mrad): the prior holds the corrections the data barely see too near nominal, and the sd, which it "
+          "narrows, understate the error. State the arm's real tolerances (calibrate --tolerance T,R or "
+          "T,R,T_eMc,R_eMc) or calibrate without the prior (--kinematic-prior off)");
+}
+
 void handEyeOnJoints(bool world, Result &res)
 {
   add(res, vpSelfCalibDataCheck::WARNING, "hand-eye-kinematics-nominal",
@@ -1116,6 +1151,7 @@ void assess(const Context &c, Result &res)
   checkMeasuredPoseError(c, res);
   checkUnmodelledRobotError(c, res);
   checkLayoutScale(c, res);
+  checkKinematicPrior(c, res);
   std::string doubts;
   for (const Finding &f : res.findings)
     if (f.severity == vpSelfCalibDataCheck::DOUBT)

@@ -120,18 +120,14 @@ void findIdentifiabilityLost(const Context &c, Result &res)
 namespace
 {
 /*
-  The bundle adjustment's estimated-set settings from the run's options and the dataset: the nominal
-  model's tolerance (a parameter whose predicted sd would exceed it stays nominal), the dataset's
-  fix / free lists added to the caller's, and the dataset's kinematic prior when the caller sets none.
+  The bundle adjustment's estimated-set settings from the dataset (the nominal model's tolerance is
+  bundleOptions()'s): its fix / free lists added to the caller's, and its kinematic prior when the
+  caller sets none.
 */
 vpKinematicBundleAdjustment::Options withEstimatedSetOptions(vpKinematicBundleAdjustment::Options o,
-                                                             const vpRobotSelfCalibration::Options &options,
+                                                             const vpRobotSelfCalibration::Options &,
                                                              const vpSelfCalibDataset &dataset)
 {
-  o.tolerance_translation = options.tolerance_translation;
-  o.tolerance_rotation = options.tolerance_rotation;
-  o.tolerance_hand_eye_translation = options.tolerance_hand_eye_translation;
-  o.tolerance_hand_eye_rotation = options.tolerance_hand_eye_rotation;
   for (const std::string &f : dataset.fix)
     if (std::find(o.fixed.begin(), o.fixed.end(), f) == o.fixed.end())
       o.fixed.push_back(f);

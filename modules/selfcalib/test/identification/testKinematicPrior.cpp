@@ -2,13 +2,15 @@
  * Tests of the kinematic prior of vpKinematicBundleAdjustment (Settings::kinematic_prior): the
  * residual's Jacobian, exact recovery when the prior's centre is the truth, the pull of a prior
  * centred off the truth bounded by its weight, the posterior covariance against (J^T J + P)^-1, the
- * parameters the data leave to the prior named, and bad values refused.
+ * parameters the data leave to the prior named, the data's agreement with the prior measured, and bad
+ * values refused.
  */
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -222,6 +224,77 @@ TEST(KinematicBundlePrior, CovarianceIsTheInverseOfTheInformationPlusThePrior)
   // And the prior tightens every sd.
   for (unsigned int i : set.identified)
     EXPECT_LT(c1.sd[i], c0.sd[i]) << sim.getTrueChain().getParameterNames()[i];
+}
+
+/*
+  The prior against the data (Result::prior_groups): a PUMA 560 whose wrist joint 5 moves 1 deg, the truth off the prior's centre by the simulator's errors (1 mm, 0.1
+  deg; eMc 1 mm, 0.2 deg), 25 views with 0.1 px of noise (the data determine the joints' corrections
+  well below those sd). Tolerances 3 times those sd and K = 3: the prior is the errors' own
+  distribution, and each group's squared prior residuals average their redundancy and stay below
+  their 99.9 % quantile (at most one of the seeds over it). Tolerances 3 times smaller (the prior's sd
+  a third of the arm's errors): the joint groups measure a factor above 2 and the doubt's rule flags
+  all seeds but at most one.
+*/
+TEST(KinematicBundlePrior, DataContradictAPriorTighterThanTheArmsErrors)
+{
+  const double deg = M_PI / 180;
+  unsigned int matched_over = 0, seeds = 0, tight_runs = 0;
+  double chi2 = 0, redundancy = 0, tight_chi2 = 0, tight_redundancy = 0;
+  for (uint64_t seed : {3, 4, 5, 6, 7}) {
+    StuckWrist w(seed, 25, 1.0);
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> n(0, 0.1);
+    for (auto &v : w.ds.views)
+      for (auto &o : v.points)
+        o.ip = vpImagePoint(o.ip.get_i() + n(rng), o.ip.get_j() + n(rng));
+    vpSelfCalibNoiseModel noise;
+    noise.pixel_sd = 0.1;
+    KBA::Options bo;
+    bo.intrinsics = 0;
+    bo.covariance = false;
+    const auto set = KBA::estimatedSet(w.sim.getNominalChain(), w.ds.cam, w.ds.views, w.ds.yardstick,
+                                       w.sim.getScenePointsById(), bo, noise);
+    const vpKinematicChain start = nominalOfTheSet(w.sim, set);
+    bo.covariance = true;
+    bo.kinematic_prior = 3;
+    for (double shrink : {1.0, 1.0 / 3}) {
+      bo.tolerance_translation = shrink * 3e-3;
+      bo.tolerance_rotation = shrink * 0.3 * deg;
+      bo.tolerance_hand_eye_translation = shrink * 3e-3;
+      bo.tolerance_hand_eye_rotation = shrink * 0.6 * deg;
+      const auto r = KBA::adjust(start, w.ds.cam, w.ds.views, w.ds.yardstick, w.sim.getScenePointsById(), bo, noise);
+      ASSERT_EQ(r.status, KBA::OK) << r.message;
+      ASSERT_TRUE(r.has_covariance);
+      ASSERT_EQ(r.prior_groups.size(), 4u); // joint and hand-eye translations and rotations
+      bool over = false, tight_flagged = false;
+      for (const auto &g : r.prior_groups) {
+        EXPECT_GT(g.redundancy, 0) << g.name;
+        EXPECT_GT(g.quantile, g.redundancy) << g.name;
+        over = over || g.chi2 > g.quantile;
+        if (shrink == 1.0) {
+          chi2 += g.chi2;
+          redundancy += g.redundancy;
+        } else if (g.name.rfind("joint", 0) == 0) {
+          tight_chi2 += g.chi2;
+          tight_redundancy += g.redundancy;
+          // The doubt's rule (kinematic-prior-contradicted): over the quantile, the sd off by 2 or more.
+          tight_flagged = tight_flagged || (g.chi2 > g.quantile && g.chi2 >= 4 * g.redundancy);
+        }
+      }
+      if (shrink == 1.0)
+        matched_over += over;
+      else
+        tight_runs += tight_flagged;
+    }
+    ++seeds;
+  }
+  EXPECT_LE(matched_over, 1u);
+  // The prior 3 times too tight: the joints' corrections measure a factor of about 3 (the pooled one above 2), and
+  // the doubt's rule flags most seeds (a seed whose true errors happen to lie where the data see little escapes).
+  EXPECT_GT(std::sqrt(tight_chi2 / tight_redundancy), 2.0) << tight_chi2 << " / " << tight_redundancy;
+  EXPECT_GE(tight_runs, seeds - 1);
+  // The matched prior's residuals average their redundancy: a sum of about `redundancy` unit variances.
+  EXPECT_NEAR(chi2 / redundancy, 1.0, 3.29 * std::sqrt(2.0 / redundancy) + 0.2) << chi2 << " / " << redundancy;
 }
 
 // Bad values of the prior are refused: negative, not a number, infinite.

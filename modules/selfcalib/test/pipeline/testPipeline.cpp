@@ -285,6 +285,17 @@ TEST(RobotSelfCalibration, StepOptionsAreBuiltFromTheTopLevelOptionsAndTheDatase
   EXPECT_EQ(bo.intrinsics, vpKinematicBundleAdjustment::FX | vpKinematicBundleAdjustment::ASPECT);
   EXPECT_FALSE(bo.hand_eye_only);
   EXPECT_EQ(bo.fixed, std::vector<std::string>{"j2.tx"});
+  // The run's tolerances, not the bundle adjustment's own defaults (the estimated set, the planner, the prior).
+  RSC::Options tight = o;
+  tight.tolerance_translation = 0.003;
+  tight.tolerance_rotation = 0.005;
+  tight.tolerance_hand_eye_translation = 0.004;
+  tight.tolerance_hand_eye_rotation = 0.02;
+  const vpKinematicBundleAdjustment::Options bt = RSC::bundleOptions(tight, ds);
+  EXPECT_EQ(bt.tolerance_translation, 0.003);
+  EXPECT_EQ(bt.tolerance_rotation, 0.005);
+  EXPECT_EQ(bt.tolerance_hand_eye_translation, 0.004);
+  EXPECT_EQ(bt.tolerance_hand_eye_rotation, 0.02);
   const vpSelfCalibDataCheck::Options co = RSC::dataCheckOptions(o);
   EXPECT_EQ(co.min_points, 9u);
   EXPECT_EQ(RSC::noiseModel(o, ds).pixel_sd, 0.7);

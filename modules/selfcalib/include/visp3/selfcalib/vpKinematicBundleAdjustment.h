@@ -319,6 +319,23 @@ public:
     double nominal_scale_sd = 0;
     //! The k of the kinematic prior the corrections were estimated with (Settings::kinematic_prior; 0: none).
     double kinematic_prior = 0;
+    /*!
+      With the kinematic prior and a covariance: whether the data agree with the prior, per group of
+      corrections of one tolerance (joint translations, joint rotations, hand-eye translations, hand-eye
+      rotations; the base's with the joints'). chi2: the sum of the squared prior residuals
+      ((rho - rho_ref) / sd)^2 at the estimate; redundancy: their expected sum when the corrections are
+      drawn with the prior's sd (the trace of I - S C S over the group, C the posterior covariance at the
+      stated weights, S = diag(1 / sd)), the number of corrections the data rather than the prior
+      determine; quantile: chi2's 99.9 % quantile then (the eigenvalues of that block as weights of a sum
+      of chi-squares). chi2 above the quantile: the data put the corrections beyond what the prior's sd
+      allow (the arm's errors larger than its stated tolerances / k), and the sd, which the prior
+      narrows, understate the error. sqrt(chi2 / redundancy) is the factor the prior's sd are off by.
+    */
+    struct PriorGroup {
+      std::string name;
+      double chi2 = 0, redundancy = 0, quantile = 0;
+    };
+    std::vector<PriorGroup> prior_groups;
     bool has_layout_scale = false;
     double layout_scale = 1;
     double layout_scale_sd = 0;

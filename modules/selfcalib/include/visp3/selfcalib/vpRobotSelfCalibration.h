@@ -447,7 +447,8 @@ public:
     options.bundle with the run's inputs,
     - the FX flag of intrinsics cleared when resolveFocalMode() is FOCAL_KNOWN, set otherwise (the
       other flags are the caller's);
-    - hand_eye_only true for HAND_EYE.
+    - hand_eye_only true for HAND_EYE;
+    - the tolerances (tolerance_translation ... tolerance_hand_eye_rotation) the options' own.
 
     Every method estimates the set vpKinematicIdentification::analyseConfigurations() selects from the
     calibration views' joint configurations at the nominal model (PAPER passes it to its
