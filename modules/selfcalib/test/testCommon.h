@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <map>
 #include <string>
 #include <vector>
@@ -172,6 +173,37 @@ struct StuckWrist {
     return vpSelfCalibSimulator(vpKinematicChain::preset("puma560"), o);
   }
 };
+
+/*
+  The RMS error of `model`'s relative camera motions c_iM c_j against `truth`'s (m, rad) over
+  `pairs` pairs of configurations drawn uniformly within the joint limits (seeded): what `compare`
+  measures against a simulation's truth, the figure the workspace doubt predicts.
+*/
+struct MotionRms {
+  double t = 0, r = 0;
+};
+inline MotionRms workspaceMotionError(const vpKinematicChain &model, const vpKinematicChain &truth,
+                                      unsigned int pairs = 1000)
+{
+  vpSelfCalib::Random rng(1, 7);
+  const auto draw = [&]() {
+    vpColVector q(truth.getNumJoints());
+    for (unsigned int j = 0; j < q.size(); ++j)
+      q[j] = rng.uniform(truth.getJoints()[j].min, truth.getJoints()[j].max);
+    return q;
+  };
+  MotionRms e;
+  for (unsigned int k = 0; k < pairs; ++k) {
+    const vpColVector qi = draw(), qj = draw();
+    const vpHomogeneousMatrix m = model.get_fMc(qi).inverse() * model.get_fMc(qj),
+                              t = truth.get_fMc(qi).inverse() * truth.get_fMc(qj);
+    e.t += std::pow(vpSelfCalib::translationDistance(m, t), 2) / pairs;
+    e.r += std::pow(vpSelfCalib::rotationDistance(m, t), 2) / pairs;
+  }
+  e.t = std::sqrt(e.t);
+  e.r = std::sqrt(e.r);
+  return e;
+}
 } // namespace selfcalib_test
 
 #endif

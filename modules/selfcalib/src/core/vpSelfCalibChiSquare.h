@@ -1,5 +1,5 @@
 /*
- * ViSP SelfCalib: the quantile of a weighted sum of chi-squares (the distribution of a predicted
+ * ViSP SelfCalib: the quantile and the tail of a weighted sum of chi-squares (the distribution of a predicted
  * error's mean square given its covariance).
  */
 #ifndef VP_SELFCALIB_CHI_SQUARE_H
@@ -34,6 +34,22 @@ inline double weightedChi2Quantile(const Eigen::VectorXd &lambda, double z)
 
 //! The 99.9 % quantile of a weighted sum of chi-squares (weightedChi2Quantile()).
 inline double weightedChi2Quantile999(const Eigen::VectorXd &lambda) { return weightedChi2Quantile(lambda, 3.0902); }
+
+/*!
+  The probability that Q = sum_k lambda_k z_k^2 exceeds y: the inverse of weightedChi2Quantile() (the
+  same three-moment fit and Wilson-Hilferty transform), 1 where Q has no spread above y <= 0.
+*/
+inline double weightedChi2Survival(const Eigen::VectorXd &lambda, double y)
+{
+  const Eigen::ArrayXd l = lambda.array().max(0.0);
+  const double c1 = l.sum(), c2 = l.square().sum(), c3 = l.cube().sum();
+  if (!(c1 > 0) || !(c2 > 0) || !(c3 > 0))
+    return y < 0 ? 1.0 : 0.0;
+  const double nu = c2 * c2 * c2 / (c3 * c3), c = 2.0 / (9.0 * nu);
+  const double chi2 = std::max(0.0, nu + (y - c1) * std::sqrt(2.0 * nu) / std::sqrt(2.0 * c2));
+  const double z = (std::cbrt(chi2 / nu) - 1.0 + c) / std::sqrt(c);
+  return 0.5 * std::erfc(z / std::sqrt(2.0));
+}
 } // namespace vpSelfCalib
 
 #endif

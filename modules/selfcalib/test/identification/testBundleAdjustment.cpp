@@ -359,8 +359,17 @@ TEST(KinematicBundleAdjustment, DefaultPipelineIsRobustToWrongMatches)
     vpRobotSelfCalibration::Options o;
     const auto rc = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
     const auto rb = vpRobotSelfCalibration::run(sim.getNominalChain(), bad, o);
-    ASSERT_EQ(rc.status, vpRobotSelfCalibration::OK) << rc.message;
-    ASSERT_EQ(rb.status, vpRobotSelfCalibration::OK) << rb.message;
+    // f self-calibrated: better than the nominal model over the joint limits (5.7 and 3.5 mm against
+    // 9.3 on seed 52 against the truth) with a predicted error that can leave a 12 % chance of the
+    // contrary: doubtful by the workspace check alone, which is not the subject here.
+    const auto workspace_doubt_only = [](const vpRobotSelfCalibration::Result &x) {
+        return x.status == vpRobotSelfCalibration::DOUBTFUL &&
+               std::all_of(x.findings.begin(), x.findings.end(), [](const auto &f) {
+                 return f.severity != vpSelfCalibDataCheck::DOUBT || f.code == "workspace-worse-than-nominal";
+               });
+      };
+    ASSERT_TRUE(rc.status == vpRobotSelfCalibration::OK || workspace_doubt_only(rc)) << rc.message;
+    ASSERT_TRUE(rb.status == vpRobotSelfCalibration::OK || workspace_doubt_only(rb)) << rb.message;
     EXPECT_GT(rb.bundle.num_outliers, 0.12 * (rb.bundle.num_outliers + rb.bundle.num_observations));
     o.noise.loss = vpSelfCalibNoiseModel::LOSS_NONE;
     o.noise.outlier_threshold = 0;

@@ -77,7 +77,16 @@ TEST(RobotSelfCalibration, PaperPipelineOnNoiseFreeImagesImprovesTheModel)
   vpRobotSelfCalibration::Options o;
   o.method = vpRobotSelfCalibration::PAPER;
   const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
-  ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
+  // Over the joint limits this model is not better than the nominal one in position (8.45 mm against
+  // 8.12 on the camera's motions against the truth; 4.7 mrad against 7.8): doubtful by the workspace
+  // check, and by it alone; the held-out poses near the calibration views are the subject here.
+  const auto workspace_doubt_only = [](const vpRobotSelfCalibration::Result &x) {
+      return x.status == vpRobotSelfCalibration::DOUBTFUL &&
+             std::all_of(x.findings.begin(), x.findings.end(), [](const auto &f) {
+               return f.severity != vpSelfCalibDataCheck::DOUBT || f.code == "workspace-worse-than-nominal";
+             });
+    };
+  ASSERT_TRUE(workspace_doubt_only(r)) << r.message;
   EXPECT_EQ(r.measurements.size(), 14u);
   EXPECT_EQ(r.identification.identifiability.identified.size(), 24u);
   EXPECT_TRUE(r.verified);
@@ -447,7 +456,7 @@ TEST(Report, WithoutGnuplotTheDataAndTheTextAreStillWritten)
   vpSelfCalibReport::Options ro;
   ro.gnuplot = "/nonexistent/gnuplot";
   vpSelfCalibPoseStudy::Options so;
-  so.min_poses = 9; // fewer views can be doubtful (workspace-worse-than-nominal) and are not plotted
+  so.min_poses = 11; // fewer views can be doubtful (workspace-worse-than-nominal: 9 and 10 here) and are not plotted
   const vpSelfCalibPoseStudy::Result study = vpSelfCalibPoseStudy::run(sim.getNominalChain(), ds, o, so);
   vpSelfCalibReport::Record run(sim.getNominalChain(), ds, o, r);
   run.errors_vs_poses = &study;
@@ -463,7 +472,7 @@ TEST(Report, WithoutGnuplotTheDataAndTheTextAreStillWritten)
   unsigned int rows = 0;
   while (std::getline(curve, line))
     rows += !line.empty() && line[0] != '#';
-  EXPECT_EQ(rows, 4u); // 9, 10, 11 and 12 calibration poses
+  EXPECT_EQ(rows, 2u); // 11 and 12 calibration poses
   // No front end: no match matrix, no track-length figure.
   EXPECT_FALSE(std::filesystem::exists(std::string(dir) + "/matches.dat"));
   EXPECT_FALSE(std::filesystem::exists(std::string(dir) + "/track_lengths.dat"));
@@ -1022,7 +1031,16 @@ TEST(RobotSelfCalibration, FiveJointArmMeasuresTheModelResidualWithTheJoints)
     RSC::Options o;
     o.num_calibration_poses = nv;
     const RSC::Result r = RSC::run(sim.getNominalChain(), ds, o);
-    ASSERT_EQ(r.status, RSC::OK) << seed << ": " << r.message;
+    // Seed 73 is better than the nominal model over the joint limits (6.7 mm / 7.0 mrad against 7.8 /
+    // 14.2 against the truth) but its predicted error leaves a 15 % chance of the contrary: doubtful
+    // by the workspace check alone, which is not the subject here.
+    const auto workspace_doubt_only = [](const vpRobotSelfCalibration::Result &x) {
+        return x.status == vpRobotSelfCalibration::DOUBTFUL &&
+               std::all_of(x.findings.begin(), x.findings.end(), [](const auto &f) {
+                 return f.severity != vpSelfCalibDataCheck::DOUBT || f.code == "workspace-worse-than-nominal";
+               });
+      };
+    ASSERT_TRUE(r.status == RSC::OK || workspace_doubt_only(r)) << seed << ": " << r.message;
     EXPECT_FALSE(r.bundle.robot_error_confounded) << seed;
     ASSERT_EQ(r.noise.joint_sd.size(), sim.getNominalChain().getNumJoints()) << seed;
     ASSERT_TRUE(r.noise.hasModelError()) << seed;

@@ -369,7 +369,16 @@ TEST(PlanarScene, BundleMethodOnAFlatBoardOfUnknownLayoutStaysRight)
     o.trust_robot = true; // exact joints: the board is the subject
     const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(p.sim.getNominalChain(), p.ds, o);
     const std::string draw = std::to_string(d.first) + "/" + std::to_string(d.second);
-    ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << draw << ": " << r.message;
+    // Draw 1/3 is better than the nominal model over the joint limits by little (5.1 mm / 7.9 mrad
+    // against 6.6 / 8.6 against the truth), its predicted error leaving a 12 % / 17 % chance of the
+    // contrary: doubtful by the workspace check alone, which is not the subject here.
+    const auto workspace_doubt_only = [](const vpRobotSelfCalibration::Result &x) {
+        return x.status == vpRobotSelfCalibration::DOUBTFUL &&
+               std::all_of(x.findings.begin(), x.findings.end(), [](const auto &f) {
+                 return f.severity != vpSelfCalibDataCheck::DOUBT || f.code == "workspace-worse-than-nominal";
+               });
+      };
+    ASSERT_TRUE(r.status == vpRobotSelfCalibration::OK || workspace_doubt_only(r)) << draw << ": " << r.message;
     EXPECT_FALSE(vpSelfCalibPipeline::multiViewMisfit(r.multiview)) << draw;
     ASSERT_TRUE(r.has_eMc) << draw;
     EXPECT_LT(eMcErrorInSd(r, p.sim), 4.0) << draw;

@@ -286,3 +286,27 @@ TEST(Trust, MeasuredNoiseKeepsTheObservationsOfAStatedSdTooSmall)
   EXPECT_NEAR(a.noise.pixel_sd, 1.2, 0.25);
   EXPECT_LT(a.bundle.num_outliers, 0.02 * (a.bundle.num_observations + a.bundle.num_outliers));
 }
+
+/*
+  The workspace check at every number of views (15 here, where 6 (n - 1) equations are well above
+  twice the 24 parameters): one geometry, f known, 0.2 px and 2 px of fresh noise. At 0.2 px the
+  model is better than the nominal one on the camera's motions over the joint limits (against the
+  truth) and ok; at 2 px it is worse and doubtful by the workspace check, which compares the two
+  models' errors there with both uncertainties counted.
+*/
+TEST(Trust, WorkspaceWorseThanNominalIsJudgedAtEveryNumberOfViews)
+{
+  const vpSelfCalibSimulator sim = makeSim("viper850", 1, 0.0);
+  const vpSelfCalibDataset exact = sim.makeDataset(sim.generateConfigurations(15));
+  const MotionRms nominal = workspaceMotionError(sim.getNominalChain(), sim.getTrueChain());
+  for (double sd : {0.2, 2.0}) {
+    const Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), noisy(exact, sd, 1), options(15));
+    ASSERT_TRUE(r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL) << r.message;
+    const MotionRms cal = workspaceMotionError(r.calibrated, sim.getTrueChain());
+    const bool worse = cal.t > nominal.t || cal.r > nominal.r;
+    EXPECT_EQ(worse, sd > 1.0) << sd << " px: " << 1e3 * cal.t << " mm / " << 1e3 * cal.r << " mrad against "
+                               << 1e3 * nominal.t << " / " << 1e3 * nominal.r;
+    EXPECT_EQ(hasFinding(r, "workspace-worse-than-nominal"), worse) << sd << " px: " << r.message;
+    EXPECT_EQ(r.status == vpRobotSelfCalibration::OK, !worse) << sd << " px: " << r.message;
+  }
+}

@@ -15,28 +15,30 @@
 
 using namespace selfcalib_test;
 
-// 13 views, 10 calibrating: one point per number of poses from min_poses (9) to 10, the last one the
+// 15 views, 12 calibrating: one point per number of poses from min_poses (11) to 12, the last one the
 // very run vpRobotSelfCalibration makes with the same options (bit for bit), the reference line the
 // nominal model's error on the held-out views; progress goes from 0 to the number of runs.
 TEST(PoseStudy, OnePointPerNumberOfPosesTheLastIsTheCalibration)
 {
-  // From 9 poses: fewer can leave the model's error over the joint limits above the nominal
-  // model's (workspace-worse-than-nominal), a doubtful run the curve does not plot.
+  // From 11 poses: fewer can leave the model's error over the joint limits above the nominal
+  // model's (workspace-worse-than-nominal), a doubtful run the curve does not plot. This scenario's
+  // first 9 and 10 views do (9.2 and 11.4 mm against the nominal model's 7.5 on the camera's motions
+  // against the truth); 11 and 12 views 1.4 and 1.1 mm.
   const vpSelfCalibSimulator sim = makeSim("viper850", 14, 0.2);
-  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(13));
+  const vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(15));
   vpRobotSelfCalibration::Options o;
-  o.num_calibration_poses = 10;
+  o.num_calibration_poses = 12;
   o.trust_robot = true; // exact joints; the study's curve is the subject, not the robot's error
   vpSelfCalibPoseStudy::Options so;
-  so.min_poses = 9;
+  so.min_poses = 11;
   std::vector<std::pair<unsigned int, unsigned int>> calls;
   const vpSelfCalibPoseStudy::Result s = vpSelfCalibPoseStudy::run(
       sim.getNominalChain(), ds, o, so, [&](unsigned int done, unsigned int total) { calls.push_back({done, total}); });
   ASSERT_EQ(s.status, vpSelfCalibPoseStudy::OK) << s.message;
   EXPECT_EQ(s.runs, 2u);
   ASSERT_EQ(s.points.size(), 2u) << s.message;
-  EXPECT_EQ(s.points[0].poses, 9u);
-  EXPECT_EQ(s.points[1].poses, 10u);
+  EXPECT_EQ(s.points[0].poses, 11u);
+  EXPECT_EQ(s.points[1].poses, 12u);
   for (const auto &p : s.points)
     EXPECT_TRUE(std::isfinite(p.yardstick_error) && p.yardstick_error >= 0);
   const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);

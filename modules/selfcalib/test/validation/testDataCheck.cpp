@@ -323,11 +323,14 @@ TEST(DataCheck, ParallelAxesWarnAndSayWhatIsLost)
   // bundle adjustment's information keeps 5e-11 of it, below its 1e-10 test. The run fails naming the
   // undetermined parameter, or is doubtful naming the poorly determined ones (or the correction of
   // eMc.tx beyond its tolerance: its predicted sd is within the tolerance, so the estimated set from
-  // the data keeps it, and the data then pull it far), or is ok saying what is lost.
+  // the data keeps it, and the data then pull it far; or that the model is worse than the nominal one
+  // away from the views: 532 mm against 8 on the camera's motions against the truth), or is ok saying
+  // what is lost.
   if (r.status == vpRobotSelfCalibration::IDENTIFICATION_FAILED)
     EXPECT_NE(r.message.find("not determined: eMc.tx"), std::string::npos) << r.message;
   else if (r.status == vpRobotSelfCalibration::DOUBTFUL)
-    ASSERT_TRUE(finding(r, "poorly-determined") != nullptr || finding(r, "correction-beyond-tolerance") != nullptr)
+    ASSERT_TRUE(finding(r, "poorly-determined") != nullptr || finding(r, "correction-beyond-tolerance") != nullptr ||
+                finding(r, "workspace-worse-than-nominal") != nullptr)
         << codes(r);
   else {
     EXPECT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
