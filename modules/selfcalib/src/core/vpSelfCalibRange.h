@@ -24,7 +24,7 @@ constexpr double kMaxPixels = 1e6; //!< px: focal lengths, principal point, imag
   are exact to the level that matters, not that the observations are that accurate (a detector's
   systematic error, e.g. of rendered or printed corners, fits into the estimate and leaves no
   residual). No run is made again at a level measured below it, and no covariance is scaled down
-  to it: the level stated stands for both.
+  below it (a level stated below it stands).
 */
 constexpr double kPixelSdFloor = 0.01;
 

@@ -6,7 +6,6 @@
  */
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
@@ -14,6 +13,7 @@
 #include <visp3/selfcalib/vpKinematicBundleAdjustment.h>
 
 #include "../core/vpSelfCalibChiSquare.h"
+#include "../core/vpSelfCalibFormat.h"
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
 #include "../core/vpSelfCalibRange.h"
@@ -38,14 +38,7 @@ void add(Result &res, vpSelfCalibDataCheck::Severity severity, const std::string
   res.findings.push_back(f);
 }
 
-std::string fixed(double v, int digits)
-{
-  std::ostringstream os;
-  os.setf(std::ios::fixed);
-  os.precision(digits);
-  os << v;
-  return os.str();
-}
+using vpSelfCalib::fixed;
 
 /*
   The held-out yardstick: a calibrated model measuring it more than 3 % off (and worse than twice the

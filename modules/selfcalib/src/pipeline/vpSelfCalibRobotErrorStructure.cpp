@@ -6,12 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
 #include <limits>
-#include <sstream>
 
 #include <Eigen/Dense>
 
+#include "../core/vpSelfCalibFormat.h"
 #include "../core/vpSelfCalibRobotErrorLevels.h"
 
 namespace vpSelfCalibPipeline
@@ -36,12 +35,7 @@ double studentUpper(double z, double nu)
   return z + (z3 + z) / (4 * nu) + (5 * z5 + 16 * z3 + 3 * z) / (96 * nu * nu);
 }
 
-std::string fixed(double v, int precision)
-{
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(precision) << v;
-  return os.str();
-}
+using vpSelfCalib::fixed;
 } // namespace
 
 } // namespace vpSelfCalibPipeline

@@ -11,6 +11,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "../core/vpSelfCalibFormat.h"
 #include "../core/vpSelfCalibGeometry.h"
 #include "../core/vpSelfCalibMath.h"
 
@@ -31,14 +32,7 @@ const char *vpSelfCalibDataCheck::severityName(Severity s)
 
 namespace
 {
-std::string fmt(double v, int precision = 2)
-{
-  std::ostringstream os;
-  os.setf(std::ios::fixed);
-  os.precision(precision);
-  os << v;
-  return os.str();
-}
+using vpSelfCalib::fixed;
 
 double deg(double rad) { return rad * 180.0 / M_PI; }
 
@@ -97,8 +91,8 @@ void checkInputs(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, 
       if (!std::isfinite(v.q[j]))
         fail(pose + ": joint " + std::to_string(j + 1) + " is not a finite number");
       if (v.q[j] < J.min - opt.joint_limit_tolerance || v.q[j] > J.max + opt.joint_limit_tolerance)
-        fail(pose + ": joint " + std::to_string(j + 1) + " = " + fmt(v.q[j], 4) + " rad is outside the model's limits [" +
-             fmt(J.min, 4) + ", " + fmt(J.max, 4) +
+        fail(pose + ": joint " + std::to_string(j + 1) + " = " + fixed(v.q[j], 4) + " rad is outside the model's limits [" +
+             fixed(J.min, 4) + ", " + fixed(J.max, 4) +
              "]: check the joint readings (radians, in the model's joint order and zero) or the limits in the robot "
              "model");
     }
@@ -141,7 +135,7 @@ void checkPoints(const vpSelfCalibDataset &ds, const std::vector<View> &cal, con
                            o.ip.get_v() > ds.height)) {
         if (outside++ == 0)
           example = "pose " + std::to_string(k) + ", point " + std::to_string(o.id) + " at (" +
-                    fmt(o.ip.get_u(), 1) + ", " + fmt(o.ip.get_v(), 1) + ")";
+                    fixed(o.ip.get_u(), 1) + ", " + fixed(o.ip.get_v(), 1) + ")";
       }
   }
   auto join = [](const std::vector<std::string> &items) {
@@ -234,7 +228,7 @@ void checkJointMotion(const vpKinematicChain &nominal, const std::vector<View> &
       }
       if (hi - lo < opt.min_joint_range) {
         still.push_back(j);
-        ranges += (ranges.empty() ? "" : ", ") + fmt(deg(hi - lo));
+        ranges += (ranges.empty() ? "" : ", ") + fixed(deg(hi - lo), 2);
       }
     }
     if (!still.empty() && !hand_eye)
@@ -266,7 +260,7 @@ void checkRotations(const vpKinematicChain &nominal, const std::vector<View> &ca
   if (max_rotation < opt.min_rotation)
     add(out, vpSelfCalibDataCheck::WARNING, "barely-rotates",
         "the camera barely rotates between the calibration poses (largest relative rotation " +
-            fmt(deg(max_rotation)) +
+            fixed(deg(max_rotation), 2) +
             " deg): the focal length, the hand-eye rotation and the joint offsets are poorly determined; add poses "
             "rotated by 10 deg or more about different axes");
   else if (hand_eye && !axes.empty()) {
@@ -275,7 +269,7 @@ void checkRotations(const vpKinematicChain &nominal, const std::vector<View> &ca
       spread = std::max(spread, std::acos(std::min(1.0, std::fabs(x.dot(axes[0])))));
     if (spread < opt.parallel_axes_tolerance)
       add(out, vpSelfCalibDataCheck::WARNING, "parallel-rotation-axes",
-          "every end-effector rotation is about the same axis direction (within " + fmt(deg(spread)) +
+          "every end-effector rotation is about the same axis direction (within " + fixed(deg(spread), 2) +
               " deg): the hand-eye translation along that axis is unobservable (see its standard deviation); add "
               "poses rotated about another axis");
   }
@@ -352,7 +346,7 @@ void checkParallax(const vpKinematicChain &nominal, const std::vector<View> &cal
   if (pairs > 0 && flat == pairs) {
     if (max_baseline < 0.01)
       add(out, vpSelfCalibDataCheck::DEGENERATE, "no-parallax",
-          "the camera only rotates: its centre moves by " + fmt(max_baseline * 1e3, 1) +
+          "the camera only rotates: its centre moves by " + fixed(max_baseline * 1e3, 1) +
               " mm at most, and a homography explains the matched points of every pair, so no depth can be "
               "measured; add poses that translate the camera (10% of the distance to the scene or more)");
     else
@@ -407,7 +401,7 @@ void checkCollinear(const std::vector<View> &cal, std::vector<Finding> &out)
   const bool line = worst < kCollinearRatio;
   add(out, line ? vpSelfCalibDataCheck::DEGENERATE : vpSelfCalibDataCheck::WARNING, "collinear-scene",
       std::string("the scene points lie ") + (line ? "on" : "close to") +
-          " a line in every calibration image (their spread across it is at most " + fmt(100.0 * worst, 1) +
+          " a line in every calibration image (their spread across it is at most " + fixed(100.0 * worst, 1) +
           " % of their spread along it): views of a line do not determine the camera's rotation about it" +
           (line ? "" : ", and a thin scene determines it poorly") +
           "; add scene points off the line (a textured surface, a second object)");
@@ -475,8 +469,8 @@ void checkTargetMoves(const vpKinematicChain &nominal, const vpSelfCalibDataset 
   }
   if (motion >= 0.01 && displacement < std::max(2.0, 3 * pixel_sd))
     add(out, vpSelfCalibDataCheck::DEGENERATE, "target-does-not-move",
-        "camera_mount: world, but the target's points stay within " + fmt(displacement, 1) +
-            " px of the first view while the end-effector moves by up to " + fmt(motion * 1e3, 0) +
+        "camera_mount: world, but the target's points stay within " + fixed(displacement, 1) +
+            " px of the first view while the end-effector moves by up to " + fixed(motion * 1e3, 0) +
             " mm: the target is not carried by the tool, and a fixed camera looking at a fixed target determines "
             "nothing; fix the target on the end-effector (or, with the camera on the end-effector, set "
             "camera_mount: effector)");
