@@ -626,6 +626,21 @@ TEST(EstimatedSet, PoorlyDeterminedOnlyBeyondTheDecisionsMargin)
   EXPECT_EQ(off.status, vpRobotSelfCalibration::DOUBTFUL);
 }
 
+namespace
+{
+//! n draws of sum_i weights_i z_i^2, z_i standard normal.
+std::vector<double> weightedChi2Draws(const std::vector<double> &weights, Random &rng, size_t n)
+{
+  std::vector<double> draws(n, 0.0);
+  for (double &d : draws)
+    for (double l : weights) {
+      const double z = rng.normal(1.0);
+      d += l * z * z;
+    }
+  return draws;
+}
+} // namespace
+
 /*
   expected-worse-than-nominal's bound: the 99.9 % quantile of the predicted error's mean square, a
   weighted sum of chi-squares, against 200000 draws: one direction (the old one-dimensional bound,
@@ -642,14 +657,7 @@ TEST(EstimatedSet, PredictedErrorBoundIsTheQuantileOfItsDistribution)
   Random rng(17, 9);
   for (const auto &c : cases) {
     const Eigen::VectorXd lambda = Eigen::Map<const Eigen::VectorXd>(c.data(), static_cast<Eigen::Index>(c.size()));
-    std::vector<double> draws(200000);
-    for (double &d : draws) {
-      d = 0;
-      for (double l : c) {
-        const double z = rng.normal(1.0);
-        d += l * z * z;
-      }
-    }
+    std::vector<double> draws = weightedChi2Draws(c, rng, 200000);
     std::nth_element(draws.begin(), draws.begin() + 199800, draws.end());
     const double drawn = draws[199800], bound = weightedChi2Quantile999(lambda);
     EXPECT_NEAR(bound / drawn, 1.0, 0.04) << c.size() << " weights";
@@ -673,14 +681,7 @@ TEST(EstimatedSet, PredictedErrorTailIsTheQuantilesInverse)
     for (double z : {-1.0, 0.0, 1.2816, 3.0902})
       EXPECT_NEAR(weightedChi2Survival(lambda, weightedChi2Quantile(lambda, z)), 0.5 * std::erfc(z / std::sqrt(2.0)), 1e-9)
           << c.size() << " weights, z " << z;
-    std::vector<double> draws(200000);
-    for (double &d : draws) {
-      d = 0;
-      for (double l : c) {
-        const double x = rng.normal(1.0);
-        d += l * x * x;
-      }
-    }
+    std::vector<double> draws = weightedChi2Draws(c, rng, 200000);
     std::nth_element(draws.begin(), draws.begin() + 180000, draws.end());
     EXPECT_NEAR(weightedChi2Survival(lambda, draws[180000]), 0.10, 0.015) << c.size() << " weights";
   }
