@@ -193,10 +193,15 @@ int compareEyeToHand(const CompareArgs &a, const YAML::Node &root)
     const YAML::Node cam = root["camera"];
     const vpCameraParameters c(cam["px"].as<double>(), cam["py"].as<double>(), cam["u0"].as<double>(), cam["v0"].as<double>());
     vpHomogeneousMatrix bMc_f, eMo_f;
+    const std::string of_path = (fs::path(a.truth).parent_path() / of).string();
     frames = !of.empty() && truthInModelFrames(
         vpKinematicChain::fromYamlString(root["true_model"].as<std::string>(), a.truth + ": true_model"),
         vpKinematicChain::fromYamlString(root["nominal_model"].as<std::string>(), a.truth + ": nominal_model"), bMc_true,
-        eMo_true, layout, c, (fs::path(a.truth).parent_path() / of).string(), estimated, bMc_f, eMo_f);
+        eMo_true, layout, c, of_path, estimated, bMc_f, eMo_f);
+    if (!frames)
+      std::cout << "bMc and eMo in the calibrated model's frames: not computed ("
+                << (of.empty() ? a.truth + " names no dataset (truth_of)"
+                               : of_path + " is missing or unreadable, or its joint readings do not fit the truth") << ")\n";
     if (frames) {
       f_bMc = poseError(*res.bMc, bMc_f);
       f_eMo = poseError(*res.eMo, eMo_f);
