@@ -117,29 +117,6 @@ void findIdentifiabilityLost(const Context &c, Result &res)
 }
 } // namespace
 
-namespace
-{
-/*
-  The bundle adjustment's estimated-set settings from the dataset (the nominal model's tolerance is
-  bundleOptions()'s): its fix / free lists added to the caller's, and its kinematic prior when the
-  caller sets none.
-*/
-vpKinematicBundleAdjustment::Options withEstimatedSetOptions(vpKinematicBundleAdjustment::Options o,
-                                                             const vpRobotSelfCalibration::Options &,
-                                                             const vpSelfCalibDataset &dataset)
-{
-  for (const std::string &f : dataset.fix)
-    if (std::find(o.fixed.begin(), o.fixed.end(), f) == o.fixed.end())
-      o.fixed.push_back(f);
-  for (const std::string &f : dataset.free)
-    if (std::find(o.free.begin(), o.free.end(), f) == o.free.end())
-      o.free.push_back(f);
-  if (!(o.kinematic_prior > 0) && !o.hand_eye_only)
-    o.kinematic_prior = dataset.kinematic_prior;
-  return o;
-}
-} // namespace
-
 Context::Context(const vpKinematicChain &nominal_, const vpSelfCalibDataset &dataset_,
                  const vpRobotSelfCalibration::Options &options_, unsigned int num_calibration_,
                  const vpRobotSelfCalibration::Progress &progress_, const vpKinematicChain *guess_,
@@ -150,7 +127,7 @@ Context::Context(const vpKinematicChain &nominal_, const vpSelfCalibDataset &dat
     verification(dataset_.views.begin() + num_calibration_, dataset_.views.end()),
     twoview(vpRobotSelfCalibration::twoViewOptions(options_, dataset_)),
     multiview(vpRobotSelfCalibration::multiViewOptions(options_, dataset_)),
-    bundle(withEstimatedSetOptions(vpRobotSelfCalibration::bundleOptions(options_, dataset_), options_, dataset_)),
+    bundle(vpRobotSelfCalibration::bundleOptions(options_, dataset_)),
     data_check(vpRobotSelfCalibration::dataCheckOptions(options_)),
     noise(vpRobotSelfCalibration::noiseModel(options_, dataset_)), guess(guess_ ? *guess_ : nominal_),
     eMc_from_data(eMc_from_data_)

@@ -305,6 +305,19 @@ TEST(RobotSelfCalibration, StepOptionsAreBuiltFromTheTopLevelOptionsAndTheDatase
   EXPECT_EQ(bt.tolerance_rotation, 0.005);
   EXPECT_EQ(bt.tolerance_hand_eye_translation, 0.004);
   EXPECT_EQ(bt.tolerance_hand_eye_rotation, 0.02);
+  // The dataset's fix / free lists added to the caller's (plan --from plans with them), its kinematic
+  // prior where the caller sets none.
+  vpSelfCalibDataset with_sets = ds;
+  with_sets.fix = {"j3.*", "j2.tx"};
+  with_sets.free = {"j4.tz"};
+  with_sets.kinematic_prior = 3;
+  const vpKinematicBundleAdjustment::Options bs = RSC::bundleOptions(o, with_sets);
+  EXPECT_EQ(bs.fixed, (std::vector<std::string>{"j2.tx", "j3.*"}));
+  EXPECT_EQ(bs.free, std::vector<std::string>{"j4.tz"});
+  EXPECT_EQ(bs.kinematic_prior, 3.0);
+  RSC::Options own_prior = o;
+  own_prior.bundle.kinematic_prior = 1;
+  EXPECT_EQ(RSC::bundleOptions(own_prior, with_sets).kinematic_prior, 1.0);
   const vpSelfCalibDataCheck::Options co = RSC::dataCheckOptions(o);
   EXPECT_EQ(co.min_points, 9u);
   EXPECT_EQ(RSC::noiseModel(o, ds).pixel_sd, 0.7);

@@ -448,7 +448,9 @@ public:
     - the FX flag of intrinsics cleared when resolveFocalMode() is FOCAL_KNOWN, set otherwise (the
       other flags are the caller's);
     - hand_eye_only true for HAND_EYE;
-    - the tolerances (tolerance_translation ... tolerance_hand_eye_rotation) the options' own.
+    - the tolerances (tolerance_translation ... tolerance_hand_eye_rotation) the options' own;
+    - the dataset's fix and free lists added to the caller's fixed and free, and its kinematic_prior
+      where the caller sets none (not for HAND_EYE).
 
     Every method estimates the set vpKinematicIdentification::analyseConfigurations() selects from the
     calibration views' joint configurations at the nominal model (PAPER passes it to its
