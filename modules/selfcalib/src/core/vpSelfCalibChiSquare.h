@@ -12,6 +12,28 @@
 
 namespace vpSelfCalib
 {
+//! Pearson's three-moment fit of a weighted sum of chi-squares (see weightedChi2Quantile()).
+struct WeightedChi2Fit {
+  double c1 = 0, c2 = 0, nu = 0, c = 0; //!< sum lambda, sum lambda^2, the chi-square's nu, 2 / (9 nu)
+  bool spread = false;                  //!< false: Q has no spread (every weight 0)
+};
+
+//! The three-moment fit of Q = sum_k lambda_k z_k^2 (weightedChi2Quantile()).
+inline WeightedChi2Fit weightedChi2Fit(const Eigen::VectorXd &lambda)
+{
+  const Eigen::ArrayXd l = lambda.array().max(0.0);
+  WeightedChi2Fit f;
+  f.c1 = l.sum();
+  f.c2 = l.square().sum();
+  const double c3 = l.cube().sum();
+  f.spread = f.c1 > 0 && f.c2 > 0 && c3 > 0;
+  if (f.spread) {
+    f.nu = f.c2 * f.c2 * f.c2 / (c3 * c3);
+    f.c = 2.0 / (9.0 * f.nu);
+  }
+  return f;
+}
+
 /*!
   The quantile of Q = sum_k lambda_k z_k^2 (z_k independent N(0, 1), lambda_k >= 0) at the one-sided
   normal deviate z (3.0902: 99.9 %, 1.6449: 95 %): Pearson's three-moment fit, Q ~ mean + sd
@@ -23,13 +45,11 @@ namespace vpSelfCalib
 */
 inline double weightedChi2Quantile(const Eigen::VectorXd &lambda, double z)
 {
-  const Eigen::ArrayXd l = lambda.array().max(0.0);
-  const double c1 = l.sum(), c2 = l.square().sum(), c3 = l.cube().sum();
-  if (!(c1 > 0) || !(c2 > 0) || !(c3 > 0))
+  const WeightedChi2Fit f = weightedChi2Fit(lambda);
+  if (!f.spread)
     return 0;
-  const double nu = c2 * c2 * c2 / (c3 * c3), c = 2.0 / (9.0 * nu);
-  const double chi2 = nu * std::pow(std::max(0.0, 1.0 - c + z * std::sqrt(c)), 3.0);
-  return c1 + std::sqrt(2.0 * c2) * (chi2 - nu) / std::sqrt(2.0 * nu);
+  const double chi2 = f.nu * std::pow(std::max(0.0, 1.0 - f.c + z * std::sqrt(f.c)), 3.0);
+  return f.c1 + std::sqrt(2.0 * f.c2) * (chi2 - f.nu) / std::sqrt(2.0 * f.nu);
 }
 
 //! The 99.9 % quantile of a weighted sum of chi-squares (weightedChi2Quantile()).
@@ -41,13 +61,11 @@ inline double weightedChi2Quantile999(const Eigen::VectorXd &lambda) { return we
 */
 inline double weightedChi2Survival(const Eigen::VectorXd &lambda, double y)
 {
-  const Eigen::ArrayXd l = lambda.array().max(0.0);
-  const double c1 = l.sum(), c2 = l.square().sum(), c3 = l.cube().sum();
-  if (!(c1 > 0) || !(c2 > 0) || !(c3 > 0))
+  const WeightedChi2Fit f = weightedChi2Fit(lambda);
+  if (!f.spread)
     return y < 0 ? 1.0 : 0.0;
-  const double nu = c2 * c2 * c2 / (c3 * c3), c = 2.0 / (9.0 * nu);
-  const double chi2 = std::max(0.0, nu + (y - c1) * std::sqrt(2.0 * nu) / std::sqrt(2.0 * c2));
-  const double z = (std::cbrt(chi2 / nu) - 1.0 + c) / std::sqrt(c);
+  const double chi2 = std::max(0.0, f.nu + (y - f.c1) * std::sqrt(2.0 * f.nu) / std::sqrt(2.0 * f.c2));
+  const double z = (std::cbrt(chi2 / f.nu) - 1.0 + f.c) / std::sqrt(f.c);
   return 0.5 * std::erfc(z / std::sqrt(2.0));
 }
 } // namespace vpSelfCalib
