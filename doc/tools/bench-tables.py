@@ -93,12 +93,9 @@ BENCHES = [
      "(a parameter left when the bias its tolerance implies costs the calibration views less than its "
      "variance), every parameter estimated with the prior (p - nominal) / tolerance or / (tolerance / 3), "
      "and the Bayes estimator (the prior the simulated errors' own sd: no estimator, whatever it is told, "
-     "has a lower expected error over robots drawn so). Where a row's gain target is above the Bayes "
-     "estimator's gain, its targets column says 'beyond the bound'; where it is above every estimator from "
-     "what a user states (data, nominal model, tolerances) but not the Bayes one, 'beyond the tolerances' "
-     "bound'. In the poses-to-add table the views kept keep their noise (a user adds the poses to the data "
-     "taken), and the expected error on B before and after tells a draw from the estimator: 'met in "
-     "expectation' when every run's expected error drops and a realized one does not."),
+     "has a lower expected error over robots drawn so: the Bayes gain is the most any estimator can give on "
+     "such a row). In the poses-to-add table the views kept keep their noise (a user adds the poses to the "
+     "data taken), and the expected error on B before and after tells a draw from the estimator."),
     ("bench-estset-prior", ["--robots", "puma560,panda", "--focal", "known", "--kinematic-prior", "3", "--tables",
                             "main", "--stable", "0", "--alternatives", "false", "--tolerance", "0.01,0.05"],
      "The same arms and runs as bench-estset, f known, calibrated again with the kinematic prior "
@@ -197,8 +194,27 @@ def keep(text):
             i += 1
         if notes:
             out += [""] + ["- " + n for n in notes]
-    text = "\n".join(out).strip() + "\n"
-    return re.sub(r"\bNOT (met)\b", r"not \1", text)
+    return drop_verdicts("\n".join(out).strip() + "\n")
+
+
+def drop_verdicts(text):
+    """A page's tables without the programs' verdict columns (a header starting with "target": met or
+    not against a development target); the figures the verdict was read from stay."""
+    out, drop = [], None
+    for line in text.splitlines():
+        if not line.startswith("|"):
+            drop = None
+            out.append(line)
+            continue
+        row = cells(line)
+        if drop is None:
+            drop = {i for i, c in enumerate(row) if re.match(r"(?i)targets?\b", c)}
+        if drop:
+            kept = [c for i, c in enumerate(row) if i not in drop]
+            line = ("|" + "---|" * len(kept) if all(set(c) <= set("-:") and c for c in kept)
+                    else "| " + " | ".join(kept) + " |")
+        out.append(line)
+    return "\n".join(out) + ("\n" if text.endswith("\n") else "")
 
 
 def run(build, name, args, raw, data=""):
@@ -318,7 +334,7 @@ def current_sections():
         return {}
     text = open(PAGE, encoding="utf-8").read()
     parts = re.split(r"(?m)^## ", text)[1:]
-    return {p.split("\n", 1)[0].strip(): "## " + p.rstrip() + "\n" for p in parts}
+    return {p.split("\n", 1)[0].strip(): drop_verdicts("## " + p.rstrip() + "\n") for p in parts}
 
 
 def main():
@@ -328,6 +344,8 @@ def main():
     ap.add_argument("--raw", default="")
     ap.add_argument("--from-raw", default="", help="take the benchmarks not in --only from the outputs saved in this "
                     "folder by an earlier --raw run (their command, time and machine with them)")
+    ap.add_argument("--rewrite", action="store_true", help="run no benchmark: write the page again from its "
+                    "current sections (after a change to this script's layout)")
     ap.add_argument("--data", default="", help="the shared data folder for bench-real (default ../shared/data)")
     a = ap.parse_args()
     only = set(filter(None, a.only.split(",")))
@@ -335,12 +353,15 @@ def main():
     where = machine() + f", commit {commit()}"
     sections = {n: old[n] for n, _, _ in BENCHES if n in old}
     for name, args, about in BENCHES:
-        if only and name not in only:
+        if a.rewrite or (only and name not in only):
             saved = from_raw(a.from_raw, name)
             if saved:
                 shown, took, body, there = saved
                 shown = shown or "build/bin/" + PROGRAM.get(name, name) + ("" if not args else " " + " ".join(args))
                 sections[name] = section(name, about, shown, took, body, there or where)
+            elif name in sections:  # the kept section with this script's current description
+                head, _, rest = sections[name].partition("\n\n")
+                sections[name] = head + "\n\n" + about + "\n\n" + rest.partition("\n\n")[2]
             continue
         print(f"running {name} ...", file=sys.stderr, flush=True)
         shown, took, body = run(a.build, name, args, a.raw, a.data)
