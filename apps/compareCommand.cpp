@@ -6,8 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <iomanip>
 #include <iostream>
 #include <random>
@@ -17,6 +15,7 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 #include <visp3/selfcalib/vpSelfCalibFileWriter.h>
 #include <visp3/selfcalib/vpSelfCalibResultsFile.h>
+#include <visp3/selfcalib/vpSelfCalibTextFile.h>
 #include <yaml-cpp/yaml.h>
 
 #include "selfcalibCli.h"
@@ -38,21 +37,8 @@ YAML::Node readTruthFile(const std::string &file)
     throw vpSelfCalibException(vpSelfCalibException::parseError,
                                "truth '" + file + "': " + why + " (a file " + kProgram + " simulate writes, STEM-truth.yaml)");
   };
-  // A regular text file (not a device, a FIFO or a binary file), read whole, then parsed.
-  std::error_code ec;
-  const fs::file_status st = fs::status(file, ec);
-  if (!fs::exists(st))
-    throw vpSelfCalibException(vpSelfCalibException::ioError, "truth '" + file + "': cannot read it");
-  if (!fs::is_regular_file(st))
-    fail(fs::is_directory(st) ? "a directory, not a file" : "not a regular file (a device, a FIFO or a socket)");
-  if (fs::file_size(file, ec) > (size_t(64) << 20))
-    fail("larger than the 64 MiB read");
-  std::ifstream in(file, std::ios::binary);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in.good() && !in.eof())
-    throw vpSelfCalibException(vpSelfCalibException::ioError, "truth '" + file + "': cannot read it");
-  if (text.find('\0') != std::string::npos)
-    fail("a NUL byte: not a text file");
+  // Read as the module reads its own files: bounded while reading, no NUL byte, no blocking FIFO.
+  const std::string text = vpSelfCalibTextFile::read(file, "truth", size_t(64) << 20);
   YAML::Node root;
   try {
     root = YAML::Load(text);
