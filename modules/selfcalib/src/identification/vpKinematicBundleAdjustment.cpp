@@ -748,8 +748,18 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   a.scale_prior = solve && !opt.hand_eye_only && !prior;
   if (prior) {
     res.kinematic_prior = opt.kinematic_prior;
+    const unsigned int eMc_first = (start.getNumJoints() + 1) * vpKinematicChain::kBlockSize;
+    const auto held = [&res](unsigned int i) {
+      for (const auto &u : res.identifiability.held_by_prior)
+        if (u.index == i)
+          return true;
+      return false;
+    };
+    // No prior (an infinite sd) on the hand-eye corrections of a measured eMc that the data determine.
     for (unsigned int i : res.identifiability.identified)
-      a.prior_sd.push_back(toleranceOf(i, start.getNumJoints(), opt) / opt.kinematic_prior);
+      a.prior_sd.push_back(opt.eMc_measured && i >= eMc_first && !held(i)
+                               ? std::numeric_limits<double>::infinity()
+                               : toleranceOf(i, start.getNumJoints(), opt) / opt.kinematic_prior);
   }
   a.state.inverted = opt.hand_eye_only && opt.controller_poses_inverted;
   a.state.eye_to_hand = opt.eye_to_hand;

@@ -234,7 +234,7 @@ void measurePriorAgreement(const Adjustment &a, const Eigen::MatrixXd &full, KBA
     for (int r = 0; r < P; ++r) {
       const unsigned int i = a.state.id[static_cast<size_t>(r)];
       const bool eMc = i / vpKinematicChain::kBlockSize == n + 1, t = i % vpKinematicChain::kBlockSize < 3;
-      if (2 * eMc + !t == g)
+      if (2 * eMc + !t == g && std::isfinite(a.prior_sd[static_cast<size_t>(r)]))
         rows.push_back(r);
     }
     if (rows.empty())

@@ -370,6 +370,7 @@ bool bundleFrom(const Context &c, const vpKinematicChain &start, const std::map<
   // Without a yardstick the scale held is the nominal model's, not the start identification's (whose
   // scale follows one reconstruction's, and drifts with it).
   vpKinematicBundleAdjustment::Options o = bo;
+  o.eMc_measured = c.eMc_from_data;
   if (o.scale_reference.empty() && !o.hand_eye_only && start.getNumParameters() == c.nominal.getNumParameters()) {
     const vpColVector p = c.nominal.getParameters();
     o.scale_reference.assign(p.data, p.data + p.size());

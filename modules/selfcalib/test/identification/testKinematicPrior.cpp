@@ -297,6 +297,52 @@ TEST(KinematicBundlePrior, DataContradictAPriorTighterThanTheArmsErrors)
   EXPECT_NEAR(chi2 / redundancy, 1.0, 3.29 * std::sqrt(2.0 / redundancy) + 0.2) << chi2 << " / " << redundancy;
 }
 
+/*
+  A measured eMc (Options::eMc_measured: the pipeline's start measured it from the same data) gets
+  no prior where the data determine it: the same data from two measured starts 20 mm and 10 mrad
+  apart give the same joints' corrections and the same calibrated eMc, and no hand-eye group is
+  judged against the prior. With the prior on it (eMc_measured false), the stuck wrist's offsets,
+  which the data see only together with eMc, are shared around each start: the results differ.
+*/
+TEST(KinematicBundlePrior, AMeasuredEMcIsLeftToTheData)
+{
+  const StuckWrist w(3, 12, 1.0);
+  vpSelfCalibNoiseModel noise;
+  noise.pixel_sd = 0.3;
+  KBA::Options bo;
+  bo.intrinsics = 0;
+  bo.tight = true;
+  bo.covariance = false;
+  const auto set = KBA::estimatedSet(w.sim.getNominalChain(), w.ds.cam, w.ds.views, w.ds.yardstick,
+                                     w.sim.getScenePointsById(), bo, noise);
+  const vpKinematicChain a = nominalOfTheSet(w.sim, set);
+  vpKinematicChain b = a;
+  b.set_eMc(vpPoseVector(vpHomogeneousMatrix(a.get_eMc_pose()) * vpHomogeneousMatrix(0.012, -0.016, 0.0, 0.006, 0.0, -0.008)));
+  const unsigned int n = a.getNumJoints(), eMc_first = (n + 1) * vpKinematicChain::kBlockSize;
+  bo.kinematic_prior = 3;
+  bo.covariance = true;
+  double joints_apart[2] = {0, 0}, eMc_apart[2] = {0, 0};
+  for (bool measured : {true, false}) {
+    bo.eMc_measured = measured;
+    const auto ra = KBA::adjust(a, w.ds.cam, w.ds.views, w.ds.yardstick, w.sim.getScenePointsById(), bo, noise);
+    const auto rb = KBA::adjust(b, w.ds.cam, w.ds.views, w.ds.yardstick, w.sim.getScenePointsById(), bo, noise);
+    ASSERT_EQ(ra.status, KBA::OK) << ra.message;
+    ASSERT_EQ(rb.status, KBA::OK) << rb.message;
+    ASSERT_FALSE(ra.identifiability.held_by_prior.empty()); // the stuck wrist leaves parameters to the prior
+    for (unsigned int i = 0; i < eMc_first; ++i)
+      joints_apart[measured] =
+          std::max(joints_apart[measured], std::fabs(ra.chain.getParameters()[i] - rb.chain.getParameters()[i]));
+    eMc_apart[measured] = (ra.chain.get_eMc_corrected().getTranslationVector() -
+                           rb.chain.get_eMc_corrected().getTranslationVector()).frobeniusNorm();
+    if (measured)
+      for (const auto &g : ra.prior_groups)
+        EXPECT_EQ(g.name.rfind("hand-eye", 0), std::string::npos) << g.name;
+  }
+  EXPECT_LT(joints_apart[1], 1e-7) << "measured eMc: the joints' corrections depend on the start";
+  EXPECT_LT(eMc_apart[1], 1e-7) << "measured eMc: the calibrated eMc depends on the start";
+  EXPECT_GT(joints_apart[0], 10 * joints_apart[1] + 1e-6) << "the prior on eMc made no difference: the test sees nothing";
+}
+
 // Bad values of the prior are refused: negative, not a number, infinite.
 TEST(KinematicBundlePrior, BadValuesAreRefused)
 {

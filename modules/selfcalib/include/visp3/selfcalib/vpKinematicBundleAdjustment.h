@@ -159,7 +159,8 @@ public:
     */
     double separation_tolerance = 1e-8;
     /*!
-      Full kinematic mode: a prior on every estimated correction, k (0, default: none). Each one
+      Full kinematic mode: a prior on every estimated correction (but the hand-eye ones of a
+      measured eMc: Options::eMc_measured), k (0, default: none). Each one
       gets the residual (rho_i - rho_ref,i) / (tol_i / k) beside the pixels, tol_i its tolerance
       (tolerance_*) and rho_ref the model whose scale is held (scale_reference, else the start's):
       the nominal model in the pipeline. k = 1: the tolerance is one sd of the nominal model's
@@ -270,6 +271,16 @@ public:
       its residual. Rotations about a single axis leave part of eMc unobservable: RANK_DEFICIENT.
     */
     bool hand_eye_only = false;
+    /*!
+      The start chain's eMc was measured from these data, not stated (the pipeline's measured
+      start): the kinematic prior (Settings::kinematic_prior) then leaves out the hand-eye
+      corrections the data determine. A prior around the measured eMc would count the data twice, and
+      along the directions the data leave free (a stuck joint's offsets against eMc) it would share
+      them between the joints and eMc around a value that is no one's statement: from a focal length
+      started far off, tens of millimetres from the truth. The hand-eye corrections the data alone
+      do not determine keep the prior (nothing else holds them).
+    */
+    bool eMc_measured = false;
     //! Settings::check(), then the mode against the settings (eye_to_hand is the full mode's).
     void check() const;
   };
