@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <sstream>
 
 #include <visp3/core/vpException.h>
 #include <visp3/selfcalib/vpBoardDetector.h>
@@ -65,6 +66,14 @@ double priorDivisor(const std::string &v)
   char *end = nullptr;
   const double d = std::strtod(k.c_str(), &end);
   return !k.empty() && end == k.c_str() + k.size() && std::isfinite(d) && d > 0 && d <= 1e3 ? d : -1;
+}
+
+//! K as the help prints it (3, 2.5).
+std::string priorText(double k)
+{
+  std::ostringstream os;
+  os << k;
+  return os.str();
 }
 
 //! The model: the focal length, the noise, the tolerance, the robot's error, the intrinsics.
@@ -154,7 +163,8 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
                 "held near nominal (results.yaml: held_by_prior), and the sd include the prior.\n"
                 "tolerance (K = 1), tolerance/K or K (above 0, at most 1000); off: no prior, the\n"
                 "parameters the data do not determine are left at nominal (results.yaml:\n"
-                "left_by_data). Default: the dataset's kinematic_prior, else tolerance/3")
+                "left_by_data). Default: the dataset's kinematic_prior, else tolerance/" +
+                    priorText(vpKinematicBundleAdjustment::DEFAULT_KINEMATIC_PRIOR))
       ->type_name("off|tolerance|tolerance/K|K")
       ->check(CLI::Validator(
           [](std::string &v) {

@@ -70,6 +70,33 @@ vpKinematicIdentification::Identifiability decideSet(const Context &c, const Set
 }
 
 /*
+  The kinematic prior's centre (Settings::kinematic_prior, through scale_reference): the caller's
+  model, its eMc the caller's guess, whose error the hand-eye tolerance states, not the eMc this run
+  started from (startFromData(): the nominal model's eMc replaced by the one the camera's motions
+  measure, its corrections then zero). That start is data, not a prior: its translation can be
+  decimetres off before the adjustment corrects it (the hand-eye closed form from small rotations),
+  and a prior centred there is contradicted by the data. The guess expressed as corrections of the
+  start's eMc; empty without the prior or without a measured eMc (bundleFrom() then centres it on
+  the nominal model's own parameters).
+*/
+std::vector<double> priorCentre(const Context &c)
+{
+  if (!c.eMc_from_data || c.bundle.hand_eye_only || !(c.bundle.kinematicPrior() > 0) ||
+      c.guess.getNumParameters() != c.nominal.getNumParameters())
+    return {};
+  const vpColVector p = c.nominal.getParameters();
+  std::vector<double> centre(p.data, p.data + p.size());
+  const Rigid D = rigidFromPose(c.nominal.get_eMc_pose()).inverse() * rigidFromVisp(c.guess.get_eMc_corrected());
+  const Eigen::Vector3d r = logSO3(D.R);
+  const size_t first = centre.size() - vpKinematicChain::kBlockSize;
+  for (size_t i = 0; i < 3; ++i) {
+    centre[first + i] = D.t(static_cast<Eigen::Index>(i));
+    centre[first + 3 + i] = r(static_cast<Eigen::Index>(i));
+  }
+  return centre;
+}
+
+/*
   The start identification from the multi-view poses (res.measurements) on the set, then the
   kinematic bundle adjustment (at c's noise) from its model; false when the adjustment fails.
 */
@@ -78,6 +105,8 @@ bool identifyAndAdjust(const Context &c, const SetDecision &d, const vpKinematic
 {
   vpKinematicBundleAdjustment::Options bo = c.bundle;
   bo.estimated_set = set;
+  if (bo.scale_reference.empty())
+    bo.scale_reference = priorCentre(c);
   // The start identification estimates exactly that set (fixing the others instead would let the
   // rule take a redundant twin of each in its place, which the bundle adjustment would then keep at
   // the start's value); when the posed views do not determine it, the start is the nominal model.
@@ -140,7 +169,10 @@ void runBundle(const Context &c, Result &res)
     res.stage_seconds.push_back({"start from the nominal model's poses", seconds(ts)});
     if (!p.ok)
       return;
-    if (bundleFrom(c, c.nominal, p.points, p.fx, cal, c.bundle, "kinematic bundle adjustment", res))
+    vpKinematicBundleAdjustment::Options bo = c.bundle;
+    if (bo.scale_reference.empty())
+      bo.scale_reference = priorCentre(c);
+    if (bundleFrom(c, c.nominal, p.points, p.fx, cal, bo, "kinematic bundle adjustment", res))
       res.message = "start from the nominal model's poses (" + failed.message + "); " + res.message;
     else
       res.message = failed.message + "; from the nominal model's poses: " + res.message;

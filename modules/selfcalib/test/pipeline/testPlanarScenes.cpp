@@ -235,9 +235,6 @@ TEST(PlanarScene, FullKinematicsFocalSelfCalibratedOnAPlane)
     o.method = vpRobotSelfCalibration::BUNDLE_ADJUSTMENT;
     o.focal_mode = vpRobotSelfCalibration::FOCAL_SHARED;
     o.trust_robot = true; // exact joints: the plane and f are the subject
-    // Without the kinematic prior: the eMc measured on the plane to start from is decimetres off, the
-    // prior centred there, and the data contradict it (kinematic-prior-contradicted).
-    o.bundle.kinematic_prior = vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF;
     const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
     ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << seed << ": " << r.message;
     EXPECT_LT(std::abs(r.camera.get_px() - cam.get_px()), 3.5 * r.fx_sd) << seed << ": " << r.camera.get_px();
@@ -373,9 +370,6 @@ TEST(PlanarScene, BundleMethodOnAFlatBoardOfUnknownLayoutStaysRight)
     o.num_calibration_poses = 14;
     o.noise.pixel_sd = 0.2;
     o.trust_robot = true; // exact joints: the board is the subject
-    // Without the kinematic prior: the eMc measured on the plane to start from is decimetres off, the
-    // prior centred there, and the data contradict it (kinematic-prior-contradicted).
-    o.bundle.kinematic_prior = vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF;
     const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(p.sim.getNominalChain(), p.ds, o);
     const std::string draw = std::to_string(d.first) + "/" + std::to_string(d.second);
     // Draw 1/3 is better than the nominal model over the joint limits by little (5.1 mm / 7.9 mrad

@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <optional>
 
 #include <visp3/selfcalib/vpCalibrationVerifier.h>
 #include <visp3/selfcalib/vpRobotSelfCalibration.h>
@@ -25,12 +24,10 @@ namespace
 using Result = vpRobotSelfCalibration::Result;
 
 Result calibrate(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds,
-                 vpRobotSelfCalibration::Method method = vpRobotSelfCalibration::BUNDLE_ADJUSTMENT,
-                 std::optional<double> kinematic_prior = std::nullopt)
+                 vpRobotSelfCalibration::Method method = vpRobotSelfCalibration::BUNDLE_ADJUSTMENT)
 {
   vpRobotSelfCalibration::Options o;
   o.method = method;
-  o.bundle.kinematic_prior = kinematic_prior;
   o.trust_robot = true; // exact joints: the data check's findings are the subject, not the robot's error
   return vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
 }
@@ -267,19 +264,18 @@ vpSelfCalibDataset facingScene(const vpSelfCalibSimulator &sim, const std::vecto
 // Every point on one plane facing the camera, f known: a homography explains every pair, which is
 // a warning (planar-scene), not a refusal; the full kinematic calibration goes on and the held-out
 // poses are predicted as well as from a scene with relief (within 2x of the 1 cm relief run, and far
-// better than the nominal model). Without the kinematic prior: on the plane the eMc measured from the
-// data to start from is decimetres off, the prior is centred there and the data contradict it.
+// better than the nominal model).
 TEST(DataCheck, PlanarSceneWithFocalKnownCalibrates)
 {
   for (uint64_t seed : {10, 11}) {
     const vpSelfCalibSimulator sim = makeSim("viper850", seed);
     const std::vector<vpColVector> qs = sim.generateConfigurations(20);
     const vpSelfCalibDataset plane = facingScene(sim, qs, 0.0, seed), relief = facingScene(sim, qs, 0.01, seed);
-    const Result r = calibrate(sim, plane, vpRobotSelfCalibration::BUNDLE_ADJUSTMENT, vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF);
+    const Result r = calibrate(sim, plane);
     ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << "seed " << seed << ": " << r.message;
     ASSERT_NE(finding(r, "planar-scene"), nullptr) << codes(r);
     EXPECT_NE(finding(r, "planar-scene")->message.find("the scene is a plane"), std::string::npos);
-    const Result rr = calibrate(sim, relief, vpRobotSelfCalibration::BUNDLE_ADJUSTMENT, vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF);
+    const Result rr = calibrate(sim, relief);
     ASSERT_EQ(rr.status, vpRobotSelfCalibration::OK) << rr.message;
     const std::vector<vpSelfCalibDataset::View> held(plane.views.begin() + 15, plane.views.end());
     const std::vector<vpHomogeneousMatrix> truth = sim.getTrueCameraPoses(held);
