@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <sstream>
 
 #include <visp3/core/vpException.h>
 #include <visp3/selfcalib/vpBoardDetector.h>
@@ -60,11 +61,19 @@ void addProtocolOptions(CLI::App *c, CalibrateArgs &a)
 double priorDivisor(const std::string &v)
 {
   if (v == "off")
-    return 0;
+    return vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF;
   const std::string k = v == "tolerance" ? "1" : v.rfind("tolerance/", 0) == 0 ? v.substr(10) : v;
   char *end = nullptr;
   const double d = std::strtod(k.c_str(), &end);
   return !k.empty() && end == k.c_str() + k.size() && std::isfinite(d) && d > 0 && d <= 1e3 ? d : -1;
+}
+
+//! K as the help prints it (3, 2.5).
+std::string priorText(double k)
+{
+  std::ostringstream os;
+  os << k;
+  return os.str();
 }
 
 //! The model: the focal length, the noise, the tolerance, the robot's error, the intrinsics.
@@ -142,16 +151,20 @@ void addModelOptions(CLI::App *c, CalibrateArgs &a)
       ->delimiter(',');
   c->add_option("--free", a.free,
                 "bundle-adjustment: kinematic parameters estimated even when their predicted sd exceeds\n"
-                "the tolerance (--tolerance), walked first; refused (exit 3) when the data cannot\n"
-                "separate one from the others; added to the dataset's free: list")
+                "the tolerance (--tolerance), walked first; added to the dataset's free: list. One the\n"
+                "model folds into another is refused (exit 3); so is, with --kinematic-prior off, one\n"
+                "the data cannot separate from the others (with the prior it is estimated, held by the\n"
+                "prior: results.yaml held_by_prior)")
       ->type_name("NAMES")
       ->delimiter(',');
   c->add_option("--kinematic-prior", a.kinematic_prior,
                 "bundle-adjustment: a prior on every kinematic correction, its sd the tolerance\n"
                 "(--tolerance) / K: the parameters the data alone do not determine are estimated too,\n"
-                "held near nominal (results.yaml: held_by_prior), and the sd include the prior. off\n"
-                "(default: the dataset's kinematic_prior, else none), tolerance (K = 1), tolerance/K\n"
-                "or K (above 0, at most 1000)")
+                "held near nominal (results.yaml: held_by_prior), and the sd include the prior.\n"
+                "tolerance (K = 1), tolerance/K or K (above 0, at most 1000); off: no prior, the\n"
+                "parameters the data do not determine are left at nominal (results.yaml:\n"
+                "left_by_data). Default: the dataset's kinematic_prior, else tolerance/" +
+                    priorText(vpKinematicBundleAdjustment::DEFAULT_KINEMATIC_PRIOR))
       ->type_name("off|tolerance|tolerance/K|K")
       ->check(CLI::Validator(
           [](std::string &v) {
@@ -217,7 +230,8 @@ vpRobotSelfCalibration::Options calibrationOptions(const CalibrateArgs &a,
   }
   po.bundle.fixed = a.fix;
   po.bundle.free = a.free;
-  po.bundle.kinematic_prior = priorDivisor(a.kinematic_prior);
+  if (!a.kinematic_prior.empty()) // else not said: the dataset's, else the bundle adjustment's default
+    po.bundle.kinematic_prior = priorDivisor(a.kinematic_prior);
   // The board's layout as its spec describes it measures the start (PnP) even when the bundle
   // adjustment does not take it as known; several single tags have none, a masked board gives no points.
   if (co.board && !co.mask_board) {

@@ -151,7 +151,7 @@ struct CalibrateArgs {
   bool joint_sd_auto = false;   //!< --joint-sd auto: measured (the default)
   std::vector<std::string> estimate; //!< intrinsics estimated beside f: aspect, pp, distortion
   std::vector<std::string> fix, free; //!< kinematic parameters (names or glob patterns) kept nominal / freed
-  std::string kinematic_prior = "off";  //!< off, tolerance, tolerance/K or K (the prior's sd: the tolerance / K)
+  std::string kinematic_prior;  //!< off, tolerance, tolerance/K or K (the prior's sd: the tolerance / K); empty: not said
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::vector<std::string> dot_grids;
   bool no_features = false;

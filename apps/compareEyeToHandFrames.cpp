@@ -65,6 +65,7 @@ bool truthInModelFrames(const vpKinematicChain &truth, const vpKinematicChain &n
   o.num_calibration_poses = static_cast<unsigned int>(clean.views.size());
   o.bundle.known_points = layout;
   o.bundle.tight = true;
+  o.bundle.kinematic_prior = vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF; // an exact fit: no pull toward nominal
   o.trust_robot = true;
   o.noise.measure_joint_sd = o.noise.measure_model_sd = o.noise.measure_pose_sd = false;
   try {

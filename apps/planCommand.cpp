@@ -21,9 +21,10 @@ void addPlan(CLI::App &app, PlanArgs &a)
   c->footer("Writes calibration poses planned on the reference scenario's nominal model, then random held-out\n"
             "poses, one joint vector per line.\n"
             "With --from DATASET: calibrates the dataset (method bundle) and proposes the next poses that\n"
-            "determine the parameters its views leave at nominal (results.yaml's estimated_set.left_by_data),\n"
-            "each with what it adds; written to --out FILE (else stdout) in the same joints format, for\n"
-            "simulate --joints or acquire --plan. Exit codes: 0 poses written, or nothing to add (said so);\n"
+            "determine the parameters its views alone do not determine (held by the kinematic prior, or left\n"
+            "at nominal: results.yaml's estimated_set.held_by_prior, left_by_data), each with what it adds;\n"
+            "written to --out FILE (else stdout) in the same joints format, for simulate --joints or acquire\n"
+            "--plan. Exit codes: 0 poses written, or nothing to add (said so);\n"
             "1 bad input (a dataset without joint readings, a camera in the world); 2 bad usage; 3 the\n"
             "calibration failed, or no candidate pose keeps the scene in view.");
   c->add_option("OUT.txt", a.out, "the file to write (not with --from: use --out)")

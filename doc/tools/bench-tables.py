@@ -82,11 +82,13 @@ BENCHES = [
      "3 predicted sd)."),
     ("bench-estset", ["--stable-geometries", "2"],
      "The bundle method on arms with one joint that barely moves (Panda joint 3, PUMA joint 5, within "
-     "+-0.5 deg): the estimated set decided from the data's information (what is left at nominal, the "
-     "same set over draws), the held-out relative-pose error against the nominal model's and the "
-     "Cramer-Rao bound of the set estimated; the joint readings trusted (`--joint-sd 0`: the simulated "
-     "robot has no reading error). The second table puts on the same runs what other estimators of the same "
-     "data would give (expected held-out error to first order at the truth; the set's own reproduces its "
+     "+-0.5 deg), calibrate's default (the kinematic prior, tolerance/3, at tolerances 3 sd of the simulated "
+     "errors): the parameters the data do not determine (held by the prior; the same set over draws), the "
+     "held-out relative-pose error against the nominal model's and the Cramer-Rao bound of the estimate (with "
+     "the prior: the posterior one); the joint readings trusted (`--joint-sd 0`: the simulated robot has no "
+     "reading error). The prior's table puts the set rule (`calibrate --kinematic-prior off`: the parameters "
+     "the data do not determine left at nominal) beside it on the same views. The alternatives' table puts on "
+     "the same runs what other estimators of the same data would give (expected held-out error to first order at the truth; the set's own reproduces its "
      "CRB + bias): the oracle set (the parameters to leave at nominal chosen knowing the truth: the floor of "
      "any set rule, out of reach of a rule that does not know the truth), the full set (everything the data "
      "separate at all: no bias, more variance; also run), an expected-risk set rule from what a user has "
@@ -98,9 +100,9 @@ BENCHES = [
      "data taken), and the expected error on B before and after tells a draw from the estimator."),
     ("bench-estset-prior", ["--robots", "puma560,panda", "--focal", "known", "--kinematic-prior", "3", "--tables",
                             "main", "--stable", "0", "--alternatives", "false", "--tolerance", "0.01,0.05"],
-     "The same arms and runs as bench-estset, f known, calibrated again with the kinematic prior "
-     "(`calibrate --kinematic-prior tolerance/3`: every correction estimated, its prior sd its tolerance / 3), "
-     "the tolerances given to calibrate its defaults (10 mm, 50 mrad; eMc 100 mm, 500 mrad): a prior 3.3 "
+     "The same arms and runs as bench-estset, f known, with calibrate's default kinematic prior "
+     "(`--kinematic-prior tolerance/3`: every correction estimated, its prior sd its tolerance / 3) and the "
+     "set rule (`--kinematic-prior off`) beside it, the tolerances given to calibrate its defaults (10 mm, 50 mrad; eMc 100 mm, 500 mrad): a prior 3.3 "
      "times looser than the simulated errors on the joints (1 mm, 0.1 deg). The prior's table puts it beside "
      "the set rule on the same runs: held-out error, gain, ratio to its bound (the posterior covariance at the "
      "truth), whether the reported sd cover the error (the held-out errors over the variances the run's own "

@@ -3,18 +3,20 @@
  * moves (the real Franka set's joint 3 moves 0.51 deg while the others move 51-122 deg).
  *
  *   bench-estset [--seeds N] [--draws K] [--stable D] [--stable-geometries G] [--robots panda,puma560]
- *                [--views 12,25] [--noise 0.2,0.5] [--focal known,shared] [--kinematic-prior K]
+ *                [--views 12,25] [--noise 0.2,0.5] [--focal known,shared] [--kinematic-prior K|off]
  *                [--alternatives BOOL] [--tables main,add] [--csv FILE]
  *
  * Per robot (its stuck joint: the Panda's j3, a 6-axis arm's wrist j5), number of calibration views,
  * focal mode, noise level and seed: a true robot with seeded errors (vpSelfCalibSimulator, 80 points
  * and a yardstick), V calibration and 10 held-out configurations drawn around the home with the stuck
  * joint within +-0.5 deg of it and every scene point in view (each draw aimed at the scene by a few
- * Gauss-Newton steps on the other joints), the default pipeline (method bundle, the pixel sd stated)
- * on K + 1 noise draws, the joint readings trusted (calibrate --joint-sd 0: the simulated robot has no
- * reading error). Per row:
+ * Gauss-Newton steps on the other joints), the default pipeline (method bundle, the pixel sd stated,
+ * calibrate's kinematic prior unless --kinematic-prior says otherwise) on K + 1 noise draws, the joint
+ * readings trusted (calibrate --joint-sd 0: the simulated robot has no reading error). Per row:
  *   ok / doubtful / failed  the run's status (the pipeline's checks; failed: no model);
- *   left at nominal         the parameters the data leave out (cause DATA), the most frequent list;
+ *   not determined          the parameters the data do not determine (cause DATA): left at nominal by
+ *                           the set rule (--kinematic-prior off), held by the prior with it; the most
+ *                           frequent list;
  *   sets over the seeds     the number of different lists over the runs of the row (seeds are different
  *                           geometries; the same-set check below is the one of a geometry);
  *   nominal / calibrated    the held-out relative position error (c_0 M c_k, first held-out view to the
@@ -24,7 +26,8 @@
  *   CRB RMS                 the RMS error the Cramer-Rao bound of the set estimated predicts;
  *   set's bias RMS          the held-out error of the noise-free fit with the run's set (the
  *                           parameters left at nominal held there, the others fitted to the true
- *                           images): what leaving them costs, which the bound does not hold;
+ *                           images; with the prior, its pull toward nominal): what leaving them (or
+ *                           the prior's pull) costs, which the bound does not hold;
  *   gain the bound allows   nominal RMS / CRB RMS: what an efficient estimator of that set gains;
  *   CRB ratio               RMS error / the RMS the Cramer-Rao bound of the set estimated predicts
  *                           (vpKinematicBundleAdjustment::information at the truth with that set,
@@ -45,11 +48,13 @@
  * expected error over robots drawn so). The targets column says "beyond the bound" where the Bayes
  * estimator's gain is short of the target, "beyond the tolerances' bound" where it is not but every
  * estimator from what a user states (data, nominal model, tolerances) is.
- * With --kinematic-prior K, the same runs calibrated again with the bundle adjustment's kinematic prior
- * (calibrate --kinematic-prior K: every candidate estimated, each correction's prior sd its tolerance
- * / K) and a table of it beside the set rule: its held-out error, worst ratio, gain, and ratio to its
- * bound (the posterior covariance at the truth, the prior's information included); --alternatives
- * false leaves out the first-order table (and its full-set runs).
+ * With the kinematic prior (calibrate's default, or --kinematic-prior K: every candidate estimated,
+ * each correction's prior sd its tolerance / K), the same runs calibrated again with the set rule
+ * (calibrate --kinematic-prior off) and a table of the prior beside it: held-out error, worst ratio,
+ * gain, and ratio to the bound (the prior's: the posterior covariance at the truth, the prior's
+ * information included); the alternatives compare the set rule's set. --kinematic-prior off: the
+ * main table is the set rule's, no prior table. --alternatives false leaves out the first-order
+ * table (and its full-set runs).
  * Then the same-set check: per robot and noise level, D draws of each of G geometries (12 views, f
  * known): the geometries whose D draws all leave the same list at nominal.
  * Then (--tables add) the poses to add: per robot and seed (12 views, 0.2 px, f known), calibrate, the
@@ -74,6 +79,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <random>
 #include <set>
 #include <sstream>
@@ -116,11 +122,13 @@ vpSelfCalibDataset noisy(const vpSelfCalibDataset &ds0, double noise, uint64_t s
 }
 
 double g_tolerance_t = 3e-3, g_tolerance_r = 5e-3; // --tolerance
-double g_prior = 0;           // --kinematic-prior: also run the bundle method with that prior (0: not)
+// --kinematic-prior: the main runs' kinematic prior (0: off, the set rule); empty: calibrate's default
+// (vpKinematicBundleAdjustment::DEFAULT_KINEMATIC_PRIOR).
+std::optional<double> g_prior;
 bool g_alternatives = true;   // --alternatives: the other estimators' table (first order)
 
 vpRobotSelfCalibration::Options optionsOf(vpRobotSelfCalibration::FocalMode mode, double noise, unsigned int views,
-                                          double prior = 0)
+                                          const std::optional<double> &prior)
 {
   vpRobotSelfCalibration::Options po;
   po.bundle.kinematic_prior = prior;
@@ -136,9 +144,10 @@ vpRobotSelfCalibration::Options optionsOf(vpRobotSelfCalibration::FocalMode mode
   return po;
 }
 
+//! A run of the pipeline; prior: its kinematic prior (0: off, the set rule), by default the main runs' (g_prior).
 vpRobotSelfCalibration::Result calibrate(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds,
                                          vpRobotSelfCalibration::FocalMode mode, double noise, unsigned int views,
-                                         double prior = 0)
+                                         const std::optional<double> &prior = g_prior)
 {
   return vpRobotSelfCalibration::run(sim.getNominalChain(), ds, optionsOf(mode, noise, views, prior));
 }
@@ -152,12 +161,18 @@ std::string heldByPrior(const vpRobotSelfCalibration::Result &r)
   return s.empty() ? "none" : s;
 }
 
-std::string leftByData(const vpRobotSelfCalibration::Result &r)
+/*
+  The parameters the data do not determine, or "none": left at nominal (the set rule) or held by the
+  kinematic prior (estimated, held near nominal), the same decision.
+*/
+std::string notDetermined(const vpRobotSelfCalibration::Result &r)
 {
   std::string s;
   for (const auto &u : r.identifiability.unidentifiable)
     if (u.cause == vpKinematicIdentification::CAUSE_DATA)
       s += (s.empty() ? "" : " ") + u.name;
+  for (const auto &u : r.identifiability.held_by_prior)
+    s += (s.empty() ? "" : " ") + u.name;
   return s.empty() ? "none" : s;
 }
 
@@ -191,8 +206,10 @@ struct Row {
   std::map<std::string, unsigned int> prior_held;
   double prior_calibrated2 = 0, prior_nominal2 = 0, prior_bound2 = 0, prior_e2_bounded = 0, prior_worst = 0;
   bench::Stats prior_gain;
-  // The set rule's figures on the runs the prior's row counts (both ok or doubtful).
-  double set_e2 = 0;
+  // The set rule's run (--kinematic-prior off) on the runs the prior's row counts (both ok or doubtful):
+  // its errors, worst ratio, gain and the Cramer-Rao bound of its set.
+  double set_e2 = 0, set_worst = 0, set_e2_bounded = 0, set_bound2 = 0;
+  bench::Stats set_gain;
   // Whether the reported sd cover the error: the held-out errors' sum of squares over the variances the
   // run's own covariance predicts (coverage()); the worst run's ratio; the ok runs whose ratio exceeds 2.
   double set_cov_e2 = 0, set_cov_var = 0, set_cov_worst = 0, prior_cov_e2 = 0, prior_cov_var = 0, prior_cov_worst = 0;
@@ -224,11 +241,13 @@ double coverage(const vpRobotSelfCalibration::Result &r, const std::vector<vpCol
   return sv > 0 ? std::sqrt(se / sv) : NAN;
 }
 
-//! The Cramer-Rao bound of the set r estimated, at the truth, propagated to the held-out pairs (sum of variances).
+//! The Cramer-Rao bound of the set r estimated, at the truth, propagated to the held-out pairs (sum of variances);
+//! with r's kinematic prior, the posterior covariance.
 bool boundOf(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds0, unsigned int views,
              const std::vector<vpColVector> &held, const vpRobotSelfCalibration::Result &r,
-             vpRobotSelfCalibration::FocalMode mode, double noise, std::vector<double> &pred, double prior = 0)
+             vpRobotSelfCalibration::FocalMode mode, double noise, std::vector<double> &pred)
 {
+  const double prior = r.bundle.kinematic_prior; // the run's (0: none)
   vpKinematicBundleAdjustment::Options bo;
   bo.intrinsics = mode == vpRobotSelfCalibration::FOCAL_KNOWN ? 0u : vpKinematicBundleAdjustment::FX;
   bo.estimated_set = r.identifiability;
@@ -258,7 +277,8 @@ bool boundOf(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds0, uns
 /*
   The error the set itself costs: the bundle adjustment on the noise-free calibration views with the
   run's set (the parameters it left at nominal held there, the others fitted to the true images; the
-  true points as start), the held-out position errors of that fit. The bound holds the noise part of
+  true points as start) and the run's kinematic prior (its pull toward nominal), the held-out
+  position errors of that fit. The bound holds the noise part of
   a run's error; this is the rest (0 when nothing is left at nominal).
 */
 std::vector<double> biasOf(const vpSelfCalibSimulator &sim, const vpSelfCalibDataset &ds0, unsigned int views,
@@ -269,6 +289,13 @@ std::vector<double> biasOf(const vpSelfCalibSimulator &sim, const vpSelfCalibDat
   bo.intrinsics = mode == vpRobotSelfCalibration::FOCAL_KNOWN ? 0u : vpKinematicBundleAdjustment::FX;
   bo.estimated_set = r.identifiability;
   bo.covariance = false;
+  // The run's prior (0: none) at the run's tolerances (the prior's sd).
+  const vpRobotSelfCalibration::Options po = optionsOf(mode, noise, views, r.bundle.kinematic_prior);
+  bo.kinematic_prior = r.bundle.kinematic_prior;
+  bo.tolerance_translation = po.tolerance_translation;
+  bo.tolerance_rotation = po.tolerance_rotation;
+  bo.tolerance_hand_eye_translation = po.tolerance_hand_eye_translation;
+  bo.tolerance_hand_eye_rotation = po.tolerance_hand_eye_rotation;
   vpSelfCalibNoiseModel bn;
   bn.pixel_sd = noise;
   const std::vector<vpSelfCalibDataset::View> cal(ds0.views.begin(), ds0.views.begin() + views);
@@ -497,7 +524,8 @@ Alternatives alternativesOf(const vpSelfCalibSimulator &sim, const vpSelfCalibDa
                             double nominal_rms, uint64_t seed)
 {
   Alternatives out;
-  vpKinematicBundleAdjustment::Options bo = vpRobotSelfCalibration::bundleOptions(optionsOf(mode, noise, views), ds0);
+  vpKinematicBundleAdjustment::Options bo =
+      vpRobotSelfCalibration::bundleOptions(optionsOf(mode, noise, views, vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF), ds0);
   const vpKinematicBundleAdjustment::Options tol = bo;
   bo.estimated_set = vpKinematicIdentification::Identifiability();
   bo.tolerance_translation = bo.tolerance_rotation = bo.tolerance_hand_eye_translation = bo.tolerance_hand_eye_rotation = 1e9;
@@ -643,33 +671,24 @@ std::string againstTruth(const vpSelfCalibSimulator &sim, const vpKinematicChain
 }
 
 /*
-  --kinematic-prior: the bundle method with the prior on the same noisy views (the set rule's run's
-  errors `set_errors` beside it): its held-out error, gain, and ratio to its bound (the posterior
-  covariance at the truth, the prior's information included).
+  A main run r with the kinematic prior (held-out errors e) beside the set rule (calibrate
+  --kinematic-prior off) on the same noisy views: the prior's held-out error, gain, ratio to its bound
+  (the posterior covariance at the truth, the prior's information included), whether its sd cover the
+  error and whether the data agree with the prior; the set rule's error, worst ratio, gain, ratio to
+  the bound of its set and coverage. Returns the set rule's run (its set is the alternatives' "set").
 */
-void runWithPrior(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, const vpSelfCalibDataset &ds,
-                  const std::vector<vpColVector> &held, unsigned int views, vpRobotSelfCalibration::FocalMode mode,
-                  double noise, const std::vector<double> &nominal_errors, const std::vector<double> &set_errors,
-                  Row &row, const std::string &tag)
+vpRobotSelfCalibration::Result compareWithSetRule(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0,
+                                                  const vpSelfCalibDataset &ds, const std::vector<vpColVector> &held,
+                                                  unsigned int views, vpRobotSelfCalibration::FocalMode mode, double noise,
+                                                  const std::vector<double> &nominal_errors,
+                                                  const vpRobotSelfCalibration::Result &r, const std::vector<double> &e,
+                                                  Row &row, const std::string &tag)
 {
-  const auto r = calibrate(clean, ds, mode, noise, views, g_prior);
-  if (r.status != vpRobotSelfCalibration::OK && r.status != vpRobotSelfCalibration::DOUBTFUL) {
-    ++row.prior_failed;
-    std::cerr << "\n" << tag << ": with the prior: " << vpRobotSelfCalibration::statusName(r.status) << ": "
-              << r.message << "\n";
-    return;
-  }
   (r.status == vpRobotSelfCalibration::OK ? row.prior_ok : row.prior_doubtful)++;
-  if (r.status == vpRobotSelfCalibration::DOUBTFUL)
-    for (const auto &f : r.findings)
-      if (f.severity == vpSelfCalibDataCheck::DOUBT)
-        std::cerr << "\n" << tag << ": with the prior: doubtful: " << f.code << ": " << f.message << "\n";
   ++row.prior_held[heldByPrior(r)];
-  const std::vector<vpSelfCalibDataset::View> hv(ds0.views.begin() + views, ds0.views.end());
-  const std::vector<double> e = bench::verifyAgainstTruth(clean, r.calibrated, r.camera, hv).position_errors;
-  const double e_cal = rms(e), e_nom = rms(nominal_errors);
-  row.prior_worst = std::max(row.prior_worst, e_cal / e_nom);
-  row.prior_gain.add(e_nom / e_cal);
+  const double e_nom = rms(nominal_errors);
+  row.prior_worst = std::max(row.prior_worst, rms(e) / e_nom);
+  row.prior_gain.add(e_nom / rms(e));
   const double cover = coverage(r, held, e, row.prior_cov_e2, row.prior_cov_var);
   if (std::isfinite(cover)) {
     row.prior_cov_worst = std::max(row.prior_cov_worst, cover);
@@ -686,19 +705,55 @@ void runWithPrior(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &d
   if (factor > 0)
     row.prior_factor.add(factor);
   row.prior_contradicted += contradicted;
-  std::vector<double> pred;
-  const bool bound = boundOf(clean, ds0, views, held, r, mode, noise, pred, g_prior);
-  for (size_t k = 0; k < e.size() && k < nominal_errors.size() && k < set_errors.size(); ++k) {
+  // The set rule on the same views.
+  const auto s = calibrate(clean, ds, mode, noise, views, vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF);
+  if (s.status != vpRobotSelfCalibration::OK && s.status != vpRobotSelfCalibration::DOUBTFUL) {
+    std::cerr << "\n" << tag << ": the set rule: " << vpRobotSelfCalibration::statusName(s.status) << ": " << s.message
+              << "\n";
+    return s;
+  }
+  const std::vector<vpSelfCalibDataset::View> hv(ds0.views.begin() + views, ds0.views.end());
+  const std::vector<double> se = bench::verifyAgainstTruth(clean, s.calibrated, s.camera, hv).position_errors;
+  row.set_worst = std::max(row.set_worst, rms(se) / e_nom);
+  row.set_gain.add(e_nom / rms(se));
+  const double set_cover = coverage(s, held, se, row.set_cov_e2, row.set_cov_var);
+  if (std::isfinite(set_cover))
+    row.set_cov_worst = std::max(row.set_cov_worst, set_cover);
+  std::vector<double> pred, set_pred;
+  const bool bound = boundOf(clean, ds0, views, held, r, mode, noise, pred);
+  const bool set_bound = boundOf(clean, ds0, views, held, s, mode, noise, set_pred);
+  for (size_t k = 0; k < e.size() && k < nominal_errors.size() && k < se.size(); ++k) {
     row.prior_calibrated2 += e[k] * e[k];
     row.prior_nominal2 += nominal_errors[k] * nominal_errors[k];
-    row.set_e2 += set_errors[k] * set_errors[k];
+    row.set_e2 += se[k] * se[k];
     ++row.prior_pairs;
     if (bound && k < pred.size()) {
       row.prior_bound2 += pred[k];
       row.prior_e2_bounded += e[k] * e[k];
     }
+    if (set_bound && k < set_pred.size()) {
+      row.set_bound2 += set_pred[k];
+      row.set_e2_bounded += se[k] * se[k];
+    }
   }
+  return s;
 }
+
+//! --kinematic-prior's value: off or 0: 0 (the set rule); tolerance 1; tolerance/K or K (above 0); empty when not one.
+std::optional<double> priorOf(const std::string &v)
+{
+  if (v == "off" || v == "0")
+    return vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF;
+  const std::string k = v == "tolerance" ? "1" : v.rfind("tolerance/", 0) == 0 ? v.substr(10) : v;
+  char *end = nullptr;
+  const double d = std::strtod(k.c_str(), &end);
+  if (k.empty() || end != k.c_str() + k.size() || !std::isfinite(d) || !(d > 0))
+    return std::nullopt;
+  return d;
+}
+
+//! The main runs' kinematic prior (0: none): --kinematic-prior, else calibrate's default.
+double mainPrior() { return g_prior ? *g_prior : vpKinematicBundleAdjustment::DEFAULT_KINEMATIC_PRIOR; }
 
 void runOnce(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, const std::vector<vpColVector> &held,
              unsigned int views, vpRobotSelfCalibration::FocalMode mode, double noise, uint64_t draw_seed,
@@ -709,6 +764,7 @@ void runOnce(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, c
   ++row.runs;
   if (r.status != vpRobotSelfCalibration::OK && r.status != vpRobotSelfCalibration::DOUBTFUL) {
     ++row.failed;
+    row.prior_failed += mainPrior() > 0;
     std::cerr << "\n" << tag << ": " << vpRobotSelfCalibration::statusName(r.status) << ": " << r.message << "\n";
     return;
   }
@@ -717,15 +773,12 @@ void runOnce(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, c
     for (const auto &f : r.findings)
       if (f.severity == vpSelfCalibDataCheck::DOUBT)
         std::cerr << "\n" << tag << ": doubtful: " << f.code << ": " << f.message << "\n";
-  ++row.sets[leftByData(r)];
+  ++row.sets[notDetermined(r)];
   const std::vector<vpSelfCalibDataset::View> hv(ds0.views.begin() + views, ds0.views.end());
   const vpCalibrationVerifier::Result v = bench::verifyAgainstTruth(clean, r.calibrated, r.camera, hv);
   const double e_cal = rms(v.position_errors), e_nom = rms(nominal_errors);
   row.worst = std::max(row.worst, e_cal / e_nom);
   row.gain.add(e_nom / e_cal);
-  const double cover = coverage(r, held, v.position_errors, row.set_cov_e2, row.set_cov_var);
-  if (std::isfinite(cover))
-    row.set_cov_worst = std::max(row.set_cov_worst, cover);
   for (size_t k = 0; k < v.position_errors.size(); ++k) {
     row.sum_calibrated2 += v.position_errors[k] * v.position_errors[k];
     row.sum_nominal2 += nominal_errors[k] * nominal_errors[k];
@@ -746,10 +799,15 @@ void runOnce(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, c
       ++run_pairs;
     }
   }
-  if (g_prior > 0)
-    runWithPrior(clean, ds0, ds, held, views, mode, noise, nominal_errors, v.position_errors, row, tag);
-  const Alternatives alt =
-      g_alternatives ? alternativesOf(clean, ds0, ds, views, held, r, mode, noise, e_nom, draw_seed) : Alternatives();
+  // With the prior, the set rule beside it; the alternatives compare the set rule's set (its run's when it has one).
+  const bool with_prior = r.bundle.kinematic_prior > 0;
+  const vpRobotSelfCalibration::Result set_rule =
+      with_prior ? compareWithSetRule(clean, ds0, ds, held, views, mode, noise, nominal_errors, r, v.position_errors, row, tag)
+                 : r;
+  const bool set_ok = set_rule.status == vpRobotSelfCalibration::OK || set_rule.status == vpRobotSelfCalibration::DOUBTFUL;
+  const Alternatives alt = g_alternatives && set_ok
+                               ? alternativesOf(clean, ds0, ds, views, held, set_rule, mode, noise, e_nom, draw_seed)
+                               : Alternatives();
   if (alt.ok) {
     row.alt_today += alt.today;
     row.alt_oracle += alt.oracle;
@@ -790,7 +848,7 @@ void runOnce(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, c
   if (csv.enabled())
     csv.row() << tag << "," << vpRobotSelfCalibration::statusName(r.status) << "," << e_nom << "," << e_cal << ","
               << std::sqrt(run_bound2 / std::max(1u, run_pairs)) << "," << std::sqrt(run_bias2 / std::max(1u, run_pairs))
-              << ",\"" << leftByData(r) << "\",\"" << doubts << "\"," << r.predicted_rms << "," << r.fit_nominal_rms;
+              << ",\"" << notDetermined(r) << "\",\"" << doubts << "\"," << r.predicted_rms << "," << r.fit_nominal_rms;
   if (csv.enabled()) {
     const double np = std::max(1u, alt.pairs);
     csv.row() << "," << alt.full_size << "," << std::sqrt(alt.today / np) << "," << std::sqrt(alt.oracle / np) << ","
@@ -885,9 +943,11 @@ void addPosesRun(const std::string &robot, unsigned int seed, double noise, unsi
   for (const auto &u : r1.identifiability.unidentifiable)
     if (u.cause == vpKinematicIdentification::CAUSE_DATA)
       ao.left.push_back(u.name);
+  for (const auto &u : r1.identifiability.held_by_prior) // as plan --from: what the prior holds, the data do not determine
+    ao.left.push_back(u.name);
   const auto plan = vpMeasurementPlanner(clean.getNominalChain(), scene)
                         .planAdditions(cal, r1.camera, r1.bundle.points, ds1.yardstick,
-                                       vpRobotSelfCalibration::bundleOptions(optionsOf(mode, noise, views), ds1), r1.noise, ao);
+                                       vpRobotSelfCalibration::bundleOptions(optionsOf(mode, noise, views, g_prior), ds1), r1.noise, ao);
   if (plan.status != vpMeasurementPlanner::OK)
     std::cerr << "\n" << robot << ", seed " << seed << ": planAdditions " << vpMeasurementPlanner::statusName(plan.status)
               << ": " << plan.message << "\n";
@@ -909,9 +969,9 @@ void addPosesRun(const std::string &robot, unsigned int seed, double noise, unsi
     return;
   }
   row.added.add(static_cast<double>(plan.additions.size()));
-  ++row.before[leftByData(r1)];
-  row.left_before += leftByData(r1) != "none";
-  row.left_after += leftByData(r2) != "none";
+  ++row.before[notDetermined(r1)];
+  row.left_before += notDetermined(r1) != "none";
+  row.left_after += notDetermined(r2) != "none";
   const std::vector<vpSelfCalibDataset::View> hv(ds1.views.begin() + views, ds1.views.end());
   const std::vector<double> e_nom =
       bench::verifyAgainstTruth(clean, clean.getNominalChain(), clean.getCamera(), hv).position_errors;
@@ -942,8 +1002,8 @@ void addPosesRun(const std::string &robot, unsigned int seed, double noise, unsi
   if (!(rms(w2) < rms(w1)))
     std::cerr << "\n" << robot << ", seed " << seed << ": not better on B after the poses: " << 1e3 * rms(w1) << " -> "
               << 1e3 * rms(w2) << " mm (nominal " << 1e3 * rms(w_nom) << ", expected " << 1e3 * std::sqrt(xb / std::max(1u, pb))
-              << " -> " << 1e3 * std::sqrt(xa / std::max(1u, pa)) << "); left before [" << leftByData(r1) << "], after ["
-              << leftByData(r2) << "], " << plan.additions.size() << " poses added\n";
+              << " -> " << 1e3 * std::sqrt(xa / std::max(1u, pa)) << "); left before [" << notDetermined(r1) << "], after ["
+              << notDetermined(r2) << "], " << plan.additions.size() << " poses added\n";
   addErrors(w_nom, w1, w2, row.wide_nominal2, row.wide_before2, row.wide_after2, row.wide_pairs);
 }
 
@@ -964,10 +1024,11 @@ std::string mostFrequent(const std::map<std::string, unsigned int> &sets)
   it (the Bayes estimator's mean gain over the runs and the first-order noise draws: "beyond the bound") or any estimator of
   what a user states (the set rules and the tolerance priors: "beyond the tolerances' bound").
 */
-//! The --kinematic-prior table's row: the prior beside the set rule on the same runs.
+//! The prior table's row: the main runs with the kinematic prior beside the set rule on the same runs.
 std::string priorRow(const std::string &robot, unsigned int stuck, unsigned int views, const std::string &focal,
-                     double noise, const Row &row, double set_crb_ratio)
+                     double noise, const Row &row)
 {
+  const double set_crb_ratio = row.set_bound2 > 0 ? std::sqrt(row.set_e2_bounded / row.set_bound2) : NAN;
   std::string common;
   unsigned int most = 0;
   for (const auto &s : row.prior_held)
@@ -984,8 +1045,8 @@ std::string priorRow(const std::string &robot, unsigned int stuck, unsigned int 
   os << std::fixed << "| " << robot << " | j" << stuck + 1 << " | " << views << " | " << focal << " | "
      << std::setprecision(1) << noise << " | " << row.prior_ok << " | " << row.prior_doubtful << " | " << row.prior_failed
      << " | " << common << " | " << std::setprecision(3) << 1e3 * std::sqrt(row.prior_nominal2 / n) << " | "
-     << 1e3 * std::sqrt(row.set_e2 / n) << " | " << std::setprecision(2) << row.worst << " | "
-     << bench::meanSd(row.gain, 1, 1) << " | " << set_crb_ratio << " | " << std::setprecision(3)
+     << 1e3 * std::sqrt(row.set_e2 / n) << " | " << std::setprecision(2) << row.set_worst << " | "
+     << bench::meanSd(row.set_gain, 1, 1) << " | " << set_crb_ratio << " | " << std::setprecision(3)
      << 1e3 * std::sqrt(row.prior_calibrated2 / n) << " | " << 1e3 * std::sqrt(row.prior_bound2 / n) << " | "
      << std::setprecision(2) << row.prior_worst << " | " << bench::meanSd(row.prior_gain, 1, 1) << " | " << crb << " | "
      << std::sqrt(row.set_cov_e2 / row.set_cov_var) << ", " << row.set_cov_worst << " | "
@@ -1065,7 +1126,7 @@ bool sameSetCheck(const std::vector<std::string> &robots, const std::vector<doub
           const auto r = calibrate(clean, noisy(ds0, noise, 5000011ULL + 7919ULL * g + d),
                                    vpRobotSelfCalibration::FOCAL_KNOWN, noise, views);
           const bool have = r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL;
-          ++sets[have ? leftByData(r) : "(failed)"];
+          ++sets[have ? notDetermined(r) : "(failed)"];
         }
         one += sets.size() == 1;
         counts += (counts.empty() ? "" : " ") + std::to_string(sets.size());
@@ -1164,12 +1225,23 @@ int main(int argc, char **argv)
         ->type_name("T,R")
         ->delimiter(',')
         ->expected(2);
-    app.add_option("--kinematic-prior", g_prior,
-                   "also run the bundle method with the kinematic prior (calibrate --kinematic-prior K: each "
-                   "correction's prior sd its tolerance / K) on the same runs, and print its table beside the set "
-                   "rule's (default 0: not run)")
-        ->type_name("K")
-        ->check(CLI::NonNegativeNumber);
+    std::string prior_text;
+    app.add_option("--kinematic-prior", prior_text,
+                   "the main runs' kinematic prior (calibrate --kinematic-prior: each correction's prior sd its "
+                   "tolerance / K): K above 0 (or tolerance/K), off or 0: the set rule (default: calibrate's, K = " +
+                       [] {
+                         std::ostringstream os;
+                         os << vpKinematicBundleAdjustment::DEFAULT_KINEMATIC_PRIOR;
+                         return os.str();
+                       }() +
+                       "). With a prior, the set rule also runs on the same views and the prior's table puts the two "
+                       "side by side")
+        ->type_name("K|off")
+        ->check(CLI::Validator(
+            [](std::string &v) {
+              return priorOf(v) ? std::string() : "expected off, 0, tolerance, tolerance/K or K (K above 0), got '" + v + "'";
+            },
+            "K|off", "prior"));
     app.add_option("--alternatives", g_alternatives,
                    "the other estimators' table (first order; the full set also run) (default true)")
         ->type_name("BOOL");
@@ -1185,6 +1257,8 @@ int main(int argc, char **argv)
     if (parsed >= 0)
       return parsed;
 
+    if (!prior_text.empty())
+      g_prior = priorOf(prior_text);
     g_tolerance_t = tolerance.at(0);
     g_tolerance_r = tolerance.at(1);
     bench::Csv csv(csv_path, "robot,views,focal,noise,seed,draw,status,nominal_rms_m,calibrated_rms_m,crb_rms_m,bias_rms_m,left_at_nominal,doubts,"
@@ -1193,7 +1267,7 @@ int main(int argc, char **argv)
     std::cout << "bench-estset: " << seeds << " seeds x " << (draws + 1) << " noise draws, the stuck joint within +-0.5 deg, "
               << kHeldOut << " held-out views, the joint readings trusted (--joint-sd 0)\n";
     if (std::find(tables.begin(), tables.end(), "main") != tables.end())
-      std::cout << "\n| robot | stuck | views | focal | noise (px) | ok | doubtful | failed | left at nominal (most frequent) | sets over the seeds | "
+      std::cout << "\n| robot | stuck | views | focal | noise (px) | ok | doubtful | failed | not determined by the data: left at nominal or held by the prior (most frequent) | sets over the seeds | "
                  "nominal RMS (mm) | calibrated RMS (mm) | CRB RMS (mm) | set's bias RMS (mm) | worst cal/nom | gain (mean) | gain the bound allows | CRB ratio | "
                  "ratio to CRB + bias | targets |\n"
               << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
@@ -1243,7 +1317,8 @@ int main(int argc, char **argv)
             if (mode == vpRobotSelfCalibration::FOCAL_KNOWN)
               all_met = all_met && met;
             alternatives << alternativesRow(robot, stuck, views, focal, noise, row);
-            prior_rows << priorRow(robot, stuck, views, focal, noise, row, crb);
+            if (mainPrior() > 0)
+              prior_rows << priorRow(robot, stuck, views, focal, noise, row);
             std::cout << std::fixed << "| " << robot << " | j" << stuck + 1 << " | " << views << " | " << focal << " | "
                       << std::setprecision(1) << noise << " | " << row.ok << " | " << row.doubtful << " | " << row.failed
                       << " | " << common << " | " << row.sets.size() << " | " << std::setprecision(3)
@@ -1261,11 +1336,11 @@ int main(int argc, char **argv)
           }
         }
     }
-    if (main_table && g_prior > 0)
-      std::cout << "\n\nthe same runs, the bundle method with the kinematic prior (calibrate --kinematic-prior "
-                << std::defaultfloat << g_prior << ": each correction's prior sd its tolerance / " << g_prior
-                << "), the set rule's figures beside (RMS over the runs both calibrated; the worst ratio, the gain and "
-                   "the CRB ratio as in the first table):\n\n"
+    if (main_table && mainPrior() > 0)
+      std::cout << "\n\nthe same runs (calibrate's kinematic prior, --kinematic-prior " << std::defaultfloat
+                << mainPrior() << ": each correction's prior sd its tolerance / " << mainPrior()
+                << ") beside the set rule (calibrate --kinematic-prior off) on the same views (RMS over the runs both "
+                   "calibrated; the worst ratio, the gain and the CRB ratio as in the first table):\n\n"
                 << "| robot | stuck | views | focal | noise (px) | ok | doubtful | failed | held by the prior (most "
                    "frequent) | nominal RMS (mm) | set rule: RMS (mm) | set rule: worst cal/nom | set rule: gain (mean) | "
                    "set rule: CRB ratio | prior: RMS (mm) | prior: posterior CRB RMS (mm) | prior: worst cal/nom | "

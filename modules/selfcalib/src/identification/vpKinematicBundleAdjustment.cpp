@@ -603,13 +603,14 @@ vpKinematicIdentification::Identifiability setOf(const vpKinematicChain &start, 
     }
   }
   refused.clear();
-  const std::vector<std::string> names = start.getParameterNames();
+  // With the kinematic prior a freed parameter the data do not determine is held by it (holdByPrior).
+  const bool prior = opt.kinematicPrior() > 0 && !opt.hand_eye_only;
   for (const std::string &f : freed) {
     const unsigned int i = start.getParameterIndex(f);
     if (std::binary_search(set.identified.begin(), set.identified.end(), i))
       continue;
     for (const auto &u : set.unidentifiable)
-      if (u.index == i)
+      if (u.index == i && !(prior && u.cause == vpKinematicIdentification::CAUSE_DATA))
         refused += (refused.empty() ? "" : "; ") + f + ": " + u.reason + (u.needs.empty() ? "" : " (" + u.needs + ")");
   }
   if (!refused.empty())
@@ -736,7 +737,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     res.message = refused;
     return res;
   }
-  const bool prior = opt.kinematic_prior > 0 && !opt.hand_eye_only;
+  const bool prior = opt.kinematicPrior() > 0 && !opt.hand_eye_only;
   if (prior)
     holdByPrior(res.identifiability);
   int n_joint = 0;
@@ -747,7 +748,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   a.noise = noise;
   a.scale_prior = solve && !opt.hand_eye_only && !prior;
   if (prior) {
-    res.kinematic_prior = opt.kinematic_prior;
+    res.kinematic_prior = opt.kinematicPrior();
     const unsigned int eMc_first = (start.getNumJoints() + 1) * vpKinematicChain::kBlockSize;
     const auto held = [&res](unsigned int i) {
       for (const auto &u : res.identifiability.held_by_prior)
@@ -759,7 +760,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
     for (unsigned int i : res.identifiability.identified)
       a.prior_sd.push_back(opt.eMc_measured && i >= eMc_first && !held(i)
                                ? std::numeric_limits<double>::infinity()
-                               : toleranceOf(i, start.getNumJoints(), opt) / opt.kinematic_prior);
+                               : toleranceOf(i, start.getNumJoints(), opt) / res.kinematic_prior);
   }
   a.state.inverted = opt.hand_eye_only && opt.controller_poses_inverted;
   a.state.eye_to_hand = opt.eye_to_hand;
@@ -887,16 +888,22 @@ void vpKinematicBundleAdjustment::Settings::check() const
       !(tolerance_hand_eye_rotation > 0) || !(separation_tolerance > 0 && separation_tolerance < 1))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: the tolerances must be positive, separation_tolerance in (0, 1)");
-  if (!(kinematic_prior >= 0) || !std::isfinite(kinematic_prior))
+  if (kinematic_prior && (!(*kinematic_prior >= 0) || !std::isfinite(*kinematic_prior)))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: kinematic_prior must be finite and positive (the prior's sd "
-                               "is the tolerance over it), or 0 for no prior");
+                               "is the tolerance over it), 0 (KINEMATIC_PRIOR_OFF) for no prior, or empty for the "
+                               "default");
   if (!(known_points_sd > 0) || !std::isfinite(known_points_sd))
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: known_points_sd must be positive and finite");
   if (max_iterations == 0 || num_threads == 0)
     throw vpSelfCalibException(vpSelfCalibException::badValue,
                                "vpKinematicBundleAdjustment: max_iterations and num_threads must be at least 1");
+}
+
+double vpKinematicBundleAdjustment::Settings::kinematicPrior() const
+{
+  return kinematic_prior ? *kinematic_prior : DEFAULT_KINEMATIC_PRIOR;
 }
 
 void vpKinematicBundleAdjustment::Options::check() const

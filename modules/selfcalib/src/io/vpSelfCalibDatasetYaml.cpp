@@ -238,8 +238,10 @@ void parseKinematicPrior(const Reader &r, const YAML::Node &root, vpSelfCalibDat
   if (!root["kinematic_prior"])
     return;
   const std::string v = r.text(root["kinematic_prior"], "kinematic_prior");
-  if (v == "off")
+  if (v == "off") {
+    ds.kinematic_prior = 0;
     return;
+  }
   const std::string k = v == "tolerance" ? "1" : v.rfind("tolerance/", 0) == 0 ? v.substr(10) : v;
   char *end = nullptr;
   const double d = std::strtod(k.c_str(), &end);
@@ -510,8 +512,10 @@ std::string vpSelfCalibDataset::toYamlString(const std::string &base_dir) const
         out << n;
       out << YAML::EndSeq;
     }
-  if (kinematic_prior > 0)
-    out << YAML::Key << "kinematic_prior" << YAML::Value << kinematic_prior;
+  if (kinematic_prior && *kinematic_prior > 0)
+    out << YAML::Key << "kinematic_prior" << YAML::Value << *kinematic_prior;
+  else if (kinematic_prior)
+    out << YAML::Key << "kinematic_prior" << YAML::Value << "off";
   out << YAML::Key << "poses" << YAML::Value << YAML::BeginSeq;
   for (const View &v : views) {
     out << YAML::BeginMap;

@@ -605,8 +605,9 @@ void parametersSection(std::ostream &md, const vpSelfCalibReport::Record &run, c
   md << "\n## Not estimated (kept at nominal)\n\nThe estimated set follows a fixed preference order (eMc, base, "
         "then each joint as rz tz tx rx ry ty, base to tip) at the nominal model and the calibration joints only, so "
         "the same robot and poses give the same set whatever the noise (doc/concepts.md, \"The estimated set\"); the bundle "
-        "adjustment then keeps those its own information at the start values (the stated noise) determines within "
-        "the nominal model's tolerance.\n\n";
+        "adjustment estimates those its own information at the start values (the stated noise) determines within "
+        "the nominal model's tolerance, and, with the kinematic prior (the default), the others too, held near "
+        "nominal by the prior.\n\n";
   using Ident = vpKinematicIdentification;
   std::string fixed, by_data;
   for (const auto &u : r.identifiability.unidentifiable)
@@ -616,7 +617,8 @@ void parametersSection(std::ostream &md, const vpSelfCalibReport::Record &run, c
       by_data += "| " + u.name + " | " + u.reason + " | " + u.needs + " |\n";
   md << "Fixed by the user (--fix, the dataset's fix:): " << (fixed.empty() ? "none" : fixed) << ".\n\n";
   if (r.bundle.kinematic_prior > 0) {
-    md << "Estimated with a prior on every kinematic correction (--kinematic-prior): its sd the tolerance / "
+    md << "Estimated with a prior on every kinematic correction (--kinematic-prior; off: without): its sd the "
+          "tolerance / "
        << r.bundle.kinematic_prior << "; the sd above include it.";
     std::string held;
     for (const auto &u : r.identifiability.held_by_prior)

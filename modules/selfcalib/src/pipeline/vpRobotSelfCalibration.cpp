@@ -168,14 +168,15 @@ vpKinematicBundleAdjustment::Options vpRobotSelfCalibration::bundleOptions(const
   bo.tolerance_hand_eye_translation = opt.tolerance_hand_eye_translation;
   bo.tolerance_hand_eye_rotation = opt.tolerance_hand_eye_rotation;
   // The dataset's estimated-set settings: its fix / free lists added to the caller's, its kinematic
-  // prior when the caller sets none.
+  // prior (off included) when the caller says nothing; neither: left empty, the bundle adjustment's
+  // default (vpKinematicBundleAdjustment::DEFAULT_KINEMATIC_PRIOR).
   for (const std::string &f : ds.fix)
     if (std::find(bo.fixed.begin(), bo.fixed.end(), f) == bo.fixed.end())
       bo.fixed.push_back(f);
   for (const std::string &f : ds.free)
     if (std::find(bo.free.begin(), bo.free.end(), f) == bo.free.end())
       bo.free.push_back(f);
-  if (!(bo.kinematic_prior > 0) && !bo.hand_eye_only)
+  if (!bo.kinematic_prior && !bo.hand_eye_only)
     bo.kinematic_prior = ds.kinematic_prior;
   // The standard deviations follow the residuals when they contradict the stated noise (either way).
   bo.scale_covariance_chi2 = true;

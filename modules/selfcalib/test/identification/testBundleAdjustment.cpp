@@ -140,7 +140,8 @@ TEST(KinematicBundleAdjustment, RelativePoseCovarianceMatchesFiniteDifferences)
       EXPECT_NEAR(C[a][b], Cfd(a, b), 1e-5 * (1 + std::fabs(Cfd(a, b)))) << a << "," << b;
 }
 
-// Noise-free images through the default pipeline, f known and f self-calibrated: the estimated
+// Noise-free images through the default pipeline without the kinematic prior (which pulls every
+// correction toward nominal by its weight), f known and f self-calibrated: the estimated
 // corrections are those that reproduce the true relative poses (1e-8), held-out poses are exact
 // (1e-9 m = 1e-6 mm, 1e-9 rad), f is the true one.
 TEST(KinematicBundleAdjustment, NoiseFreeExactRecoveryThroughTheDefaultPipeline)
@@ -155,6 +156,7 @@ TEST(KinematicBundleAdjustment, NoiseFreeExactRecoveryThroughTheDefaultPipeline)
     vpRobotSelfCalibration::Options o;
     o.multiview.tight = true;
     o.bundle.tight = true;
+    o.bundle.kinematic_prior = vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF;
     const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, o);
     ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
     EXPECT_EQ(r.method, vpRobotSelfCalibration::BUNDLE_ADJUSTMENT);
@@ -225,6 +227,7 @@ TEST(KinematicBundleAdjustment, NoiseFreeRecoveryOfAllIntrinsicsWithDistortion)
   o.intrinsics = vpKinematicBundleAdjustment::FX | vpKinematicBundleAdjustment::ASPECT |
                  vpKinematicBundleAdjustment::PRINCIPAL_POINT | vpKinematicBundleAdjustment::DISTORTION;
   o.tight = true;
+  o.kinematic_prior = vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF; // exact: no pull toward nominal
   const auto cal = slice(ds, 0, 15);
   const auto r = vpKinematicBundleAdjustment::adjust(sim.getNominalChain(), cam, cal, ds.yardstick, start_points, o, vpSelfCalibNoiseModel());
   ASSERT_EQ(r.status, vpKinematicBundleAdjustment::OK) << r.message;
@@ -253,7 +256,8 @@ TEST(KinematicBundleAdjustment, NoiseFreeRecoveryOfAllIntrinsicsWithDistortion)
 
 // The covariance is honest: over 60 noise draws on one geometry, the spread of f, of the held-out
 // relative positions and of the corrections (normalized estimation error squared) agree with the
-// predicted covariance within 20%.
+// predicted covariance within 20%. Without the kinematic prior: with it the covariance is the
+// posterior one, which also holds the prior's uncertainty of the robot, not only the noise's spread.
 TEST(KinematicBundleAdjustment, PredictedStandardDeviationsMatchTheSpreadOverNoiseDraws)
 {
   const double sd = 0.5;
@@ -261,6 +265,7 @@ TEST(KinematicBundleAdjustment, PredictedStandardDeviationsMatchTheSpreadOverNoi
   const vpSelfCalibDataset clean = sim.makeDataset(sim.generateConfigurations(25));
   const auto cal = slice(clean, 0, 15), ver = slice(clean, 15, 25);
   vpKinematicBundleAdjustment::Options o;
+  o.kinematic_prior = vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF;
   vpSelfCalibNoiseModel noise;
   noise.pixel_sd = sd;
   vpCameraParameters cam0 = sim.getCamera();
@@ -382,13 +387,17 @@ TEST(KinematicBundleAdjustment, DefaultPipelineIsRobustToWrongMatches)
   EXPECT_GT(plain, 3 * clean);
 }
 
-// Without a yardstick the default pipeline still calibrates, keeps the nominal scale and says so.
+// Without a yardstick the pipeline still calibrates, keeps the nominal scale (the set rule's gauge: no
+// kinematic prior, which would hold the scale itself and pull the noise-free fit toward nominal) and
+// says so.
 TEST(KinematicBundleAdjustment, WithoutYardstickTheNominalScaleIsKeptAndReported)
 {
   const vpSelfCalibSimulator sim = makeSim("puma560", 46, 0.0);
   vpSelfCalibDataset ds = sim.makeDataset(sim.generateConfigurations(18));
   ds.yardstick = vpSelfCalibDataset::Yardstick();
-  const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, vpRobotSelfCalibration::Options());
+  vpRobotSelfCalibration::Options po;
+  po.bundle.kinematic_prior = vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF;
+  const auto r = vpRobotSelfCalibration::run(sim.getNominalChain(), ds, po);
   ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << r.message;
   EXPECT_FALSE(r.multiview.metric);
   EXPECT_EQ(r.bundle.scale_source, vpKinematicBundleAdjustment::SCALE_NOMINAL);
@@ -396,8 +405,7 @@ TEST(KinematicBundleAdjustment, WithoutYardstickTheNominalScaleIsKeptAndReported
   EXPECT_TRUE(std::any_of(r.findings.begin(), r.findings.end(),
                           [](const vpSelfCalibDataCheck::Finding &f) { return f.code == "scale-nominal"; }));
   // With the yardstick the scale is measured and nothing is said of it.
-  const auto y = vpRobotSelfCalibration::run(sim.getNominalChain(), sim.makeDataset(sim.generateConfigurations(18)),
-                                             vpRobotSelfCalibration::Options());
+  const auto y = vpRobotSelfCalibration::run(sim.getNominalChain(), sim.makeDataset(sim.generateConfigurations(18)), po);
   ASSERT_EQ(y.status, vpRobotSelfCalibration::OK) << y.message;
   EXPECT_FALSE(std::any_of(y.findings.begin(), y.findings.end(),
                            [](const vpSelfCalibDataCheck::Finding &f) { return f.code == "scale-nominal"; }));

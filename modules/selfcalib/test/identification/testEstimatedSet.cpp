@@ -319,6 +319,7 @@ TEST(EstimatedSet, DataLeaveOutWhatAStuckWristCannotDetermine)
   noise.pixel_sd = 0.3;
   vpKinematicBundleAdjustment::Options bo;
   bo.intrinsics = 0;
+  bo.kinematic_prior = vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF; // the set rule: what the data leave
   std::vector<std::string> first;
   for (uint64_t d = 0; d < 3; ++d) {
     vpSelfCalibDataset ds;
@@ -433,6 +434,7 @@ TEST(EstimatedSet, PipelineDecidesTheSetOfTheNoiseFreeGeometry)
     po.focal_mode = vpRobotSelfCalibration::FOCAL_KNOWN;
     po.noise.pixel_sd = sd;
     po.num_calibration_poses = 12;
+    po.bundle.kinematic_prior = vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF; // the set rule's list
     const auto r = vpRobotSelfCalibration::run(w.sim.getNominalChain(), ds, po);
     EXPECT_TRUE(r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL) << r.message;
     return leftByData(r.identifiability);
@@ -469,10 +471,12 @@ vpSelfCalibDataset twelveViews(const StuckWrist &w, double pixel_sd, uint64_t se
   return ds;
 }
 
-// The pipeline (bundle, f known, the robot trusted) with a joint placement tolerance of 3 mm / 5 mrad.
+// The pipeline (bundle, f known, the robot trusted) with a joint placement tolerance of 3 mm / 5 mrad,
+// the set rule (no kinematic prior: the parameters the data do not determine left at nominal).
 vpRobotSelfCalibration::Result runPipeline(const vpKinematicChain &nominal, const vpSelfCalibDataset &ds, double stated_sd)
 {
   vpRobotSelfCalibration::Options po;
+  po.bundle.kinematic_prior = vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF;
   po.focal_mode = vpRobotSelfCalibration::FOCAL_KNOWN;
   po.noise.pixel_sd = stated_sd;
   po.trust_robot = true; // the robot trusted, stated explicitly (exact joints: the set is the subject)

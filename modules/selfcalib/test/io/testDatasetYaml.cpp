@@ -273,19 +273,25 @@ TEST(DatasetYaml, FixAndFreeListsRoundTrip)
   EXPECT_NE(parseError(kHead + "free: ['']\n" + poses).find("free[0]"), std::string::npos);
 }
 
-// The kinematic prior: written and read back, its forms (off, tolerance, tolerance/K, K), bad values refused.
+// The kinematic prior: not said (empty, not written, read back empty) distinct from off (0, written
+// "off", read back 0), written and read back, its forms (off, tolerance, tolerance/K, K), bad values refused.
 TEST(DatasetYaml, KinematicPriorRoundTripsAndRefusesBadValues)
 {
   vpSelfCalibDataset ds = simulated(true);
-  EXPECT_EQ(ds.kinematic_prior, 0);
+  EXPECT_FALSE(ds.kinematic_prior.has_value());
   EXPECT_TRUE(ds.toYamlString().find("kinematic_prior") == std::string::npos);
+  EXPECT_FALSE(vpSelfCalibDataset::fromYamlString(ds.toYamlString()).kinematic_prior.has_value());
+  ds.kinematic_prior = 0;
+  EXPECT_NE(ds.toYamlString().find("kinematic_prior: off"), std::string::npos) << ds.toYamlString();
+  ASSERT_TRUE(vpSelfCalibDataset::fromYamlString(ds.toYamlString()).kinematic_prior.has_value());
+  EXPECT_EQ(*vpSelfCalibDataset::fromYamlString(ds.toYamlString()).kinematic_prior, 0);
   ds.kinematic_prior = 3;
   EXPECT_EQ(vpSelfCalibDataset::fromYamlString(ds.toYamlString()).kinematic_prior, 3);
   const std::string poses = "poses:\n  - {joints: [0, 0, 0, 0, 0, 0]}\n";
   const std::map<std::string, double> good = {{"off", 0}, {"tolerance", 1}, {"tolerance/3", 3}, {"2.5", 2.5}};
   for (const auto &g : good)
     EXPECT_EQ(vpSelfCalibDataset::fromYamlString(kHead + "kinematic_prior: " + g.first + "\n" + poses).kinematic_prior,
-              g.second)
+              std::optional<double>(g.second))
         << g.first;
   for (const std::string bad : {"0", "-1", "tolerance/0", "tolerance/-3", "nan", "inf", "tolerance/", "loose"})
     EXPECT_NE(parseError(kHead + "kinematic_prior: " + bad + "\n" + poses).find("kinematic_prior"), std::string::npos)

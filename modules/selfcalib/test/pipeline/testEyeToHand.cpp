@@ -407,6 +407,8 @@ RSC::Result calibrateBundle(const vpSelfCalibDataset &ds, const std::string &rob
   o.method = RSC::BUNDLE_ADJUSTMENT;
   o.bundle.known_points = layout;
   o.bundle.tight = tight;
+  if (tight) // noise-free exact recovery: without the kinematic prior, whose pull toward nominal is not exact
+    o.bundle.kinematic_prior = vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF;
   o.noise.pixel_sd = 0.2;
   return RSC::run(vpKinematicChain::preset(robot), ds, o);
 }

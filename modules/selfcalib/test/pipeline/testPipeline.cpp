@@ -318,6 +318,15 @@ TEST(RobotSelfCalibration, StepOptionsAreBuiltFromTheTopLevelOptionsAndTheDatase
   RSC::Options own_prior = o;
   own_prior.bundle.kinematic_prior = 1;
   EXPECT_EQ(RSC::bundleOptions(own_prior, with_sets).kinematic_prior, 1.0);
+  // Off is said (the caller's over the dataset's prior, the dataset's over the default); neither the
+  // caller nor the dataset: left empty, the bundle adjustment's default, tolerance / 3.
+  own_prior.bundle.kinematic_prior = vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF;
+  EXPECT_EQ(RSC::bundleOptions(own_prior, with_sets).kinematicPrior(), 0.0);
+  with_sets.kinematic_prior = vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF;
+  EXPECT_EQ(RSC::bundleOptions(o, with_sets).kinematicPrior(), 0.0);
+  EXPECT_FALSE(RSC::bundleOptions(o, ds).kinematic_prior.has_value());
+  EXPECT_EQ(RSC::bundleOptions(o, ds).kinematicPrior(), 3.0);
+  EXPECT_EQ(vpKinematicBundleAdjustment::DEFAULT_KINEMATIC_PRIOR, 3.0);
   const vpSelfCalibDataCheck::Options co = RSC::dataCheckOptions(o);
   EXPECT_EQ(co.min_points, 9u);
   EXPECT_EQ(RSC::noiseModel(o, ds).pixel_sd, 0.7);

@@ -277,6 +277,9 @@ TEST(PlanarScene, BundleMethodOnABoardWithItsLayoutUnknown)
     o.num_calibration_poses = 14;
     o.noise.pixel_sd = sd > 0 ? sd : 0.01;
     o.trust_robot = true; // exact joints: the board is the subject
+    // Without the kinematic prior: noise-free, its pull toward nominal leaves residuals the robot-error
+    // check takes for each camera's own displacement.
+    o.bundle.kinematic_prior = vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF;
     const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), cal, o);
     ASSERT_EQ(r.status, vpRobotSelfCalibration::OK) << sd << ": " << r.message;
     EXPECT_EQ(r.bundle.num_outliers, 0u) << sd << ": " << r.message;

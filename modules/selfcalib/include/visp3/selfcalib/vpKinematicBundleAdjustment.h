@@ -13,6 +13,7 @@
 #include <visp3/selfcalib/vpSelfCalibExport.h>
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -63,19 +64,21 @@
   conditional on those kept before it is at least separation_tolerance of its own (else the data
   cannot separate it from them), and (2) the predicted sd of it and of every one kept before it stays
   within the nominal model's tolerance (Options::tolerance_*; the scale direction held when it is,
-  as in the solve). Otherwise it stays at its start value (the nominal one in the pipeline), listed
-  with cause CAUSE_DATA, the reason and what would determine it: the joint between its placement and
-  the next one (the smaller range of the two in the views), the range it moves, and about how far it
-  would have to move (the sd shrinks as the inverse of that range), or more views when that joint
-  already moves widely. A freed parameter skips (2).
+  as in the solve). Otherwise it is listed with cause CAUSE_DATA, the reason and what would
+  determine it, and, with the kinematic prior (Settings::kinematic_prior, the default), estimated
+  nonetheless, held by the prior (Identifiability::held_by_prior); without it (KINEMATIC_PRIOR_OFF,
+  the set rule) it stays at its start value (the nominal one in the pipeline). What would determine
+  it: the joint between its placement and the next one (the smaller range of the two in the views),
+  the range it moves, and about how far it would have to move (the sd shrinks as the inverse of that
+  range), or more views when that joint already moves widely. A freed parameter skips (2).
 
   - the scale: scaling every length of the robot and the scene leaves the images unchanged. With a
     yardstick (both ends observed) the residual (|X_a - X_b| - L) / yardstick_sd fixes it
     (SCALE_YARDSTICK). Without, the component of rho along the scale direction (the least-squares
     combination of corrections that scales every camera position about a point of the first joint
     axis) is held at its start value (SCALE_NOMINAL: the start model's scale, the nominal one in
-    the pipeline), and the result says so. With the kinematic prior (Settings::kinematic_prior) the
-    prior holds it instead: no separate gauge, the prior's weight on the scale direction the nominal
+    the pipeline), and the result says so. With the kinematic prior (Settings::kinematic_prior, the
+    default) the prior holds it instead: no separate gauge, the prior's weight on the scale direction the nominal
     lengths' own.
 
   Noise (vpSelfCalibNoiseModel, passed to adjust() and information()): pixel_sd weighs the
@@ -110,6 +113,10 @@ public:
   enum Intrinsic : unsigned int { FX = 1, ASPECT = 2, PRINCIPAL_POINT = 4, DISTORTION = 8, DISTORTION_K3 = 16 };
   //! Lens distortion model of the estimate.
   enum DistortionModel { DISTORTION_VISP, DISTORTION_OPENCV };
+  //! The kinematic prior's k when neither the caller nor the dataset gives one (Settings::kinematic_prior).
+  static constexpr double DEFAULT_KINEMATIC_PRIOR = 3;
+  //! Settings::kinematic_prior's value for no prior: the set from the data alone (the set rule).
+  static constexpr double KINEMATIC_PRIOR_OFF = 0;
 
   /*!
     The caller's settings of vpKinematicBundleAdjustment (the defaults are the member initialisers).
@@ -132,9 +139,10 @@ public:
     /*!
       Full kinematic mode: kinematic parameters (names or glob patterns) estimated whatever their
       predicted sd, walked before the others of the preference order (see "The estimated set from
-      the data" above). A freed parameter the data cannot separate from those estimated before it,
-      or that the model's rule leaves out (a redundancy), is refused: status RANK_DEFICIENT naming
-      it and the reason. Also fixed: a caller mistake.
+      the data" above). A freed parameter that the model's rule leaves out (a redundancy) is
+      refused: status RANK_DEFICIENT naming it and the reason; so is, without the kinematic prior
+      (kinematic_prior KINEMATIC_PRIOR_OFF), one the data cannot separate from those estimated
+      before it (with the prior it is estimated, held by the prior). Also fixed: a caller mistake.
     */
     std::vector<std::string> free;
     /*!
@@ -160,19 +168,27 @@ public:
     double separation_tolerance = 1e-8;
     /*!
       Full kinematic mode: a prior on every estimated correction (but the hand-eye ones of a
-      measured eMc: Options::eMc_measured), k (0, default: none). Each one
-      gets the residual (rho_i - rho_ref,i) / (tol_i / k) beside the pixels, tol_i its tolerance
+      measured eMc: Options::eMc_measured), k. Empty (not said): the default,
+      DEFAULT_KINEMATIC_PRIOR (3); KINEMATIC_PRIOR_OFF (0): no prior (the set from the data alone,
+      the parameters it does not determine left at their start value). Each correction gets the
+      residual (rho_i - rho_ref,i) / (tol_i / k) beside the pixels, tol_i its tolerance
       (tolerance_*) and rho_ref the model whose scale is held (scale_reference, else the start's):
       the nominal model in the pipeline. k = 1: the tolerance is one sd of the nominal model's
       error; 3: it is three. With the prior every candidate of the rule is estimated: those the data
       alone do not determine (the set from the data would leave them at nominal) are estimated too,
       held near nominal by the prior, and listed in Result::identifiability.held_by_prior with the
-      reason and what would determine them. The prior also holds the scale without a yardstick (no
+      reason and what would determine them; a freed one (free) the data do not determine is held by
+      the prior too instead of refused. The prior also holds the scale without a yardstick (no
       separate gauge: its weight on the scale direction is the nominal lengths' own). The covariance
       and the sd are the posterior ones, (J^T J + P)^-1 with P = diag((k / tol_i)^2): the Cramér-Rao
-      bound of the estimate with that prior (information() gives it at any state).
+      bound of the estimate with that prior (information() gives it at any state). The prior pulls
+      every estimate toward rho_ref by its weight: on noise-free data the recovery is exact only
+      without it. The vpRobotSelfCalibration pipeline passes the caller's value, else the dataset's
+      (vpSelfCalibDataset::kinematic_prior), else leaves it empty.
     */
-    double kinematic_prior = 0;
+    std::optional<double> kinematic_prior;
+    //! The k used (kinematicPrior(): kinematic_prior, DEFAULT_KINEMATIC_PRIOR when empty; 0: none).
+    double kinematicPrior() const;
     /*!
       Without a yardstick (SCALE_NOMINAL), the corrections of the model whose scale is held (all of
       the chain's, vpKinematicChain::getParameters(), the start's DH table): the gauge holds the

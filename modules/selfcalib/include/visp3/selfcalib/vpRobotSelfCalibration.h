@@ -450,7 +450,8 @@ public:
     - hand_eye_only true for HAND_EYE;
     - the tolerances (tolerance_translation ... tolerance_hand_eye_rotation) the options' own;
     - the dataset's fix and free lists added to the caller's fixed and free, and its kinematic_prior
-      where the caller sets none (not for HAND_EYE).
+      (off included) where the caller's is empty (not for HAND_EYE); both empty: left empty, the
+      bundle adjustment's default prior (vpKinematicBundleAdjustment::DEFAULT_KINEMATIC_PRIOR).
 
     Every method estimates the set vpKinematicIdentification::analyseConfigurations() selects from the
     calibration views' joint configurations at the nominal model (PAPER passes it to its

@@ -13,6 +13,7 @@
 
 #include <visp3/selfcalib/vpSelfCalibExport.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -57,7 +58,8 @@
   yardstick: {length: 0.1, ends: [80, 81]}   # optional; without ends: dots found in the images
   fix: [j3.*, base.*]             # optional: parameters kept nominal (names or glob patterns)
   free: [j2.tz]                   # optional: parameters estimated whatever their predicted sd
-  kinematic_prior: tolerance/3    # optional: a prior on every kinematic correction, sd tolerance / K
+  kinematic_prior: off            # optional: a prior on every kinematic correction, sd tolerance / K
+                                  # (tolerance/K or K; default tolerance/3), or off: none
   \endcode
 */
 struct VISP_SELFCALIB_EXPORT vpSelfCalibDataset {
@@ -122,9 +124,12 @@ struct VISP_SELFCALIB_EXPORT vpSelfCalibDataset {
   /*!
     The bundle adjustment's kinematic prior the dataset asks for, K (each correction's prior sd its
     tolerance / K; vpKinematicBundleAdjustment::Settings::kinematic_prior), used when the caller's
-    options set none; 0: none. In the file: off, tolerance (1), tolerance/K or K.
+    options say nothing; 0 (vpKinematicBundleAdjustment::KINEMATIC_PRIOR_OFF): none; empty: the
+    file says nothing (the bundle adjustment's default,
+    vpKinematicBundleAdjustment::DEFAULT_KINEMATIC_PRIOR). In the file: off, tolerance (1),
+    tolerance/K or K.
   */
-  double kinematic_prior = 0;
+  std::optional<double> kinematic_prior;
   std::vector<View> views;
   Yardstick yardstick;
 

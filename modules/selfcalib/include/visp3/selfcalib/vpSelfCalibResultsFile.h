@@ -55,8 +55,8 @@
     fixed_by_user: [names], left_by_data: {name: {reason, needs}}}`, the new-direction figures
     written with 3 significant digits; fixed_by_user and left_by_data are written when not empty
     (the parameters the user fixed, and those the data do not determine, kept at nominal with the
-    reason and what would determine them); with the bundle adjustment's kinematic prior
-    `kinematic_prior: K` (the prior's sd: the tolerance / K) and, when not empty,
+    reason and what would determine them); with the bundle adjustment's kinematic prior (its
+    default; absent when it is off) `kinematic_prior: K` (the prior's sd: the tolerance / K) and, when not empty,
     `held_by_prior: {name: {reason, needs}}` (estimated, but determined by the prior, not the data).
   - `verification` (opt., a split with held-out views): `yardstick_error_nominal`,
     `yardstick_error_calibrated`, `reprojection_rms_nominal`, `reprojection_rms_calibrated`.
