@@ -642,6 +642,25 @@ void holdByPrior(vpKinematicIdentification::Identifiability &set)
 }
 
 /*
+  The kinematic prior's sd of each estimated correction, its tolerance / K; infinite (no prior) for
+  the hand-eye corrections of a measured eMc (Options::eMc_measured) that the data determine.
+*/
+std::vector<double> priorSds(const vpKinematicIdentification::Identifiability &set, unsigned int n_joints,
+                             const KBA::Options &opt)
+{
+  const unsigned int eMc_first = (n_joints + 1) * vpKinematicChain::kBlockSize;
+  const auto held = [&set](unsigned int i) {
+    return std::any_of(set.held_by_prior.begin(), set.held_by_prior.end(),
+                       [i](const vpKinematicIdentification::Unidentifiable &u) { return u.index == i; });
+  };
+  std::vector<double> sd;
+  for (unsigned int i : set.identified)
+    sd.push_back(opt.eMc_measured && i >= eMc_first && !held(i) ? std::numeric_limits<double>::infinity()
+                                                                : toleranceOf(i, n_joints, opt) / opt.kinematicPrior());
+  return sd;
+}
+
+/*
   The message of a singular information matrix: every cause that makes it singular named, the
   observations kept first (after many rejected matches the few left are the likelier cause than the
   poses' geometry), then the parameters not determined.
@@ -749,18 +768,7 @@ vpKinematicBundleAdjustment::Result run(const vpKinematicChain &start, const vpC
   a.scale_prior = solve && !opt.hand_eye_only && !prior;
   if (prior) {
     res.kinematic_prior = opt.kinematicPrior();
-    const unsigned int eMc_first = (start.getNumJoints() + 1) * vpKinematicChain::kBlockSize;
-    const auto held = [&res](unsigned int i) {
-      for (const auto &u : res.identifiability.held_by_prior)
-        if (u.index == i)
-          return true;
-      return false;
-    };
-    // No prior (an infinite sd) on the hand-eye corrections of a measured eMc that the data determine.
-    for (unsigned int i : res.identifiability.identified)
-      a.prior_sd.push_back(opt.eMc_measured && i >= eMc_first && !held(i)
-                               ? std::numeric_limits<double>::infinity()
-                               : toleranceOf(i, start.getNumJoints(), opt) / res.kinematic_prior);
+    a.prior_sd = priorSds(res.identifiability, start.getNumJoints(), opt);
   }
   a.state.inverted = opt.hand_eye_only && opt.controller_poses_inverted;
   a.state.eye_to_hand = opt.eye_to_hand;

@@ -7,6 +7,7 @@
 #include <visp3/selfcalib/vpSelfCalibException.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include <Eigen/Eigenvalues>
@@ -206,6 +207,17 @@ void measureFullModeError(Adjustment &a, const Eigen::MatrixXd &full, int first,
 void addNominalScale(const Adjustment &a, KBA::Result &res)
 {
   const int P = a.P;
+  if (!a.prior_sd.empty() && res.scale_source == KBA::SCALE_NOMINAL && a.scale_dir.size() == P && P > 0) {
+    // The kinematic prior holds the scale: its information on it, s^T P s, is the nominal lengths'
+    // own, and the posterior covariance already counts it (nothing added; the sd is reported).
+    double information = 0;
+    for (int r = 0; r < P; ++r)
+      if (std::isfinite(a.prior_sd[static_cast<size_t>(r)]))
+        information += std::pow(a.scale_dir(r) / a.prior_sd[static_cast<size_t>(r)], 2);
+    if (information > 0)
+      res.nominal_scale_sd = 1 / std::sqrt(information);
+    return;
+  }
   if (!a.scale_prior || res.scale_source != KBA::SCALE_NOMINAL || a.scale_dir.size() != P || P == 0 ||
       !(a.scale_variance > 0))
     return;

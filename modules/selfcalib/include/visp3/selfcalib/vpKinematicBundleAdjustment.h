@@ -341,7 +341,9 @@ public:
       lengths' own error: the estimated corrections' tolerances, tolerance_*, projected on the scale
       direction s, sigma^2 = sum_i (s_i tol_i)^2 / |s|^4). The covariance counts it: sigma^2 s s^T
       added to the corrections' block, so that the sd of every length (eMc's translation, the link
-      lengths) and what is propagated from them include the scale's error. 0 otherwise.
+      lengths) and what is propagated from them include the scale's error. With the kinematic
+      prior, which holds the scale itself: the prior's sd along the scale direction,
+      1 / sqrt(s^T P s), already in the posterior covariance (nothing added). 0 otherwise.
     */
     double nominal_scale_sd = 0;
     //! The k of the kinematic prior the corrections were estimated with (Settings::kinematic_prior; 0: none).
