@@ -521,13 +521,25 @@ bool errorModel(const Context &c, const Result &res, const vpMatrix &C, ErrorMod
       return false;
     m.chain = withNominalEMc(res.calibrated, res.bundle.object_pose);
   }
+  // A parameter held by the kinematic prior is estimated but stays where the prior holds it, near
+  // nominal: its error is the nominal model's there, as a parameter left at nominal (below), not
+  // the prior's sd, which the tolerances set and which may be far wider than the arm's real error.
+  const auto held_by_prior = [&set](unsigned int i) {
+    return std::any_of(set.held_by_prior.begin(), set.held_by_prior.end(),
+                       [i](const vpKinematicIdentification::Unidentifiable &u) { return u.index == i; });
+  };
   std::vector<unsigned int> rows; // rows of C kept
   for (unsigned int k = 0; k < set.identified.size(); ++k)
-    if (!e2h || set.identified[k] < first_eMc) {
+    if ((!e2h || set.identified[k] < first_eMc) && !held_by_prior(set.identified[k])) {
       m.estimated.push_back(set.identified[k]);
       rows.push_back(k);
     }
   std::vector<int> bias_column; // per held parameter: its column of the set's bias, or -1
+  for (const auto &u : set.held_by_prior)
+    if (!(e2h && u.index >= first_eMc)) {
+      m.held.push_back(u.index);
+      bias_column.push_back(-1);
+    }
   for (unsigned int l = 0; l < set.unidentifiable.size(); ++l)
     if (set.unidentifiable[l].cause == vpKinematicIdentification::CAUSE_DATA &&
         !(e2h && set.unidentifiable[l].index >= first_eMc)) {
@@ -688,6 +700,37 @@ NominalError nominalOnWorkspace(const Context &c, const ErrorModel &em,
 }
 
 /*
+  With the kinematic prior, the estimated joint parameters' covariance is the posterior at the prior
+  the tolerances state, (H + P)^-1, P = diag((K / tol)^2): where the data see a parameter weakly its
+  sd is the prior's, which says what the tolerances allow, not the arm's error. For the workspace
+  judgement the prior is the arm's error level the nominal model's misfit measures (nominalOnWorkspace():
+  a variance factor times the tolerance's square, as for the parameters left at nominal):
+  (H + P')^-1 = C (I + (P' - P) C)^-1 on the estimated block (exact on a marginal: the prior is
+  diagonal). eMc's corrections keep theirs (its tolerance is not the joints').
+*/
+void withMeasuredPrior(const Context &c, const Result &res, const NominalError &ne, const std::vector<std::string> &names,
+                       ErrorModel &em)
+{
+  const double K = res.bundle.kinematic_prior;
+  const Eigen::Index E = static_cast<Eigen::Index>(em.estimated.size());
+  if (!(K > 0) || E == 0)
+    return;
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(E);
+  for (Eigen::Index e = 0; e < E; ++e) {
+    const std::string &name = names[em.estimated[static_cast<size_t>(e)]];
+    if (name.rfind("eMc.", 0) == 0)
+      continue;
+    const double tol = toleranceOf(c.options, name);
+    const double factor = std::max(isTranslation(name) ? ne.factor_t : ne.factor_r, 1e-6);
+    d(e) = 1 / (factor * tol * tol) - K * K / (tol * tol);
+  }
+  const Eigen::MatrixXd C = em.covariance.topLeftCorner(E, E);
+  const Eigen::MatrixXd M = Eigen::MatrixXd::Identity(E, E) + d.asDiagonal() * C;
+  const Eigen::MatrixXd N = C * M.inverse();
+  em.covariance.topLeftCorner(E, E) = 0.5 * (N + N.transpose());
+}
+
+/*
   The calibrated model's predicted error on the workspace's motions from its error model (errorModel(): the
   estimated parameters' covariance and the held ones' tolerances; to first order its mean square per pair is
   d^T W d, a weighted sum of chi-squares with the eigenvalues of L^T W L, cov(d) = L L^T) against the
@@ -726,6 +769,7 @@ void checkWorkspace(const Context &c, Result &res, const vpMatrix &C)
     const std::string &name = names[em.held[static_cast<size_t>(h)]];
     em.covariance(E + h, E + h) *= isTranslation(name) ? ne.factor_t : ne.factor_r;
   }
+  withMeasuredPrior(c, res, ne, names, em);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (em.covariance + em.covariance.transpose()));
   const Eigen::MatrixXd L = es.eigenvectors() * es.eigenvalues().cwiseMax(0).cwiseSqrt().asDiagonal();
   auto weights = [&L](const Eigen::MatrixXd &W) {
@@ -744,7 +788,7 @@ void checkWorkspace(const Context &c, Result &res, const vpMatrix &C)
   const std::string motions = c.bundle.eye_to_hand ? "the target's motions in the camera" : "the camera's motions";
   const std::string held =
       em.held.empty() ? std::string()
-                      : " and the " + std::to_string(em.held.size()) + " parameters the data left at nominal";
+                      : " and the " + std::to_string(em.held.size()) + " parameters the data do not determine";
   add(res, vpSelfCalibDataCheck::DOUBT, "workspace-worse-than-nominal",
       "away from its " + std::to_string(c.calibration.size()) + " calibration views the calibrated model is not " +
           "reliably better than the nominal one: its predicted error on " + motions + " between configurations "
