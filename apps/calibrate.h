@@ -67,7 +67,7 @@ int checkYardstick(const std::string &dataset, const vpSelfCalibDataset &ds, con
 //! A note when the hand-eye method on controller poses uses none of the robot model's kinematics.
 void noteRobotModel(const vpSelfCalibDataset &ds, vpRobotSelfCalibration::Method method);
 /*!
-  On a failed or doubtful run: a note when the yardstick is longer than the arm's reach (a unit
+  On a failed or doubtful run, or one whose yardstick was rejected: a note when the yardstick is longer than the arm's reach (a unit
   slip?), or when corrections beyond the tolerance may be its length's error (the scale it sets).
 */
 void noteYardstickLength(const vpSelfCalibDataset &ds, const vpKinematicChain &nominal,

@@ -250,7 +250,9 @@ int calibrate(const CalibrateArgs &a)
   const vpRobotSelfCalibration::Result &r = p.calibration;
   for (const auto &f : r.findings)
     std::cerr << vpSelfCalibDataCheck::severityName(f.severity) << ": " << f.message << "\n";
-  if (r.status == vpRobotSelfCalibration::DOUBTFUL)
+  if (r.status == vpRobotSelfCalibration::DOUBTFUL ||
+      std::any_of(r.findings.begin(), r.findings.end(),
+                  [](const vpSelfCalibDataCheck::Finding &f) { return f.code == "yardstick-unused"; }))
     noteYardstickLength(ds, nominal, r.findings);
   if (r.status == vpRobotSelfCalibration::DOUBTFUL && a.board_geometry &&
       std::any_of(r.findings.begin(), r.findings.end(), [](const vpSelfCalibDataCheck::Finding &f) {

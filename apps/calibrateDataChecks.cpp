@@ -57,7 +57,7 @@ void noteYardstickLength(const vpSelfCalibDataset &ds, const vpKinematicChain &n
   if (ds.yardstick.length > reach && reach > 0) {
     std::cerr << "note: the yardstick (" << ds.yardstick.length << " m) is longer than the arm's reach in these "
               << "views (" << reach << " m): if its length is not in metres, that alone explains a failed or "
-              << "doubtful run (its scale contradicts the robot's motion)\n";
+              << "doubtful run or its points rejected (its scale contradicts the robot's motion)\n";
     return;
   }
   // The bundle method takes its scale from the yardstick: a length a few % off scales every length
