@@ -649,13 +649,9 @@ std::vector<double> priorSds(const vpKinematicIdentification::Identifiability &s
                              const KBA::Options &opt)
 {
   const unsigned int eMc_first = (n_joints + 1) * vpKinematicChain::kBlockSize;
-  const auto held = [&set](unsigned int i) {
-    return std::any_of(set.held_by_prior.begin(), set.held_by_prior.end(),
-                       [i](const vpKinematicIdentification::Unidentifiable &u) { return u.index == i; });
-  };
   std::vector<double> sd;
   for (unsigned int i : set.identified)
-    sd.push_back(opt.eMc_measured && i >= eMc_first && !held(i) ? std::numeric_limits<double>::infinity()
+    sd.push_back(opt.eMc_measured && i >= eMc_first && !set.heldByPrior(i) ? std::numeric_limits<double>::infinity()
                                                                 : toleranceOf(i, n_joints, opt) / opt.kinematicPrior());
   return sd;
 }

@@ -524,13 +524,9 @@ bool errorModel(const Context &c, const Result &res, const vpMatrix &C, ErrorMod
   // A parameter held by the kinematic prior is estimated but stays where the prior holds it, near
   // nominal: its error is the nominal model's there, as a parameter left at nominal (below), not
   // the prior's sd, which the tolerances set and which may be far wider than the arm's real error.
-  const auto held_by_prior = [&set](unsigned int i) {
-    return std::any_of(set.held_by_prior.begin(), set.held_by_prior.end(),
-                       [i](const vpKinematicIdentification::Unidentifiable &u) { return u.index == i; });
-  };
   std::vector<unsigned int> rows; // rows of C kept
   for (unsigned int k = 0; k < set.identified.size(); ++k)
-    if ((!e2h || set.identified[k] < first_eMc) && !held_by_prior(set.identified[k])) {
+    if ((!e2h || set.identified[k] < first_eMc) && !set.heldByPrior(set.identified[k])) {
       m.estimated.push_back(set.identified[k]);
       rows.push_back(k);
     }

@@ -241,10 +241,7 @@ TEST(KinematicBundlePrior, PullOfAPriorOffTheTruthIsBoundedByItsWeight)
     EXPECT_GT(prior_truth, 0);
     EXPECT_LE(pixels + prior_estimate, prior_truth * (1 + 1e-6)) << "K " << k;
     for (unsigned int i : r.identifiability.identified) {
-      bool held = false;
-      for (const auto &u : r.identifiability.held_by_prior)
-        held = held || u.index == i;
-      if (!held)
+      if (!r.identifiability.heldByPrior(i))
         determined = std::max(determined, std::fabs(r.chain.getParameters()[i] - truth[i]) / priorSd(i, n, bo) * k);
     }
     EXPECT_LT(determined, previous) << "K " << k; // in units of the tolerance

@@ -140,6 +140,14 @@ public:
       their nominal value by the prior. They are also in `identified`. Empty otherwise.
     */
     std::vector<Unidentifiable> held_by_prior;
+    //! Whether chain parameter `index` is in held_by_prior.
+    bool heldByPrior(unsigned int index) const
+    {
+      for (const Unidentifiable &u : held_by_prior)
+        if (u.index == index)
+          return true;
+      return false;
+    }
   };
 
   //! A pair of identified parameters whose correlation exceeds the reporting threshold.
