@@ -167,6 +167,22 @@ void printSummary(const vpRobotSelfCalibration::Result &r, unsigned int num_cali
   if (!held.empty())
     std::cout << "\nheld by the kinematic prior (the data alone do not determine them): " << held
               << " (results.yaml estimated_set.held_by_prior)";
+  if (r.workspace.computed) {
+    const auto line = [](const vpRobotSelfCalibration::WorkspaceError &w) {
+      std::ostringstream os;
+      os << std::fixed << std::setprecision(2) << 1e3 * w.calibrated_t << " mm / " << 1e3 * w.calibrated_r
+         << " mrad RMS (90 % bound " << 1e3 * w.bound_t << " / " << 1e3 * w.bound_r << "), the nominal model "
+         << 1e3 * w.nominal_t << " mm / " << 1e3 * w.nominal_r << " mrad";
+      return os.str();
+    };
+    std::string within;
+    for (const auto &j : r.workspace.joints_within)
+      within += (within.empty() ? " (" : ", ") + j.joint + " as in the views";
+    std::cout << "\npredicted error on the camera's motions over the joint limits" << (within.empty() ? "" : within + ")")
+              << ": " << line(r.workspace);
+    if (r.workspace_full_range.computed)
+      std::cout << "; with every joint over its limits: " << line(r.workspace_full_range);
+  }
   if (r.bundle.has_covariance && r.bundle.intrinsic_names.size() > 1) {
     std::cout << "\nintrinsics:";
     for (unsigned int i = 0; i < r.bundle.intrinsics.size(); ++i)

@@ -181,14 +181,21 @@ struct StuckWrist {
 struct MotionRms {
   double t = 0, r = 0;
 };
+//! A joint drawn within [lo, hi] (rad) instead of its limits by workspaceMotionError().
+struct HeldJoint {
+  unsigned int joint = 0;
+  double lo = 0, hi = 0;
+};
 inline MotionRms workspaceMotionError(const vpKinematicChain &model, const vpKinematicChain &truth,
-                                      unsigned int pairs = 1000)
+                                      unsigned int pairs = 1000, const std::vector<HeldJoint> &held = {})
 {
   vpSelfCalib::Random rng(1, 7);
   const auto draw = [&]() {
     vpColVector q(truth.getNumJoints());
     for (unsigned int j = 0; j < q.size(); ++j)
       q[j] = rng.uniform(truth.getJoints()[j].min, truth.getJoints()[j].max);
+    for (const HeldJoint &h : held)
+      q[h.joint] = rng.uniform(h.lo, h.hi);
     return q;
   };
   MotionRms e;

@@ -268,6 +268,27 @@ void emitBundle(YAML::Emitter &out, const RF::BundleAdjustment &b)
   out << YAML::EndMap;
 }
 
+void emitWorkspace(YAML::Emitter &out, const char *key, const RF::Workspace &w, const char *comment)
+{
+  const auto pair = [&out](const char *k, double t, double r) {
+    out << YAML::Key << k << YAML::Value << YAML::Flow << YAML::BeginSeq << t << r << YAML::EndSeq;
+  };
+  out << YAML::Key << key << YAML::Comment(comment) << YAML::Value << YAML::Flow << YAML::BeginMap;
+  pair("calibrated", w.calibrated_t, w.calibrated_r);
+  pair("bound_90", w.bound_t, w.bound_r);
+  pair("nominal", w.nominal_t, w.nominal_r);
+  pair("chance_worse", w.worse_t, w.worse_r);
+  if (w.scale_left_out)
+    out << YAML::Key << "scale_left_out" << YAML::Value << true;
+  if (!w.joints_within.empty()) {
+    out << YAML::Key << "joints_within" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    for (const auto &j : w.joints_within)
+      pair(j.first.c_str(), j.second.first, j.second.second);
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+}
+
 void emitEstimated(YAML::Emitter &out, const RF::Contents &c)
 {
   if (c.noise) {
@@ -279,6 +300,13 @@ void emitEstimated(YAML::Emitter &out, const RF::Contents &c)
         << YAML::Flow << YAML::BeginMap << YAML::Key << "nominal" << YAML::Value << c.noise->fit_nominal << YAML::Key
         << "calibrated" << YAML::Value << c.noise->fit_calibrated << YAML::EndMap;
   }
+  if (c.workspace)
+    emitWorkspace(out, "workspace", *c.workspace,
+                  "m, rad: predicted RMS error of the camera's motions over the joint limits, calibrated (and its "
+                  "90 % bound) against the nominal model's (from its misfit on these views)");
+  if (c.workspace_full_range)
+    emitWorkspace(out, "workspace_full_range", *c.workspace_full_range,
+                  "the same with the joints of workspace.joints_within anywhere in their limits");
   out << YAML::Key << "estimated" << YAML::Comment("per parameter: value and sd (m or rad)") << YAML::Value
       << YAML::BeginMap;
   for (const RF::Estimate &e : c.estimated)
@@ -544,6 +572,30 @@ RF::BundleAdjustment readBundle(const In &in, const YAML::Node &n)
   return b;
 }
 
+RF::Workspace readWorkspace(const In &in, const YAML::Node &w, const std::string &key)
+{
+  const auto pair = [&in](const YAML::Node &n, const std::string &k, const std::string &path, double &t, double &r) {
+    const std::vector<double> v = in.list<double>(n, k);
+    if (v.size() != 2)
+      in.fail(path + "." + k, "expected two values");
+    t = v[0];
+    r = v[1];
+  };
+  RF::Workspace ws;
+  pair(w, "calibrated", key, ws.calibrated_t, ws.calibrated_r);
+  pair(w, "bound_90", key, ws.bound_t, ws.bound_r);
+  pair(w, "nominal", key, ws.nominal_t, ws.nominal_r);
+  pair(w, "chance_worse", key, ws.worse_t, ws.worse_r);
+  ws.scale_left_out = w["scale_left_out"] && in.get<bool>(w, "scale_left_out");
+  if (w["joints_within"])
+    for (const auto &kv : w["joints_within"]) {
+      std::pair<double, double> range;
+      pair(w["joints_within"], kv.first.as<std::string>(), key + ".joints_within", range.first, range.second);
+      ws.joints_within.emplace_back(kv.first.as<std::string>(), range);
+    }
+  return ws;
+}
+
 void readEstimated(const In &in, const YAML::Node &root, RF::Contents &c)
 {
   if (root["noise"]) {
@@ -555,6 +607,10 @@ void readEstimated(const In &in, const YAML::Node &root, RF::Contents &c)
     nf.fit_calibrated = in.get<double>(fit, "calibrated");
     c.noise = nf;
   }
+  if (root["workspace"])
+    c.workspace = readWorkspace(in, root["workspace"], "workspace");
+  if (root["workspace_full_range"])
+    c.workspace_full_range = readWorkspace(in, root["workspace_full_range"], "workspace_full_range");
   c.estimated = in.estimates(root, "estimated");
   for (const auto &kv : in.need(root, "not_estimated"))
     c.not_estimated.emplace_back(kv.first.as<std::string>(), kv.second.as<std::string>());
@@ -688,6 +744,17 @@ vpSelfCalibResultsFile::Contents vpSelfCalibResultsFile::fromRun(const vpRobotSe
     c.bundle_adjustment = bundleOf(r);
   if (r.method != vpRobotSelfCalibration::PAPER)
     c.noise = NoiseAndFit{r.noise.pixel_sd, r.measured.pixel_sd, r.fit_nominal_rms, r.fit_calibrated_rms};
+  const auto workspace = [](const vpRobotSelfCalibration::WorkspaceError &w) {
+    Workspace ws{w.calibrated_t, w.calibrated_r, w.bound_t, w.bound_r, w.nominal_t, w.nominal_r, w.worse_t, w.worse_r,
+                 w.scale_left_out, {}};
+    for (const auto &j : w.joints_within)
+      ws.joints_within.emplace_back(j.joint, std::make_pair(j.lo, j.hi));
+    return ws;
+  };
+  if (r.workspace.computed)
+    c.workspace = workspace(r.workspace);
+  if (r.workspace_full_range.computed)
+    c.workspace_full_range = workspace(r.workspace_full_range);
   const std::vector<std::string> names = nominal.getParameterNames();
   for (unsigned int k : r.identifiability.identified)
     c.estimated.push_back(

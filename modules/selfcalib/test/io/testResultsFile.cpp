@@ -54,6 +54,8 @@ RF::Contents everything()
   b.sd_scaled_by_sigma0 = true;
   c.bundle_adjustment = b;
   c.noise = RF::NoiseAndFit{0.2, 0.21, 12.5, 0.25};
+  c.workspace = RF::Workspace{2.5e-3, 1.25e-3, 3.75e-3, 2e-3, 8e-3, 9.5e-3, 0.0625, 0.125, true, {{"j3", {0.25, 0.5}}}};
+  c.workspace_full_range = RF::Workspace{7.5e-3, 5e-3, 1e-2, 6e-3, 8e-3, 9.5e-3, 0.75, 0.5, false, {}};
   c.estimated = {{"eMc.tx", 0.1, 1e-4}, {"j2.rz", -1e-3 / 3, 2e-5}};
   c.not_estimated = {{"base.tx", "the same as eMc's"}, {"j1.rz", "no motion: \"fixed\""}};
   c.estimated_set = RF::EstimatedSet{"the rule", 2, {"eMc.tx", "base.tx", "j2.rz"}, {{"eMc.tx", 1}, {"j2.rz", 0.125}}};
@@ -115,6 +117,15 @@ TEST(ResultsFile, ReaderGivesBackWhatTheWriterWrote)
   EXPECT_EQ(back.bundle_adjustment->joint_sd, c.bundle_adjustment->joint_sd);
   EXPECT_EQ(back.bundle_adjustment->joint_sd_measured, c.bundle_adjustment->joint_sd_measured);
   EXPECT_EQ(back.bundle_adjustment->robot_error, "measured");
+  ASSERT_TRUE(back.workspace.has_value());
+  EXPECT_EQ(back.workspace->bound_t, 3.75e-3);
+  EXPECT_EQ(back.workspace->nominal_r, 9.5e-3);
+  EXPECT_EQ(back.workspace->worse_r, 0.125);
+  EXPECT_TRUE(back.workspace->scale_left_out);
+  EXPECT_EQ(back.workspace->joints_within, c.workspace->joints_within);
+  ASSERT_TRUE(back.workspace_full_range.has_value());
+  EXPECT_EQ(back.workspace_full_range->worse_t, 0.75);
+  EXPECT_TRUE(back.workspace_full_range->joints_within.empty());
   ASSERT_EQ(back.estimated.size(), 2u);
   EXPECT_EQ(back.estimated[1].name, "j2.rz");
   EXPECT_EQ(back.estimated[1].value, c.estimated[1].value);
@@ -143,6 +154,8 @@ TEST(ResultsFile, OptionalBlocksAndFiles)
   c.eMc.reset();
   c.bundle_adjustment.reset();
   c.noise.reset();
+  c.workspace.reset();
+  c.workspace_full_range.reset();
   c.estimated_set.reset();
   c.verification.reset();
   c.cross_validation.reset();
@@ -154,7 +167,7 @@ TEST(ResultsFile, OptionalBlocksAndFiles)
   const RF::Contents back = RF::read(file);
   std::remove(file.c_str());
   EXPECT_EQ(RF::toYaml(back), text);
-  EXPECT_FALSE(back.eMc || back.bundle_adjustment || back.noise || back.estimated_set || back.verification ||
+  EXPECT_FALSE(back.eMc || back.bundle_adjustment || back.noise || back.workspace || back.workspace_full_range || back.estimated_set || back.verification ||
                back.cross_validation || back.heldout_dataset);
   EXPECT_TRUE(back.findings.empty());
 }

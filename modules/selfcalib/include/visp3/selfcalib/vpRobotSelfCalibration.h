@@ -281,6 +281,29 @@ public:
     std::string describe() const;
   };
 
+  /*!
+    The calibrated model's predicted error on the workspace's motions (the camera's relative motions
+    between configurations drawn over the joint limits; with the camera in the world, the target's),
+    against the nominal model's error there as its misfit on the calibration views measures it: the
+    workspace-worse-than-nominal check's figures (BUNDLE_ADJUSTMENT, PAPER, with joint readings).
+    RMS over the pairs, m and rad. A joint that barely moves in the calibration views is drawn within
+    the range they cover (joints_within).
+  */
+  struct VISP_SELFCALIB_EXPORT WorkspaceError {
+    //! A joint held to the range the calibration views cover (rad).
+    struct JointRange {
+      std::string joint; //!< "j3"
+      double lo = 0, hi = 0;
+    };
+    bool computed = false;
+    double calibrated_t = 0, calibrated_r = 0; //!< predicted RMS (its covariance and the parameters held)
+    double bound_t = 0, bound_r = 0;           //!< its 90 % bound
+    double nominal_t = 0, nominal_r = 0;       //!< the nominal model's, estimated from its misfit
+    double worse_t = 0, worse_r = 0;           //!< the chance that the calibrated model is the worse
+    bool scale_left_out = false;               //!< the nominal scale's error, common to both, left out
+    std::vector<JointRange> joints_within;     //!< the joints drawn within the views' range
+  };
+
   //! The result of vpRobotSelfCalibration: what it computed, and what the caller needs to judge it.
   struct Result {
     Status status = TWO_VIEW_FAILED;
@@ -345,6 +368,9 @@ public:
       0 when not computed.
     */
     double predicted_rms = 0;
+    WorkspaceError workspace; //!< the calibrated and the nominal model over the workspace
+    //! With joints that barely move (workspace.joints_within): the same over every joint's whole range.
+    WorkspaceError workspace_full_range;
     double fx = 0, fx_sd = 0;
     std::vector<vpTwoViewEstimator::Result> pairs;      //!< pair (1, i + 2) at index i
     std::vector<double> ratios;                         //!< PAPER: eq. 21 ratios, one per pair

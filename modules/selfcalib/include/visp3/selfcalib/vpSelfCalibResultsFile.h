@@ -121,6 +121,19 @@ public:
     double image_noise_px = 0, image_noise_measured_px = 0; //!< the noise model's pixel_sd used, and measured
     double fit_nominal = 0, fit_calibrated = 0;
   };
+  /*!
+    The `workspace` and `workspace_full_range` blocks of results.yaml (m, rad): the calibrated model's predicted RMS error on the
+    relative camera motions between configurations over the joint limits and its 90 % bound, the
+    nominal model's there as its misfit on the calibration views measures it, and the chance that
+    the calibrated model is the worse (vpRobotSelfCalibration::WorkspaceError).
+  */
+  struct Workspace {
+    double calibrated_t = 0, calibrated_r = 0, bound_t = 0, bound_r = 0, nominal_t = 0, nominal_r = 0;
+    double worse_t = 0, worse_r = 0;
+    bool scale_left_out = false; //!< the nominal scale's error (no yardstick), common to both, left out
+    //! The joints that barely move in the views, drawn within their range there: name, low, high (rad).
+    std::vector<std::pair<std::string, std::pair<double, double>>> joints_within;
+  };
   //! The `estimated_set` block of results.yaml.
   struct EstimatedSet {
     std::string rule;
@@ -185,6 +198,8 @@ public:
     std::optional<HandEye> bMc, eMo; //!< eye-to-hand: the camera in the base frame, the target in the effector frame
     std::optional<BundleAdjustment> bundle_adjustment;
     std::optional<NoiseAndFit> noise;
+    std::optional<Workspace> workspace;
+    std::optional<Workspace> workspace_full_range; //!< with joints_within: every joint over its limits
     std::vector<Estimate> estimated;
     std::vector<std::pair<std::string, std::string>> not_estimated; //!< name, reason
     std::optional<EstimatedSet> estimated_set;
