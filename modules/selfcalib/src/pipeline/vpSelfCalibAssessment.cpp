@@ -458,7 +458,8 @@ MotionSquares toleranceSpread(const vpKinematicChain &chain, const std::vector<s
   What the calibrated model's error on the workspace's motions consists of: its estimated parameters'
   error (their covariance) and the error of the parameters it holds at their nominal value, which the
   calibration views let the estimated ones absorb near their configurations only: the parameters
-  the data left at nominal. Each held parameter errs as the nominal model's parameters do (its
+  the data left at nominal (the set rule), and eMc's held near its start by the kinematic prior.
+  Each held parameter errs as the nominal model's parameters do (its
   tolerance's square times the variance factor the data measure: nominalOnWorkspace()) and moves
   the estimated ones by its absorption (the set's bias, Identifiability::bias, where the bundle
   adjustment computed it; else the least-squares absorption through the calibration views'
@@ -521,18 +522,20 @@ bool errorModel(const Context &c, const Result &res, const vpMatrix &C, ErrorMod
       return false;
     m.chain = withNominalEMc(res.calibrated, res.bundle.object_pose);
   }
-  // A parameter held by the kinematic prior is estimated but stays where the prior holds it, near
-  // nominal: its error is the nominal model's there, as a parameter left at nominal (below), not
-  // the prior's sd, which the tolerances set and which may be far wider than the arm's real error.
+  // A joint parameter held by the kinematic prior is one of the estimated ones: the error covariance
+  // of the estimate with the prior (withMeasuredPrior()) gives it the arm's error level where the data
+  // do not see it, and its correlations move the others as the data let them absorb it. eMc's, whose
+  // prior is about a guess and not the arm's error, is judged as a parameter left at nominal.
+  const auto held_apart = [&](unsigned int i) { return set.heldByPrior(i) && i >= first_eMc; };
   std::vector<unsigned int> rows; // rows of C kept
   for (unsigned int k = 0; k < set.identified.size(); ++k)
-    if ((!e2h || set.identified[k] < first_eMc) && !set.heldByPrior(set.identified[k])) {
+    if ((!e2h || set.identified[k] < first_eMc) && !held_apart(set.identified[k])) {
       m.estimated.push_back(set.identified[k]);
       rows.push_back(k);
     }
   std::vector<int> bias_column; // per held parameter: its column of the set's bias, or -1
   for (const auto &u : set.held_by_prior)
-    if (!(e2h && u.index >= first_eMc)) {
+    if (!e2h && held_apart(u.index)) {
       m.held.push_back(u.index);
       bias_column.push_back(-1);
     }
