@@ -178,7 +178,8 @@ void printSummary(const vpRobotSelfCalibration::Result &r, unsigned int num_cali
     std::string within;
     for (const auto &j : r.workspace.joints_within)
       within += (within.empty() ? " (" : ", ") + j.joint + " as in the views";
-    std::cout << "\npredicted error on the camera's motions over the joint limits" << (within.empty() ? "" : within + ")")
+    std::cout << "\npredicted error on " << (r.has_bMc ? "the target's motions in the camera" : "the camera's motions")
+              << " over the joint limits" << (within.empty() ? "" : within + ")")
               << ": " << line(r.workspace);
     if (r.workspace_full_range.computed)
       std::cout << "; with every joint over its limits: " << line(r.workspace_full_range);
