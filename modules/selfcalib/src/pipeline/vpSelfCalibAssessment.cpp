@@ -709,7 +709,7 @@ NominalError nominalOnWorkspace(const Context &c, const ErrorModel &em,
   part plus the prior's pull on an arm that is not at nominal. Not the posterior at the measured
   level, (H + Sigma^-1)^-1, which is the error of an estimator run with that prior, not of this one: on
   a Viper850 with 8 views it predicted 2.6 mm over the workspace where 30 noise draws of the same
-  arm gave 4.1 mm RMS; the sandwich predicts 4.2. eMc's corrections keep theirs (its tolerance is not
+  arm gave 4.1 mm RMS; the sandwich predicts 4.1. eMc's corrections keep theirs (its tolerance is not
   the joints').
 */
 void withMeasuredPrior(const Context &c, const Result &res, const NominalError &ne, const std::vector<std::string> &names,
@@ -837,9 +837,9 @@ std::string workspaceFigures(const vpRobotSelfCalibration::WorkspaceError &w)
   calibrated for that joint's position, and no set of views of it at one angle tells how its own
   placement and those beyond it change with the angle; the parameters left at nominal and the
   estimated ones that absorb them near the views err there as much as the nominal model does, or
-  more (simulated PUMA 560, joint 5 within +-0.5 deg, 12 views, 0.5 px: 0.4-0.6 mm on held-out
-  views at that angle, a third of the nominal model's, and 5.6-13 mm over joint 5's whole range,
-  against the nominal model's 6.9-9.6). Over the whole range it is a warning that says so, with
+  more (simulated PUMA 560, joint 5 within +-0.5 deg, 12 views, 0.5 px, calibrate's default
+  tolerances: 0.4-0.6 mm on held-out views at that angle, about half the nominal model's, and
+  5.6-13 mm over joint 5's whole range, against the nominal model's 6.9-9.6). Over the whole range it is a warning that says so, with
   both figures and the views to add.
 */
 void checkWorkspace(const Context &c, Result &res, const vpMatrix &C)
@@ -866,16 +866,14 @@ void checkWorkspace(const Context &c, Result &res, const vpMatrix &C)
     }
     held_pairs.push_back(h);
   }
+  res.workspace = judgeWorkspace(c, res, em, still.empty() ? pairs : held_pairs);
   std::string within;
   for (const StillJoint &s : still) {
-    const double deg = 180.0 / M_PI;
-    within += (within.empty() ? "" : ", ") + std::string("j") + std::to_string(s.joint + 1) + " within " +
-              fixed(deg * s.lo, 2) + " to " + fixed(deg * s.hi, 2) + " deg";
-    res.workspace.joints_within.push_back({"j" + std::to_string(s.joint + 1), s.lo, s.hi});
+    const std::string name = "j" + std::to_string(s.joint + 1);
+    within += (within.empty() ? "" : ", ") + name + " within " + fixed(s.lo * 180.0 / M_PI, 2) + " to " +
+              fixed(s.hi * 180.0 / M_PI, 2) + " deg";
+    res.workspace.joints_within.push_back({name, s.lo, s.hi});
   }
-  const std::vector<vpRobotSelfCalibration::WorkspaceError::JointRange> joints_within = res.workspace.joints_within;
-  res.workspace = judgeWorkspace(c, res, em, still.empty() ? pairs : held_pairs);
-  res.workspace.joints_within = joints_within;
   const std::string motions = c.bundle.eye_to_hand ? "the target's motions in the camera" : "the camera's motions";
   const std::string held =
       em.held.empty() ? std::string()
