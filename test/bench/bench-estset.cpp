@@ -176,30 +176,26 @@ std::string notDetermined(const vpRobotSelfCalibration::Result &r)
   return s.empty() ? "none" : s;
 }
 
-//! RMS position error (m) of a model's camera motions between pairs of configurations drawn within the joint limits.
-double workspaceRms(const vpKinematicChain &model, const vpKinematicChain &truth, const vpSelfCalibDataset *held_to = nullptr,
-                    unsigned int views = 0, unsigned int pairs = 500)
+//! RMS position error (m) of a model's camera motions between pairs of configurations drawn within the joint limits,
+//! the joints of `within` (the workspace check's joints_within) mapped into their range.
+double workspaceRms(const vpKinematicChain &model, const vpKinematicChain &truth,
+                    const std::vector<vpRobotSelfCalibration::WorkspaceError::JointRange> &within = {},
+                    unsigned int pairs = 500)
 {
   std::mt19937_64 rng(7);
   const auto draw = [&]() {
     vpColVector q(truth.getNumJoints());
     for (unsigned int j = 0; j < q.size(); ++j)
       q[j] = std::uniform_real_distribution<double>(truth.getJoints()[j].min, truth.getJoints()[j].max)(rng);
+    for (const auto &w : within) {
+      const vpKinematicChain::Joint &joint = truth.getJoints()[w.index];
+      q[w.index] = w.lo + (w.hi - w.lo) * (q[w.index] - joint.min) / (joint.max - joint.min);
+    }
     return q;
   };
   double sum = 0;
   for (unsigned int k = 0; k < pairs; ++k) {
-    vpColVector qa = draw(), qb = draw();
-    for (unsigned int j = 0; held_to && j < qa.size(); ++j) { // a joint still in the views: within their range
-      double lo = held_to->views[0].q[j], hi = lo;
-      for (unsigned int k = 0; k < views; ++k) {
-        lo = std::min(lo, held_to->views[k].q[j]);
-        hi = std::max(hi, held_to->views[k].q[j]);
-      }
-      if (hi - lo < 2.0 * M_PI / 180.0)
-        for (vpColVector *v : {&qa, &qb})
-          (*v)[j] = lo + (hi - lo) * ((*v)[j] - truth.getJoints()[j].min) / (truth.getJoints()[j].max - truth.getJoints()[j].min);
-    }
+    const vpColVector qa = draw(), qb = draw();
     const vpHomogeneousMatrix m = model.get_fMc(qa).inverse() * model.get_fMc(qb),
                               t = truth.get_fMc(qa).inverse() * truth.get_fMc(qb);
     sum += (m.getTranslationVector() - t.getTranslationVector()).sumSquare();
@@ -881,8 +877,8 @@ void runOnce(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, c
   for (const auto &f : r.findings)
     if (f.severity == vpSelfCalibDataCheck::DOUBT)
       doubts += (doubts.empty() ? "" : " ") + f.code;
-  const double ws_cal = workspaceRms(r.calibrated, clean.getTrueChain(), &ds0, views),
-               ws_nom = workspaceRms(clean.getNominalChain(), clean.getTrueChain(), &ds0, views);
+  const double ws_cal = workspaceRms(r.calibrated, clean.getTrueChain(), r.workspace.joints_within),
+               ws_nom = workspaceRms(clean.getNominalChain(), clean.getTrueChain(), r.workspace.joints_within);
   if (r.workspace.computed) {
     const bool doubt = std::any_of(r.findings.begin(), r.findings.end(),
                                    [](const auto &f) { return f.code == "workspace-worse-than-nominal"; });

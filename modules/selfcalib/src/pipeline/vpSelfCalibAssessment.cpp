@@ -523,7 +523,7 @@ bool errorModel(const Context &c, const Result &res, const vpMatrix &C, ErrorMod
     m.chain = withNominalEMc(res.calibrated, res.bundle.object_pose);
   }
   // A joint parameter held by the kinematic prior is one of the estimated ones: the error covariance
-  // of the estimate with the prior (withMeasuredPrior()) gives it the arm's error level where the data
+  // of the estimate with the prior (errorWithThePrior()) gives it the arm's error level where the data
   // do not see it, and its correlations move the others as the data let them absorb it. eMc's, whose
   // prior is about a guess and not the arm's error, is judged as a parameter left at nominal.
   const auto held_apart = [&](unsigned int i) { return set.heldByPrior(i) && i >= first_eMc; };
@@ -712,7 +712,7 @@ NominalError nominalOnWorkspace(const Context &c, const ErrorModel &em,
   arm gave 4.1 mm RMS; the sandwich predicts 4.1. eMc's corrections keep theirs (its tolerance is not
   the joints').
 */
-void withMeasuredPrior(const Context &c, const Result &res, const NominalError &ne, const std::vector<std::string> &names,
+void errorWithThePrior(const Context &c, const Result &res, const NominalError &ne, const std::vector<std::string> &names,
                        ErrorModel &em)
 {
   const double K = res.bundle.kinematic_prior;
@@ -784,7 +784,7 @@ vpRobotSelfCalibration::WorkspaceError judgeWorkspace(const Context &c, const Re
     const std::string &name = names[em.held[static_cast<size_t>(h)]];
     em.covariance(E + h, E + h) *= isTranslation(name) ? ne.factor_t : ne.factor_r;
   }
-  withMeasuredPrior(c, res, ne, names, em);
+  errorWithThePrior(c, res, ne, names, em);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (em.covariance + em.covariance.transpose()));
   const Eigen::MatrixXd L = es.eigenvectors() * es.eigenvalues().cwiseMax(0).cwiseSqrt().asDiagonal();
   auto weights = [&L](const Eigen::MatrixXd &W) {
@@ -872,7 +872,7 @@ void checkWorkspace(const Context &c, Result &res, const vpMatrix &C)
     const std::string name = "j" + std::to_string(s.joint + 1);
     within += (within.empty() ? "" : ", ") + name + " within " + fixed(s.lo * 180.0 / M_PI, 2) + " to " +
               fixed(s.hi * 180.0 / M_PI, 2) + " deg";
-    res.workspace.joints_within.push_back({name, s.lo, s.hi});
+    res.workspace.joints_within.push_back({name, s.lo, s.hi, s.joint});
   }
   const std::string motions = c.bundle.eye_to_hand ? "the target's motions in the camera" : "the camera's motions";
   const std::string held =

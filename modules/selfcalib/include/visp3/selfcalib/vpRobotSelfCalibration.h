@@ -294,6 +294,7 @@ public:
     struct JointRange {
       std::string joint; //!< "j3"
       double lo = 0, hi = 0;
+      unsigned int index = 0; //!< the joint's index in the chain (0-based)
     };
     bool computed = false;
     double calibrated_t = 0, calibrated_r = 0; //!< predicted RMS (its covariance and the parameters held)
