@@ -15,8 +15,11 @@
  * run and of its bound is sqrt(measured^2 + noise^2). Figures: held-out relative pose errors c_0 M c_i (first held-out
  * view to the others), RMS over all runs, against the RMS of the Cramér-Rao bound of the same data
  * (vpKinematicBundleAdjustment::information at the truth, the layout prior included when known,
- * propagated to the same pairs).
+ * propagated to the same pairs). Then the workspace check against the truth: each run's error on the
+ * camera's motions over the joint limits (bench::workspaceError), position and rotation, against the
+ * nominal model's, beside the check's verdict and predictions (Result::workspace).
  */
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -44,6 +47,12 @@ const char *kBoard = "charuco:7x5:0.02:0.015:DICT_6X6_250"; // simulate --target
 struct Row {
   double sum_e2 = 0, sum_pred = 0; // held-out position errors and bound variances, m^2
   unsigned int pairs = 0, runs = 0, failed = 0, doubtful = 0;
+  // The workspace check (workspace-worse-than-nominal) against the truth: the camera's motions over the
+  // joint limits, position and rotation (a run is truly worse when either error exceeds the nominal
+  // model's); sums of squares of the true and predicted errors.
+  unsigned int ws_doubt = 0, ws_doubt_worse = 0, ws_pass = 0, ws_pass_worse = 0;
+  double ws_true_t2 = 0, ws_pred_t2 = 0, ws_nom_t2 = 0, ws_est_t2 = 0;
+  double ws_true_r2 = 0, ws_pred_r2 = 0, ws_nom_r2 = 0, ws_est_r2 = 0;
   double rms() const { return pairs ? std::sqrt(sum_e2 / pairs) : NAN; }
   double bound() const { return pairs ? std::sqrt(sum_pred / pairs) : NAN; }
 };
@@ -132,7 +141,10 @@ int main(int argc, char **argv)
     const vpRobotSelfCalibration::FocalMode mode = vpRobotSelfCalibration::focalModeFromName(focal);
     const vpBoardDetector det(vpBoardDetector::parse(kBoard));
     const std::map<int, vpColVector> layout = det.getLayout();
-    bench::Csv csv(csv_path, "seed,draw,layout,status,detector_rms_px,pixel_sd_px,heldout_rms_m,bound_rms_m");
+    bench::Csv csv(csv_path, "seed,draw,layout,status,detector_rms_px,pixel_sd_px,heldout_rms_m,bound_rms_m,"
+                             "workspace_doubt,workspace_true_m,workspace_true_rad,workspace_nominal_m,workspace_nominal_rad,"
+                             "workspace_predicted_m,workspace_predicted_rad,workspace_nominal_estimated_m,"
+                             "workspace_nominal_estimated_rad,workspace_chance_worse_t,workspace_chance_worse_r");
     std::cout << "bench-boards: " << kBoard << " rendered, viper850, " << seeds << " seeds x " << draws
               << " noise draws, " << poses - held_out << " calibration + " << held_out << " held-out poses, focal "
               << focal << ", " << noise << " px added to the corners\n";
@@ -191,6 +203,25 @@ int main(int argc, char **argv)
             continue;
           }
           row.doubtful += r.status == vpRobotSelfCalibration::DOUBTFUL;
+          bench::MotionRms cal{NAN, NAN}, nom{NAN, NAN};
+          bool doubt = false;
+          if (r.workspace.computed) {
+            doubt = std::any_of(r.findings.begin(), r.findings.end(),
+                                           [](const auto &f) { return f.code == "workspace-worse-than-nominal"; });
+            cal = bench::workspaceError(r.calibrated, sim.getTrueChain());
+            nom = bench::workspaceError(sim.getNominalChain(), sim.getTrueChain());
+            const bool worse = cal.t > nom.t || cal.r > nom.r;
+            (doubt ? row.ws_doubt : row.ws_pass) += 1;
+            (doubt ? row.ws_doubt_worse : row.ws_pass_worse) += worse;
+            row.ws_true_t2 += cal.t * cal.t;
+            row.ws_true_r2 += cal.r * cal.r;
+            row.ws_nom_t2 += nom.t * nom.t;
+            row.ws_nom_r2 += nom.r * nom.r;
+            row.ws_pred_t2 += r.workspace.calibrated_t * r.workspace.calibrated_t;
+            row.ws_pred_r2 += r.workspace.calibrated_r * r.workspace.calibrated_r;
+            row.ws_est_t2 += r.workspace.nominal_t * r.workspace.nominal_t;
+            row.ws_est_r2 += r.workspace.nominal_r * r.workspace.nominal_r;
+          }
           vpKinematicBundleAdjustment::Options bo;
           bo.intrinsics = mode == vpRobotSelfCalibration::FOCAL_KNOWN ? 0u : vpKinematicBundleAdjustment::FX;
           if (known)
@@ -217,7 +248,10 @@ int main(int argc, char **argv)
           if (csv.enabled())
             csv.row() << seed << "," << d << "," << (known ? "known" : "unknown") << ","
                       << vpRobotSelfCalibration::statusName(r.status) << "," << measured << "," << sd << ","
-                      << std::sqrt(run_e2 / e.size()) << "," << std::sqrt(run_pred / e.size()) << "\n";
+                      << std::sqrt(run_e2 / e.size()) << "," << std::sqrt(run_pred / e.size()) << "," << doubt << ","
+                      << cal.t << "," << cal.r << "," << nom.t << "," << nom.r << "," << r.workspace.calibrated_t << ","
+                      << r.workspace.calibrated_r << "," << r.workspace.nominal_t << "," << r.workspace.nominal_r << ","
+                      << r.workspace.worse_t << "," << r.workspace.worse_r << "\n";
         }
       }
     }
@@ -234,6 +268,22 @@ int main(int argc, char **argv)
       std::cout << std::fixed << std::setprecision(2) << "| charuco 7x5 | " << names[known] << " | " << focal << " | "
                 << r.runs << " | " << r.failed << " | " << r.doubtful << " | " << 1e6 * r.rms() << " | "
                 << 1e6 * r.bound() << " | " << r.rms() / r.bound() << " |\n";
+    }
+    std::cout << "\nThe same runs, the workspace check (workspace-worse-than-nominal) against the truth: the camera's "
+                 "motions between configurations drawn within the joint limits; a run is truly worse when its RMS "
+                 "error there, in position or in rotation, exceeds the nominal model's:\n\n"
+              << "| board | layout | focal | runs judged | doubtful by it | of those, truly worse | passed | of those, "
+                 "truly worse | calibrated RMS: true / predicted (mm, mrad) | nominal RMS: true / estimated (mm, mrad) "
+                 "|\n|---|---|---|---|---|---|---|---|---|---|\n";
+    for (int known = 0; known < 2; ++known) {
+      const Row &r = rows[known];
+      const double n = std::max(1u, r.ws_doubt + r.ws_pass);
+      const auto mm = [n](double s2) { return 1e3 * std::sqrt(s2 / n); };
+      std::cout << std::fixed << std::setprecision(2) << "| charuco 7x5 | " << names[known] << " | " << focal << " | "
+                << r.ws_doubt + r.ws_pass << " | " << r.ws_doubt << " | " << r.ws_doubt_worse << " | " << r.ws_pass
+                << " | " << r.ws_pass_worse << " | " << mm(r.ws_true_t2) << " / " << mm(r.ws_pred_t2) << ", "
+                << mm(r.ws_true_r2) << " / " << mm(r.ws_pred_r2) << " | " << mm(r.ws_nom_t2) << " / "
+                << mm(r.ws_est_t2) << ", " << mm(r.ws_nom_r2) << " / " << mm(r.ws_est_r2) << " |\n";
     }
     std::cout << std::setprecision(2) << "\ntargets: board mode RMS / Cramer-Rao bound, layout unknown "
               << rows[0].rms() / rows[0].bound() << " (target <= 1.2: "

@@ -176,31 +176,11 @@ std::string notDetermined(const vpRobotSelfCalibration::Result &r)
   return s.empty() ? "none" : s;
 }
 
-//! RMS position error (m) of a model's camera motions between pairs of configurations drawn within the joint limits,
-//! the joints of `within` (the workspace check's joints_within) mapped into their range.
+//! RMS position error (m) of a model's camera motions over the workspace (bench::workspaceError()).
 double workspaceRms(const vpKinematicChain &model, const vpKinematicChain &truth,
-                    const std::vector<vpRobotSelfCalibration::WorkspaceError::JointRange> &within = {},
-                    unsigned int pairs = 500)
+                    const std::vector<vpRobotSelfCalibration::WorkspaceError::JointRange> &within = {})
 {
-  std::mt19937_64 rng(7);
-  const auto draw = [&]() {
-    vpColVector q(truth.getNumJoints());
-    for (unsigned int j = 0; j < q.size(); ++j)
-      q[j] = std::uniform_real_distribution<double>(truth.getJoints()[j].min, truth.getJoints()[j].max)(rng);
-    for (const auto &w : within) {
-      const vpKinematicChain::Joint &joint = truth.getJoints()[w.index];
-      q[w.index] = w.lo + (w.hi - w.lo) * (q[w.index] - joint.min) / (joint.max - joint.min);
-    }
-    return q;
-  };
-  double sum = 0;
-  for (unsigned int k = 0; k < pairs; ++k) {
-    const vpColVector qa = draw(), qb = draw();
-    const vpHomogeneousMatrix m = model.get_fMc(qa).inverse() * model.get_fMc(qb),
-                              t = truth.get_fMc(qa).inverse() * truth.get_fMc(qb);
-    sum += (m.getTranslationVector() - t.getTranslationVector()).sumSquare();
-  }
-  return std::sqrt(sum / pairs);
+  return bench::workspaceError(model, truth, within).t;
 }
 
 double rms(const std::vector<double> &e)

@@ -250,8 +250,12 @@ int main(int argc, char **argv)
                 continue;
               }
               const bench::PoseMeasurementErrors e = bench::poseMeasurementErrors(sim, q, modes[fi]);
-              if (e.status != vpRobotSelfCalibration::OK)
+              if (e.status != vpRobotSelfCalibration::OK) {
                 ++c.failed;
+                std::cerr << "\n" << robots[ri] << ", seed " << seed << ", noise " << noises[ni] << ", trajectory " << t
+                          << ", focal " << fi << ": " << vpRobotSelfCalibration::statusName(e.status) << ": " << e.message
+                          << "\n";
+              }
               for (size_t k = 0; k < e.position.size(); ++k) {
                 c.pos.add(e.position[k]);
                 c.rot.add(e.orientation[k]);
@@ -350,7 +354,7 @@ int main(int argc, char **argv)
                  "yardstick in every view (f known) / from every observation jointly (f as the focal mode)\n"
               << "| robot | noise | trajectory | focal | position (mm) | direction (mm) | CRB direction (mm) | ratio (mm) "
                  "| scale (mm) | scale error (%) | scale sd (%) | scale CRB pairs / joint (%) | orientation (1e-4 rad) | "
-                 "f_x (px) | eq. 21 ratio error (%) | failed runs |\n"
+                 "f_x (px) | eq. 21 ratio error (%) | runs not ok (doubtful or failed) |\n"
               << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
               << "| paper (PUMA 560) | I | initial | per pair | 3.0427 / 1.1051 | – | – | – | – | – | – | – | 1.4918 / 2.5354 "
                  "| 0.2249 / 0.2374 | – | – |\n"
@@ -431,7 +435,7 @@ int main(int argc, char **argv)
     std::cout << "\nFigure 6: model calibrated on the first n poses of the trajectory, verified on the " << kVerification
               << " verification poses (mean / SD over seeds; held-out poses: over poses and seeds)\n"
               << "| robot | noise | trajectory | focal | n | yardstick 3-D error (mm) | point-pair distance RMS (mm) | "
-                 "held-out position (mm) | held-out rotation (mrad) | failed runs |\n"
+                 "held-out position (mm) | held-out rotation (mrad) | runs not ok (doubtful or failed) |\n"
               << "|---|---|---|---|---|---|---|---|---|---|\n";
     for (size_t ri = 0; ri < R; ++ri)
       for (size_t ni = 0; ni < N; ++ni) {

@@ -40,6 +40,16 @@
 
 namespace
 {
+//! The run's doubts' finding codes, space-separated (the CSV's doubts column).
+std::string doubtCodes(const vpRobotSelfCalibration::Result &r)
+{
+  std::string s;
+  for (const auto &f : r.findings)
+    if (f.severity == vpSelfCalibDataCheck::DOUBT)
+      s += (s.empty() ? "" : " ") + f.code;
+  return s;
+}
+
 const char *kBoard = "charuco:7x5:0.02:0.015:DICT_6X6_250"; // simulate --target charuco's board (PlaneDraw's)
 const unsigned int kPoses = 20, kHeldOut = 6;                 // PlaneDraw's
 
@@ -123,7 +133,7 @@ int main(int argc, char **argv)
     if (parsed >= 0)
       return parsed;
     bench::Csv csv(csv_path, "seed,draw,mv_wrong_views,mv_worst_deg,mv_sigma0,mv_sigma0_high,mv_outliers,mv_measured_px,status,"
-                             "outliers,bundle_sigma0,bundle_sigma0_high,eMc_ratio,heldout_ratio,wrong");
+                             "outliers,bundle_sigma0,bundle_sigma0_high,eMc_ratio,heldout_ratio,wrong,doubts");
     std::cout << "bench-plane-scan: " << kBoard << " corners as points (layout unknown), viper850, " << seeds
               << " seeds x " << draws << " draws, " << kPoses - kHeldOut << " calibration + " << kHeldOut
               << " held-out poses, focal known, " << noise << " px (stated " << (stated > 0 ? stated : noise) << " px)\n";
@@ -162,7 +172,8 @@ int main(int argc, char **argv)
           csv.row() << seed << "," << d << "," << wrong_views << "," << worst << "," << mv.sigma0 << ","
                     << mv.sigma0_high << "," << mv.num_outliers << "," << mv.measured.pixel_sd << ","
                     << vpRobotSelfCalibration::statusName(r.status)
-                    << "," << r.bundle.num_outliers << "," << r.bundle.sigma0 << "," << r.bundle.sigma0_high << "," << emc << "," << ho << "," << wrong << "\n";
+                    << "," << r.bundle.num_outliers << "," << r.bundle.sigma0 << "," << r.bundle.sigma0_high << "," << emc << "," << ho << "," << wrong << ","
+                    << doubtCodes(r) << "\n";
         if (std::getenv("BP_DEBUG"))
           for (size_t k = 0; k < mv.pairs.size(); ++k)
             std::cerr << "pair " << k + 1 << " " << vpTwoViewEstimator::statusName(mv.pairs[k].status) << " inl "

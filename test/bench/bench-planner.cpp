@@ -181,7 +181,7 @@ int main(int argc, char **argv)
     std::cout << "\nTable 2 (24 pose measurements of 25 poses; mean / SD over pairs and seeds) and held-out poses "
                  "(model from the first 15, 10 random verification poses)\n"
               << "| robot | noise | trajectory | position (mm) | orientation (1e-4 rad) | f_x (px) | eq. 21 ratio error (%) "
-                 "| held-out position (mm) | held-out rotation (mrad) | failed runs |\n"
+                 "| held-out position (mm) | held-out rotation (mrad) | runs not ok (doubtful or failed) |\n"
               << "|---|---|---|---|---|---|---|---|---|---|\n"
               << "| paper (PUMA 560) | I | initial | 3.0427 / 1.1051 | 1.4918 / 2.5354 | 0.2249 / 0.2374 | – | – | – | – |\n"
               << "| paper (PUMA 560) | I | optimal | 0.2809 / 0.2452 | 1.0701 / 1.4532 | 0.1539 / 0.2128 | – | – | – | – |\n"

@@ -9,13 +9,54 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include <visp3/core/vpThetaUVector.h>
+#include <visp3/selfcalib/vpRobotSelfCalibration.h>
+
 namespace bench
 {
+//! RMS error of a model's camera motions (m, rad).
+struct MotionRms {
+  double t = 0, r = 0;
+};
+
+/*
+  The RMS error of `model`'s camera motions c_a M c_b against `truth`'s over `pairs` pairs of
+  configurations drawn uniformly within the joint limits (a fixed draw), the joints of `within` (the
+  workspace check's Result::workspace.joints_within) mapped into their range: the truth of what the
+  workspace check predicts.
+*/
+inline MotionRms workspaceError(const vpKinematicChain &model, const vpKinematicChain &truth,
+                                const std::vector<vpRobotSelfCalibration::WorkspaceError::JointRange> &within = {},
+                                unsigned int pairs = 500)
+{
+  std::mt19937_64 rng(7);
+  const auto draw = [&]() {
+    vpColVector q(truth.getNumJoints());
+    for (unsigned int j = 0; j < q.size(); ++j)
+      q[j] = std::uniform_real_distribution<double>(truth.getJoints()[j].min, truth.getJoints()[j].max)(rng);
+    for (const auto &w : within) {
+      const vpKinematicChain::Joint &joint = truth.getJoints()[w.index];
+      q[w.index] = w.lo + (w.hi - w.lo) * (q[w.index] - joint.min) / (joint.max - joint.min);
+    }
+    return q;
+  };
+  double t2 = 0, r2 = 0;
+  for (unsigned int k = 0; k < pairs; ++k) {
+    const vpColVector qa = draw(), qb = draw();
+    const vpHomogeneousMatrix m = model.get_fMc(qa).inverse() * model.get_fMc(qb),
+                              t = truth.get_fMc(qa).inverse() * truth.get_fMc(qb);
+    t2 += (m.getTranslationVector() - t.getTranslationVector()).sumSquare();
+    r2 += std::pow(vpThetaUVector(m.getRotationMatrix().t() * t.getRotationMatrix()).getTheta(), 2);
+  }
+  return {std::sqrt(t2 / pairs), std::sqrt(r2 / pairs)};
+}
+
 //! Running mean and sample standard deviation.
 struct Stats {
   std::vector<double> v;

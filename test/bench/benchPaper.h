@@ -83,6 +83,7 @@ struct PoseMeasurementErrors {
   double scale_sd = NAN;           //!< the reported relative sd of k_1
   unsigned int pairs = 0;
   double seconds = 0;
+  std::string message; //!< the run's status message (why it is not ok)
 };
 
 /*!
@@ -100,6 +101,7 @@ inline PoseMeasurementErrors poseMeasurementErrors(const vpSelfCalibSimulator &s
   const vpRobotSelfCalibration::Result r = vpRobotSelfCalibration::run(sim.getNominalChain(), pipelineDataset(sim, q, mode), po);
   PoseMeasurementErrors e;
   e.status = r.status;
+  e.message = r.message;
   e.pairs = static_cast<unsigned int>(r.pairs.size());
   e.seconds = r.seconds;
   const vpKinematicChain &truth = sim.getTrueChain();
