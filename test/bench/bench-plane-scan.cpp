@@ -24,6 +24,7 @@
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,18 @@
 
 namespace
 {
+//! The workspace check against the truth, for the CSV: the calibrated and the nominal model's error over the joint
+//! limits (bench::workspaceError, m and rad) and the check's chances.
+std::string workspaceColumns(const vpRobotSelfCalibration::Result &r, const vpSelfCalibSimulator &sim)
+{
+  std::ostringstream os;
+  const bench::MotionRms cal = r.workspace.computed ? bench::workspaceError(r.calibrated, sim.getTrueChain())
+                                                    : bench::MotionRms{NAN, NAN};
+  const bench::MotionRms nom = bench::workspaceError(sim.getNominalChain(), sim.getTrueChain());
+  os << cal.t << "," << cal.r << "," << nom.t << "," << nom.r << "," << r.workspace.worse_t << "," << r.workspace.worse_r;
+  return os.str();
+}
+
 //! The run's doubts' finding codes, space-separated (the CSV's doubts column).
 std::string doubtCodes(const vpRobotSelfCalibration::Result &r)
 {
@@ -133,7 +146,9 @@ int main(int argc, char **argv)
     if (parsed >= 0)
       return parsed;
     bench::Csv csv(csv_path, "seed,draw,mv_wrong_views,mv_worst_deg,mv_sigma0,mv_sigma0_high,mv_outliers,mv_measured_px,status,"
-                             "outliers,bundle_sigma0,bundle_sigma0_high,eMc_ratio,heldout_ratio,wrong,doubts");
+                             "outliers,bundle_sigma0,bundle_sigma0_high,eMc_ratio,heldout_ratio,wrong,doubts,workspace_true_m,"
+                             "workspace_true_rad,workspace_nominal_m,workspace_nominal_rad,workspace_chance_worse_t,"
+                             "workspace_chance_worse_r");
     std::cout << "bench-plane-scan: " << kBoard << " corners as points (layout unknown), viper850, " << seeds
               << " seeds x " << draws << " draws, " << kPoses - kHeldOut << " calibration + " << kHeldOut
               << " held-out poses, focal known, " << noise << " px (stated " << (stated > 0 ? stated : noise) << " px)\n";
@@ -173,7 +188,7 @@ int main(int argc, char **argv)
                     << mv.sigma0_high << "," << mv.num_outliers << "," << mv.measured.pixel_sd << ","
                     << vpRobotSelfCalibration::statusName(r.status)
                     << "," << r.bundle.num_outliers << "," << r.bundle.sigma0 << "," << r.bundle.sigma0_high << "," << emc << "," << ho << "," << wrong << ","
-                    << doubtCodes(r) << "\n";
+                    << doubtCodes(r) << "," << workspaceColumns(r, sim) << "\n";
         if (std::getenv("BP_DEBUG"))
           for (size_t k = 0; k < mv.pairs.size(); ++k)
             std::cerr << "pair " << k + 1 << " " << vpTwoViewEstimator::statusName(mv.pairs[k].status) << " inl "

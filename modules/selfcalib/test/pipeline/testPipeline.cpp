@@ -145,7 +145,15 @@ TEST(RobotSelfCalibration, PaperSharedFocalFromEveryViewIsExactAndBeatsThePairs)
       o.num_calibration_poses = static_cast<unsigned int>(q.size());
       o.paper_focal_all_views = all == 1;
       r0[all] = vpRobotSelfCalibration::run(sim.getNominalChain(), exact, o);
-      ASSERT_EQ(r0[all].status, vpRobotSelfCalibration::OK) << "seed " << seed << ": " << r0[all].message;
+      // A model on the exact images; the paper's model itself is not exact (its eq. 21 and
+      // small-motion approximations): with seed 1 it is worse than the nominal model over the joint
+      // limits (8.2 mm RMS on the camera's motions against 6.9) and with seed 2 about as good (7.7
+      // against 8.0), and the workspace check says so. No other doubt.
+      ASSERT_TRUE(r0[all].status == vpRobotSelfCalibration::OK || r0[all].status == vpRobotSelfCalibration::DOUBTFUL)
+          << "seed " << seed << ": " << r0[all].message;
+      for (const auto &f : r0[all].findings)
+        EXPECT_TRUE(f.severity != vpSelfCalibDataCheck::DOUBT || f.code == "workspace-worse-than-nominal")
+            << "seed " << seed << ": " << f.code << ": " << f.message;
       r[all] = vpRobotSelfCalibration::run(sim.getNominalChain(), noisy, o);
     }
     ASSERT_EQ(r0[1].multiview.status, vpMultiViewReconstruction::OK) << r0[1].multiview.message;
