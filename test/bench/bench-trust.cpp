@@ -237,7 +237,8 @@ int main(int argc, char **argv)
       return parsed;
 
     bench::Csv csv(csv_path, "robot,seed,focal,noise_px,draw,method,sd_factor,status,estimated,fx,fx_sd,"
-                             "heldout_rms_m,nominal_rms_m,predicted_rms_m");
+                             "heldout_rms_m,nominal_rms_m,predicted_rms_m,workspace_true_m,workspace_true_rad,"
+                             "workspace_nominal_m,workspace_nominal_rad,workspace_chance_worse_t,workspace_chance_worse_r");
     std::cout << "bench-trust: " << seeds << " seeds x " << draws << " noise draws, camera 800 x 600 f 1200, "
               << kCalibration << " calibration + " << (kPoses - kCalibration)
               << " held-out poses, 80 points + yardstick; the given pixel sd is the true one times the factor"
@@ -366,7 +367,15 @@ int main(int argc, char **argv)
                     csv.row() << robot << "," << seed << "," << focal << "," << noise << "," << d << "," << method
                               << "," << factor << "," << vpRobotSelfCalibration::statusName(r.status) << ","
                               << r.identifiability.identified.size() << "," << r.fx << "," << r.fx_sd << "," << err
-                              << "," << nominal_rms << "," << pred << "\n";
+                              << "," << nominal_rms << "," << pred << ",";
+                  if (csv.enabled()) { // the workspace check against the truth (the camera's motions over the joint limits)
+                    const bool model = r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL;
+                    const bench::MotionRms cal = model ? bench::workspaceError(r.calibrated, clean.getTrueChain())
+                                                       : bench::MotionRms{NAN, NAN};
+                    const bench::MotionRms nom = bench::workspaceError(clean.getNominalChain(), clean.getTrueChain());
+                    csv.row() << cal.t << "," << cal.r << "," << nom.t << "," << nom.r << "," << r.workspace.worse_t << ","
+                              << r.workspace.worse_r << "\n";
+                  }
                 }
             }
             for (const auto &method : methods)
