@@ -338,6 +338,7 @@ bool fillCovariance(Adjustment &a, ceres::Problem &problem, const vpSelfCalibDat
                         : (a.scale_covariance || a.scale_covariance_chi2) && res.sigma0 > 1 ? s2
                                                                                             : 1.0;
   res.covariance_scaled = factor != 1.0 || a.pixel_factor != 1.0;
+  res.covariance_factor = factor;
   res.pixel_factor = a.pixel_factor;
   res.covariance.resize(N, N);
   for (int r = 0; r < N; ++r)

@@ -698,7 +698,13 @@ NominalError nominalOnWorkspace(const Context &c, const ErrorModel &em,
   level, (H + Sigma^-1)^-1, which is the error of an estimator run with that prior, not of this one: on
   a Viper850 with 8 views it predicted 2.6 mm over the workspace where 30 noise draws of the same
   arm gave 4.1 mm RMS; the sandwich predicts 4.1. eMc's corrections keep theirs (its tolerance is not
-  the joints').
+  the joints'). A covariance scaled after the solve by a factor f (the residuals measuring another
+  noise than the one stated: Result::covariance_factor) is f C0, C0 = (H + P)^-1 at the stated
+  noise, the weights the estimate was computed with: its error is then f (C0 - C0 P C0) + C0 P Sigma
+  P C0 = C - C (P / f - P Sigma P / f^2) C (the noise stated 10x too high, f = 0.01: the prior pulled
+  ten times harder than the covariance says, and the model was 6.9 mm off over the workspace where
+  C - C (P - P Sigma P) C predicted 1.8; this predicts 3.3, still about half, and the chance given
+  the misfit, chanceWorse(), makes the run doubtful).
 */
 void errorWithThePrior(const Context &c, const Result &res, const NominalError &ne, const std::vector<std::string> &names,
                        ErrorModel &em)
@@ -707,14 +713,15 @@ void errorWithThePrior(const Context &c, const Result &res, const NominalError &
   const Eigen::Index E = static_cast<Eigen::Index>(em.estimated.size());
   if (!(K > 0) || E == 0)
     return;
-  Eigen::VectorXd d = Eigen::VectorXd::Zero(E); // P - P Sigma P
+  const double f = res.bundle.covariance_factor > 0 ? res.bundle.covariance_factor : 1.0;
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(E); // P / f - P Sigma P / f^2
   for (Eigen::Index e = 0; e < E; ++e) {
     const std::string &name = names[em.estimated[static_cast<size_t>(e)]];
     if (name.rfind("eMc.", 0) == 0)
       continue;
     const double tol = toleranceOf(c.options, name);
     const double factor = isTranslation(name) ? ne.factor_t : ne.factor_r;
-    d(e) = K * K / (tol * tol) * (1 - K * K * factor);
+    d(e) = K * K / (tol * tol) / f * (1 - K * K * factor / f);
   }
   const Eigen::MatrixXd C = em.covariance.topLeftCorner(E, E);
   const Eigen::MatrixXd N = C - C * d.asDiagonal() * C;
@@ -763,7 +770,10 @@ Eigen::Vector2d chanceWorse(const Context &c, const Result &res, const ErrorMode
   for (Eigen::Index e = 0; K > 0 && e < E; ++e)
     if (nameOf(e).rfind("eMc.", 0) != 0)
       prior(e) = K * K / std::pow(toleranceOf(c.options, nameOf(e)), 2);
-  const Eigen::MatrixXd CP = C * prior.asDiagonal();
+  // C = f C0 when the covariance was scaled after the solve (errorWithThePrior()): the prior's pull
+  // is C0 P, the noise's part f (C0 - C0 P C0).
+  const double f = res.bundle.covariance_factor > 0 ? res.bundle.covariance_factor : 1.0;
+  const Eigen::MatrixXd CP = C * prior.asDiagonal() / f;
   Eigen::MatrixXd N = C - CP * C;
   if (em.scale_sd > 0 && em.scale_move.size() == E)
     N -= em.scale_sd * em.scale_sd * em.scale_move * em.scale_move.transpose();

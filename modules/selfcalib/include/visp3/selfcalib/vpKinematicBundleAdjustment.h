@@ -385,6 +385,9 @@ public:
     double rms = 0;                          //!< px, reprojection RMS over the kept observations
     double sigma0 = 0;                       //!< sqrt(2 cost / dof): about 1 when pixel_sd is right
     bool covariance_scaled = false;          //!< the covariance was multiplied by sigma0^2 (scale_covariance)
+    //! The factor the covariance was multiplied by after the solve (sigma0^2, or the floor's; 1 when not
+    //! scaled): the solve weighed the data at the stated noise, the covariance says the measured one.
+    double covariance_factor = 1;
     /*!
       The noise the residuals measure (origin MEASURED; a level not measured is 0):
       - pixel_sd (px), robustly: 1.4826 x the median absolute residual coordinate over every
