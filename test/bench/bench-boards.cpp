@@ -19,7 +19,6 @@
  * camera's motions over the joint limits (bench::workspaceError), position and rotation, against the
  * nominal model's, beside the check's verdict and predictions (Result::workspace).
  */
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -206,8 +205,7 @@ int main(int argc, char **argv)
           bench::MotionRms cal{NAN, NAN}, nom{NAN, NAN};
           bool doubt = false;
           if (r.workspace.computed) {
-            doubt = std::any_of(r.findings.begin(), r.findings.end(),
-                                           [](const auto &f) { return f.code == "workspace-worse-than-nominal"; });
+            doubt = bench::hasFinding(r, "workspace-worse-than-nominal");
             cal = bench::workspaceError(r.calibrated, sim.getTrueChain());
             nom = bench::workspaceError(sim.getNominalChain(), sim.getTrueChain());
             const bool worse = cal.t > nom.t || cal.r > nom.r;

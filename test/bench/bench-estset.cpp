@@ -176,13 +176,6 @@ std::string notDetermined(const vpRobotSelfCalibration::Result &r)
   return s.empty() ? "none" : s;
 }
 
-//! RMS position error (m) of a model's camera motions over the workspace (bench::workspaceError()).
-double workspaceRms(const vpKinematicChain &model, const vpKinematicChain &truth,
-                    const std::vector<vpRobotSelfCalibration::WorkspaceError::JointRange> &within = {})
-{
-  return bench::workspaceError(model, truth, within).t;
-}
-
 double rms(const std::vector<double> &e)
 {
   double s = 0;
@@ -853,15 +846,11 @@ void runOnce(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, c
   row.sum_bound2 += run_bound2;
   row.sum_bias2 += run_bias2;
   row.bound_pairs += run_pairs;
-  std::string doubts;
-  for (const auto &f : r.findings)
-    if (f.severity == vpSelfCalibDataCheck::DOUBT)
-      doubts += (doubts.empty() ? "" : " ") + f.code;
-  const double ws_cal = workspaceRms(r.calibrated, clean.getTrueChain(), r.workspace.joints_within),
-               ws_nom = workspaceRms(clean.getNominalChain(), clean.getTrueChain(), r.workspace.joints_within);
+  const std::string doubts = bench::doubtCodes(r);
+  const double ws_cal = bench::workspaceError(r.calibrated, clean.getTrueChain(), r.workspace.joints_within).t,
+               ws_nom = bench::workspaceError(clean.getNominalChain(), clean.getTrueChain(), r.workspace.joints_within).t;
   if (r.workspace.computed) {
-    const bool doubt = std::any_of(r.findings.begin(), r.findings.end(),
-                                   [](const auto &f) { return f.code == "workspace-worse-than-nominal"; });
+    const bool doubt = bench::hasFinding(r, "workspace-worse-than-nominal");
     ++row.ws_runs;
     (doubt ? row.ws_doubt : row.ws_pass)++;
     (doubt ? row.ws_doubt_worse : row.ws_pass_worse) += ws_cal > ws_nom;
@@ -880,8 +869,8 @@ void runOnce(const vpSelfCalibSimulator &clean, const vpSelfCalibDataset &ds0, c
               << alt.oracle_left << "," << std::sqrt(alt.full / np) << "," << rms(alt.full_measured) << ","
               << std::sqrt(alt.map1 / np) << "," << std::sqrt(alt.map3 / np) << "," << std::sqrt(alt.bayes / np) << ","
               << std::sqrt(alt.risk_set / np) << "," << alt.risk_left << ","
-              << workspaceRms(r.calibrated, clean.getTrueChain()) << ","
-              << workspaceRms(clean.getNominalChain(), clean.getTrueChain()) << "," << r.workspace.calibrated_t << ","
+              << bench::workspaceError(r.calibrated, clean.getTrueChain()).t << ","
+              << bench::workspaceError(clean.getNominalChain(), clean.getTrueChain()).t << "," << r.workspace.calibrated_t << ","
               << r.workspace.bound_t << "," << r.workspace.nominal_t << "," << r.workspace.worse_t << ","
               << ws_cal << "," << ws_nom << "\n";
   }
@@ -1053,7 +1042,6 @@ std::string mostFrequent(const std::map<std::string, unsigned int> &sets)
   it (the Bayes estimator's mean gain over the runs and the first-order noise draws: "beyond the bound") or any estimator of
   what a user states (the set rules and the tolerance priors: "beyond the tolerances' bound").
 */
-//! The prior table's row: the main runs with the kinematic prior beside the set rule on the same runs.
 //! A row of the workspace check against the truth.
 std::string workspaceRow(const std::string &robot, unsigned int stuck, unsigned int views, const std::string &focal,
                          double noise, const Row &row)
@@ -1068,6 +1056,7 @@ std::string workspaceRow(const std::string &robot, unsigned int stuck, unsigned 
   return os.str();
 }
 
+//! The prior table's row: the main runs with the kinematic prior beside the set rule on the same runs.
 std::string priorRow(const std::string &robot, unsigned int stuck, unsigned int views, const std::string &focal,
                      double noise, const Row &row)
 {

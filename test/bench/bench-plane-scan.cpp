@@ -53,16 +53,6 @@ std::string workspaceColumns(const vpRobotSelfCalibration::Result &r, const vpSe
   return os.str();
 }
 
-//! The run's doubts' finding codes, space-separated (the CSV's doubts column).
-std::string doubtCodes(const vpRobotSelfCalibration::Result &r)
-{
-  std::string s;
-  for (const auto &f : r.findings)
-    if (f.severity == vpSelfCalibDataCheck::DOUBT)
-      s += (s.empty() ? "" : " ") + f.code;
-  return s;
-}
-
 const char *kBoard = "charuco:7x5:0.02:0.015:DICT_6X6_250"; // simulate --target charuco's board (PlaneDraw's)
 const unsigned int kPoses = 20, kHeldOut = 6;                 // PlaneDraw's
 
@@ -188,7 +178,7 @@ int main(int argc, char **argv)
                     << mv.sigma0_high << "," << mv.num_outliers << "," << mv.measured.pixel_sd << ","
                     << vpRobotSelfCalibration::statusName(r.status)
                     << "," << r.bundle.num_outliers << "," << r.bundle.sigma0 << "," << r.bundle.sigma0_high << "," << emc << "," << ho << "," << wrong << ","
-                    << doubtCodes(r) << "," << workspaceColumns(r, sim) << "\n";
+                    << bench::doubtCodes(r) << "," << workspaceColumns(r, sim) << "\n";
         if (std::getenv("BP_DEBUG"))
           for (size_t k = 0; k < mv.pairs.size(); ++k)
             std::cerr << "pair " << k + 1 << " " << vpTwoViewEstimator::statusName(mv.pairs[k].status) << " inl "

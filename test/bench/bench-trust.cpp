@@ -363,18 +363,16 @@ int main(int argc, char **argv)
                         row.t_sd[a].push_back(r.eMc_sd[a]);
                       }
                   }
-                  if (csv.enabled())
-                    csv.row() << robot << "," << seed << "," << focal << "," << noise << "," << d << "," << method
-                              << "," << factor << "," << vpRobotSelfCalibration::statusName(r.status) << ","
-                              << r.identifiability.identified.size() << "," << r.fx << "," << r.fx_sd << "," << err
-                              << "," << nominal_rms << "," << pred << ",";
-                  if (csv.enabled()) { // the workspace check against the truth (the camera's motions over the joint limits)
+                  if (csv.enabled()) { // with the workspace check against the truth (the camera's motions over the joint limits)
                     const bool model = r.status == vpRobotSelfCalibration::OK || r.status == vpRobotSelfCalibration::DOUBTFUL;
                     const bench::MotionRms cal = model ? bench::workspaceError(r.calibrated, clean.getTrueChain())
                                                        : bench::MotionRms{NAN, NAN};
                     const bench::MotionRms nom = bench::workspaceError(clean.getNominalChain(), clean.getTrueChain());
-                    csv.row() << cal.t << "," << cal.r << "," << nom.t << "," << nom.r << "," << r.workspace.worse_t << ","
-                              << r.workspace.worse_r << "\n";
+                    csv.row() << robot << "," << seed << "," << focal << "," << noise << "," << d << "," << method
+                              << "," << factor << "," << vpRobotSelfCalibration::statusName(r.status) << ","
+                              << r.identifiability.identified.size() << "," << r.fx << "," << r.fx_sd << "," << err
+                              << "," << nominal_rms << "," << pred << "," << cal.t << "," << cal.r << "," << nom.t << ","
+                              << nom.r << "," << r.workspace.worse_t << "," << r.workspace.worse_r << "\n";
                   }
                 }
             }

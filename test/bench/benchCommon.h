@@ -20,6 +20,25 @@
 
 namespace bench
 {
+//! Whether a run has the finding `code` (any severity).
+inline bool hasFinding(const vpRobotSelfCalibration::Result &r, const std::string &code)
+{
+  for (const auto &f : r.findings)
+    if (f.code == code)
+      return true;
+  return false;
+}
+
+//! The run's doubts' finding codes, space-separated ("" when none).
+inline std::string doubtCodes(const vpRobotSelfCalibration::Result &r)
+{
+  std::string s;
+  for (const auto &f : r.findings)
+    if (f.severity == vpSelfCalibDataCheck::DOUBT)
+      s += (s.empty() ? "" : " ") + f.code;
+  return s;
+}
+
 //! RMS error of a model's camera motions (m, rad).
 struct MotionRms {
   double t = 0, r = 0;

@@ -687,6 +687,25 @@ NominalError nominalOnWorkspace(const Context &c, const ErrorModel &em,
 }
 
 /*
+  The kinematic prior's precision on each estimated parameter, K^2 / tolerance^2 (eMc's corrections
+  have none), and the factor f the adjustment's covariance was scaled by after the solve
+  (Result::covariance_factor): C = f (H + P)^-1, the solve's weights those of the stated noise.
+*/
+Eigen::VectorXd priorPrecision(const Context &c, const Result &res, const ErrorModel &em, double &f)
+{
+  const std::vector<std::string> names = res.calibrated.getParameterNames();
+  const double K = res.bundle.kinematic_prior;
+  f = res.bundle.covariance_factor > 0 ? res.bundle.covariance_factor : 1.0;
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(em.estimated.size()));
+  for (Eigen::Index e = 0; K > 0 && e < p.size(); ++e) {
+    const std::string &name = names[em.estimated[static_cast<size_t>(e)]];
+    if (name.rfind("eMc.", 0) != 0)
+      p(e) = K * K / std::pow(toleranceOf(c.options, name), 2);
+  }
+  return p;
+}
+
+/*
   With the kinematic prior, the estimated joint parameters' covariance C = (H + P)^-1 is the posterior
   at the prior the tolerances state, P = diag((K / tol)^2): where the data see a parameter weakly its sd
   is the prior's, which says what the tolerances allow, not the arm's error. The estimate's error is
@@ -713,15 +732,12 @@ void errorWithThePrior(const Context &c, const Result &res, const NominalError &
   const Eigen::Index E = static_cast<Eigen::Index>(em.estimated.size());
   if (!(K > 0) || E == 0)
     return;
-  const double f = res.bundle.covariance_factor > 0 ? res.bundle.covariance_factor : 1.0;
-  Eigen::VectorXd d = Eigen::VectorXd::Zero(E); // P / f - P Sigma P / f^2
+  double f = 1;
+  const Eigen::VectorXd p = priorPrecision(c, res, em, f);
+  Eigen::VectorXd d(E); // P / f - P Sigma P / f^2, Sigma = factor tol^2: p Sigma = K^2 factor
   for (Eigen::Index e = 0; e < E; ++e) {
-    const std::string &name = names[em.estimated[static_cast<size_t>(e)]];
-    if (name.rfind("eMc.", 0) == 0)
-      continue;
-    const double tol = toleranceOf(c.options, name);
-    const double factor = isTranslation(name) ? ne.factor_t : ne.factor_r;
-    d(e) = K * K / (tol * tol) / f * (1 - K * K * factor / f);
+    const double factor = isTranslation(names[em.estimated[static_cast<size_t>(e)]]) ? ne.factor_t : ne.factor_r;
+    d(e) = p(e) / f * (1 - K * K * factor / f);
   }
   const Eigen::MatrixXd C = em.covariance.topLeftCorner(E, E);
   const Eigen::MatrixXd N = C - C * d.asDiagonal() * C;
@@ -765,14 +781,10 @@ Eigen::Vector2d chanceWorse(const Context &c, const Result &res, const ErrorMode
   const auto nameOf = [&](Eigen::Index i) -> const std::string & {
     return names[i < E ? em.estimated[static_cast<size_t>(i)] : em.held[static_cast<size_t>(i - E)]];
   };
-  Eigen::VectorXd prior = Eigen::VectorXd::Zero(E);
-  const double K = res.bundle.kinematic_prior;
-  for (Eigen::Index e = 0; K > 0 && e < E; ++e)
-    if (nameOf(e).rfind("eMc.", 0) != 0)
-      prior(e) = K * K / std::pow(toleranceOf(c.options, nameOf(e)), 2);
   // C = f C0 when the covariance was scaled after the solve (errorWithThePrior()): the prior's pull
   // is C0 P, the noise's part f (C0 - C0 P C0).
-  const double f = res.bundle.covariance_factor > 0 ? res.bundle.covariance_factor : 1.0;
+  double f = 1;
+  const Eigen::VectorXd prior = priorPrecision(c, res, em, f);
   const Eigen::MatrixXd CP = C * prior.asDiagonal() / f;
   Eigen::MatrixXd N = C - CP * C;
   if (em.scale_sd > 0 && em.scale_move.size() == E)
